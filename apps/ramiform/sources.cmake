@@ -1,0 +1,1 @@
+set(RAMIFORM_APP_SOURCES main.cpp)

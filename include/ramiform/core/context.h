@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+/// \file
+/// `Context`: progress reporting, cancellation and the thread count of long operations.
+/// Every long operation takes `Context*`; nullptr costs nothing and means "all cores, no
+/// progress, never cancelled". Operations check it once per chunk of work, never per sample.
+
+#include <atomic>
+#include <functional>
+#include <string>
+
+namespace ramiform {
+
+class Context {
+ public:
+  /// Called with a stage name and a fraction in [0, 1]; may be called from any thread.
+  using ProgressFn = std::function<void(const std::string& stage, double fraction)>;
+
+  Context() = default;
+  explicit Context(int threads) : threads_(threads) {}
+
+  /// Number of worker threads; 0 means all hardware threads. Results never depend on it.
+  [[nodiscard]] int threads() const { return threads_; }
+  void set_threads(int threads) { threads_ = threads; }
+
+  void set_progress(ProgressFn fn) { progress_ = std::move(fn); }
+  /// Reports progress (no-op without a callback).
+  void report(const std::string& stage, double fraction) const {
+    if (progress_) progress_(stage, fraction);
+  }
+
+  /// Requests cancellation; thread-safe.
+  void cancel() { cancelled_.store(true, std::memory_order_relaxed); }
+  [[nodiscard]] bool is_cancelled() const { return cancelled_.load(std::memory_order_relaxed); }
+  /// Throws `Cancelled` if cancellation was requested.
+  void check() const;
+
+ private:
+  int threads_ = 0;
+  ProgressFn progress_;
+  std::atomic<bool> cancelled_{false};
+};
+
+/// Throws `Cancelled` when `ctx` is non-null and cancelled.
+inline void check_cancel(const Context* ctx) {
+  if (ctx != nullptr) ctx->check();
+}
+
+}  // namespace ramiform

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+/// \file
+/// `TriMesh` and `PointSet`: plain copyable data.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "ramiform/core/types.h"
+
+namespace ramiform {
+
+/// A triangle mesh. Triangles list vertex indices counter-clockwise seen from outside.
+struct TriMesh {
+  std::vector<Vec3> positions;                          ///< one per vertex
+  std::vector<std::array<std::uint32_t, 3>> triangles;  ///< vertex indices, CCW from outside
+  std::vector<Vec3> normals;  ///< optional: empty, or one unit normal per vertex
+
+  [[nodiscard]] std::size_t vertex_count() const { return positions.size(); }
+  [[nodiscard]] std::size_t triangle_count() const { return triangles.size(); }
+};
+
+/// A set of points with optional normals.
+struct PointSet {
+  std::vector<Vec3> positions;  ///< one per point
+  std::vector<Vec3> normals;    ///< optional: empty, or one per point
+
+  [[nodiscard]] std::size_t size() const { return positions.size(); }
+  [[nodiscard]] bool has_normals() const { return !normals.empty(); }
+};
+
+}  // namespace ramiform

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/core/errors.h"
+
+#include <utility>
+
+namespace ramiform {
+namespace {
+
+std::string located(const std::string& file, std::size_t line, const std::string& problem) {
+  std::string where = file.empty() ? std::string("<input>") : file;
+  if (line > 0) where += ":" + std::to_string(line);
+  return where + ": " + problem;
+}
+
+}  // namespace
+
+InputError::InputError(std::string file, std::size_t line, const std::string& problem)
+    : std::runtime_error(located(file, line, problem)),
+      file_(std::move(file)),
+      line_(line),
+      problem_(problem) {}
+
+InputError::InputError(std::string file, const std::string& element, std::size_t element_index,
+                       const std::string& problem)
+    : std::runtime_error(located(file, 0, element + " " + std::to_string(element_index) + ": " +
+                                              problem)),
+      file_(std::move(file)),
+      problem_(element + " " + std::to_string(element_index) + ": " + problem) {}
+
+}  // namespace ramiform

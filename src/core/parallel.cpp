@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/core/parallel.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
+namespace ramiform::parallel {
+
+void for_chunks(std::size_t n, std::size_t grain,
+                const std::function<void(std::size_t, std::size_t)>& body, const Context* ctx) {
+  if (n == 0) return;
+  if (grain == 0) grain = 1;
+  const std::size_t chunks = (n + grain - 1) / grain;
+  const int threads = ctx != nullptr ? ctx->threads() : 0;
+  auto run_chunk = [&](std::size_t c) {
+    check_cancel(ctx);
+    const std::size_t b = c * grain;
+    const std::size_t e = b + grain < n ? b + grain : n;
+    body(b, e);
+  };
+  if (threads == 1 || chunks == 1) {
+    for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
+    return;
+  }
+  auto run = [&] {
+    // simple_partitioner with grain 1 over chunk indices: the chunk boundaries are fixed above,
+    // only their assignment to threads varies.
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, chunks, 1),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t c = r.begin(); c != r.end(); ++c) run_chunk(c);
+        },
+        tbb::simple_partitioner());
+  };
+  if (threads > 1) {
+    tbb::task_arena arena(threads);
+    arena.execute(run);
+  } else {
+    run();
+  }
+}
+
+std::size_t exclusive_scan(std::vector<std::size_t>& counts) {
+  std::size_t total = 0;
+  for (auto& c : counts) {
+    const std::size_t v = c;
+    c = total;
+    total += v;
+  }
+  return total;
+}
+
+}  // namespace ramiform::parallel

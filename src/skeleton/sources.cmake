@@ -1,0 +1,2 @@
+set(RAMIFORM_SKELETON_SOURCES
+  src/skeleton/skeleton.cpp)

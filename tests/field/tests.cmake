@@ -1,0 +1,1 @@
+set(RAMIFORM_field_TESTS)

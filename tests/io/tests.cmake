@@ -1,0 +1,1 @@
+set(RAMIFORM_io_TESTS)
