@@ -16,6 +16,19 @@ std::uint64_t splitmix64(std::uint64_t& x) {
 
 std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
+// Full 64x64 -> 128-bit product in portable C++: returns the high word, stores the low word.
+std::uint64_t mul_128(std::uint64_t a, std::uint64_t b, std::uint64_t& low) {
+  const std::uint64_t a_lo = a & 0xffffffffULL, a_hi = a >> 32U;
+  const std::uint64_t b_lo = b & 0xffffffffULL, b_hi = b >> 32U;
+  const std::uint64_t ll = a_lo * b_lo;
+  const std::uint64_t lh = a_lo * b_hi;
+  const std::uint64_t hl = a_hi * b_lo;
+  const std::uint64_t hh = a_hi * b_hi;
+  const std::uint64_t mid = (ll >> 32U) + (lh & 0xffffffffULL) + (hl & 0xffffffffULL);
+  low = (mid << 32U) | (ll & 0xffffffffULL);
+  return hh + (lh >> 32U) + (hl >> 32U) + (mid >> 32U);
+}
+
 }  // namespace
 
 Rng::Rng(std::uint64_t seed) {
@@ -39,16 +52,13 @@ double Rng::uniform() { return static_cast<double>(next_u64() >> 11U) * 0x1.0p-5
 
 std::uint64_t Rng::below(std::uint64_t n) {
   // Lemire's nearly divisionless method with rejection, exact for every n.
-  unsigned __int128 m = static_cast<unsigned __int128>(next_u64()) * n;
-  auto low = static_cast<std::uint64_t>(m);
+  std::uint64_t low = 0;
+  std::uint64_t high = mul_128(next_u64(), n, low);
   if (low < n) {
     const std::uint64_t threshold = (0 - n) % n;
-    while (low < threshold) {
-      m = static_cast<unsigned __int128>(next_u64()) * n;
-      low = static_cast<std::uint64_t>(m);
-    }
+    while (low < threshold) high = mul_128(next_u64(), n, low);
   }
-  return static_cast<std::uint64_t>(m >> 64U);
+  return high;
 }
 
 double Rng::normal() {

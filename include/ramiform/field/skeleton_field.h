@@ -36,9 +36,9 @@ enum class SurfaceKind {
 /// Options of every skeleton primitive field.
 struct SkeletonFieldOptions {
   SurfaceKind surface = SurfaceKind::kConvolution;  ///< distance or convolution surface
-  /// The kernel; convolution surfaces need KernelKind::kCauchy (the default here) and distance
-  /// surfaces any other kind. Default-constructed means "Cauchy for convolution, Wyvill for
-  /// distance".
+  /// The kernel. Convolution surfaces need KernelKind::kCauchy (the default). Distance surfaces
+  /// take any kernel (set e.g. KernelKind::kWyvill); Cauchy there means the point-convolution
+  /// kernel 1/(1 + s^2 d^2)^2 with s = c / r.
   Kernel kernel = Kernel{KernelKind::kCauchy, 0.0};
   double iso = 0.0;  ///< iso value; 0 means the kernel's default_iso()
 

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "field/bvh.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace ramiform::detail {
+namespace {
+constexpr std::uint32_t kLeafSize = 4;
+}
+
+BoxBvh::BoxBvh(std::vector<Aabb> boxes) : boxes_(std::move(boxes)) {
+  order_.resize(boxes_.size());
+  std::iota(order_.begin(), order_.end(), 0U);
+  if (!boxes_.empty()) {
+    nodes_.reserve(2 * boxes_.size() / kLeafSize + 2);
+    build(0, static_cast<std::uint32_t>(boxes_.size()));
+  }
+}
+
+std::uint32_t BoxBvh::build(std::uint32_t begin, std::uint32_t end) {
+  const auto index = static_cast<std::uint32_t>(nodes_.size());
+  nodes_.emplace_back();
+  Aabb box;
+  Aabb centers;
+  for (std::uint32_t i = begin; i < end; ++i) {
+    box.extend(boxes_[order_[i]]);
+    centers.extend(boxes_[order_[i]].center());
+  }
+  nodes_[index].box = box;
+  if (end - begin <= kLeafSize) {
+    nodes_[index].first = begin;
+    nodes_[index].count = end - begin;
+    return index;
+  }
+  int axis = 0;
+  centers.diagonal().maxCoeff(&axis);
+  const std::uint32_t mid = begin + (end - begin) / 2;
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                   [&](std::uint32_t a, std::uint32_t b) {
+                     const double ca = boxes_[a].min()[axis] + boxes_[a].max()[axis];
+                     const double cb = boxes_[b].min()[axis] + boxes_[b].max()[axis];
+                     return ca < cb || (ca == cb && a < b);
+                   });
+  const std::uint32_t left = build(begin, mid);
+  const std::uint32_t right = build(mid, end);
+  nodes_[index].first = left;
+  nodes_[index].right = right;
+  nodes_[index].count = 0;
+  return index;
+}
+
+void BoxBvh::query(const Aabb& q, std::vector<std::uint32_t>& out) const {
+  if (nodes_.empty() || q.isEmpty()) return;
+  std::uint32_t stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& n = nodes_[stack[--top]];
+    if (!n.box.intersects(q)) continue;
+    if (n.count > 0) {
+      for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
+        if (boxes_[order_[i]].intersects(q)) out.push_back(order_[i]);
+      }
+    } else {
+      stack[top++] = n.first;
+      stack[top++] = n.right;
+    }
+  }
+}
+
+}  // namespace ramiform::detail

@@ -1,0 +1,484 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/field/skeleton_field.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "field/bvh.h"
+#include "field/skeleton_field_simd.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/core/parallel.h"
+#include "ramiform/core/tolerances.h"
+
+namespace ramiform {
+namespace {
+
+using detail::PrimitiveMode;
+
+// Margin that keeps every point outside a support box strictly beyond the cutoff in floating
+// point, so pruned primitives would have contributed exactly 0.
+constexpr double kSupportMargin = 1e-9;
+// Relative widening of bound() results: the bound is computed by scalar code and the values by
+// vector code, which may round differently in the last bits.
+constexpr double kBoundSlack = 1e-12;
+
+// One primitive as built, before it goes into the SoA table.
+struct Primitive {
+  Vec3 a, b;
+  double ra = 1, rb = 1;  // surface radii at a and b
+  double weight = 1;      // user weight (>= 0)
+};
+
+PrimitiveMode mode_of(const SkeletonFieldOptions& o) {
+  if (o.surface == SurfaceKind::kConvolution) return PrimitiveMode::kCauchySegment;
+  switch (o.kernel.kind) {
+    case KernelKind::kWyvill: return PrimitiveMode::kWyvill;
+    case KernelKind::kBlinn: return PrimitiveMode::kBlinn;
+    case KernelKind::kMetaball: return PrimitiveMode::kMetaball;
+    case KernelKind::kInversePower: return PrimitiveMode::kInversePower;
+    case KernelKind::kCauchy: break;
+  }
+  return PrimitiveMode::kCauchyPoint;
+}
+
+// Distance from any point of `box` to the segment [a, b]: a lower bound, and the exact maximum.
+struct DistanceRange {
+  double min = 0, max = 0;
+};
+DistanceRange box_segment_distance(const Aabb& box, const Vec3& a, const Vec3& b) {
+  auto dist = [&](const Vec3& p) {
+    const Vec3 ab = b - a;
+    const double l2 = ab.squaredNorm();
+    const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+    return (p - (a + t * ab)).norm();
+  };
+  Aabb seg;
+  seg.extend(a);
+  seg.extend(b);
+  const double half_diag = 0.5 * box.diagonal().norm();
+  DistanceRange r;
+  r.min = std::max({0.0, std::sqrt(squared_distance(box, seg)), dist(box.center()) - half_diag});
+  // Distance to a convex set is convex, so its maximum over the box is at a corner.
+  for (int c = 0; c < 8; ++c) r.max = std::max(r.max, dist(box.corner(static_cast<Aabb::CornerType>(c))));
+  return r;
+}
+
+// Largest distance between a point of the box and a point of the segment.
+double box_segment_far(const Aabb& box, const Vec3& a, const Vec3& b) {
+  return std::max(max_distance(box, a), max_distance(box, b));
+}
+
+double fade_of(double v) {
+  if (v <= 0.64) return 1;
+  if (v >= 1) return 0;
+  const double s = (v - 0.64) / 0.36;
+  return 1 - s * s * (3 - 2 * s);
+}
+
+// Upper bound of the Cauchy segment integral at distance >= d from a segment of length len.
+double cauchy_segment_max(double s, double len, double d) {
+  const double q = 1 + s * s * d * d;
+  return std::min(len / (q * q), std::numbers::pi / (2 * s * q * std::sqrt(q)));
+}
+
+// Distance beyond which weight * cauchy_segment_max < level (0 if never above it).
+double cauchy_segment_reach(double s, double len, double weight, double level) {
+  const double r_len = weight * len / level;        // (1 + s^2 D^2)^2 = r_len
+  const double r_inf = weight * std::numbers::pi / (2 * s * level);  // (..)^(3/2) = r_inf
+  const double q_len = std::sqrt(r_len);
+  const double q_inf = std::cbrt(r_inf * r_inf);
+  const double q = std::min(q_len, q_inf);
+  return q <= 1 ? 0.0 : std::sqrt(q - 1) / s;
+}
+
+class SkeletonField final : public Field {
+ public:
+  SkeletonField(const SkeletonFieldOptions& o, const std::vector<Primitive>& prims)
+      : Field(o.iso), kernel_(o.kernel), surface_(o.surface) {
+    mode_.mode = mode_of(o);
+    mode_.shape = o.kernel.shape();
+    mode_.fades = mode_.mode != PrimitiveMode::kWyvill && mode_.mode != PrimitiveMode::kMetaball;
+    for (const auto& p : prims) add(p);
+    finish();
+  }
+
+  // A restriction of `source` to the primitives `ids` (ascending).
+  SkeletonField(const SkeletonField& source, const std::vector<std::uint32_t>& ids)
+      : Field(source.iso(), source),
+        kernel_(source.kernel_),
+        surface_(source.surface_),
+        mode_(source.mode_) {
+    for (const std::uint32_t i : ids) copy_from(source, i);
+    finish();
+  }
+
+  Interval bound(const Aabb& box) const override {
+    thread_local std::vector<std::uint32_t> ids;
+    ids.clear();
+    bvh_.query(box, ids);
+    std::sort(ids.begin(), ids.end());
+    double lo = 0, hi = 0;
+    for (const std::uint32_t i : ids) {
+      const auto [plo, phi] = primitive_bound(i, box);
+      lo += plo;
+      hi += phi;
+    }
+    return {lo - kBoundSlack * lo, hi + kBoundSlack * hi};
+  }
+
+  Aabb bounds() const override { return surface_box_; }
+
+  FieldPtr restrict(const Aabb& box) const override {
+    std::vector<std::uint32_t> ids;
+    bvh_.query(box, ids);
+    if (ids.size() == table_.size()) return shared_from_this();
+    std::sort(ids.begin(), ids.end());
+    return std::make_shared<SkeletonField>(*this, ids);
+  }
+
+  std::string describe() const override {
+    std::string s = std::to_string(table_.size()) + " primitives, ";
+    s += surface_ == SurfaceKind::kConvolution ? "convolution" : "distance";
+    return s + " surface, " + kernel_name(kernel_.kind) + " kernel, iso " + std::to_string(iso());
+  }
+
+ protected:
+  void do_evaluate(std::span<const Vec3> points, std::span<double> values,
+                   std::span<Vec3> gradients) const override {
+    const std::size_t n = points.size();
+    const bool with_gradient = !gradients.empty();
+    // Spatially coherent chunks: sort points along a Morton curve when the batch spans several
+    // chunks, so each chunk's box (and so its candidate primitives) stays small.
+    std::vector<std::uint32_t> order;
+    if (n > detail::kChunk) order = morton_order(points);
+    const std::size_t chunks = (n + detail::kChunk - 1) / detail::kChunk;
+    auto run_chunk = [&](std::size_t c) {
+      detail::Chunk chunk;
+      thread_local std::vector<std::uint32_t> ids;
+      const std::size_t begin = c * detail::kChunk;
+      const std::size_t count = std::min(detail::kChunk, n - begin);
+      auto point_index = [&](std::size_t k) {
+        return order.empty() ? begin + k : static_cast<std::size_t>(order[begin + k]);
+      };
+      Aabb box;
+      for (std::size_t k = 0; k < count; ++k) {
+        const Vec3& p = points[point_index(k)];
+        chunk.px[k] = p.x();
+        chunk.py[k] = p.y();
+        chunk.pz[k] = p.z();
+        box.extend(p);
+      }
+      chunk.padded = (count + 15) / 16 * 16;
+      for (std::size_t k = count; k < chunk.padded; ++k) {
+        chunk.px[k] = chunk.px[0];
+        chunk.py[k] = chunk.py[0];
+        chunk.pz[k] = chunk.pz[0];
+      }
+      std::fill_n(chunk.value, chunk.padded, 0.0);
+      if (with_gradient) {
+        std::fill_n(chunk.gx, chunk.padded, 0.0);
+        std::fill_n(chunk.gy, chunk.padded, 0.0);
+        std::fill_n(chunk.gz, chunk.padded, 0.0);
+      }
+      ids.clear();
+      if (!box.isEmpty() && box.min().allFinite() && box.max().allFinite()) {
+        bvh_.query(box, ids);
+      } else {
+        for (std::uint32_t i = 0; i < table_.size(); ++i) ids.push_back(i);
+      }
+      std::sort(ids.begin(), ids.end());
+      detail::accumulate(table_, mode_, ids.data(), ids.size(), chunk, with_gradient);
+      for (std::size_t k = 0; k < count; ++k) {
+        const std::size_t i = point_index(k);
+        values[i] = chunk.value[k];
+        if (with_gradient) gradients[i] = Vec3(chunk.gx[k], chunk.gy[k], chunk.gz[k]);
+      }
+    };
+    if (chunks >= 4) {
+      parallel::for_each(chunks, 1, run_chunk);
+    } else {
+      for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
+    }
+  }
+
+ private:
+  // Returns an order of the points along a Morton curve, or an empty vector when the points
+  // already arrive in spatially coherent chunks (each chunk's box much smaller than the batch's).
+  static std::vector<std::uint32_t> morton_order(std::span<const Vec3> points) {
+    Aabb box;
+    double chunk_diagonals = 0;
+    std::size_t chunk_count = 0;
+    for (std::size_t begin = 0; begin < points.size(); begin += detail::kChunk) {
+      Aabb chunk_box;
+      const std::size_t end = std::min(points.size(), begin + detail::kChunk);
+      for (std::size_t i = begin; i < end; ++i) {
+        if (points[i].allFinite()) chunk_box.extend(points[i]);
+      }
+      if (!chunk_box.isEmpty()) chunk_diagonals += chunk_box.diagonal().norm();
+      box.extend(chunk_box);
+      ++chunk_count;
+    }
+    if (box.isEmpty()) return {};
+    const double diagonal = box.diagonal().norm();
+    if (chunk_diagonals <= 0.25 * diagonal * static_cast<double>(chunk_count)) return {};
+    const Vec3 lo = box.min();
+    const double extent = std::max(box.diagonal().maxCoeff(), 1e-300);
+    auto spread = [](std::uint32_t v) {  // 10 bits -> every third bit of 30
+      v &= 0x3ffU;
+      v = (v | v << 16U) & 0x030000ffU;
+      v = (v | v << 8U) & 0x0300f00fU;
+      v = (v | v << 4U) & 0x030c30c3U;
+      v = (v | v << 2U) & 0x09249249U;
+      return v;
+    };
+    const std::size_t n = points.size();
+    std::vector<std::uint32_t> code(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      std::uint32_t c = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double t = (points[i][k] - lo[k]) / extent;
+        const double cl = std::isfinite(t) ? std::clamp(t, 0.0, 1.0) : 0.0;
+        c |= spread(static_cast<std::uint32_t>(cl * 1023.0)) << k;
+      }
+      code[i] = c;
+    }
+    // Stable LSD radix sort on the 30-bit codes (ties keep input order: deterministic).
+    std::vector<std::uint32_t> order(n), other(n);
+    for (std::uint32_t i = 0; i < n; ++i) order[i] = i;
+    for (unsigned shift = 0; shift < 32; shift += 8) {
+      std::size_t count[257] = {};
+      for (std::size_t i = 0; i < n; ++i) ++count[((code[order[i]] >> shift) & 0xffU) + 1];
+      for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
+      for (std::size_t i = 0; i < n; ++i) other[count[(code[order[i]] >> shift) & 0xffU]++] = order[i];
+      order.swap(other);
+    }
+    return order;
+  }
+
+  void add(const Primitive& p) {
+    if (p.weight == 0) return;
+    const Vec3 d = p.b - p.a;
+    const double len = d.norm();
+    const Vec3 u = len > 0 ? Vec3(d / len) : Vec3::UnitX();
+    const double c = kernel_.shape();
+    double r0 = 0, dr = 0, weight = p.weight, s = 0, inv_cut = 1, reach = 0;
+    const double floor_value = tol::kKernelCutoff * iso();
+    if (mode_.mode == PrimitiveMode::kCauchySegment && len > 0) {
+      const double r = 0.5 * (p.ra + p.rb);
+      s = c / r;
+      weight *= 2 * c * iso() * std::pow(1 + c * c, 1.5) / (std::numbers::pi * r);
+      reach = cauchy_segment_reach(s, len, weight, floor_value);
+      if (reach <= 0) return;
+      inv_cut = 1 / (reach * reach);
+    } else if (mode_.mode == PrimitiveMode::kCauchySegment || mode_.mode == PrimitiveMode::kCauchyPoint) {
+      // Point convolution primitive: the kernel itself, R = 1/s, weight so that f(r) = iso.
+      const double r = 0.5 * (p.ra + p.rb);
+      s = c / r;
+      r0 = 1 / s;
+      weight *= iso() * (1 + c * c) * (1 + c * c);
+      const double xc = Kernel{KernelKind::kCauchy, c}.support(iso() / weight);
+      if (xc <= 0) return;
+      inv_cut = 1 / (xc * xc);
+      reach = xc * r0;
+    } else {
+      const double x_iso = kernel_.x_at(iso());
+      r0 = p.ra / x_iso;
+      dr = len > 0 ? (p.rb - p.ra) / x_iso / len : 0;
+      const double xc = kernel_.support(iso() / weight);
+      if (xc <= 0) return;
+      inv_cut = 1 / (xc * xc);
+      reach = xc * std::max(p.ra, p.rb) / x_iso;
+    }
+    table_.ax.push_back(p.a.x());
+    table_.ay.push_back(p.a.y());
+    table_.az.push_back(p.a.z());
+    table_.ux.push_back(u.x());
+    table_.uy.push_back(u.y());
+    table_.uz.push_back(u.z());
+    table_.len.push_back(len);
+    table_.r0.push_back(r0);
+    table_.dr.push_back(dr);
+    table_.weight.push_back(weight);
+    table_.s.push_back(s);
+    table_.inv_cut.push_back(inv_cut);
+    reach_.push_back(reach);
+  }
+
+  void copy_from(const SkeletonField& o, std::uint32_t i) {
+    const auto& t = o.table_;
+    table_.ax.push_back(t.ax[i]);
+    table_.ay.push_back(t.ay[i]);
+    table_.az.push_back(t.az[i]);
+    table_.ux.push_back(t.ux[i]);
+    table_.uy.push_back(t.uy[i]);
+    table_.uz.push_back(t.uz[i]);
+    table_.len.push_back(t.len[i]);
+    table_.r0.push_back(t.r0[i]);
+    table_.dr.push_back(t.dr[i]);
+    table_.weight.push_back(t.weight[i]);
+    table_.s.push_back(t.s[i]);
+    table_.inv_cut.push_back(t.inv_cut[i]);
+    reach_.push_back(o.reach_[i]);
+  }
+
+  Vec3 point_a(std::uint32_t i) const { return {table_.ax[i], table_.ay[i], table_.az[i]}; }
+  Vec3 point_b(std::uint32_t i) const {
+    return point_a(i) + table_.len[i] * Vec3(table_.ux[i], table_.uy[i], table_.uz[i]);
+  }
+
+  Aabb segment_box(std::uint32_t i, double grow) const {
+    Aabb box;
+    box.extend(point_a(i));
+    box.extend(point_b(i));
+    box.min().array() -= grow;
+    box.max().array() += grow;
+    return box;
+  }
+
+  // Builds the BVH over the supports and the conservative surface box.
+  void finish() {
+    std::vector<Aabb> supports(table_.size());
+    for (std::uint32_t i = 0; i < table_.size(); ++i) {
+      supports[i] = segment_box(i, reach_[i] * (1 + kSupportMargin));
+    }
+    bvh_ = detail::BoxBvh(supports);
+    // Surface box: a point outside every primitive's "reach at level iso / K_i", where K_i is
+    // the number of supports overlapping primitive i's support, gets fewer than K_i
+    // contributions each below iso / K_i, so f < iso there.
+    std::vector<std::uint32_t> ids;
+    for (std::uint32_t i = 0; i < table_.size(); ++i) {
+      ids.clear();
+      bvh_.query(supports[i], ids);
+      const double level = iso() / static_cast<double>(std::max<std::size_t>(ids.size(), 1));
+      const double reach = reach_at(i, level);
+      if (reach > 0) surface_box_.extend(segment_box(i, reach * (1 + kSupportMargin)));
+    }
+  }
+
+  // Distance from primitive i beyond which its contribution stays below `level`.
+  double reach_at(std::uint32_t i, double level) const {
+    const double w = table_.weight[i];
+    if (mode_.mode == PrimitiveMode::kCauchySegment && table_.len[i] > 0) {
+      return std::min(reach_[i], cauchy_segment_reach(table_.s[i], table_.len[i], w, level));
+    }
+    const double rmax = std::max(table_.r0[i], table_.r0[i] + table_.dr[i] * table_.len[i]);
+    const Kernel k = mode_.mode == PrimitiveMode::kCauchyPoint || mode_.mode == PrimitiveMode::kCauchySegment
+                         ? Kernel{KernelKind::kCauchy, kernel_.shape()}
+                         : kernel_;
+    const double target = level / w;
+    if (target >= k.value(0)) return 0;
+    return std::min(reach_[i], k.x_at(target) * rmax);
+  }
+
+  Interval primitive_bound(std::uint32_t i, const Aabb& box) const {
+    const Vec3 a = point_a(i);
+    const Vec3 b = point_b(i);
+    const DistanceRange dist = box_segment_distance(box, a, b);
+    const double w = table_.weight[i];
+    if (mode_.mode == PrimitiveMode::kCauchySegment && table_.len[i] > 0) {
+      const double s = table_.s[i];
+      const double len = table_.len[i];
+      const double hi = w * cauchy_segment_max(s, len, dist.min);
+      const double far = box_segment_far(box, a, b);
+      const double q = 1 + s * s * far * far;
+      const double lo = w * len / (q * q) * fade_of(dist.max * dist.max * table_.inv_cut[i]);
+      return {lo, hi};
+    }
+    const double r_end = table_.r0[i] + table_.dr[i] * table_.len[i];
+    const double rmin = std::min(table_.r0[i], r_end);
+    const double rmax = std::max(table_.r0[i], r_end);
+    const Kernel k = mode_.mode == PrimitiveMode::kCauchyPoint || mode_.mode == PrimitiveMode::kCauchySegment
+                         ? Kernel{KernelKind::kCauchy, kernel_.shape()}
+                         : kernel_;
+    const double x_near = dist.min / rmax;
+    const double x_far = dist.max / rmin;
+    double lo = w * k.value(x_far);
+    if (mode_.fades) lo *= fade_of(x_far * x_far * table_.inv_cut[i]);
+    return {lo, w * k.value(x_near)};
+  }
+
+  Kernel kernel_;
+  SurfaceKind surface_;
+  detail::ModeParams mode_;
+  detail::PrimitiveTable table_;
+  std::vector<double> reach_;  // support radius of each primitive (model units)
+  detail::BoxBvh bvh_;
+  Aabb surface_box_;
+};
+
+void check_radius(double r, const std::string& what) {
+  if (!std::isfinite(r) || r <= 0) {
+    throw InvalidArgument(what + " must be finite and > 0, got " + std::to_string(r));
+  }
+}
+
+}  // namespace
+
+SkeletonFieldOptions SkeletonFieldOptions::resolved() const {
+  SkeletonFieldOptions o = *this;
+  o.kernel.validate();
+  if (o.surface == SurfaceKind::kConvolution && o.kernel.kind != KernelKind::kCauchy) {
+    throw InvalidArgument("convolution surfaces need the cauchy kernel, got " +
+                          kernel_name(o.kernel.kind));
+  }
+  if (!std::isfinite(o.iso) || o.iso < 0) {
+    throw InvalidArgument("iso must be finite and > 0 (0 = kernel default), got " + std::to_string(o.iso));
+  }
+  if (o.iso == 0) o.iso = o.kernel.default_iso();
+  if (o.surface == SurfaceKind::kDistance && o.kernel.kind != KernelKind::kCauchy) {
+    (void)o.kernel.x_at(o.iso);  // throws if the iso is unreachable
+  }
+  return o;
+}
+
+FieldPtr make_skeleton_field(const Skeleton& skeleton, const SkeletonFieldOptions& options,
+                             std::span<const double> edge_weights) {
+  const SkeletonFieldOptions o = options.resolved();
+  validate(skeleton);
+  if (!edge_weights.empty() && edge_weights.size() != skeleton.edges.size()) {
+    throw InvalidArgument("edge_weights: " + std::to_string(edge_weights.size()) + " weights for " +
+                          std::to_string(skeleton.edges.size()) + " edges");
+  }
+  std::vector<Primitive> prims;
+  prims.reserve(skeleton.edges.size());
+  std::vector<char> has_edge(skeleton.nodes.size(), 0);
+  for (std::size_t e = 0; e < skeleton.edges.size(); ++e) {
+    const double w = edge_weights.empty() ? 1.0 : edge_weights[e];
+    if (!std::isfinite(w) || w < 0) {
+      throw InvalidArgument("edge_weights[" + std::to_string(e) + "] must be finite and >= 0, got " +
+                            std::to_string(w));
+    }
+    const auto& na = skeleton.nodes[skeleton.edges[e][0]];
+    const auto& nb = skeleton.nodes[skeleton.edges[e][1]];
+    prims.push_back({na.position, nb.position, na.radius, nb.radius, w});
+    has_edge[skeleton.edges[e][0]] = has_edge[skeleton.edges[e][1]] = 1;
+  }
+  for (std::size_t i = 0; i < skeleton.nodes.size(); ++i) {
+    if (has_edge[i] == 0) {
+      const auto& n = skeleton.nodes[i];
+      prims.push_back({n.position, n.position, n.radius, n.radius, 1.0});
+    }
+  }
+  return std::make_shared<SkeletonField>(o, prims);
+}
+
+FieldPtr make_point_field(const Vec3& center, double radius, const SkeletonFieldOptions& options) {
+  if (!center.allFinite()) throw InvalidArgument("point primitive: center is not finite");
+  check_radius(radius, "point primitive: radius");
+  return std::make_shared<SkeletonField>(options.resolved(),
+                                         std::vector<Primitive>{{center, center, radius, radius, 1.0}});
+}
+
+FieldPtr make_segment_field(const Vec3& a, double ra, const Vec3& b, double rb,
+                            const SkeletonFieldOptions& options) {
+  if (!a.allFinite() || !b.allFinite()) throw InvalidArgument("segment primitive: endpoint is not finite");
+  check_radius(ra, "segment primitive: radius at a");
+  check_radius(rb, "segment primitive: radius at b");
+  return std::make_shared<SkeletonField>(options.resolved(), std::vector<Primitive>{{a, b, ra, rb, 1.0}});
+}
+
+}  // namespace ramiform

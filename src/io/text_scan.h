@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+// Internal helpers shared by the text readers (OBJ, OFF, point lists, PLY headers and ASCII
+// bodies): whole-file loading, line iteration with 1-based line numbers, field splitting and
+// strict number parsing, and shortest round-trip number formatting for the writers.
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ramiform::io_detail {
+
+/// The whole file as bytes. Throws InputError(path) when it cannot be opened or read.
+std::string read_whole_file(const std::string& path);
+
+/// Lower-case extension with its dot (".ply"), or "" when the file name has none.
+std::string lower_extension(const std::string& path);
+
+/// Iterates over the lines of a text; '\n' ends a line and a '\r' before it is dropped.
+class LineCursor {
+ public:
+  explicit LineCursor(std::string_view text, std::size_t offset = 0, std::size_t first_line = 1)
+      : text_(text), pos_(offset), next_line_(first_line) {}
+
+  /// Sets `line` to the next line and returns true, or returns false at the end of the text.
+  bool next(std::string_view& line);
+  /// 1-based number of the line last returned by next().
+  [[nodiscard]] std::size_t line_number() const { return next_line_ - 1; }
+  /// Byte offset just past the line last returned (past its '\n').
+  [[nodiscard]] std::size_t offset() const { return pos_; }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;
+  std::size_t next_line_ = 1;
+};
+
+/// The line without a '#' comment and without surrounding spaces and tabs.
+std::string_view strip_comment(std::string_view line);
+/// True when the line holds only spaces, tabs (and '\r', '\f', '\v').
+bool is_blank(std::string_view line);
+
+/// Splits `line` into fields separated by runs of spaces and tabs, and, when `allow_commas`, by
+/// single commas (with optional blanks around them). Returns false when a comma leaves an empty
+/// field ("1,,2", "1,2,", ",1"). `fields` is cleared first.
+bool split_fields(std::string_view line, std::vector<std::string_view>& fields,
+                  bool allow_commas = false);
+
+/// Outcome of strict number parsing.
+enum class NumberStatus { kOk, kMalformed, kNotFinite, kOutOfRange };
+
+/// Parses the whole token as a decimal floating-point number (an optional leading '+' is
+/// accepted). NaN and infinities give kNotFinite, overflow gives kOutOfRange.
+NumberStatus parse_double(std::string_view token, double& value);
+/// Parses the whole token as a decimal integer (an optional leading '+' is accepted).
+NumberStatus parse_int64(std::string_view token, std::int64_t& value);
+
+/// Strict parsers that throw InputError(source, line, "<what>: ...") naming the token.
+double to_double(std::string_view token, const std::string& source, std::size_t line,
+                 std::string_view what);
+std::int64_t to_int64(std::string_view token, const std::string& source, std::size_t line,
+                      std::string_view what);
+
+/// The token in quotes for an error message, shortened when long.
+std::string quote(std::string_view token);
+
+/// Appends the shortest decimal text that reads back as exactly `value`.
+void append_double(std::string& out, double value);
+/// Appends the decimal text of `value`.
+void append_uint(std::string& out, std::uint64_t value);
+
+}  // namespace ramiform::io_detail
