@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+// `ramiform eval SKELETON --points FILE [--gradient]`
+
+#include <cstdio>
+#include <string>
+
+#include "commands.h"
+#include "common.h"
+#include "ramiform/io/points_io.h"
+
+namespace ramiform::cli {
+namespace {
+
+struct EvalArgs {
+  std::string skeleton_path;
+  std::string points_path;
+  bool gradient = false;
+  FieldFlags field;
+  CommonOptions common;
+};
+
+int run_eval(const EvalArgs& args) {
+  RunScope scope(args.common);
+  StageTimer timer;
+  const SkeletonFieldOptions options = field_options(args.field);
+  const Skeleton skeleton = read_skeleton(args.skeleton_path, read_options(args.field));
+  const PointSet points = read_points(args.points_path);
+  timer.lap("read");
+  const FieldPtr field = make_skeleton_field(skeleton, options);
+  timer.lap("field");
+  std::vector<double> values(points.size());
+  std::vector<Vec3> gradients(args.gradient ? points.size() : 0);
+  field->evaluate(points.positions, values, gradients);
+  timer.lap("evaluate");
+  std::string out;
+  out.reserve(points.size() * (args.gradient ? 96 : 26));
+  char line[128];
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    int n = 0;
+    if (args.gradient) {
+      n = std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g\n", values[i], gradients[i].x(),
+                        gradients[i].y(), gradients[i].z());
+    } else {
+      n = std::snprintf(line, sizeof line, "%.17g\n", values[i]);
+    }
+    out.append(line, static_cast<std::size_t>(n));
+  }
+  std::fwrite(out.data(), 1, out.size(), stdout);
+  timer.lap("print");
+  nlohmann::json stats;
+  stats["seconds"] = timer.seconds();
+  stats["points"] = points.size();
+  stats["field_evals"] = field->evaluations();
+  stats["iso"] = field->iso();
+  write_stats(args.common.stats_path, stats);
+  return 0;
+}
+
+}  // namespace
+
+void register_eval(CLI::App& root, Action& action) {
+  auto args = std::make_shared<EvalArgs>();
+  CLI::App* c = root.add_subcommand(
+      "eval", "Print the field value of a skeleton's surface at each point, one line each "
+              "(inside where value > iso); with --gradient also the gradient.");
+  c->add_option("SKELETON", args->skeleton_path, "skeleton file (.json, .ply, .obj)")->required();
+  c->add_option("--points", args->points_path, "points: text 'x y z [nx ny nz]' per line, or .ply")
+      ->required();
+  c->add_flag("--gradient", args->gradient, "also print the gradient: 'value gx gy gz'");
+  add_field_options(*c, args->field);
+  add_common_options(*c, args->common);
+  c->callback([args, &action] { action = [args] { return run_eval(*args); }; });
+}
+
+}  // namespace ramiform::cli

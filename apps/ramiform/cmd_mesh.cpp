@@ -1,0 +1,65 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+// `ramiform mesh SKELETON [-o OUT] --method mc [--cell H | --resolution N] [--kernel ...]`
+
+#include <filesystem>
+#include <iostream>
+
+#include "commands.h"
+#include "common.h"
+#include "mesh_job.h"
+
+namespace ramiform::cli {
+namespace {
+
+struct MeshArgs {
+  std::string skeleton_path;
+  std::string out_path;
+  std::string method = "mc";
+  MeshJobOptions job;
+  FieldFlags field;
+  CommonOptions common;
+};
+
+int run_mesh(MeshArgs& args) {
+  RunScope scope(args.common);
+  StageTimer timer;
+  const SkeletonFieldOptions options = field_options(args.field);
+  const Skeleton skeleton = read_skeleton(args.skeleton_path, read_options(args.field));
+  timer.lap("read");
+  if (args.out_path.empty()) {
+    args.out_path = std::filesystem::path(args.skeleton_path).stem().string() + ".ply";
+  }
+  const MeshJobResult result = mesh_skeleton(skeleton, options, args.job, args.out_path, timer,
+                                             scope.context());
+  nlohmann::json stats = result.stats;
+  stats["seconds"] = timer.seconds();
+  write_stats(args.common.stats_path, stats);
+  std::cout << "wrote " << args.out_path << ": " << result.mesh.vertex_count() << " vertices, "
+            << result.mesh.triangle_count() << " triangles"
+            << (result.report.watertight ? ", watertight" : ", NOT watertight") << '\n';
+  return 0;
+}
+
+}  // namespace
+
+void register_mesh(CLI::App& root, Action& action) {
+  auto args = std::make_shared<MeshArgs>();
+  CLI::App* c = root.add_subcommand(
+      "mesh", "Mesh the implicit surface of a skeleton (convolution surface by default).");
+  c->add_option("SKELETON", args->skeleton_path, "skeleton file (.json, .ply, .obj)")->required();
+  c->add_option("-o,--output", args->out_path, "output mesh (.ply binary or .obj); default SKELETON's name .ply");
+  c->add_option("--method", args->method, "polygonizer: mc (uniform marching cubes)")
+      ->check(CLI::IsMember({"mc"}));
+  auto* cell = c->add_option("--cell", args->job.cell_size, "marching-cubes cell edge length (model units)")
+                   ->check(CLI::PositiveNumber);
+  auto* res = c->add_option("--resolution", args->job.resolution,
+                            "cells along the longest side of the surface's box (default 128)")
+                  ->check(CLI::Range(2, 4096));
+  cell->excludes(res);
+  add_field_options(*c, args->field);
+  add_common_options(*c, args->common);
+  c->callback([args, &action] { action = [args] { return run_mesh(*args); }; });
+}
+
+}  // namespace ramiform::cli

@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+// One registration function per subcommand (one file each). A subcommand stores the action to
+// run after parsing in `action`; main() runs it and maps exceptions to exit codes.
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+
+namespace ramiform::cli {
+
+using Action = std::function<int()>;
+
+void register_mesh(CLI::App& root, Action& action);
+void register_check(CLI::App& root, Action& action);
+void register_eval(CLI::App& root, Action& action);
+void register_demo(CLI::App& root, Action& action);
+
+}  // namespace ramiform::cli

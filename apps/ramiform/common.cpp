@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "common.h"
+
+#include <tbb/global_control.h>
+
+#include "ramiform/core/errors.h"
+#include "ramiform/io/atomic_file.h"
+
+namespace ramiform::cli {
+
+void add_common_options(CLI::App& app, CommonOptions& options) {
+  app.add_option("--threads", options.threads, "worker threads (0 = all cores); results never depend on it")
+      ->check(CLI::Range(0, 1024));
+  app.add_option("--stats", options.stats_path,
+                 "write run statistics (per-stage seconds, counts, field_evals) to this JSON file");
+}
+
+RunScope::RunScope(const CommonOptions& options) : context_(options.threads) {
+  if (options.threads > 0) {
+    limit_ = std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                   static_cast<std::size_t>(options.threads));
+  }
+}
+
+RunScope::~RunScope() = default;
+
+void add_field_options(CLI::App& app, FieldFlags& flags) {
+  app.add_option("--surface", flags.surface,
+                 "convolution (Cauchy kernel integrated along the skeleton) or distance (kernel of "
+                 "the distance to each segment)")
+      ->check(CLI::IsMember({"convolution", "distance"}));
+  app.add_option("--kernel", flags.kernel,
+                 "kernel: cauchy[:s*r] (convolution), wyvill, blinn[:B], metaball, "
+                 "inverse-power[:alpha] (distance); default cauchy / wyvill");
+  app.add_option("--iso", flags.iso, "iso value (default: the kernel's own, 0.5 or 1)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--obj-radius", flags.obj_radius,
+                 "radius of every node of an OBJ skeleton (OBJ files carry no radius)")
+      ->check(CLI::PositiveNumber);
+}
+
+SkeletonFieldOptions field_options(const FieldFlags& flags) {
+  SkeletonFieldOptions o;
+  o.surface = flags.surface == "distance" ? SurfaceKind::kDistance : SurfaceKind::kConvolution;
+  if (!flags.kernel.empty()) {
+    o.kernel = parse_kernel(flags.kernel);
+  } else {
+    o.kernel = Kernel{o.surface == SurfaceKind::kDistance ? KernelKind::kWyvill : KernelKind::kCauchy, 0.0};
+  }
+  if (o.surface == SurfaceKind::kConvolution && o.kernel.kind != KernelKind::kCauchy) {
+    throw InvalidArgument("--kernel " + flags.kernel +
+                          ": convolution surfaces use the cauchy kernel; add --surface distance "
+                          "for other kernels");
+  }
+  o.iso = flags.iso;
+  return o.resolved();
+}
+
+SkeletonReadOptions read_options(const FieldFlags& flags) {
+  SkeletonReadOptions r;
+  r.obj_radius = flags.obj_radius;
+  return r;
+}
+
+StageTimer::StageTimer() : start_(Clock::now()), last_(start_) {}
+
+void StageTimer::lap(const std::string& name) {
+  const auto now = Clock::now();
+  seconds_[name] = std::chrono::duration<double>(now - last_).count();
+  last_ = now;
+}
+
+nlohmann::json StageTimer::seconds() const {
+  nlohmann::json s = seconds_;
+  s["total"] = std::chrono::duration<double>(Clock::now() - start_).count();
+  return s;
+}
+
+void write_stats(const std::string& path, const nlohmann::json& stats) {
+  if (path.empty()) return;
+  write_file_atomically(
+      path, [&](std::ostream& out) { out << stats.dump(2) << '\n'; });
+}
+
+}  // namespace ramiform::cli

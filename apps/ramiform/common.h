@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+// Shared pieces of the subcommands: thread and stats options, field options from flags, timers,
+// and the JSON stats file.
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "ramiform/core/context.h"
+#include "ramiform/field/skeleton_field.h"
+#include "ramiform/io/skeleton_io.h"
+
+namespace ramiform::cli {
+
+/// Options every subcommand takes.
+struct CommonOptions {
+  int threads = 0;         ///< --threads N (0 = all cores)
+  std::string stats_path;  ///< --stats FILE.json
+};
+void add_common_options(CLI::App& app, CommonOptions& options);
+
+/// Applies --threads for the lifetime of the returned guard and returns the Context to pass on.
+class RunScope {
+ public:
+  explicit RunScope(const CommonOptions& options);
+  ~RunScope();
+  RunScope(const RunScope&) = delete;
+  RunScope& operator=(const RunScope&) = delete;
+  Context& context() { return context_; }
+
+ private:
+  Context context_;
+  std::shared_ptr<void> limit_;
+};
+
+/// Options that pick the field built from a skeleton: --surface, --kernel, --iso, --obj-radius.
+struct FieldFlags {
+  std::string surface = "convolution";
+  std::string kernel;  // empty: cauchy for convolution, wyvill for distance
+  double iso = 0.0;
+  double obj_radius = 0.0;
+};
+void add_field_options(CLI::App& app, FieldFlags& flags);
+/// Throws InvalidArgument naming the flag on a bad value.
+[[nodiscard]] SkeletonFieldOptions field_options(const FieldFlags& flags);
+[[nodiscard]] SkeletonReadOptions read_options(const FieldFlags& flags);
+
+/// Wall-clock stage timer collecting seconds per stage into a JSON object.
+class StageTimer {
+ public:
+  StageTimer();
+  /// Ends the current stage under `name` and starts the next one.
+  void lap(const std::string& name);
+  /// {"stage": seconds, ..., "total": seconds}.
+  [[nodiscard]] nlohmann::json seconds() const;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point start_, last_;
+  nlohmann::json seconds_ = nlohmann::json::object();
+};
+
+/// Writes `stats` to `path` (atomically) unless path is empty.
+void write_stats(const std::string& path, const nlohmann::json& stats);
+
+}  // namespace ramiform::cli

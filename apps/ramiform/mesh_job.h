@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+// Meshing a skeleton and writing the result: shared by `mesh` and `demo`.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "common.h"
+#include "ramiform/mesh/checks.h"
+#include "ramiform/mesh/trimesh.h"
+#include "ramiform/skeleton/skeleton.h"
+
+namespace ramiform::cli {
+
+struct MeshJobOptions {
+  double cell_size = 0.0;  ///< marching-cubes cell; 0 = from resolution
+  int resolution = 128;    ///< cells along the longest side when cell_size is 0
+};
+
+struct MeshJobResult {
+  TriMesh mesh;
+  MeshReport report;
+  nlohmann::json stats;  ///< vertices, triangles, field_evals, checks (no seconds)
+};
+
+/// Builds the field, polygonizes, checks and writes `out_path` (atomically). Laps `timer` at
+/// "field", "polygonize", "check", "write".
+MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
+                            const MeshJobOptions& options, const std::string& out_path,
+                            StageTimer& timer, Context& ctx);
+
+}  // namespace ramiform::cli
