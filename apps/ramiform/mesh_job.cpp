@@ -28,8 +28,9 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
   r.stats["triangles"] = r.mesh.triangle_count();
   r.stats["field_evals"] = field->evaluations();
   r.stats["cell_size"] = mc_stats.cell_size;
-  r.stats["cells"] = mc_stats.cells;
+  r.stats["cells"] = mc_stats.cells_total;
   r.stats["cells_skipped_by_bound"] = mc_stats.cells_skipped;
+  r.stats["crossing_edges"] = mc_stats.crossing_edges;
   r.stats["watertight"] = r.report.watertight;
   r.stats["oriented"] = r.report.oriented;
   r.stats["manifold"] = r.report.manifold;

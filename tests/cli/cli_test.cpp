@@ -1,0 +1,229 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+//
+// End-to-end tests of the `ramiform` binary: exit codes, messages, no partial outputs, stats,
+// agreement with the library, and identical outputs for any thread count.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "ramiform/field/skeleton_field.h"
+#include "ramiform/io/mesh_io.h"
+#include "ramiform/io/skeleton_io.h"
+#include "ramiform/mesh/checks.h"
+
+namespace ramiform {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Run {
+  int code = -1;
+  std::string out;  // stdout and stderr together
+};
+
+Run run(const std::string& args) {
+  const std::string cmd = std::string(RAMIFORM_BINARY) + " " + args + " 2>&1";
+  Run r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return r;
+  char buf[4096];
+  std::size_t n = 0;
+  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.out.append(buf, n);
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("ramiform_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+            "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name)) << text;
+    return path(name);
+  }
+  std::string y_fork() const {
+    return write("fork.json",
+                 R"({"nodes":[{"position":[0,0,0],"radius":0.5},{"position":[0,0,3],"radius":0.4},)"
+                 R"({"position":[-1.5,0,5],"radius":0.3},{"position":[1.5,0,5],"radius":0.3}],)"
+                 R"("edges":[[0,1],[1,2],[1,3]]})");
+  }
+  std::size_t files_in_dir() const {
+    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
+  }
+  fs::path dir_;
+};
+
+TEST_F(CliTest, MeshIsWatertightAndStatsHaveTheDocumentedKeys) {
+  const std::string skel = y_fork();
+  const Run r = run("mesh " + skel + " -o " + path("fork.ply") + " --method mc --resolution 64 --stats " +
+                    path("s.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const TriMesh mesh = read_mesh(path("fork.ply"));
+  const MeshReport rep = check_mesh(mesh);
+  EXPECT_TRUE(rep.watertight);
+  EXPECT_TRUE(rep.oriented);
+  EXPECT_TRUE(rep.manifold);
+  EXPECT_EQ(rep.components, 1U);
+  EXPECT_EQ(rep.euler, 2);
+  std::ifstream in(path("s.json"));
+  const auto stats = nlohmann::json::parse(in);
+  EXPECT_EQ(stats["vertices"].get<std::size_t>(), mesh.vertex_count());
+  EXPECT_EQ(stats["triangles"].get<std::size_t>(), mesh.triangle_count());
+  EXPECT_GT(stats["field_evals"].get<std::uint64_t>(), 0U);
+  EXPECT_TRUE(stats["seconds"].contains("total"));
+  EXPECT_TRUE(stats["watertight"].get<bool>());
+}
+
+TEST_F(CliTest, CheckJsonHasExactlyTheDocumentedKeys) {
+  const std::string skel = y_fork();
+  ASSERT_EQ(run("mesh " + skel + " -o " + path("fork.ply") + " --resolution 48").code, 0);
+  const Run r = run("check " + path("fork.ply") + " --skeleton " + skel + " --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  std::set<std::string> keys;
+  for (auto it = j.begin(); it != j.end(); ++it) keys.insert(it.key());
+  const std::set<std::string> expected = {"vertices", "triangles", "watertight", "oriented",
+                                          "manifold", "components", "euler", "min_angle_deg",
+                                          "median_angle_deg", "skeleton_nodes_inside"};
+  EXPECT_EQ(keys, expected);
+  EXPECT_DOUBLE_EQ(j["skeleton_nodes_inside"].get<double>(), 1.0);
+  EXPECT_EQ(j["euler"].get<int>(), 2);
+}
+
+TEST_F(CliTest, CheckReportsAnOpenMeshWithExitZero) {
+  const std::string obj = write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n");
+  const Run r = run("check " + obj + " --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(j["watertight"].get<bool>());
+  EXPECT_EQ(j["triangles"].get<int>(), 2);
+}
+
+TEST_F(CliTest, EvalPrintsTheLibraryValues) {
+  const std::string skel = y_fork();
+  const std::string pts = write("p.txt", "0 0 1\n0.3 0.2 2.5\n5 5 5\n-1.5 0 5.3\n");
+  const Run r = run("eval " + skel + " --points " + pts + " --gradient");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Skeleton s = read_skeleton(skel);
+  const FieldPtr f = make_skeleton_field(s);
+  std::istringstream lines(r.out);
+  const Vec3 points[] = {{0, 0, 1}, {0.3, 0.2, 2.5}, {5, 5, 5}, {-1.5, 0, 5.3}};
+  for (const Vec3& p : points) {
+    double v = 0, gx = 0, gy = 0, gz = 0;
+    ASSERT_TRUE(lines >> v >> gx >> gy >> gz);
+    EXPECT_EQ(v, f->value(p));  // %.17g round-trips exactly
+    const Vec3 g = f->gradient(p);
+    EXPECT_EQ(gx, g.x());
+    EXPECT_EQ(gy, g.y());
+    EXPECT_EQ(gz, g.z());
+  }
+  EXPECT_GT(f->value(points[0]), f->iso());  // on the trunk axis: inside
+  EXPECT_LE(f->value(points[2]), f->iso());  // far away: outside
+}
+
+TEST_F(CliTest, OutputIsByteIdenticalForOneAndTwoThreads) {
+  const std::string skel = y_fork();
+  ASSERT_EQ(run("mesh " + skel + " -o " + path("t1.ply") + " --resolution 80 --threads 1").code, 0);
+  ASSERT_EQ(run("mesh " + skel + " -o " + path("t2.ply") + " --resolution 80 --threads 2").code, 0);
+  std::ifstream a(path("t1.ply"), std::ios::binary), b(path("t2.ply"), std::ios::binary);
+  const std::string sa((std::istreambuf_iterator<char>(a)), {}), sb((std::istreambuf_iterator<char>(b)), {});
+  EXPECT_GT(sa.size(), 1000U);
+  EXPECT_EQ(sa, sb);
+}
+
+struct BadInput {
+  const char* name;
+  const char* text;
+  const char* expect;  // substring of the message
+};
+
+TEST_F(CliTest, BadSkeletonsExitTwoWithLocatedMessageAndNoOutput) {
+  const BadInput cases[] = {
+      {"empty.json", "", "empty.json"},
+      {"syntax.json", "{\"nodes\": [\n{\"position\": [0,0,0], \"radius\": 1},\n]}", ":3"},
+      {"radius.json", R"({"nodes":[{"position":[0,0,0],"radius":0}],"edges":[]})", "node 0"},
+      {"negative.json", R"({"nodes":[{"position":[0,0,0],"radius":1},{"position":[0,0,1],"radius":-2}],"edges":[[0,1]]})", "node 1"},
+      {"range.json", R"({"nodes":[{"position":[0,0,0],"radius":1}],"edges":[[0,7]]})", "edge 0"},
+      {"loop.json", R"({"nodes":[{"position":[0,0,0],"radius":1},{"position":[0,0,1],"radius":1}],"edges":[[0,1],[1,1]]})", "edge 1"},
+      {"dup.json", R"({"nodes":[{"position":[0,0,0],"radius":1},{"position":[0,0,1],"radius":1}],"edges":[[0,1],[1,0]]})", "edge 1"},
+      {"zero.json", R"({"nodes":[{"position":[0,0,0],"radius":1},{"position":[0,0,0],"radius":1}],"edges":[[0,1]]})", "edge 0"},
+      {"header.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n", "header.ply"},
+      {"nan.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nproperty float radius\nend_header\n0 nan 0 1\n", "nan.ply"},
+  };
+  for (const auto& c : cases) {
+    const std::string in = write(c.name, c.text);
+    const std::string out = path(std::string(c.name) + ".out.ply");
+    const std::size_t before = files_in_dir();
+    const Run r = run("mesh " + in + " -o " + out + " --resolution 16");
+    EXPECT_EQ(r.code, 2) << c.name << ": " << r.out;
+    EXPECT_NE(r.out.find(c.name), std::string::npos) << c.name << ": " << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.name << " should mention '" << c.expect << "': " << r.out;
+    EXPECT_FALSE(fs::exists(out)) << c.name;
+    EXPECT_EQ(files_in_dir(), before) << c.name << ": a file was left behind";
+  }
+}
+
+TEST_F(CliTest, UsageErrorsExitOne) {
+  EXPECT_EQ(run("").code, 1);
+  EXPECT_EQ(run("mesh").code, 1);
+  EXPECT_EQ(run("mesh x.json --method nope").code, 1);
+  EXPECT_EQ(run("mesh x.json --cell 0.1 --resolution 20").code, 1);
+  EXPECT_EQ(run("frobnicate").code, 1);
+}
+
+TEST_F(CliTest, BadOptionValuesAndMissingFilesExitTwo) {
+  const std::string skel = y_fork();
+  const Run k = run("mesh " + skel + " --kernel nonsense -o " + path("k.ply"));
+  EXPECT_EQ(k.code, 2) << k.out;
+  EXPECT_NE(k.out.find("unknown kernel"), std::string::npos) << k.out;
+  const Run m = run("mesh " + path("missing.json") + " -o " + path("m.ply"));
+  EXPECT_EQ(m.code, 2) << m.out;
+  EXPECT_NE(m.out.find("missing.json"), std::string::npos) << m.out;
+  const Run obj = run("mesh " + write("line.obj", "v 0 0 0\nv 0 0 1\nl 1 2\n") + " -o " + path("o.ply"));
+  EXPECT_EQ(obj.code, 2) << obj.out;  // OBJ needs --obj-radius
+  EXPECT_FALSE(fs::exists(path("o.ply")));
+}
+
+TEST_F(CliTest, EveryCommandHasHelp) {
+  for (const char* c : {"mesh", "check", "eval", "demo"}) {
+    const Run r = run(std::string(c) + " --help");
+    EXPECT_EQ(r.code, 0) << c;
+    EXPECT_NE(r.out.find("--threads"), std::string::npos) << c;
+    EXPECT_NE(r.out.find("--stats"), std::string::npos) << c;
+  }
+}
+
+TEST_F(CliTest, DemoWritesACheckedWatertightTree) {
+  const Run r = run("demo --out " + path("demo") + " --resolution 96");
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* f : {"skeleton.json", "tree.ply", "stats.json"}) {
+    EXPECT_TRUE(fs::exists(dir_ / "demo" / f)) << f;
+    EXPECT_NE(r.out.find(f), std::string::npos) << "summary should name " << f;
+  }
+  const TriMesh mesh = read_mesh((dir_ / "demo" / "tree.ply").string());
+  const MeshReport rep = check_mesh(mesh);
+  EXPECT_TRUE(rep.watertight);
+  EXPECT_TRUE(rep.oriented);
+  EXPECT_EQ(rep.components, 1U);
+  const Skeleton s = read_skeleton((dir_ / "demo" / "skeleton.json").string());
+  EXPECT_EQ(s.edge_count(), 31U);
+}
+
+}  // namespace
+}  // namespace ramiform
