@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
 //
-// Field evaluations per second on random line skeletons of 1k, 10k and 100k segments, with and
+// Field evaluations per second on branching-tree line skeletons of 1k, 10k and 100k segments, with and
 // without BVH pruning, for the Cauchy convolution surface and the Wyvill distance surface.
 // Points come in spatially coherent batches of 4096 (32 clusters of 128 around random
 // segments), as a polygonizer sends them.
@@ -10,7 +10,7 @@
 
 #include "ramiform/core/random.h"
 #include "ramiform/field/skeleton_field.h"
-#include "support/fixtures.h"
+#include "ramiform/skeleton/generate.h"
 
 namespace {
 
@@ -34,7 +34,9 @@ std::vector<Vec3> clustered_points(const Skeleton& s, std::size_t clusters, std:
 void field_eval(benchmark::State& state, SurfaceKind surface) {
   const auto segments = static_cast<int>(state.range(0));
   const bool prune = state.range(1) != 0;
-  const Skeleton s = test::random_tree(42, segments + 1);
+  BranchingTreeOptions tree;
+  tree.segments = static_cast<std::size_t>(segments);
+  const Skeleton s = branching_tree(tree);
   SkeletonFieldOptions o;
   o.surface = surface;
   if (surface == SurfaceKind::kDistance) o.kernel = Kernel{KernelKind::kWyvill, 0.0};

@@ -1,21 +1,23 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
 //
-// Marching cubes: cells per second on a 200-node random tree (Cauchy convolution surface) at
+// Marching cubes: cells per second on a 200-segment branching tree (Cauchy convolution surface) at
 // growing resolutions, with bound-based block skipping (the default).
 
 #include <benchmark/benchmark.h>
 
 #include "ramiform/field/skeleton_field.h"
 #include "ramiform/polygonize/marching_cubes.h"
-#include "support/fixtures.h"
+#include "ramiform/skeleton/generate.h"
 
 namespace {
 
 using namespace ramiform;
 
 void BM_MarchingCubes(benchmark::State& state) {
-  const Skeleton s = test::random_tree(42, 200);
+  BranchingTreeOptions tree;
+  tree.segments = 200;
+  const Skeleton s = branching_tree(tree);
   const FieldPtr f = make_skeleton_field(s, {});
   MarchingCubesOptions o;
   o.resolution = static_cast<int>(state.range(0));

@@ -2,14 +2,13 @@
 // Copyright (c) 2026 the ramiform authors
 // `ramiform demo [--out DIR]`: a built-in branching skeleton, meshed and checked.
 
-#include <cmath>
 #include <filesystem>
 #include <iostream>
-#include <numbers>
 
 #include "commands.h"
 #include "common.h"
 #include "mesh_job.h"
+#include "ramiform/skeleton/generate.h"
 
 namespace ramiform::cli {
 namespace {
@@ -20,28 +19,14 @@ struct DemoArgs {
   CommonOptions common;
 };
 
-// A small tree: a trunk that forks three times, each fork turning its two children by a fixed
-// angle about alternating axes, radii following the pipe model r^2 = r1^2 + r2^2.
-void grow_branch(Skeleton& s, std::uint32_t parent, const Vec3& dir, double length, double radius,
-                 int depth, double turn) {
-  const Vec3 p = s.nodes[parent].position + length * dir;
-  s.nodes.push_back({p, radius});
-  const auto node = static_cast<std::uint32_t>(s.nodes.size() - 1);
-  s.edges.push_back({parent, node});
-  if (depth == 0) return;
-  const Vec3 axis = (depth % 2 == 0 ? Vec3::UnitX() : Vec3::UnitY());
-  const double child_r = radius / std::sqrt(2.0);
-  for (int side = -1; side <= 1; side += 2) {
-    const Vec3 d = Eigen::AngleAxisd(side * turn, axis) * dir;
-    grow_branch(s, node, d.normalized(), length * 0.75, child_r, depth - 1, turn * 0.9);
-  }
-}
-
+// The built-in scene: a 31-segment binary tree (four forks deep) with pipe-model radii.
 Skeleton demo_skeleton() {
-  Skeleton s;
-  s.nodes.push_back({Vec3(0, 0, 0), 0.45});
-  grow_branch(s, 0, Vec3::UnitZ(), 3.0, 0.36, 4, std::numbers::pi / 5);
-  return s;
+  BranchingTreeOptions o;
+  o.segments = 31;
+  o.seed = 2026;
+  o.trunk_length = 3.0;
+  o.tip_radius = 0.1;
+  return branching_tree(o);
 }
 
 int run_demo(const DemoArgs& args) {

@@ -98,7 +98,7 @@ double cauchy_segment_reach(double s, double len, double weight, double level) {
 class SkeletonField final : public Field {
  public:
   SkeletonField(const SkeletonFieldOptions& o, const std::vector<Primitive>& prims)
-      : Field(o.iso), kernel_(o.kernel), surface_(o.surface) {
+      : Field(o.iso), kernel_(o.kernel), surface_(o.surface), prune_(o.prune) {
     mode_.mode = mode_of(o);
     mode_.shape = o.kernel.shape();
     mode_.fades = mode_.mode != PrimitiveMode::kWyvill && mode_.mode != PrimitiveMode::kMetaball;
@@ -111,6 +111,7 @@ class SkeletonField final : public Field {
       : Field(source.iso(), source),
         kernel_(source.kernel_),
         surface_(source.surface_),
+        prune_(source.prune_),
         mode_(source.mode_) {
     for (const std::uint32_t i : ids) copy_from(source, i);
     finish();
@@ -185,7 +186,7 @@ class SkeletonField final : public Field {
         std::fill_n(chunk.gz, chunk.padded, 0.0);
       }
       ids.clear();
-      if (!box.isEmpty() && box.min().allFinite() && box.max().allFinite()) {
+      if (prune_ && !box.isEmpty() && box.min().allFinite() && box.max().allFinite()) {
         bvh_.query(box, ids);
       } else {
         for (std::uint32_t i = 0; i < table_.size(); ++i) ids.push_back(i);
@@ -380,13 +381,7 @@ class SkeletonField final : public Field {
     const DistanceRange dist = box_segment_distance(box, a, b);
     const double w = table_.weight[i];
     if (mode_.mode == PrimitiveMode::kCauchySegment && table_.len[i] > 0) {
-      const double s = table_.s[i];
-      const double len = table_.len[i];
-      const double hi = w * cauchy_segment_max(s, len, dist.min);
-      const double far = box_segment_far(box, a, b);
-      const double q = 1 + s * s * far * far;
-      const double lo = w * len / (q * q) * fade_of(dist.max * dist.max * table_.inv_cut[i]);
-      return {lo, hi};
+      return cauchy_bound(i, box, a, b, dist);
     }
     const double r_end = table_.r0[i] + table_.dr[i] * table_.len[i];
     const double rmin = std::min(table_.r0[i], r_end);
@@ -401,8 +396,47 @@ class SkeletonField final : public Field {
     return {lo, w * k.value(x_near)};
   }
 
+  // Bounds of a Cauchy segment over a box with centre c and half-diagonal rho. For every point p
+  // of the box and q of the segment, |c - q| - rho <= |p - q| <= |c - q| + rho, and for any
+  // e > 0, (d + rho)^2 <= (1 + e) d^2 + (1 + 1/e) rho^2 and, for e in (0, 1),
+  // max(d - rho, 0)^2 >= (1 - e) d^2 - (1/e - 1) rho^2. With A = 1 + s^2 (1 +- 1/e) rho^2 the
+  // kernel bound 1 / (A + s^2 (1 +- e) d^2)^2 integrates in closed form: F_s'(c) / A^2 with
+  // s'^2 = s^2 (1 +- e) / A.
+  Interval cauchy_bound(std::uint32_t i, const Aabb& box, const Vec3& a, const Vec3& b,
+                        const DistanceRange& dist) const {
+    const double w = table_.weight[i];
+    const double s = table_.s[i];
+    const double s2 = s * s;
+    const double len = table_.len[i];
+    const Vec3 c = box.center();
+    const double rho = 0.5 * box.diagonal().norm();
+    const double rho2 = rho * rho;
+    const Vec3 ab = b - a;
+    const double t = std::clamp((c - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    const double dc = (c - (a + t * ab)).norm();
+    // Upper end: the infinite-line / whole-length bound, tightened by the centre bound.
+    double hi = w * cauchy_segment_max(s, len, dist.min);
+    const double e_hi = std::clamp(rho / std::max(dc, 2 * rho), 0.05, 0.5);
+    const double a_hi = 1 - s2 * (1 / e_hi - 1) * rho2;
+    if (a_hi > 0) {
+      const double s_hi = std::sqrt(s2 * (1 - e_hi) / a_hi);
+      hi = std::min(hi, w * cauchy_segment_integral(c, a, b, s_hi) / (a_hi * a_hi));
+    }
+    double lo = 0;
+    const double fade = fade_of(dist.max * dist.max * table_.inv_cut[i]);
+    if (fade > 0) {
+      const double e_lo = rho > 0 ? rho / std::max(dc, rho) : 1.0;
+      const double a_lo = 1 + s2 * (1 + 1 / e_lo) * rho2;
+      const double s_lo = std::sqrt(s2 * (1 + e_lo) / a_lo);
+      lo = w * cauchy_segment_integral(c, a, b, s_lo) / (a_lo * a_lo) * fade;
+    }
+    // The closed forms above are evaluated in floating point: widen by a relative 1e-9.
+    return {lo * (1 - 1e-9), hi * (1 + 1e-9)};
+  }
+
   Kernel kernel_;
   SurfaceKind surface_;
+  bool prune_ = true;
   detail::ModeParams mode_;
   detail::PrimitiveTable table_;
   std::vector<double> reach_;  // support radius of each primitive (model units)

@@ -31,8 +31,8 @@ std::string errno_text(int err) { return err != 0 ? std::string(": ") + std::str
 // lets the process umask decide the final permissions, as for any ordinary new file.
 fs::path create_temporary(const std::string& path, const fs::path& dir, const std::string& name) {
   static std::atomic<unsigned> counter{0};
-  const auto stamp = static_cast<unsigned long long>(
-      std::chrono::steady_clock::now().time_since_epoch().count());
+  const auto stamp =
+      static_cast<unsigned long long>(std::chrono::steady_clock::now().time_since_epoch().count());
   for (int attempt = 0; attempt < 100; ++attempt) {
     char suffix[96];
     std::snprintf(suffix, sizeof suffix, ".tmp-%ld-%u-%llx", static_cast<long>(::getpid()),
@@ -43,7 +43,8 @@ fs::path create_temporary(const std::string& path, const fs::path& dir, const st
       ::close(fd);
       return candidate;
     }
-    if (errno != EEXIST) fail(path, "cannot create a temporary file in '" + dir.string() + "'", errno);
+    if (errno != EEXIST)
+      fail(path, "cannot create a temporary file in '" + dir.string() + "'", errno);
   }
   fail(path, "cannot find a free temporary file name in '" + dir.string() + "'", 0);
 }
@@ -93,7 +94,8 @@ void write_file_atomically(const std::string& path,
     out.close();
     if (out.fail()) fail(path, "write error while closing", errno);
     if (const int err = sync_file(tmp); err != 0) fail(path, "cannot sync", err);
-    if (::rename(tmp.c_str(), target.c_str()) != 0) fail(path, "cannot rename temporary file", errno);
+    if (::rename(tmp.c_str(), target.c_str()) != 0)
+      fail(path, "cannot rename temporary file", errno);
   } catch (...) {
     remove_quietly(tmp);
     throw;

@@ -72,13 +72,12 @@ std::string_view strip_comment(std::string_view line) {
 
 bool is_blank(std::string_view line) {
   for (char c : line) {
-    if (!is_space(c)) return false;
+    if (!is_space(c) && c != '\n') return false;
   }
   return true;
 }
 
-bool split_fields(std::string_view line, std::vector<std::string_view>& fields,
-                  bool allow_commas) {
+bool split_fields(std::string_view line, std::vector<std::string_view>& fields, bool allow_commas) {
   fields.clear();
   const char* p = line.data();
   const char* const end = p + line.size();
@@ -101,17 +100,16 @@ bool split_fields(std::string_view line, std::vector<std::string_view>& fields,
 
 NumberStatus parse_double(std::string_view token, double& value) {
   if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-  if (token.empty() || token.front() == '+' || token.front() == '-' && token.size() > 1 &&
-                                                    token[1] == '+') {
-    return NumberStatus::kMalformed;
-  }
+  if (token.empty() || token.front() == '+') return NumberStatus::kMalformed;
+  if (token.size() > 1 && token.front() == '-' && token[1] == '+') return NumberStatus::kMalformed;
   const char* end = token.data() + token.size();
   const auto [ptr, ec] = std::from_chars(token.data(), end, value);
-  if (ec == std::errc::result_out_of_range) {
-    // libstdc++ reports underflow as out of range too; a tiny magnitude is just zero.
-    double probe = 0.0;
-    if (std::sscanf(std::string(token).c_str(), "%lf", &probe) == 1 && std::fabs(probe) < 1.0) {
-      value = probe;
+  if (ec == std::errc::result_out_of_range && ptr == end) {
+    // libstdc++ reports underflow as out of range too; a magnitude below the smallest
+    // subnormal (negative exponent) is zero, not an error.
+    const std::size_t e = token.find_first_of("eE");
+    if (e != std::string_view::npos && e + 1 < token.size() && token[e + 1] == '-') {
+      value = token.front() == '-' ? -0.0 : 0.0;
       return NumberStatus::kOk;
     }
     return NumberStatus::kOutOfRange;
@@ -143,16 +141,14 @@ double to_double(std::string_view token, const std::string& source, std::size_t 
     case NumberStatus::kOk:
       return value;
     case NumberStatus::kNotFinite:
-      throw InputError(source, line, std::string(what) + ": " + quote(token) +
-                                         " is not a finite number");
-    case NumberStatus::kOutOfRange:
       throw InputError(source, line,
-                       std::string(what) + ": " + quote(token) + " is out of range");
+                       std::string(what) + ": " + quote(token) + " is not a finite number");
+    case NumberStatus::kOutOfRange:
+      throw InputError(source, line, std::string(what) + ": " + quote(token) + " is out of range");
     case NumberStatus::kMalformed:
       break;
   }
-  throw InputError(source, line,
-                   std::string(what) + ": expected a number, got " + quote(token));
+  throw InputError(source, line, std::string(what) + ": expected a number, got " + quote(token));
 }
 
 std::int64_t to_int64(std::string_view token, const std::string& source, std::size_t line,
@@ -162,13 +158,11 @@ std::int64_t to_int64(std::string_view token, const std::string& source, std::si
     case NumberStatus::kOk:
       return value;
     case NumberStatus::kOutOfRange:
-      throw InputError(source, line,
-                       std::string(what) + ": " + quote(token) + " is out of range");
+      throw InputError(source, line, std::string(what) + ": " + quote(token) + " is out of range");
     default:
       break;
   }
-  throw InputError(source, line,
-                   std::string(what) + ": expected an integer, got " + quote(token));
+  throw InputError(source, line, std::string(what) + ": expected an integer, got " + quote(token));
 }
 
 void append_double(std::string& out, double value) {

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -41,7 +42,7 @@ class LineCursor {
 
 /// The line without a '#' comment and without surrounding spaces and tabs.
 std::string_view strip_comment(std::string_view line);
-/// True when the line holds only spaces, tabs (and '\r', '\f', '\v').
+/// True when the text holds only spaces, tabs, line breaks, '\f' and '\v' (or nothing).
 bool is_blank(std::string_view line);
 
 /// Splits `line` into fields separated by runs of spaces and tabs, and, when `allow_commas`, by
@@ -72,5 +73,31 @@ std::string quote(std::string_view token);
 void append_double(std::string& out, double value);
 /// Appends the decimal text of `value`.
 void append_uint(std::string& out, std::uint64_t value);
+
+/// Collects output text and writes it to a stream in large blocks.
+class TextSink {
+ public:
+  explicit TextSink(std::ostream& out) : out_(out) { text_.reserve(kBlock + 256); }
+  ~TextSink() = default;
+  TextSink(const TextSink&) = delete;
+  TextSink& operator=(const TextSink&) = delete;
+
+  /// The pending text; append to it, then call line_done().
+  std::string& text() { return text_; }
+  /// Writes the pending text when a block is full.
+  void line_done() {
+    if (text_.size() >= kBlock) flush();
+  }
+  /// Writes all pending text.
+  void flush() {
+    out_.write(text_.data(), static_cast<std::streamsize>(text_.size()));
+    text_.clear();
+  }
+
+ private:
+  static constexpr std::size_t kBlock = std::size_t{1} << 20;
+  std::ostream& out_;
+  std::string text_;
+};
 
 }  // namespace ramiform::io_detail

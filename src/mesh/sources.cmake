@@ -1,1 +1,3 @@
-set(RAMIFORM_MESH_SOURCES)
+set(RAMIFORM_MESH_SOURCES
+  src/mesh/checks.cpp
+  src/mesh/winding.cpp)

@@ -1,1 +1,2 @@
-set(RAMIFORM_POLYGONIZE_SOURCES)
+set(RAMIFORM_POLYGONIZE_SOURCES
+  src/polygonize/marching_cubes.cpp)

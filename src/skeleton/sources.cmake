@@ -1,2 +1,3 @@
 set(RAMIFORM_SKELETON_SOURCES
+  src/skeleton/generate.cpp
   src/skeleton/skeleton.cpp)

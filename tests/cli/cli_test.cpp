@@ -24,14 +24,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct CliRun {
   int code = -1;
   std::string out;  // stdout and stderr together
 };
 
-Run run(const std::string& args) {
+CliRun run_cli(const std::string& args) {
   const std::string cmd = std::string(RAMIFORM_BINARY) + " " + args + " 2>&1";
-  Run r;
+  CliRun r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (pipe == nullptr) return r;
   char buf[4096];
@@ -71,7 +71,7 @@ class CliTest : public ::testing::Test {
 
 TEST_F(CliTest, MeshIsWatertightAndStatsHaveTheDocumentedKeys) {
   const std::string skel = y_fork();
-  const Run r = run("mesh " + skel + " -o " + path("fork.ply") + " --method mc --resolution 64 --stats " +
+  const CliRun r = run_cli("mesh " + skel + " -o " + path("fork.ply") + " --method mc --resolution 64 --stats " +
                     path("s.json"));
   ASSERT_EQ(r.code, 0) << r.out;
   const TriMesh mesh = read_mesh(path("fork.ply"));
@@ -92,8 +92,8 @@ TEST_F(CliTest, MeshIsWatertightAndStatsHaveTheDocumentedKeys) {
 
 TEST_F(CliTest, CheckJsonHasExactlyTheDocumentedKeys) {
   const std::string skel = y_fork();
-  ASSERT_EQ(run("mesh " + skel + " -o " + path("fork.ply") + " --resolution 48").code, 0);
-  const Run r = run("check " + path("fork.ply") + " --skeleton " + skel + " --json");
+  ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("fork.ply") + " --resolution 48").code, 0);
+  const CliRun r = run_cli("check " + path("fork.ply") + " --skeleton " + skel + " --json");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
   std::set<std::string> keys;
@@ -108,7 +108,7 @@ TEST_F(CliTest, CheckJsonHasExactlyTheDocumentedKeys) {
 
 TEST_F(CliTest, CheckReportsAnOpenMeshWithExitZero) {
   const std::string obj = write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n");
-  const Run r = run("check " + obj + " --json");
+  const CliRun r = run_cli("check " + obj + " --json");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_FALSE(j["watertight"].get<bool>());
@@ -118,7 +118,7 @@ TEST_F(CliTest, CheckReportsAnOpenMeshWithExitZero) {
 TEST_F(CliTest, EvalPrintsTheLibraryValues) {
   const std::string skel = y_fork();
   const std::string pts = write("p.txt", "0 0 1\n0.3 0.2 2.5\n5 5 5\n-1.5 0 5.3\n");
-  const Run r = run("eval " + skel + " --points " + pts + " --gradient");
+  const CliRun r = run_cli("eval " + skel + " --points " + pts + " --gradient");
   ASSERT_EQ(r.code, 0) << r.out;
   const Skeleton s = read_skeleton(skel);
   const FieldPtr f = make_skeleton_field(s);
@@ -139,8 +139,8 @@ TEST_F(CliTest, EvalPrintsTheLibraryValues) {
 
 TEST_F(CliTest, OutputIsByteIdenticalForOneAndTwoThreads) {
   const std::string skel = y_fork();
-  ASSERT_EQ(run("mesh " + skel + " -o " + path("t1.ply") + " --resolution 80 --threads 1").code, 0);
-  ASSERT_EQ(run("mesh " + skel + " -o " + path("t2.ply") + " --resolution 80 --threads 2").code, 0);
+  ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("t1.ply") + " --resolution 80 --threads 1").code, 0);
+  ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("t2.ply") + " --resolution 80 --threads 2").code, 0);
   std::ifstream a(path("t1.ply"), std::ios::binary), b(path("t2.ply"), std::ios::binary);
   const std::string sa((std::istreambuf_iterator<char>(a)), {}), sb((std::istreambuf_iterator<char>(b)), {});
   EXPECT_GT(sa.size(), 1000U);
@@ -170,7 +170,7 @@ TEST_F(CliTest, BadSkeletonsExitTwoWithLocatedMessageAndNoOutput) {
     const std::string in = write(c.name, c.text);
     const std::string out = path(std::string(c.name) + ".out.ply");
     const std::size_t before = files_in_dir();
-    const Run r = run("mesh " + in + " -o " + out + " --resolution 16");
+    const CliRun r = run_cli("mesh " + in + " -o " + out + " --resolution 16");
     EXPECT_EQ(r.code, 2) << c.name << ": " << r.out;
     EXPECT_NE(r.out.find(c.name), std::string::npos) << c.name << ": " << r.out;
     EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.name << " should mention '" << c.expect << "': " << r.out;
@@ -180,29 +180,29 @@ TEST_F(CliTest, BadSkeletonsExitTwoWithLocatedMessageAndNoOutput) {
 }
 
 TEST_F(CliTest, UsageErrorsExitOne) {
-  EXPECT_EQ(run("").code, 1);
-  EXPECT_EQ(run("mesh").code, 1);
-  EXPECT_EQ(run("mesh x.json --method nope").code, 1);
-  EXPECT_EQ(run("mesh x.json --cell 0.1 --resolution 20").code, 1);
-  EXPECT_EQ(run("frobnicate").code, 1);
+  EXPECT_EQ(run_cli("").code, 1);
+  EXPECT_EQ(run_cli("mesh").code, 1);
+  EXPECT_EQ(run_cli("mesh x.json --method nope").code, 1);
+  EXPECT_EQ(run_cli("mesh x.json --cell 0.1 --resolution 20").code, 1);
+  EXPECT_EQ(run_cli("frobnicate").code, 1);
 }
 
 TEST_F(CliTest, BadOptionValuesAndMissingFilesExitTwo) {
   const std::string skel = y_fork();
-  const Run k = run("mesh " + skel + " --kernel nonsense -o " + path("k.ply"));
+  const CliRun k = run_cli("mesh " + skel + " --kernel nonsense -o " + path("k.ply"));
   EXPECT_EQ(k.code, 2) << k.out;
   EXPECT_NE(k.out.find("unknown kernel"), std::string::npos) << k.out;
-  const Run m = run("mesh " + path("missing.json") + " -o " + path("m.ply"));
+  const CliRun m = run_cli("mesh " + path("missing.json") + " -o " + path("m.ply"));
   EXPECT_EQ(m.code, 2) << m.out;
   EXPECT_NE(m.out.find("missing.json"), std::string::npos) << m.out;
-  const Run obj = run("mesh " + write("line.obj", "v 0 0 0\nv 0 0 1\nl 1 2\n") + " -o " + path("o.ply"));
+  const CliRun obj = run_cli("mesh " + write("line.obj", "v 0 0 0\nv 0 0 1\nl 1 2\n") + " -o " + path("o.ply"));
   EXPECT_EQ(obj.code, 2) << obj.out;  // OBJ needs --obj-radius
   EXPECT_FALSE(fs::exists(path("o.ply")));
 }
 
 TEST_F(CliTest, EveryCommandHasHelp) {
   for (const char* c : {"mesh", "check", "eval", "demo"}) {
-    const Run r = run(std::string(c) + " --help");
+    const CliRun r = run_cli(std::string(c) + " --help");
     EXPECT_EQ(r.code, 0) << c;
     EXPECT_NE(r.out.find("--threads"), std::string::npos) << c;
     EXPECT_NE(r.out.find("--stats"), std::string::npos) << c;
@@ -210,7 +210,7 @@ TEST_F(CliTest, EveryCommandHasHelp) {
 }
 
 TEST_F(CliTest, DemoWritesACheckedWatertightTree) {
-  const Run r = run("demo --out " + path("demo") + " --resolution 96");
+  const CliRun r = run_cli("demo --out " + path("demo") + " --resolution 96");
   ASSERT_EQ(r.code, 0) << r.out;
   for (const char* f : {"skeleton.json", "tree.ply", "stats.json"}) {
     EXPECT_TRUE(fs::exists(dir_ / "demo" / f)) << f;

@@ -1,1 +1,5 @@
-set(RAMIFORM_core_TESTS)
+set(RAMIFORM_core_TESTS
+  core/random_test.cpp
+  core/parallel_test.cpp
+  core/errors_test.cpp
+  core/types_test.cpp)

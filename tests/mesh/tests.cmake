@@ -1,1 +1,3 @@
-set(RAMIFORM_mesh_TESTS)
+set(RAMIFORM_mesh_TESTS
+  mesh/checks_test.cpp
+  mesh/winding_test.cpp)

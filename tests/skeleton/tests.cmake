@@ -1,1 +1,3 @@
-set(RAMIFORM_skeleton_TESTS)
+set(RAMIFORM_skeleton_TESTS
+  skeleton/skeleton_test.cpp
+  skeleton/fixtures_test.cpp)

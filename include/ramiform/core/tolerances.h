@@ -14,7 +14,9 @@ inline constexpr double kCoincident = 1e-12;
 /// Infinite-support kernels (Blinn, inverse power, Cauchy) are cut off at the distance where the
 /// contribution of one primitive falls below this fraction of the iso value. Between 80 % and
 /// 100 % of that distance the contribution is faded out by a C1 smoothstep, so the field stays
-/// continuously differentiable; the change it makes is at most about 2.5x this fraction of iso.
+/// continuously differentiable. The change it makes is the contribution at 80 % of the cutoff
+/// at most: about 2.5x this fraction of iso for Cauchy, 1.1x for inverse power, 3-3.7x for Blinn
+/// (measured); under 4x for every kernel here.
 inline constexpr double kKernelCutoff = 1e-4;
 
 /// Fraction of the cutoff radius at which the fade-out of an infinite-support kernel begins.

@@ -42,7 +42,8 @@ struct Kernel {
   /// The natural iso value of the kernel (Cauchy: 1).
   [[nodiscard]] double default_iso() const;
   /// Normalized distance at which k(x) == iso for a lone point primitive of unit weight.
-  /// Throws InvalidArgument when no x >= 0 reaches iso (iso >= k(0)) or for Cauchy.
+  /// Throws InvalidArgument when no x >= 0 reaches iso (iso <= 0, or iso >= k(0) = 1 for the
+  /// bounded kernels).
   [[nodiscard]] double x_at(double iso) const;
   /// Normalized support: k(x) == 0 for x >= support (compact kernels); for infinite kernels the
   /// x where k(x) falls to `tol::kKernelCutoff * iso`.

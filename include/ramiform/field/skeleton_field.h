@@ -41,6 +41,9 @@ struct SkeletonFieldOptions {
   /// kernel 1/(1 + s^2 d^2)^2 with s = c / r.
   Kernel kernel = Kernel{KernelKind::kCauchy, 0.0};
   double iso = 0.0;  ///< iso value; 0 means the kernel's default_iso()
+  /// Prune primitives through the BVH over their supports (true), or evaluate every primitive
+  /// at every point (false: same values, for benchmarks and checks only).
+  bool prune = true;
 
   /// Validates and fills defaults; throws InvalidArgument naming the bad option.
   [[nodiscard]] SkeletonFieldOptions resolved() const;

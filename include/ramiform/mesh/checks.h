@@ -37,13 +37,13 @@ struct MeshReport {
   /// a zero-area triangle contributes three 0 angles. 0 without triangles.
   double median_angle_deg = 0.0;
 
-  std::size_t edges = 0;                  ///< distinct edges
-  std::size_t boundary_edges = 0;         ///< edges in exactly one triangle
-  std::size_t nonmanifold_edges = 0;      ///< edges in more than two triangles
-  std::size_t misoriented_edges = 0;      ///< edges breaking `oriented`
-  std::size_t nonmanifold_vertices = 0;   ///< used vertices whose triangles are not one fan
-  std::size_t degenerate_triangles = 0;   ///< triangles with a repeated vertex index
-  std::size_t zero_area_triangles = 0;    ///< triangles of (relatively) zero area, incl. repeated
+  std::size_t edges = 0;                 ///< distinct edges
+  std::size_t boundary_edges = 0;        ///< edges in exactly one triangle
+  std::size_t nonmanifold_edges = 0;     ///< edges in more than two triangles
+  std::size_t misoriented_edges = 0;     ///< edges breaking `oriented`
+  std::size_t nonmanifold_vertices = 0;  ///< used vertices whose triangles are not one fan
+  std::size_t degenerate_triangles = 0;  ///< triangles with a repeated vertex index
+  std::size_t zero_area_triangles = 0;   ///< triangles of (relatively) zero area, incl. repeated
 };
 
 /// Checks `mesh` (see `MeshReport`). Throws InvalidArgument when a triangle refers to a vertex

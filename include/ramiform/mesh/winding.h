@@ -11,7 +11,7 @@
 /// The fast query follows Barill, Dickson, Schmidt, Levin, Jacobson 2018, "Fast winding numbers
 /// for soups and clouds", §3-4: a BVH over the triangles stores per node the area-weighted dipole
 /// moments of its triangles; a node farther than beta times its radius from the query is
-/// replaced by the Taylor expansion of its dipole field (terms of order 0 and 1), nearer nodes
+/// replaced by the Taylor expansion of its dipole field (terms of order 0, 1 and 2), nearer nodes
 /// are opened and their triangles summed exactly.
 
 #include <memory>

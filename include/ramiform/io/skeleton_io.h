@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+/// \file
+/// Reading and writing skeletons as JSON, PLY and OBJ. The formats are described in
+/// docs/formats.md. Every reader finishes with `validate()` (skeleton/skeleton.h), so a returned
+/// skeleton satisfies all skeleton invariants.
+
+#include <string>
+#include <string_view>
+
+#include "ramiform/skeleton/skeleton.h"
+
+namespace ramiform {
+
+/// Options of `read_skeleton`.
+struct SkeletonReadOptions {
+  double obj_radius = 0.0;  ///< radius (model units) given to every node of an OBJ skeleton
+                            ///< (OBJ has none); must be finite and > 0 when reading OBJ
+};
+
+/// Reads a skeleton, choosing the format by the file extension (case-insensitive): `.json`,
+/// `.ply` (ASCII or binary) or `.obj`.
+///
+/// Throws `InputError` naming the file and the line (text formats) or the element index (binary
+/// PLY, JSON structure, skeleton invariants) for an unknown extension, an unreadable or empty
+/// file, malformed or non-finite numbers, a missing node list or property, or an invalid
+/// skeleton. Throws `InvalidArgument` when reading OBJ with `options.obj_radius` not > 0.
+[[nodiscard]] Skeleton read_skeleton(const std::string& path,
+                                     const SkeletonReadOptions& options = {});
+
+/// Parses skeleton JSON text: {"nodes":[{"position":[x,y,z],"radius":r},...],
+/// "edges":[[i,j],...]} (edges optional, 0-based). `source_name` is the file name used in error
+/// messages. Throws `InputError` like `read_skeleton`.
+[[nodiscard]] Skeleton parse_skeleton_json(std::string_view text, const std::string& source_name);
+
+/// Parses the bytes of a PLY skeleton: element `vertex` with scalar properties x, y, z, radius,
+/// optional element `edge` with vertex1, vertex2 (0-based). Throws `InputError`.
+[[nodiscard]] Skeleton parse_skeleton_ply(std::string_view bytes, const std::string& source_name);
+
+/// Parses an OBJ skeleton: `v x y z` vertices and `l i j [k ...]` polylines (1-based, negative
+/// indices count back from the last vertex read); a polyline of k vertices gives k-1 edges.
+/// Every node gets the radius `options.obj_radius`. Throws `InputError`, or `InvalidArgument`
+/// when `options.obj_radius` is not finite and > 0.
+[[nodiscard]] Skeleton parse_skeleton_obj(std::string_view text, const std::string& source_name,
+                                          const SkeletonReadOptions& options);
+
+/// The skeleton as JSON text in the format `parse_skeleton_json` reads, one node or edge per
+/// line; numbers are written with the shortest text that reads back to the identical double.
+/// Throws `InvalidArgument` when the skeleton fails `validate()`.
+[[nodiscard]] std::string skeleton_to_json(const Skeleton& skeleton);
+
+/// Writes `skeleton_to_json(skeleton)` to `path` atomically (see io/atomic_file.h).
+/// Throws `InvalidArgument` for an invalid skeleton and `Failure` when the file cannot be written.
+void write_skeleton_json(const Skeleton& skeleton, const std::string& path);
+
+/// Writes a skeleton choosing the format by the extension (case-insensitive): `.json`; `.ply`
+/// (binary little-endian: vertex x, y, z, radius as double, edge vertex1, vertex2 as uint);
+/// `.obj` (`v` and one `l` line per edge; radii are not stored). Atomic. Throws `InvalidArgument`
+/// for another extension or an invalid skeleton, `Failure` when the file cannot be written.
+void write_skeleton(const Skeleton& skeleton, const std::string& path);
+
+}  // namespace ramiform

@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+/// \file
+/// Procedural skeletons for demos, tests and benchmarks.
+
+#include <cstddef>
+#include <cstdint>
+
+#include "ramiform/skeleton/skeleton.h"
+
+namespace ramiform {
+
+/// Options of branching_tree(); validated at entry (InvalidArgument naming the option).
+struct BranchingTreeOptions {
+  std::size_t segments = 1000;  ///< number of edges of the result, >= 1
+  std::uint64_t seed = 1;       ///< random seed (jitter and branch rolls)
+  double trunk_length = 3.0;    ///< length of the first edge, model units, > 0
+  double length_ratio = 0.8;    ///< child edge length / parent edge length, in (0, 1]
+  double branch_angle_deg = 32; ///< angle between a child and its parent's direction, degrees
+  double jitter_deg = 6;        ///< random deviation of each direction, degrees, >= 0
+  double tip_radius = 0.02;     ///< radius of every tip node, model units, > 0
+  double pipe_exponent = 2.0;   ///< pipe model r^n = sum r_child^n (n in [1, 4])
+};
+
+/// A binary branching tree grown breadth-first from a root at the origin pointing up (+z):
+/// every edge ends in a node that forks into two children (rotated by branch_angle_deg about a
+/// randomly rolled axis) until `segments` edges exist. Radii follow the pipe model from the tips
+/// (tip_radius) down to the root. The result is connected, acyclic and passes validate();
+/// the same options give the same tree on every platform.
+[[nodiscard]] Skeleton branching_tree(const BranchingTreeOptions& options);
+
+}  // namespace ramiform

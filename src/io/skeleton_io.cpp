@@ -1,0 +1,348 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/io/skeleton_io.h"
+
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "io/obj_format.h"
+#include "io/ply_format.h"
+#include "io/text_scan.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/io/atomic_file.h"
+
+namespace ramiform {
+namespace {
+
+using io_detail::append_double;
+using io_detail::append_uint;
+using json = nlohmann::json;
+
+constexpr std::uint64_t kMaxIndex = std::numeric_limits<std::uint32_t>::max();
+
+// Converts nlohmann's byte position (1-based, the character where parsing stopped) to a 1-based
+// line and column.
+void locate(std::string_view text, std::size_t byte, std::size_t& line, std::size_t& column) {
+  const std::size_t stop = std::min(byte == 0 ? 0 : byte - 1, text.size());
+  line = 1;
+  std::size_t line_start = 0;
+  for (std::size_t i = 0; i < stop; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      line_start = i + 1;
+    }
+  }
+  column = stop - line_start + 1;
+}
+
+// The part of nlohmann's message after its "[json.exception...] parse error at ...: " prefix.
+std::string json_detail(const char* what) {
+  std::string s(what);
+  const std::size_t p = s.find(": ");
+  return p == std::string::npos ? s : s.substr(p + 2);
+}
+
+double json_number(const json& value, const std::string& source, const char* element,
+                   std::size_t index, const std::string& what) {
+  if (!value.is_number()) {
+    throw InputError(source, element, index, what + " must be a number, got " + value.dump());
+  }
+  const double v = value.get<double>();
+  if (!std::isfinite(v)) throw InputError(source, element, index, what + " is not finite");
+  return v;
+}
+
+std::uint32_t json_index(const json& value, const std::string& source, std::size_t edge) {
+  if (value.is_number_unsigned() && value.get<std::uint64_t>() <= kMaxIndex) {
+    return static_cast<std::uint32_t>(value.get<std::uint64_t>());
+  }
+  if (value.is_number_integer() && !value.is_number_unsigned()) {
+    throw InputError(source, "edge", edge, "negative node index " + value.dump());
+  }
+  throw InputError(source, "edge", edge,
+                   "node indices must be integers in [0, 4294967295], got " + value.dump());
+}
+
+Skeleton validated(Skeleton s, const std::string& source) {
+  validate(s, source);
+  return s;
+}
+
+void check_writable(const Skeleton& skeleton) {
+  try {
+    validate(skeleton, "");
+  } catch (const InputError& e) {
+    throw InvalidArgument("cannot write an invalid skeleton: " + e.problem());
+  }
+}
+
+void append_json_double(std::string& out, double v) {
+  const std::size_t start = out.size();
+  append_double(out, v);
+  // "1" would read back as an integer and "-0" would lose its sign: keep a fraction part.
+  if (out.find_first_of(".e", start) == std::string::npos) out += ".0";
+}
+
+}  // namespace
+
+Skeleton parse_skeleton_json(std::string_view text, const std::string& source_name) {
+  const std::string& source = source_name;
+  if (io_detail::is_blank(text)) throw InputError(source, 0, "file is empty");
+  json doc;
+  try {
+    doc = json::parse(text.begin(), text.end());
+  } catch (const json::parse_error& e) {
+    std::size_t line = 0;
+    std::size_t column = 0;
+    locate(text, e.byte, line, column);
+    throw InputError(
+        source, line,
+        "JSON syntax error at column " + std::to_string(column) + ": " + json_detail(e.what()));
+  } catch (const json::exception& e) {
+    throw InputError(source, 0, "invalid JSON: " + json_detail(e.what()));
+  }
+  if (!doc.is_object()) {
+    throw InputError(source, 0, "the top level must be an object with a \"nodes\" array");
+  }
+  const auto nodes = doc.find("nodes");
+  if (nodes == doc.end()) throw InputError(source, 0, "missing \"nodes\" array");
+  if (!nodes->is_array()) throw InputError(source, 0, "\"nodes\" must be an array");
+
+  Skeleton s;
+  s.nodes.resize(nodes->size());
+  for (std::size_t i = 0; i < nodes->size(); ++i) {
+    const json& n = (*nodes)[i];
+    if (!n.is_object()) {
+      throw InputError(source, "node", i, "must be an object with \"position\" and \"radius\"");
+    }
+    const auto pos = n.find("position");
+    if (pos == n.end()) throw InputError(source, "node", i, "missing \"position\"");
+    if (!pos->is_array() || pos->size() != 3) {
+      throw InputError(source, "node", i, "\"position\" must be an array of 3 numbers");
+    }
+    for (int c = 0; c < 3; ++c) {
+      s.nodes[i].position[c] =
+          json_number((*pos)[static_cast<std::size_t>(c)], source, "node", i, "\"position\"");
+    }
+    const auto radius = n.find("radius");
+    if (radius == n.end()) throw InputError(source, "node", i, "missing \"radius\"");
+    s.nodes[i].radius = json_number(*radius, source, "node", i, "\"radius\"");
+  }
+
+  const auto edges = doc.find("edges");
+  if (edges != doc.end()) {
+    if (!edges->is_array()) throw InputError(source, 0, "\"edges\" must be an array");
+    s.edges.resize(edges->size());
+    for (std::size_t e = 0; e < edges->size(); ++e) {
+      const json& pair = (*edges)[e];
+      if (!pair.is_array() || pair.size() != 2) {
+        throw InputError(source, "edge", e, "must be an array of 2 node indices");
+      }
+      s.edges[e] = {json_index(pair[0], source, e), json_index(pair[1], source, e)};
+    }
+  }
+  return validated(std::move(s), source);
+}
+
+Skeleton parse_skeleton_ply(std::string_view bytes, const std::string& source_name) {
+  using namespace io_detail;
+  const std::string& source = source_name;
+  const PlyHeader header = parse_ply_header(bytes, source);
+  const auto vertex = header.find("vertex");
+  if (!vertex) throw InputError(source, header.end_header_line, "no 'vertex' element");
+  const PlyElement& v = header.elements[*vertex];
+  std::vector<PlyRequest> requests(1);
+  requests[0].element = *vertex;
+  for (const char* name : {"x", "y", "z", "radius"}) {
+    requests[0].scalars.push_back(require_scalar(v, name, source));
+  }
+  const auto edge = header.find("edge");
+  if (edge) {
+    const PlyElement& e = header.elements[*edge];
+    PlyRequest r;
+    r.element = *edge;
+    r.scalars = {require_scalar(e, "vertex1", source), require_scalar(e, "vertex2", source)};
+    requests.push_back(r);
+  }
+  const std::vector<PlyElementData> data = read_ply_body(bytes, header, requests, source);
+
+  Skeleton s;
+  s.nodes.resize(data[0].count);
+  for (std::size_t i = 0; i < data[0].count; ++i) {
+    const double* row = &data[0].scalars[i * 4];
+    s.nodes[i].position = Vec3(row[0], row[1], row[2]);
+    s.nodes[i].radius = row[3];
+  }
+  if (edge) {
+    s.edges.resize(data[1].count);
+    for (std::size_t k = 0; k < data[1].count; ++k) {
+      for (int c = 0; c < 2; ++c) {
+        const double idx = data[1].scalars[k * 2 + static_cast<std::size_t>(c)];
+        if (idx < 0.0 || idx > static_cast<double>(kMaxIndex) || idx != std::floor(idx)) {
+          throw InputError(source, "edge", k, "invalid node index " + std::to_string(idx));
+        }
+        s.edges[k][static_cast<std::size_t>(c)] = static_cast<std::uint32_t>(idx);
+      }
+    }
+  }
+  return validated(std::move(s), source);
+}
+
+Skeleton parse_skeleton_obj(std::string_view text, const std::string& source_name,
+                            const SkeletonReadOptions& options) {
+  using namespace io_detail;
+  const std::string& source = source_name;
+  if (!(std::isfinite(options.obj_radius) && options.obj_radius > 0.0)) {
+    throw InvalidArgument(
+        "SkeletonReadOptions::obj_radius must be finite and > 0 to read an OBJ "
+        "skeleton (OBJ stores no radii), got " +
+        std::to_string(options.obj_radius));
+  }
+  if (is_blank(text)) throw InputError(source, 0, "file is empty");
+  Skeleton s;
+  LineCursor cursor(text);
+  std::string_view line;
+  std::vector<std::string_view> f;
+  std::string_view v;
+  std::string_view vt;
+  std::string_view vn;
+  while (cursor.next(line)) {
+    const std::size_t ln = cursor.line_number();
+    split_fields(strip_comment(line), f);
+    if (f.empty()) continue;
+    if (f[0] == "v") {
+      s.nodes.push_back({parse_obj_vertex(f, source, ln), options.obj_radius});
+    } else if (f[0] == "l") {
+      if (f.size() < 3) {
+        throw InputError(
+            source, ln, "'l' needs at least 2 vertex indices, got " + std::to_string(f.size() - 1));
+      }
+      std::uint32_t prev = 0;
+      for (std::size_t i = 1; i < f.size(); ++i) {
+        split_obj_corner(f[i], v, vt, vn, source, ln);
+        const std::uint32_t cur = resolve_obj_index(v, s.nodes.size(), source, ln, "vertex");
+        if (i > 1) s.edges.push_back({prev, cur});
+        prev = cur;
+      }
+    }
+  }
+  if (s.nodes.empty()) throw InputError(source, 0, "no vertices ('v' lines)");
+  return validated(std::move(s), source);
+}
+
+Skeleton read_skeleton(const std::string& path, const SkeletonReadOptions& options) {
+  const std::string ext = io_detail::lower_extension(path);
+  if (ext == ".json") return parse_skeleton_json(io_detail::read_whole_file(path), path);
+  if (ext == ".ply") return parse_skeleton_ply(io_detail::read_whole_file(path), path);
+  if (ext == ".obj") {
+    if (!(std::isfinite(options.obj_radius) && options.obj_radius > 0.0)) {
+      // Checked before reading so the message does not depend on the file's content.
+      return parse_skeleton_obj({}, path, options);
+    }
+    return parse_skeleton_obj(io_detail::read_whole_file(path), path, options);
+  }
+  throw InputError(path, 0, "unknown skeleton format '" + ext + "' (supported: .json, .ply, .obj)");
+}
+
+std::string skeleton_to_json(const Skeleton& skeleton) {
+  check_writable(skeleton);
+  std::string out;
+  out.reserve(64 * skeleton.nodes.size() + 24 * skeleton.edges.size() + 32);
+  out += "{\n  \"nodes\": [";
+  for (std::size_t i = 0; i < skeleton.nodes.size(); ++i) {
+    const SkeletonNode& n = skeleton.nodes[i];
+    out += i == 0 ? "\n    " : ",\n    ";
+    out += "{\"position\": [";
+    append_json_double(out, n.position.x());
+    out += ", ";
+    append_json_double(out, n.position.y());
+    out += ", ";
+    append_json_double(out, n.position.z());
+    out += "], \"radius\": ";
+    append_json_double(out, n.radius);
+    out += "}";
+  }
+  out += "\n  ],\n  \"edges\": [";
+  for (std::size_t e = 0; e < skeleton.edges.size(); ++e) {
+    out += e == 0 ? "\n    [" : ",\n    [";
+    append_uint(out, skeleton.edges[e][0]);
+    out += ", ";
+    append_uint(out, skeleton.edges[e][1]);
+    out += "]";
+  }
+  out += skeleton.edges.empty() ? "]\n}\n" : "\n  ]\n}\n";
+  return out;
+}
+
+void write_skeleton_json(const Skeleton& skeleton, const std::string& path) {
+  const std::string text = skeleton_to_json(skeleton);
+  write_file_atomically(path, [&](std::ostream& out) {
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  });
+}
+
+void write_skeleton(const Skeleton& skeleton, const std::string& path) {
+  using namespace io_detail;
+  const std::string ext = lower_extension(path);
+  if (ext == ".json") return write_skeleton_json(skeleton, path);
+  if (ext != ".ply" && ext != ".obj") {
+    throw InvalidArgument("write_skeleton: unknown format '" + ext + "' for '" + path +
+                          "' (supported: .json, .ply, .obj)");
+  }
+  check_writable(skeleton);
+  if (ext == ".ply") {
+    write_file_atomically(
+        path,
+        [&](std::ostream& out) {
+          PlyWriter ply(out);
+          ply.begin("ramiform skeleton");
+          ply.element("vertex", skeleton.nodes.size(),
+                      {{"x", PlyType::kFloat64},
+                       {"y", PlyType::kFloat64},
+                       {"z", PlyType::kFloat64},
+                       {"radius", PlyType::kFloat64}});
+          ply.element("edge", skeleton.edges.size(),
+                      {{"vertex1", PlyType::kUInt32}, {"vertex2", PlyType::kUInt32}});
+          ply.end_header();
+          for (const SkeletonNode& n : skeleton.nodes) {
+            for (int c = 0; c < 3; ++c) ply.put(PlyType::kFloat64, n.position[c]);
+            ply.put(PlyType::kFloat64, n.radius);
+          }
+          for (const auto& e : skeleton.edges) {
+            ply.put_index(PlyType::kUInt32, e[0]);
+            ply.put_index(PlyType::kUInt32, e[1]);
+          }
+          ply.flush(true);
+        },
+        FileMode::kBinary);
+    return;
+  }
+  write_file_atomically(path, [&](std::ostream& out) {
+    TextSink sink(out);
+    sink.text() += "# ramiform skeleton (OBJ stores no radii)\n";
+    for (const SkeletonNode& n : skeleton.nodes) {
+      std::string& t = sink.text();
+      t += "v ";
+      append_double(t, n.position.x());
+      t += ' ';
+      append_double(t, n.position.y());
+      t += ' ';
+      append_double(t, n.position.z());
+      t += '\n';
+      sink.line_done();
+    }
+    for (const auto& e : skeleton.edges) {
+      std::string& t = sink.text();
+      t += "l ";
+      append_uint(t, std::uint64_t{e[0]} + 1);
+      t += ' ';
+      append_uint(t, std::uint64_t{e[1]} + 1);
+      t += '\n';
+      sink.line_done();
+    }
+    sink.flush();
+  });
+}
+
+}  // namespace ramiform

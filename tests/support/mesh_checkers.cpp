@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "support/mesh_checkers.h"
+
+#include <sstream>
+#include <string>
+
+namespace ramiform::test {
+
+std::string describe(const MeshReport& r) {
+  std::ostringstream s;
+  s << r.vertices << " vertices, " << r.triangles << " triangles, " << r.edges << " edges ("
+    << r.boundary_edges << " boundary, " << r.nonmanifold_edges << " non-manifold, "
+    << r.misoriented_edges << " misoriented), " << r.nonmanifold_vertices
+    << " non-manifold vertices, " << r.degenerate_triangles << " degenerate triangles, "
+    << r.components << " components, euler " << r.euler;
+  return s.str();
+}
+
+::testing::AssertionResult is_watertight(const TriMesh& mesh) {
+  const MeshReport r = check_mesh(mesh);
+  if (r.watertight) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "mesh is not watertight: " << describe(r);
+}
+
+::testing::AssertionResult is_oriented(const TriMesh& mesh) {
+  const MeshReport r = check_mesh(mesh);
+  if (r.oriented) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "mesh is not consistently oriented: " << describe(r);
+}
+
+::testing::AssertionResult is_manifold(const TriMesh& mesh) {
+  const MeshReport r = check_mesh(mesh);
+  if (r.manifold) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "mesh is not manifold: " << describe(r);
+}
+
+::testing::AssertionResult has_components(const TriMesh& mesh, std::size_t n) {
+  const MeshReport r = check_mesh(mesh);
+  if (r.components == n) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "expected " << n << " components: " << describe(r);
+}
+
+void expect_watertight(const TriMesh& mesh) { EXPECT_TRUE(is_watertight(mesh)); }
+void expect_oriented(const TriMesh& mesh) { EXPECT_TRUE(is_oriented(mesh)); }
+void expect_manifold(const TriMesh& mesh) { EXPECT_TRUE(is_manifold(mesh)); }
+void expect_components(const TriMesh& mesh, std::size_t n) { EXPECT_TRUE(has_components(mesh, n)); }
+
+void expect_closed_surface(const TriMesh& mesh, std::size_t components, long long euler) {
+  const MeshReport r = check_mesh(mesh);
+  EXPECT_TRUE(r.watertight) << describe(r);
+  EXPECT_TRUE(r.oriented) << describe(r);
+  EXPECT_TRUE(r.manifold) << describe(r);
+  EXPECT_EQ(r.components, components) << describe(r);
+  EXPECT_EQ(r.euler, euler) << describe(r);
+}
+
+}  // namespace ramiform::test

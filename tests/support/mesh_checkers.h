@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+/// \file
+/// Shared gtest checkers of mesh invariants (see ramiform/mesh/checks.h for the definitions).
+/// The `is_*` forms return an AssertionResult for EXPECT_TRUE/ASSERT_TRUE (failures then point
+/// at the caller's line); the `expect_*` forms add a non-fatal failure themselves.
+
+#include <gtest/gtest.h>
+
+#include <cstddef>
+
+#include "ramiform/mesh/checks.h"
+#include "ramiform/mesh/trimesh.h"
+
+namespace ramiform::test {
+
+/// One line summarizing a report, for failure messages.
+std::string describe(const MeshReport& report);
+
+::testing::AssertionResult is_watertight(const TriMesh& mesh);
+::testing::AssertionResult is_oriented(const TriMesh& mesh);
+::testing::AssertionResult is_manifold(const TriMesh& mesh);
+::testing::AssertionResult has_components(const TriMesh& mesh, std::size_t n);
+
+void expect_watertight(const TriMesh& mesh);
+void expect_oriented(const TriMesh& mesh);
+void expect_manifold(const TriMesh& mesh);
+void expect_components(const TriMesh& mesh, std::size_t n);
+/// Watertight, oriented and manifold, with `components` components and Euler characteristic
+/// `euler` (2 per sphere-like component, 0 per torus).
+void expect_closed_surface(const TriMesh& mesh, std::size_t components, long long euler);
+
+}  // namespace ramiform::test
