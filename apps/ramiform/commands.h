@@ -17,5 +17,6 @@ void register_mesh(CLI::App& root, Action& action);
 void register_check(CLI::App& root, Action& action);
 void register_eval(CLI::App& root, Action& action);
 void register_demo(CLI::App& root, Action& action);
+void register_convert(CLI::App& root, Action& action);
 
 }  // namespace ramiform::cli

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   cli::register_check(app, action);
   cli::register_eval(app, action);
   cli::register_demo(app, action);
+  cli::register_convert(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -3,6 +3,7 @@ set(RAMIFORM_APP_SOURCES
   common.cpp
   mesh_job.cpp
   cmd_check.cpp
+  cmd_convert.cpp
   cmd_demo.cpp
   cmd_eval.cpp
   cmd_mesh.cpp)

@@ -49,6 +49,20 @@ PrimitiveMode mode_of(const SkeletonFieldOptions& o) {
 struct DistanceRange {
   double min = 0, max = 0;
 };
+// A lower bound of the distance from any point of the box to the segment [a, b]: the larger of
+// the box-to-box distance and the centre's distance minus the half diagonal.
+double lower_distance(const Aabb& box, const Vec3& a, const Vec3& b) {
+  Aabb seg;
+  seg.extend(a);
+  seg.extend(b);
+  const Vec3 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const Vec3 c = box.center();
+  const double t = l2 > 0 ? std::clamp((c - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  const double dc = (c - (a + t * ab)).norm();
+  return std::max({0.0, std::sqrt(squared_distance(box, seg)), dc - 0.5 * box.diagonal().norm()});
+}
+
 DistanceRange box_segment_distance(const Aabb& box, const Vec3& a, const Vec3& b) {
   auto dist = [&](const Vec3& p) {
     const Vec3 ab = b - a;
@@ -56,12 +70,8 @@ DistanceRange box_segment_distance(const Aabb& box, const Vec3& a, const Vec3& b
     const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
     return (p - (a + t * ab)).norm();
   };
-  Aabb seg;
-  seg.extend(a);
-  seg.extend(b);
-  const double half_diag = 0.5 * box.diagonal().norm();
   DistanceRange r;
-  r.min = std::max({0.0, std::sqrt(squared_distance(box, seg)), dist(box.center()) - half_diag});
+  r.min = lower_distance(box, a, b);
   // Distance to a convex set is convex, so its maximum over the box is at a corner.
   for (int c = 0; c < 8; ++c) r.max = std::max(r.max, dist(box.corner(static_cast<Aabb::CornerType>(c))));
   return r;
@@ -122,6 +132,12 @@ class SkeletonField final : public Field {
     ids.clear();
     bvh_.query(box, ids);
     std::sort(ids.begin(), ids.end());
+    // Cheap first pass: upper ends from the nearest distance only. When they already prove the
+    // box outside (f <= iso everywhere), [0, hi] is a valid and sufficient answer.
+    double quick_hi = 0;
+    for (const std::uint32_t i : ids) quick_hi += primitive_upper(i, box);
+    quick_hi += kBoundSlack * quick_hi;
+    if (quick_hi <= iso()) return {0.0, quick_hi};
     double lo = 0, hi = 0;
     for (const std::uint32_t i : ids) {
       const auto [plo, phi] = primitive_bound(i, box);
@@ -367,12 +383,29 @@ class SkeletonField final : public Field {
       return std::min(reach_[i], cauchy_segment_reach(table_.s[i], table_.len[i], w, level));
     }
     const double rmax = std::max(table_.r0[i], table_.r0[i] + table_.dr[i] * table_.len[i]);
-    const Kernel k = mode_.mode == PrimitiveMode::kCauchyPoint || mode_.mode == PrimitiveMode::kCauchySegment
-                         ? Kernel{KernelKind::kCauchy, kernel_.shape()}
-                         : kernel_;
+    const Kernel k = distance_kernel();
     const double target = level / w;
     if (target >= k.value(0)) return 0;
     return std::min(reach_[i], k.x_at(target) * rmax);
+  }
+
+  // Upper end of primitive i over the box from a lower bound of the distance alone.
+  double primitive_upper(std::uint32_t i, const Aabb& box) const {
+    const Vec3 a = point_a(i);
+    const Vec3 b = point_b(i);
+    const double dmin = lower_distance(box, a, b);
+    const double w = table_.weight[i];
+    if (mode_.mode == PrimitiveMode::kCauchySegment && table_.len[i] > 0) {
+      return w * cauchy_segment_max(table_.s[i], table_.len[i], dmin);
+    }
+    const double rmax = std::max(table_.r0[i], table_.r0[i] + table_.dr[i] * table_.len[i]);
+    return w * distance_kernel().value(dmin / rmax);
+  }
+
+  Kernel distance_kernel() const {
+    return mode_.mode == PrimitiveMode::kCauchyPoint || mode_.mode == PrimitiveMode::kCauchySegment
+               ? Kernel{KernelKind::kCauchy, kernel_.shape()}
+               : kernel_;
   }
 
   Interval primitive_bound(std::uint32_t i, const Aabb& box) const {
@@ -386,9 +419,7 @@ class SkeletonField final : public Field {
     const double r_end = table_.r0[i] + table_.dr[i] * table_.len[i];
     const double rmin = std::min(table_.r0[i], r_end);
     const double rmax = std::max(table_.r0[i], r_end);
-    const Kernel k = mode_.mode == PrimitiveMode::kCauchyPoint || mode_.mode == PrimitiveMode::kCauchySegment
-                         ? Kernel{KernelKind::kCauchy, kernel_.shape()}
-                         : kernel_;
+    const Kernel k = distance_kernel();
     const double x_near = dist.min / rmax;
     const double x_far = dist.max / rmin;
     double lo = w * k.value(x_far);

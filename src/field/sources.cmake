@@ -4,4 +4,5 @@ set(RAMIFORM_FIELD_SOURCES
   src/field/bvh.cpp
   src/field/operators.cpp
   src/field/skeleton_field.cpp
-  src/field/skeleton_field_simd.cpp)
+  src/field/skeleton_field_simd.cpp
+  src/field/radius_fit.cpp)

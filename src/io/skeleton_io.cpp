@@ -11,6 +11,7 @@
 #include "io/text_scan.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/io/atomic_file.h"
+#include "ramiform/io/qsm_io.h"
 
 namespace ramiform {
 namespace {
@@ -242,7 +243,15 @@ Skeleton read_skeleton(const std::string& path, const SkeletonReadOptions& optio
     }
     return parse_skeleton_obj(io_detail::read_whole_file(path), path, options);
   }
-  throw InputError(path, 0, "unknown skeleton format '" + ext + "' (supported: .json, .ply, .obj)");
+  if (ext == ".csv") return read_simpleforest(path, options.qsm_report);
+  if (ext == ".txt") {
+    const std::string text = io_detail::read_whole_file(path);
+    if (looks_like_simpleforest(text)) return parse_simpleforest(text, path, options.qsm_report);
+    return parse_treeqsm(text, path, options.qsm_report);
+  }
+  throw InputError(path, 0,
+                   "unknown skeleton format '" + ext +
+                       "' (supported: .json, .ply, .obj, .csv SimpleForest, .txt TreeQSM)");
 }
 
 std::string skeleton_to_json(const Skeleton& skeleton) {

@@ -4,5 +4,6 @@ set(RAMIFORM_IO_SOURCES
   src/io/obj_format.cpp
   src/io/ply_format.cpp
   src/io/points_io.cpp
+  src/io/qsm_io.cpp
   src/io/skeleton_io.cpp
   src/io/text_scan.cpp)

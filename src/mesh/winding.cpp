@@ -56,6 +56,7 @@ double winding_number(const TriMesh& mesh, const Vec3& p) {
 struct WindingNumber::Impl {
   struct Node {
     Vec3 center = Vec3::Zero();  // area-weighted centroid of the node's triangles
+    double area = 0.0;           // total triangle area
     double radius = 0.0;         // max distance from center to a vertex of the node
     Vec3 dipole = Vec3::Zero();  // sum of area * normal (order 0)
     Mat3 moment = Mat3::Zero();  // sum of area * normal (centroid - center)^T (order 1)
@@ -121,6 +122,9 @@ struct WindingNumber::Impl {
     return w;
   }
 
+  /// Builds the subtree over order[begin, end) and returns its node id. Leaves compute their
+  /// moments from their triangles; inner nodes combine their children's moments, shifted to the
+  /// node's centre (exact), so the build costs O(T log T) for the splits only.
   std::uint32_t build(std::vector<std::uint32_t>& order, const std::vector<Vec3>& centroid,
                       const std::vector<Vec3>& area_normal, const std::vector<double>& area,
                       const TriMesh& mesh, std::uint32_t begin, std::uint32_t end, int leaf_size,
@@ -130,45 +134,65 @@ struct WindingNumber::Impl {
     Node n;
     n.begin = begin;
     n.end = end;
-    double total_area = 0.0;
-    Vec3 weighted = Vec3::Zero();
-    Vec3 plain = Vec3::Zero();
-    Aabb cbox;
-    for (std::uint32_t i = begin; i < end; ++i) {
-      const std::uint32_t t = order[i];
-      total_area += area[t];
-      weighted += area[t] * centroid[t];
-      plain += centroid[t];
-      cbox.extend(centroid[t]);
-    }
-    n.center = total_area > 0.0 ? Vec3(weighted / total_area) : Vec3(plain / (end - begin));
-    for (std::uint32_t i = begin; i < end; ++i) {
-      const std::uint32_t t = order[i];
-      n.dipole += area_normal[t];
-      const Vec3 dc = centroid[t] - n.center;
-      n.moment += area_normal[t] * dc.transpose();
-      // Exact mean of (x - center)(x - center)^T over the triangle.
-      Mat3 s = dc * dc.transpose();
-      for (const std::uint32_t v : mesh.triangles[t]) {
-        const Vec3 dv = mesh.positions[v] - centroid[t];
-        s += dv * dv.transpose() / 12.0;
-        n.radius = std::max(n.radius, (mesh.positions[v] - n.center).norm());
-      }
-      for (int i = 0; i < 3; ++i) n.second[i] += area_normal[t][i] * s;
-    }
     // The stack in query() holds at most depth + 1 entries; keep the tree shallow enough.
-    if (static_cast<int>(end - begin) > leaf_size && depth < 100) {
-      int axis = 0;
-      cbox.sizes().maxCoeff(&axis);
-      const std::uint32_t mid = begin + (end - begin) / 2;
-      std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
-                       [&](std::uint32_t a, std::uint32_t b) {
-                         const double ca = centroid[a][axis];
-                         const double cb = centroid[b][axis];
-                         return ca < cb || (ca == cb && a < b);
-                       });
-      n.left = build(order, centroid, area_normal, area, mesh, begin, mid, leaf_size, depth + 1);
-      n.right = build(order, centroid, area_normal, area, mesh, mid, end, leaf_size, depth + 1);
+    if (static_cast<int>(end - begin) <= leaf_size || depth >= 100) {
+      Vec3 weighted = Vec3::Zero();
+      Vec3 plain = Vec3::Zero();
+      for (std::uint32_t i = begin; i < end; ++i) {
+        const std::uint32_t t = order[i];
+        n.area += area[t];
+        weighted += area[t] * centroid[t];
+        plain += centroid[t];
+      }
+      n.center = n.area > 0.0 ? Vec3(weighted / n.area) : Vec3(plain / (end - begin));
+      for (std::uint32_t i = begin; i < end; ++i) {
+        const std::uint32_t t = order[i];
+        n.dipole += area_normal[t];
+        const Vec3 dc = centroid[t] - n.center;
+        n.moment += area_normal[t] * dc.transpose();
+        // Exact mean of (x - center)(x - center)^T over the triangle.
+        Mat3 cov = dc * dc.transpose();
+        for (const std::uint32_t v : mesh.triangles[t]) {
+          const Vec3 dv = mesh.positions[v] - centroid[t];
+          cov += dv * dv.transpose() / 12.0;
+          n.radius = std::max(n.radius, (mesh.positions[v] - n.center).norm());
+        }
+        for (int k = 0; k < 3; ++k) n.second[k] += area_normal[t][k] * cov;
+      }
+      nodes[id] = n;
+      return id;
+    }
+    Aabb cbox;
+    for (std::uint32_t i = begin; i < end; ++i) cbox.extend(centroid[order[i]]);
+    int axis = 0;
+    cbox.sizes().maxCoeff(&axis);
+    const std::uint32_t mid = begin + (end - begin) / 2;
+    std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                     [&](std::uint32_t a, std::uint32_t b) {
+                       const double ca = centroid[a][axis];
+                       const double cb = centroid[b][axis];
+                       return ca < cb || (ca == cb && a < b);
+                     });
+    n.left = build(order, centroid, area_normal, area, mesh, begin, mid, leaf_size, depth + 1);
+    n.right = build(order, centroid, area_normal, area, mesh, mid, end, leaf_size, depth + 1);
+    const Node l = nodes[n.left];  // copies: `nodes` grew during the recursion
+    const Node r = nodes[n.right];
+    n.area = l.area + r.area;
+    n.center = n.area > 0.0 ? Vec3((l.area * l.center + r.area * r.center) / n.area)
+                            : Vec3(((l.end - l.begin) * l.center + (r.end - r.begin) * r.center) /
+                                   static_cast<double>(end - begin));
+    for (const Node* c : {&l, &r}) {
+      // Shift the child's expansion from its centre to ours: x - ours = (x - its) + d.
+      const Vec3 d = c->center - n.center;
+      n.dipole += c->dipole;
+      n.moment += c->moment + c->dipole * d.transpose();
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 m = c->moment.row(k).transpose();
+        n.second[k] +=
+            c->second[k] + m * d.transpose() + d * m.transpose() + c->dipole[k] * d * d.transpose();
+      }
+      // A bounding radius (not the tightest): nodes are approximated a little less often.
+      n.radius = std::max(n.radius, c->radius + d.norm());
     }
     nodes[id] = n;
     return id;

@@ -1,2 +1,5 @@
 set(RAMIFORM_POLYGONIZE_SOURCES
   src/polygonize/marching_cubes.cpp)
+list(APPEND RAMIFORM_POLYGONIZE_SOURCES
+  src/polygonize/edge_roots.cpp
+  src/polygonize/tetrahedral.cpp)

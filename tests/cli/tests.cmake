@@ -1,1 +1,1 @@
-set(RAMIFORM_cli_TESTS cli/cli_test.cpp cli/readme_example_test.cpp)
+set(RAMIFORM_cli_TESTS cli/cli_test.cpp cli/convert_test.cpp cli/readme_example_test.cpp)

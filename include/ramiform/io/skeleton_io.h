@@ -14,14 +14,20 @@
 
 namespace ramiform {
 
+struct QsmImportReport;  // io/qsm_io.h
+
 /// Options of `read_skeleton`.
 struct SkeletonReadOptions {
   double obj_radius = 0.0;  ///< radius (model units) given to every node of an OBJ skeleton
                             ///< (OBJ has none); must be finite and > 0 when reading OBJ
+  QsmImportReport* qsm_report = nullptr;  ///< when not null and the file is a cylinder model
+                                          ///< (`.csv`, `.txt`), receives the import report
 };
 
 /// Reads a skeleton, choosing the format by the file extension (case-insensitive): `.json`,
-/// `.ply` (ASCII or binary) or `.obj`.
+/// `.ply` (ASCII or binary), `.obj`, or a cylinder model (io/qsm_io.h): `.csv` is SimpleForest
+/// CSV; `.txt` is SimpleForest when its first line names the SimpleForest columns, otherwise
+/// TreeQSM text.
 ///
 /// Throws `InputError` naming the file and the line (text formats) or the element index (binary
 /// PLY, JSON structure, skeleton invariants) for an unknown extension, an unreadable or empty

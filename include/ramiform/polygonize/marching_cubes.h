@@ -14,7 +14,15 @@
 /// global edge keys, so the mesh is watertight and consistently oriented (counter-clockwise seen
 /// from outside, outside being f <= iso) whenever the surface lies inside the grid. Vertices are
 /// placed on the surface by a safeguarded root finder along each crossing edge (Illinois
-/// regula falsi with bisection fallback, batched). The output is identical for any thread count.
+/// regula falsi with bisection fallback, batched). Zero-area triangles (from a surface through a
+/// grid corner) are kept: dropping them would open the mesh.
+///
+/// Robustness: grid corners shared with a skipped block take that block's side, so even a
+/// non-conservative bound cannot open the mesh (it can only clip the shape; see
+/// `MarchingCubesStats::sign_overrides`). Blocks are processed in z-slabs, so memory beyond the
+/// output stays proportional to a few slabs of blocks. Vertex ids follow block order (x fastest,
+/// then y, then z) and, within a block, ascending edge keys; the output is byte-identical for
+/// any thread count.
 
 #include <cstdint>
 
