@@ -41,6 +41,7 @@ int run_demo(const DemoArgs& args) {
   write_skeleton_json(skeleton, skeleton_path);
   timer.lap("skeleton");
   MeshJobOptions job;
+  job.method = "mc";
   job.resolution = args.resolution;
   SkeletonFieldOptions field;
   const MeshJobResult result = mesh_skeleton(skeleton, field.resolved(), job, mesh_path, timer,

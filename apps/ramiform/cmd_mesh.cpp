@@ -15,7 +15,6 @@ namespace {
 struct MeshArgs {
   std::string skeleton_path;
   std::string out_path;
-  std::string method = "mc";
   MeshJobOptions job;
   FieldFlags field;
   CommonOptions common;
@@ -49,12 +48,24 @@ void register_mesh(CLI::App& root, Action& action) {
       "mesh", "Mesh the implicit surface of a skeleton (convolution surface by default).");
   c->add_option("SKELETON", args->skeleton_path, "skeleton file (.json, .ply, .obj)")->required();
   c->add_option("-o,--output", args->out_path, "output mesh (.ply binary or .obj); default SKELETON's name .ply");
-  c->add_option("--method", args->method, "polygonizer: mc (uniform marching cubes)")
-      ->check(CLI::IsMember({"mc"}));
-  auto* cell = c->add_option("--cell", args->job.cell_size, "marching-cubes cell edge length (model units)")
+  c->add_option("--method", args->job.method,
+                "polygonizer: tets (skeleton-bounded tetrahedra, default) or mc (uniform marching "
+                "cubes over the field's bounds)")
+      ->check(CLI::IsMember({"tets", "mc"}));
+  c->add_option("--levels", args->job.levels, "tets: 1:8 subdivision levels (default 3)")
+      ->check(CLI::Range(0, 6));
+  c->add_flag("!--no-cleanup", args->job.cleanup,
+              "tets: skip the needle cleanup pass (edge collapses of short edges)");
+  c->add_flag("--fit-radii", args->job.fit_radii,
+              "convolution surface: split long/tapered edges and fit one weight per piece by "
+              "non-negative least squares so the surface passes through the nodes' radii; "
+              "adds radius_error_* to --stats");
+  c->add_flag("--radius-error", args->job.radius_error,
+              "measure the surface's radius error against the skeleton's radii (in --stats)");
+  auto* cell = c->add_option("--cell", args->job.cell_size, "mc: cell edge length (model units)")
                    ->check(CLI::PositiveNumber);
   auto* res = c->add_option("--resolution", args->job.resolution,
-                            "cells along the longest side of the surface's box (default 128)")
+                            "mc: cells along the longest side of the surface's box (default 128)")
                   ->check(CLI::Range(2, 4096));
   cell->excludes(res);
   add_field_options(*c, args->field);

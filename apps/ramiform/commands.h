@@ -18,5 +18,6 @@ void register_check(CLI::App& root, Action& action);
 void register_eval(CLI::App& root, Action& action);
 void register_demo(CLI::App& root, Action& action);
 void register_convert(CLI::App& root, Action& action);
+void register_generate(CLI::App& root, Action& action);
 
 }  // namespace ramiform::cli

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   cli::register_eval(app, action);
   cli::register_demo(app, action);
   cli::register_convert(app, action);
+  cli::register_generate(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

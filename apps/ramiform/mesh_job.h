@@ -15,8 +15,13 @@
 namespace ramiform::cli {
 
 struct MeshJobOptions {
-  double cell_size = 0.0;  ///< marching-cubes cell; 0 = from resolution
-  int resolution = 128;    ///< cells along the longest side when cell_size is 0
+  std::string method = "tets";  ///< "tets" (skeleton-bounded tetrahedra) or "mc"
+  double cell_size = 0.0;       ///< marching-cubes cell; 0 = from resolution
+  int resolution = 128;         ///< cells along the longest side when cell_size is 0
+  int levels = 3;               ///< tets: 1:8 subdivision levels
+  bool cleanup = true;          ///< tets: needle cleanup pass
+  bool fit_radii = false;       ///< split edges and fit per-edge weights (convolution only)
+  bool radius_error = false;    ///< measure the radius error (always on with fit_radii)
 };
 
 struct MeshJobResult {
@@ -25,8 +30,8 @@ struct MeshJobResult {
   nlohmann::json stats;  ///< vertices, triangles, field_evals, checks (no seconds)
 };
 
-/// Builds the field, polygonizes, checks and writes `out_path` (atomically). Laps `timer` at
-/// "field", "polygonize", "check", "write".
+/// Builds the field (fitting radii if asked), polygonizes, checks and writes `out_path`
+/// (atomically). Laps `timer` at "field" (and "fit"), "polygonize", "check", "write".
 MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
                             const MeshJobOptions& options, const std::string& out_path,
                             StageTimer& timer, Context& ctx);

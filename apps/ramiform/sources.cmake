@@ -6,4 +6,5 @@ set(RAMIFORM_APP_SOURCES
   cmd_convert.cpp
   cmd_demo.cpp
   cmd_eval.cpp
+  cmd_generate.cpp
   cmd_mesh.cpp)

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <string>
 
 #include "field/bvh.h"
@@ -36,6 +37,7 @@ using Clock = std::chrono::steady_clock;
 using Tet = std::array<std::uint32_t, 4>;
 using TetPoints = std::array<Vec3, 4>;
 constexpr std::uint32_t kNone = UINT32_MAX;
+constexpr double kJitter = 1e-3;  // bounding point jitter / local cross-section half size
 
 double seconds_since(Clock::time_point& t) {
   const auto now = Clock::now();
@@ -68,17 +70,65 @@ void frame(const Vec3& d, Vec3& e1, Vec3& e2) {
 // Step 1: the bounding point set (§3.1 and the auxiliary points of §5).
 struct PointSetBuilder {
   std::vector<Vec3> points;
+  std::vector<double> sizes;  // per point, the local cross-section half size
+
+  void add(const Vec3& p, double half) {
+    points.push_back(p);
+    sizes.push_back(half);
+  }
 
   void square(const Vec3& c, const Vec3& d, double half) {
     Vec3 e1, e2;
     frame(d, e1, e2);
     for (const double a : {-1.0, 1.0}) {
-      for (const double b : {-1.0, 1.0}) points.push_back(c + half * (a * e1 + b * e2));
+      for (const double b : {-1.0, 1.0}) add(c + half * (a * e1 + b * e2), half);
     }
   }
 };
 
-std::vector<Vec3> bounding_points(const Skeleton& s, const TetrahedralOptions& o) {
+// Which nodes get a cross-section. Forks, tips and isolated nodes always do; along a chain of
+// degree-2 nodes (scanned cylinder models have many short cylinders) a node is skipped while it
+// lies within `station_spacing` radii of the last section, the chain bends by less than
+// kMaxBendDeg and the radius changes by less than kMaxRadiusChange since it. Closely packed
+// sections would only make many small tetrahedra, each subdivided as finely as a big one.
+constexpr double kMaxBendDeg = 25.0;
+constexpr double kMaxRadiusChange = 0.25;
+std::vector<char> section_nodes(const Skeleton& s,
+                                const std::vector<std::vector<std::uint32_t>>& adjacent,
+                                const TetrahedralOptions& o) {
+  const std::size_t n = s.nodes.size();
+  std::vector<char> section(n, 1);
+  std::vector<char> visited(n, 0);
+  const double cos_bend = std::cos(kMaxBendDeg * std::numbers::pi / 180.0);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (adjacent[i].size() == 2) continue;
+    for (const std::uint32_t first : adjacent[i]) {
+      std::uint32_t prev = i, cur = first, kept = i;
+      while (adjacent[cur].size() == 2 && visited[cur] == 0) {
+        visited[cur] = 1;
+        const std::uint32_t next = adjacent[cur][0] == prev ? adjacent[cur][1] : adjacent[cur][0];
+        const auto& nk = s.nodes[kept];
+        const auto& nc = s.nodes[cur];
+        const Vec3 along = nc.position - nk.position;
+        const Vec3 ahead = s.nodes[next].position - nc.position;
+        const double r = std::min(nk.radius, nc.radius);
+        const bool near = along.norm() < o.station_spacing * r;
+        const bool straight = along.dot(ahead) >= cos_bend * along.norm() * ahead.norm();
+        const bool even = std::abs(nc.radius - nk.radius) <= kMaxRadiusChange * std::max(nk.radius, nc.radius);
+        if (near && straight && even) {
+          section[cur] = 0;
+        } else {
+          kept = cur;
+        }
+        prev = cur;
+        cur = next;
+      }
+    }
+  }
+  return section;
+}
+
+PointSetBuilder bounding_points(const Skeleton& s, const TetrahedralOptions& o) {
   PointSetBuilder pb;
   const std::size_t n = s.nodes.size();
   std::vector<std::vector<std::uint32_t>> adjacent(n);
@@ -87,14 +137,16 @@ std::vector<Vec3> bounding_points(const Skeleton& s, const TetrahedralOptions& o
     adjacent[e[1]].push_back(e[0]);
   }
   const double half_scale = 0.5 * o.section_scale;
+  const std::vector<char> section = section_nodes(s, adjacent, o);
   for (std::uint32_t i = 0; i < n; ++i) {
+    if (section[i] == 0) continue;
     const Vec3& p = s.nodes[i].position;
     const double r = s.nodes[i].radius;
     const double half = half_scale * r;
     const auto& adj = adjacent[i];
     if (adj.empty()) {  // isolated node: a cube
       for (int c = 0; c < 8; ++c) {
-        pb.points.push_back(p + half * Vec3((c & 1) ? 1 : -1, (c & 2) ? 1 : -1, (c & 4) ? 1 : -1));
+        pb.add(p + half * Vec3((c & 1) ? 1 : -1, (c & 2) ? 1 : -1, (c & 4) ? 1 : -1), half);
       }
       continue;
     }
@@ -110,7 +162,7 @@ std::vector<Vec3> bounding_points(const Skeleton& s, const TetrahedralOptions& o
     if (adj.size() == 1) {  // tip: a second square and a cap point beyond it
       const Vec3 out = -u0;
       pb.square(p + out * half, out, half);
-      pb.points.push_back(p + out * (2 * half));
+      pb.add(p + out * (2 * half), half);
     }
     if (adj.size() >= 3) {
       // §5: an auxiliary point on each side of the plane of every pair of branches, at the
@@ -122,8 +174,8 @@ std::vector<Vec3> bounding_points(const Skeleton& s, const TetrahedralOptions& o
           const Vec3 nrm = ua.cross(ub);
           if (nrm.norm() <= 1e-12 * ua.norm() * ub.norm()) continue;
           const double len = std::min(0.5 * (ua.norm() + ub.norm()), 2 * half);
-          pb.points.push_back(p + len * nrm.normalized());
-          pb.points.push_back(p - len * nrm.normalized());
+          pb.add(p + len * nrm.normalized(), half);
+          pb.add(p - len * nrm.normalized(), half);
         }
       }
     }
@@ -141,15 +193,20 @@ std::vector<Vec3> bounding_points(const Skeleton& s, const TetrahedralOptions& o
       pb.square(na.position + t * d, d / len, half_scale * ((1 - t) * na.radius + t * nb.radius));
     }
   }
-  return pb.points;
+  return pb;
 }
 
 // ---------------------------------------------------------------------------------------------
 // Step 2: Delaunay tetrahedralization through Qhull (reentrant API).
 std::vector<Tet> delaunay(const std::vector<Vec3>& points) {
+  // Centred coordinates: Qhull's precision tolerances scale with the largest coordinate, and
+  // scanned trees come in georeferenced coordinates far from the origin.
+  Aabb box;
+  for (const auto& p : points) box.extend(p);
+  const Vec3 center = box.center();
   std::vector<coordT> coords(points.size() * 3);
   for (std::size_t i = 0; i < points.size(); ++i) {
-    for (int k = 0; k < 3; ++k) coords[3 * i + k] = points[i][k];
+    for (int k = 0; k < 3; ++k) coords[3 * i + k] = points[i][k] - center[k];
   }
   char* message = nullptr;
   std::size_t message_size = 0;
@@ -316,84 +373,127 @@ std::vector<char> initial_region(const Skeleton& s, const std::vector<Vec3>& pts
   return keep;
 }
 
-// Step 3 (second half): grow the region until no boundary face may be crossed by the surface.
-void close_holes(const Field& field, const std::vector<Vec3>& pts, const std::vector<Tet>& tets,
-                 const std::vector<std::uint32_t>& neighbor, std::vector<char>& keep,
-                 const TetrahedralOptions& o, const Context* ctx, TetrahedralStats& st) {
-  const double iso = field.iso();
-  std::vector<std::uint32_t> frontier;
-  for (std::uint32_t t = 0; t < tets.size(); ++t) {
-    if (keep[t] != 0) frontier.push_back(t);
-  }
-  while (!frontier.empty()) {
-    if (st.growth_rounds >= o.max_growth_rounds) {
-      st.holes_left = true;
-      break;
+// ---------------------------------------------------------------------------------------------
+
+// A crossing edge seen by one region tetrahedron: its exact end points (inside one first) as
+// the key shared with neighbours, and the field values there.
+struct EdgeRecord {
+  std::array<double, 6> key;
+  double f_in = 0, f_out = 0;
+  [[nodiscard]] Vec3 in() const { return {key[0], key[1], key[2]}; }
+  [[nodiscard]] Vec3 out() const { return {key[3], key[4], key[5]}; }
+};
+
+// One marching-tetrahedra polygon: a triangle or a quad (cyclic order), oriented outward, over
+// global record indices.
+struct Polygon {
+  std::array<std::uint32_t, 4> record{};
+  bool quad = false;
+};
+
+// What one chunk of region tetrahedra produced.
+struct ChunkOutput {
+  std::vector<Polygon> polygons;  // record indices local to the chunk
+  std::vector<EdgeRecord> records;
+  // Per region tetrahedron of the chunk, bit k set when a leaf corner on its face opposite
+  // corner k is inside (f > iso): the surface reaches that face.
+  std::vector<std::uint8_t> face_inside;
+  std::size_t leaves = 0, evaluated = 0, skipped = 0;
+};
+
+constexpr std::size_t kTetsPerChunk = 32;
+
+// Marching tetrahedra on one leaf with corner positions `p`, corner values `f` (inside: > iso)
+// and local corner ids `id`: appends the polygon with edge slots found by `slot(in, out)`.
+//
+// Orientation is decided in the root tetrahedron's barycentric space (`p` holds the leaf's
+// integer barycentric coordinates w1, w2, w3), where every leaf has a proper volume, and
+// flipped when the root tetrahedron is negatively oriented (`flip`): an affine map preserves
+// which side is inside, so the result is right even for the slivers a Delaunay
+// tetrahedralization contains, where a test on the model-space corners could pick either side.
+template <class Slot>
+void march_leaf(const TetPoints& p, bool flip, const std::array<double, 4>& f,
+                const std::array<std::uint32_t, 4>& id, double iso, Slot&& slot,
+                std::vector<Polygon>& out) {
+  std::array<int, 4> ins{}, outs{};
+  int ni = 0, no = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (f[k] > iso) {
+      ins[ni++] = k;
+    } else {
+      outs[no++] = k;
     }
-    // Per frontier tetrahedron: which neighbours must join (deterministic: fixed chunks,
-    // results merged in order).
-    std::vector<std::vector<std::uint32_t>> add(frontier.size());
-    std::vector<char> hull_hit(frontier.size(), 0);
-    parallel::for_chunks(
-        frontier.size(), 256,
-        [&](std::size_t begin, std::size_t end) {
-          for (std::size_t i = begin; i < end; ++i) {
-            const std::uint32_t t = frontier[i];
-            for (int k = 0; k < 4; ++k) {
-              const std::uint32_t nb = neighbor[4 * t + k];
-              if (nb != kNone && keep[nb] != 0) continue;
-              Vec3 v[3];
-              int m = 0;
-              for (int j = 0; j < 4; ++j) {
-                if (j != k) v[m++] = pts[tets[t][j]];
-              }
-              if (field.bound(box_of(v[0], v[1], v[2])).hi <= iso) continue;  // surely outside
-              if (nb == kNone) {
-                hull_hit[i] = 1;
-              } else {
-                add[i].push_back(nb);
-              }
-            }
-          }
-        },
-        ctx);
-    std::vector<std::uint32_t> next;
-    for (std::size_t i = 0; i < frontier.size(); ++i) {
-      if (hull_hit[i] != 0) st.holes_left = true;
-      for (const std::uint32_t nb : add[i]) {
-        if (keep[nb] == 0) {
-          keep[nb] = 1;
-          next.push_back(nb);
-        }
-      }
-    }
-    st.grown_tets += next.size();
-    if (!next.empty()) ++st.growth_rounds;
-    frontier = std::move(next);
   }
+  if (ni == 0 || no == 0) return;
+  // Orientation: the normal points from the inside corners to the outside ones, decided on the
+  // edge midpoints, which always span a proper cross-section of the leaf.
+  Vec3 in_mean = Vec3::Zero(), out_mean = Vec3::Zero();
+  for (int k = 0; k < ni; ++k) in_mean += p[ins[k]] / ni;
+  for (int k = 0; k < no; ++k) out_mean += p[outs[k]] / no;
+  const Vec3 outward = flip ? Vec3(in_mean - out_mean) : Vec3(out_mean - in_mean);
+  auto mid = [&](int a, int c) { return 0.5 * (p[a] + p[c]); };
+  auto edge = [&](int a, int c) { return slot(id[a], id[c]); };  // a inside, c outside
+  Polygon poly;
+  if (ni == 1 || no == 1) {
+    std::array<Vec3, 3> m;
+    for (int k = 0; k < 3; ++k) {
+      const int in = ni == 1 ? ins[0] : ins[k];
+      const int ou = ni == 1 ? outs[k] : outs[0];
+      poly.record[k] = edge(in, ou);
+      m[k] = mid(in, ou);
+    }
+    if ((m[1] - m[0]).cross(m[2] - m[0]).dot(outward) < 0) std::swap(poly.record[1], poly.record[2]);
+  } else {
+    const int a = ins[0], c = ins[1], q0 = outs[0], q1 = outs[1];
+    poly.quad = true;
+    poly.record = {edge(a, q0), edge(a, q1), edge(c, q1), edge(c, q0)};
+    const Vec3 m0 = mid(a, q0), m1 = mid(a, q1), m2 = mid(c, q1);
+    if ((m1 - m0).cross(m2 - m0).dot(outward) < 0) std::swap(poly.record[1], poly.record[3]);
+  }
+  out.push_back(poly);
 }
 
-// ---------------------------------------------------------------------------------------------
-// Step 4: 1:8 subdivision, Figure 4: the four corner tetrahedra, then the octahedron of the six
-// edge midpoints split along its shortest diagonal (m1m6, m2m5 or m3m4) into the four
-// tetrahedra around it. Appends the eight children of `t` to `out`.
-void split_1_to_8(const TetPoints& t, std::vector<TetPoints>& out) {
-  const Vec3& v1 = t[0];
-  const Vec3& v2 = t[1];
-  const Vec3& v3 = t[2];
-  const Vec3& v4 = t[3];
-  // 0.5 * (a + b) is symmetric in a and b, so both neighbours of a face compute bit-identical
-  // midpoints: the subdivision stays conforming across tetrahedra.
-  const Vec3 m1 = 0.5 * (v1 + v2), m2 = 0.5 * (v1 + v3), m3 = 0.5 * (v1 + v4);
-  const Vec3 m4 = 0.5 * (v2 + v3), m5 = 0.5 * (v2 + v4), m6 = 0.5 * (v3 + v4);
-  out.push_back({v1, m1, m2, m3});
-  out.push_back({v2, m1, m4, m5});
-  out.push_back({v3, m2, m4, m6});
-  out.push_back({v4, m3, m5, m6});
-  const double d16 = (m1 - m6).squaredNorm(), d25 = (m2 - m5).squaredNorm(), d34 = (m3 - m4).squaredNorm();
-  const Vec3* a = nullptr;
-  const Vec3* b = nullptr;
-  std::array<const Vec3*, 4> ring{};  // the other four midpoints, in cyclic order
+// A leaf corner in integer barycentric coordinates over the region tetrahedron's corners
+// (which are sorted by point id), summing to 2^levels. Midpoints stay integer.
+using Bary = std::array<std::uint8_t, 4>;
+using BaryTet = std::array<Bary, 4>;
+
+Bary midpoint(const Bary& a, const Bary& b) {
+  return {static_cast<std::uint8_t>((a[0] + b[0]) / 2), static_cast<std::uint8_t>((a[1] + b[1]) / 2),
+          static_cast<std::uint8_t>((a[2] + b[2]) / 2), static_cast<std::uint8_t>((a[3] + b[3]) / 2)};
+}
+
+// The position of a lattice point, (sum_k w_k p_k) / 2^levels summed in corner order. A point
+// on a face or edge shared with another region tetrahedron has zero weights on the other
+// corners, which add exact zeros: both tetrahedra compute bit-identical positions, so their
+// crossing edges match by key and the mesh stays watertight.
+Vec3 lattice_point(const TetPoints& c, const Bary& w, double inv_m) {
+  double x = 0, y = 0, z = 0;
+  for (int k = 0; k < 4; ++k) {
+    const double wk = w[k];
+    x += wk * c[k].x();
+    y += wk * c[k].y();
+    z += wk * c[k].z();
+  }
+  return {x * inv_m, y * inv_m, z * inv_m};
+}
+
+// Figure 4 on barycentric leaves: four corner tetrahedra, then the octahedron of the six edge
+// midpoints split along its shortest diagonal (m1m6, m2m5 or m3m4), measured in model space.
+void split_1_to_8(const BaryTet& t, const TetPoints& c, double inv_m, std::vector<BaryTet>& out) {
+  const Bary m1 = midpoint(t[0], t[1]), m2 = midpoint(t[0], t[2]), m3 = midpoint(t[0], t[3]);
+  const Bary m4 = midpoint(t[1], t[2]), m5 = midpoint(t[1], t[3]), m6 = midpoint(t[2], t[3]);
+  out.push_back({t[0], m1, m2, m3});
+  out.push_back({t[1], m1, m4, m5});
+  out.push_back({t[2], m2, m4, m6});
+  out.push_back({t[3], m3, m5, m6});
+  auto at = [&](const Bary& w) { return lattice_point(c, w, inv_m); };
+  const double d16 = (at(m1) - at(m6)).squaredNorm();
+  const double d25 = (at(m2) - at(m5)).squaredNorm();
+  const double d34 = (at(m3) - at(m4)).squaredNorm();
+  const Bary* a = nullptr;
+  const Bary* b = nullptr;
+  std::array<const Bary*, 4> ring{};  // the other four midpoints, in cyclic order
   if (d16 <= d25 && d16 <= d34) {
     a = &m1, b = &m6, ring = {&m2, &m4, &m5, &m3};
   } else if (d25 <= d34) {
@@ -404,13 +504,177 @@ void split_1_to_8(const TetPoints& t, std::vector<TetPoints>& out) {
   for (int k = 0; k < 4; ++k) out.push_back({*a, *b, *ring[k], *ring[(k + 1) % 4]});
 }
 
-struct PointLess {
-  bool operator()(const Vec3& p, const Vec3& q) const {
-    if (p.x() != q.x()) return p.x() < q.x();
-    if (p.y() != q.y()) return p.y() < q.y();
-    return p.z() < q.z();
-  }
+// Per-thread scratch of extract_chunk: leaves, and a stamped table from lattice point to local
+// corner id (no clearing between tetrahedra).
+struct LatticeScratch {
+  std::vector<BaryTet> leaves, next;
+  std::vector<std::uint32_t> stamp, id;
+  std::uint32_t generation = 0;
 };
+
+// Subdivides, evaluates and marches the region tetrahedra [begin, end) into `out`.
+void extract_chunk(const Field& field, const std::vector<Vec3>& pts, const std::vector<Tet>& tets,
+                   const std::vector<std::uint32_t>& region, std::size_t begin, std::size_t end,
+                   const TetrahedralOptions& o, ChunkOutput& out) {
+  const double iso = field.iso();
+  const int m = 1 << o.levels;
+  const double inv_m = 1.0 / m;
+  const std::size_t side = static_cast<std::size_t>(m) + 1;
+  thread_local LatticeScratch sc;
+  if (sc.stamp.size() < side * side * side) {
+    sc.stamp.assign(side * side * side, 0);
+    sc.id.assign(side * side * side, 0);
+    sc.generation = 0;
+  }
+  std::vector<Vec3> batch;               // unique corners of every live tetrahedron
+  std::vector<std::size_t> batch_begin;  // per live tetrahedron, its first corner in batch
+  std::vector<std::array<std::uint32_t, 4>> leaf_ids;  // local corner ids of every leaf
+  std::vector<std::uint8_t> corner_faces;  // per corner in batch, the faces it lies on (bits)
+  std::vector<Vec3> corner_bary;           // per corner in batch, its (w1, w2, w3)
+  std::vector<char> live_flip;             // per live tetrahedron, negatively oriented
+  std::vector<std::size_t> live_slot;      // per live tetrahedron, its index in the chunk
+  out.face_inside.assign(end - begin, 0);
+  const auto leaves_per_tet = static_cast<std::size_t>(1) << (3 * o.levels);
+  BaryTet root{};
+  for (int k = 0; k < 4; ++k) root[k][k] = static_cast<std::uint8_t>(m);
+  for (std::size_t r = begin; r < end; ++r) {
+    const Tet& t = tets[region[r]];
+    const TetPoints c{pts[t[0]], pts[t[1]], pts[t[2]], pts[t[3]]};
+    const Interval bound = field.bound(box_of(c));
+    if (!bound.straddles(iso)) {
+      ++out.skipped;
+      if (bound.lo > iso) out.face_inside[r - begin] = 0xF;  // wholly inside: every face
+      continue;
+    }
+    live_slot.push_back(r - begin);
+    live_flip.push_back((c[1] - c[0]).cross(c[2] - c[0]).dot(c[3] - c[0]) < 0 ? 1 : 0);
+    sc.leaves.assign(1, root);
+    for (int level = 0; level < o.levels; ++level) {
+      sc.next.clear();
+      for (const auto& l : sc.leaves) split_1_to_8(l, c, inv_m, sc.next);
+      std::swap(sc.leaves, sc.next);
+    }
+    if (++sc.generation == 0) {  // stamps wrapped: clear once
+      std::fill(sc.stamp.begin(), sc.stamp.end(), 0);
+      sc.generation = 1;
+    }
+    const std::size_t base = batch.size();
+    batch_begin.push_back(base);
+    for (const auto& l : sc.leaves) {
+      std::array<std::uint32_t, 4> ids{};
+      for (int k = 0; k < 4; ++k) {
+        const Bary& w = l[k];
+        const std::size_t key = (w[1] * side + w[2]) * side + w[3];
+        if (sc.stamp[key] != sc.generation) {
+          sc.stamp[key] = sc.generation;
+          sc.id[key] = static_cast<std::uint32_t>(batch.size() - base);
+          batch.push_back(lattice_point(c, w, inv_m));
+          corner_bary.emplace_back(w[1], w[2], w[3]);
+          corner_faces.push_back(static_cast<std::uint8_t>((w[0] == 0 ? 1 : 0) | (w[1] == 0 ? 2 : 0) |
+                                                           (w[2] == 0 ? 4 : 0) | (w[3] == 0 ? 8 : 0)));
+        }
+        ids[k] = sc.id[key];
+      }
+      leaf_ids.push_back(ids);
+    }
+  }
+  batch_begin.push_back(batch.size());
+  out.leaves += leaf_ids.size();
+  out.evaluated += batch.size();
+  if (batch.empty()) return;
+  std::vector<double> values(batch.size());
+  field.evaluate(batch, values);
+  for (std::size_t k = 0; k + 1 < batch_begin.size(); ++k) {
+    std::uint8_t flags = 0;
+    for (std::size_t v = batch_begin[k]; v < batch_begin[k + 1]; ++v) {
+      if (values[v] > iso) flags |= corner_faces[v];
+    }
+    out.face_inside[live_slot[k]] = flags;
+  }
+  // Marching tetrahedra per live tetrahedron, with its crossing edges made unique locally.
+  std::vector<std::uint64_t> keys;
+  std::vector<Polygon> scratch;
+  for (std::size_t k = 0; k + 1 < batch_begin.size(); ++k) {
+    const std::size_t base = batch_begin[k];
+    const std::size_t first_leaf = k * leaves_per_tet;
+    const bool flip = live_flip[k] != 0;
+    auto leaf_points = [&](std::size_t l) {
+      const auto& id = leaf_ids[l];
+      return TetPoints{corner_bary[base + id[0]], corner_bary[base + id[1]], corner_bary[base + id[2]],
+                       corner_bary[base + id[3]]};
+    };
+    auto leaf_values = [&](std::size_t l) {
+      const auto& id = leaf_ids[l];
+      return std::array<double, 4>{values[base + id[0]], values[base + id[1]], values[base + id[2]],
+                                   values[base + id[3]]};
+    };
+    auto mixed = [&](const std::array<double, 4>& f) {
+      const int in = (f[0] > iso) + (f[1] > iso) + (f[2] > iso) + (f[3] > iso);
+      return in > 0 && in < 4;
+    };
+    keys.clear();
+    auto collect = [&](std::uint32_t in, std::uint32_t ou) {
+      keys.push_back((std::uint64_t{in} << 32U) | ou);
+      return 0U;
+    };
+    for (std::size_t l = first_leaf; l < first_leaf + leaves_per_tet; ++l) {
+      const auto f = leaf_values(l);
+      if (!mixed(f)) continue;
+      scratch.clear();
+      march_leaf(leaf_points(l), flip, f, leaf_ids[l], iso, collect, scratch);
+    }
+    if (keys.empty()) continue;
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    const auto first = static_cast<std::uint32_t>(out.records.size());
+    for (const std::uint64_t key : keys) {
+      const Vec3& a = batch[base + (key >> 32U)];
+      const Vec3& b = batch[base + (key & 0xffffffffU)];
+      out.records.push_back({{a.x(), a.y(), a.z(), b.x(), b.y(), b.z()},
+                             values[base + (key >> 32U)], values[base + (key & 0xffffffffU)]});
+    }
+    auto slot = [&](std::uint32_t in, std::uint32_t ou) {
+      const std::uint64_t key = (std::uint64_t{in} << 32U) | ou;
+      return first + static_cast<std::uint32_t>(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
+    };
+    for (std::size_t l = first_leaf; l < first_leaf + leaves_per_tet; ++l) {
+      const auto f = leaf_values(l);
+      if (mixed(f)) march_leaf(leaf_points(l), flip, f, leaf_ids[l], iso, slot, out.polygons);
+    }
+  }
+}
+
+// Steps 4 and 5 over the region tetrahedra `list`: chunks in parallel, outputs in chunk order.
+std::vector<ChunkOutput> extract_list(const Field& field, const std::vector<Vec3>& pts,
+                                      const std::vector<Tet>& tets,
+                                      const std::vector<std::uint32_t>& list,
+                                      const TetrahedralOptions& o, const Context* ctx) {
+  std::vector<ChunkOutput> outs((list.size() + kTetsPerChunk - 1) / kTetsPerChunk);
+  parallel::for_chunks(
+      list.size(), kTetsPerChunk,
+      [&](std::size_t b, std::size_t e) {
+        extract_chunk(field, pts, tets, list, b, e, o, outs[b / kTetsPerChunk]);
+      },
+      ctx);
+  return outs;
+}
+
+// Appends the chunk outputs to the global polygons and records (record indices rebased).
+void merge_outputs(std::vector<ChunkOutput>& outs, TetrahedralStats& st,
+                   std::vector<Polygon>& polygons, std::vector<EdgeRecord>& records) {
+  for (auto& c : outs) {
+    const auto base = static_cast<std::uint32_t>(records.size());
+    for (Polygon p : c.polygons) {
+      for (auto& r : p.record) r += base;
+      polygons.push_back(p);
+    }
+    records.insert(records.end(), c.records.begin(), c.records.end());
+    st.leaf_tets += c.leaves;
+    st.vertices_evaluated += c.evaluated;
+    st.skipped_tets += c.skipped;
+    c = ChunkOutput{};
+  }
+}
 
 }  // namespace
 
@@ -424,12 +688,16 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
 
   // 1. Bounding points, jittered by a tiny deterministic amount so that Delaunay sees no
   //    cospherical sets (the squares are), plus a far box so the hull lies far outside.
-  std::vector<Vec3> pts = bounding_points(skeleton, options);
+  //    The jitter is relative to the local cross-section (1e-3 of its half size), so even the
+  //    thinnest twig's squares are far from cospherical in floating point.
+  PointSetBuilder builder = bounding_points(skeleton, options);
+  std::vector<Vec3> pts = std::move(builder.points);
   Rng rng(0x7e7a);
   const Aabb skel_box = bounding_box(skeleton);
   const double scale = skel_box.diagonal().norm();
-  for (auto& p : pts) {
-    p += 1e-7 * scale * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    pts[i] += kJitter * builder.sizes[i] *
+              Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
   }
   const std::size_t real_points = pts.size();
   {
@@ -453,194 +721,103 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
   // 3. Region and hole closing.
   std::vector<char> keep = initial_region(skeleton, pts, tets, real_points, options, ctx);
   st.region_tets = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), 1));
-  close_holes(field, pts, tets, neighbor, keep, options, ctx, st);
-  std::vector<std::uint32_t> region;
+  std::vector<std::uint32_t> list;
   for (std::uint32_t t = 0; t < tets.size(); ++t) {
-    if (keep[t] != 0) region.push_back(t);
+    if (keep[t] != 0) list.push_back(t);
   }
   st.seconds_region = seconds_since(clock);
 
-  // 4 + 5a. Level by level (the paper's data-parallel kernels): the field at the unique corners
-  //    of the level in one batch; a tetrahedron whose corners disagree surely holds surface, one
-  //    whose corners agree is kept only if its field bound straddles the iso value; kept ones are
-  //    split 1:8 for the next level. A pruned tetrahedron creates no vertex on its faces, so the
-  //    leaves stay conforming wherever the surface is.
-  const double iso = field.iso();
-  std::vector<TetPoints> leaves;
-  leaves.reserve(region.size());
-  for (const std::uint32_t t : region) leaves.push_back({pts[tets[t][0]], pts[tets[t][1]], pts[tets[t][2]], pts[tets[t][3]]});
-  std::vector<Vec3> verts;
-  std::vector<double> values;
-  std::vector<Tet> leaf_ids;
-  for (int level = 0;; ++level) {
-    // Unique corners (exact positions) and their values.
-    verts.clear();
-    verts.reserve(leaves.size() * 4);
-    for (const auto& l : leaves) verts.insert(verts.end(), l.begin(), l.end());
-    tbb::parallel_sort(verts.begin(), verts.end(), PointLess());
-    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-    leaf_ids.assign(leaves.size(), Tet{});
-    parallel::for_chunks(
-        leaves.size(), 4096,
-        [&](std::size_t b, std::size_t e) {
-          for (std::size_t i = b; i < e; ++i) {
-            for (int k = 0; k < 4; ++k) {
-              leaf_ids[i][k] = static_cast<std::uint32_t>(
-                  std::lower_bound(verts.begin(), verts.end(), leaves[i][k], PointLess()) - verts.begin());
-            }
-          }
-        },
-        ctx);
-    values.assign(verts.size(), 0.0);
-    field.evaluate(verts, values);
-    st.vertices_evaluated += verts.size();
-    // Which tetrahedra may hold surface.
-    std::vector<char> hold(leaves.size(), 0);
-    parallel::for_chunks(
-        leaves.size(), 1024,
-        [&](std::size_t b, std::size_t e) {
-          for (std::size_t i = b; i < e; ++i) {
-            int in = 0;
-            for (int k = 0; k < 4; ++k) in += values[leaf_ids[i][k]] > iso ? 1 : 0;
-            // A leaf whose corners agree emits nothing; above the leaves, such a tetrahedron is
-            // split only if its bound says the surface may pass between its corners.
-            const bool mixed = in > 0 && in < 4;
-            hold[i] = mixed || (level < options.levels && field.bound(box_of(leaves[i])).straddles(iso)) ? 1 : 0;
-          }
-        },
-        ctx);
-    if (level == options.levels) {
-      // Keep the holding leaves; vertex ids stay valid (verts is not compacted).
-      std::size_t w = 0;
-      for (std::size_t i = 0; i < leaves.size(); ++i) {
-        if (hold[i] != 0) {
-          leaves[w] = leaves[i];
-          leaf_ids[w] = leaf_ids[i];
-          ++w;
+  // 4 + 5. Per region tetrahedron (the paper's kernels, here one task per chunk of region
+  //    tetrahedra): 1:8 subdivision to `levels`, the field at the unique corners of its leaves
+  //    (one batch per chunk), marching tetrahedra on the leaves. Every region tetrahedron is
+  //    subdivided to the same level, so leaves of neighbours meet face to face; a region
+  //    tetrahedron whose field bound excludes the iso value is skipped whole. Crossing edges
+  //    are keyed by their exact end points, which neighbours compute bit-identically.
+  // 3b. Holes are verified, not hoped away: the mesh can only open where a leaf corner on the
+  //    region's boundary is inside. Every boundary face with such a corner gets the tetrahedron
+  //    behind it added and extracted, round after round, until no boundary face has one; the
+  //    extracted mesh is then closed by construction.
+  std::vector<Polygon> polygons;
+  std::vector<EdgeRecord> records;
+  while (!list.empty()) {
+    std::vector<ChunkOutput> outs = extract_list(field, pts, tets, list, options, ctx);
+    std::vector<std::uint32_t> next;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::uint8_t flags = outs[i / kTetsPerChunk].face_inside[i % kTetsPerChunk];
+      for (int k = 0; k < 4; ++k) {
+        if ((flags & (1U << k)) == 0) continue;
+        const std::uint32_t nb = neighbor[4 * list[i] + k];
+        if (nb == kNone) {
+          st.holes_left = true;  // the surface reaches the hull of the far box
+        } else if (keep[nb] == 0) {
+          keep[nb] = 1;
+          next.push_back(nb);
         }
       }
-      leaves.resize(w);
-      leaf_ids.resize(w);
-      break;
     }
-    std::vector<TetPoints> next;
-    next.reserve(8 * static_cast<std::size_t>(std::count(hold.begin(), hold.end(), 1)));
-    for (std::size_t i = 0; i < leaves.size(); ++i) {
-      if (hold[i] != 0) split_1_to_8(leaves[i], next);
+    merge_outputs(outs, st, polygons, records);
+    if (!next.empty()) {
+      if (st.growth_rounds == options.max_growth_rounds) {
+        st.holes_left = true;
+        break;
+      }
+      ++st.growth_rounds;
+      st.grown_tets += next.size();
     }
-    leaves = std::move(next);
+    list = std::move(next);
     check_cancel(ctx);
   }
-  st.leaf_tets = leaves.size();
   st.seconds_subdivide = seconds_since(clock);
-  st.seconds_field = 0;  // included in seconds_subdivide: values are computed per level
 
-  // 5b. Marching tetrahedra: per-leaf triangle counts, prefix sum, crossing edges.
-  auto inside = [&](std::uint32_t v) { return values[v] > iso; };
-  std::vector<std::size_t> tri_count(leaves.size());
-  for (std::size_t i = 0; i < leaves.size(); ++i) {
-    int in = 0;
-    for (int k = 0; k < 4; ++k) in += inside(leaf_ids[i][k]) ? 1 : 0;
-    tri_count[i] = in == 0 || in == 4 ? 0 : (in == 2 ? 2 : 1);
-  }
-  std::vector<std::size_t> tri_offset = tri_count;
-  const std::size_t total_tris = parallel::exclusive_scan(tri_offset);
-  // Crossing edges as (inside vertex, outside vertex) keys.
-  std::vector<std::uint64_t> edge_keys;
-  edge_keys.reserve(total_tris * 2);
-  for (std::size_t i = 0; i < leaves.size(); ++i) {
-    if (tri_count[i] == 0) continue;
-    for (int a = 0; a < 4; ++a) {
-      for (int b = a + 1; b < 4; ++b) {
-        const std::uint32_t va = leaf_ids[i][a], vb = leaf_ids[i][b];
-        if (inside(va) != inside(vb)) {
-          const std::uint32_t vin = inside(va) ? va : vb;
-          const std::uint32_t vout = inside(va) ? vb : va;
-          edge_keys.push_back((std::uint64_t{vin} << 32U) | vout);
-        }
-      }
+  // Unique crossing edges: sort the records by key, one mesh vertex per distinct key.
+  std::vector<std::uint32_t> order(records.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  tbb::parallel_sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return records[x].key < records[y].key || (records[x].key == records[y].key && x < y);
+  });
+  std::vector<std::uint32_t> vertex_of(records.size());
+  std::vector<Vec3> ea, eb;
+  std::vector<double> fa, fb;
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const EdgeRecord& r = records[order[k]];
+    if (k == 0 || !(records[order[k - 1]].key == r.key)) {
+      ea.push_back(r.in());
+      eb.push_back(r.out());
+      fa.push_back(r.f_in);
+      fb.push_back(r.f_out);
     }
+    vertex_of[order[k]] = static_cast<std::uint32_t>(ea.size() - 1);
   }
-  tbb::parallel_sort(edge_keys.begin(), edge_keys.end());
-  edge_keys.erase(std::unique(edge_keys.begin(), edge_keys.end()), edge_keys.end());
-  auto edge_index = [&](std::uint32_t va, std::uint32_t vb) {
-    const std::uint32_t vin = inside(va) ? va : vb;
-    const std::uint32_t vout = inside(va) ? vb : va;
-    const std::uint64_t key = (std::uint64_t{vin} << 32U) | vout;
-    return static_cast<std::uint32_t>(std::lower_bound(edge_keys.begin(), edge_keys.end(), key) - edge_keys.begin());
-  };
-  // Vertices on the surface.
-  std::vector<Vec3> ea(edge_keys.size()), eb(edge_keys.size());
-  std::vector<double> fa(edge_keys.size()), fb(edge_keys.size());
-  for (std::size_t e = 0; e < edge_keys.size(); ++e) {
-    const auto vin = static_cast<std::uint32_t>(edge_keys[e] >> 32U);
-    const auto vout = static_cast<std::uint32_t>(edge_keys[e] & 0xffffffffU);
-    ea[e] = verts[vin];
-    eb[e] = verts[vout];
-    fa[e] = values[vin];
-    fb[e] = values[vout];
-  }
+  records = {};
   TriMesh mesh;
   mesh.positions = detail::find_edge_roots(field, ea, eb, std::move(fa), std::move(fb),
                                            options.root_steps, st.root_evaluations);
   st.crossing_edges = mesh.positions.size();
-  // Triangles, oriented with the normal pointing from the inside corners to the outside ones
-  // (decided on the edge midpoints, which always span a proper cross-section of the leaf).
+  // Triangles; a quad is split along the shorter diagonal of its placed vertices.
+  std::vector<std::size_t> tri_offset(polygons.size());
+  for (std::size_t i = 0; i < polygons.size(); ++i) tri_offset[i] = polygons[i].quad ? 2 : 1;
+  const std::size_t total_tris = parallel::exclusive_scan(tri_offset);
   mesh.triangles.resize(total_tris);
   parallel::for_chunks(
-      leaves.size(), 4096,
+      polygons.size(), 8192,
       [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
-          if (tri_count[i] == 0) continue;
-          const Tet& t = leaf_ids[i];
-          std::array<int, 4> ins{}, outs{};
-          int ni = 0, no = 0;
-          for (int k = 0; k < 4; ++k) {
-            if (inside(t[k])) {
-              ins[ni++] = k;
-            } else {
-              outs[no++] = k;
-            }
+          const Polygon& p = polygons[i];
+          std::array<std::uint32_t, 4> v{};
+          for (int k = 0; k < (p.quad ? 4 : 3); ++k) v[k] = vertex_of[p.record[k]];
+          const std::size_t w = tri_offset[i];
+          if (!p.quad) {
+            mesh.triangles[w] = {v[0], v[1], v[2]};
+            continue;
           }
-          Vec3 in_mean = Vec3::Zero(), out_mean = Vec3::Zero();
-          for (int k = 0; k < ni; ++k) in_mean += leaves[i][ins[k]] / ni;
-          for (int k = 0; k < no; ++k) out_mean += leaves[i][outs[k]] / no;
-          const Vec3 outward = out_mean - in_mean;
-          auto mid = [&](int a, int c) { return 0.5 * (leaves[i][a] + leaves[i][c]); };
-          std::size_t w = tri_offset[i];
-          if (ni == 1 || no == 1) {
-            const bool one_in = ni == 1;
-            const int apex = one_in ? ins[0] : outs[0];
-            const std::array<int, 3> others = one_in ? std::array<int, 3>{outs[0], outs[1], outs[2]}
-                                                     : std::array<int, 3>{ins[0], ins[1], ins[2]};
-            std::array<std::uint32_t, 3> tri{};
-            std::array<Vec3, 3> m;
-            for (int k = 0; k < 3; ++k) {
-              tri[k] = edge_index(t[apex], t[others[k]]);
-              m[k] = mid(apex, others[k]);
-            }
-            if ((m[1] - m[0]).cross(m[2] - m[0]).dot(outward) < 0) std::swap(tri[1], tri[2]);
-            mesh.triangles[w] = tri;
+          const double d02 = (mesh.positions[v[0]] - mesh.positions[v[2]]).squaredNorm();
+          const double d13 = (mesh.positions[v[1]] - mesh.positions[v[3]]).squaredNorm();
+          if (d02 <= d13) {
+            mesh.triangles[w] = {v[0], v[1], v[2]};
+            mesh.triangles[w + 1] = {v[0], v[2], v[3]};
           } else {
-            // Quad around the four crossing edges, in cyclic order.
-            const int a = ins[0], c = ins[1], p = outs[0], q = outs[1];
-            std::array<std::uint32_t, 4> quad = {edge_index(t[a], t[p]), edge_index(t[a], t[q]),
-                                                 edge_index(t[c], t[q]), edge_index(t[c], t[p])};
-            std::array<Vec3, 4> m = {mid(a, p), mid(a, q), mid(c, q), mid(c, p)};
-            if ((m[1] - m[0]).cross(m[2] - m[0]).dot(outward) < 0) {
-              std::swap(quad[1], quad[3]);
-              std::swap(m[1], m[3]);
-            }
-            // Split along the shorter diagonal of the placed vertices.
-            const double d02 = (mesh.positions[quad[0]] - mesh.positions[quad[2]]).squaredNorm();
-            const double d13 = (mesh.positions[quad[1]] - mesh.positions[quad[3]]).squaredNorm();
-            if (d02 <= d13) {
-              mesh.triangles[w] = {quad[0], quad[1], quad[2]};
-              mesh.triangles[w + 1] = {quad[0], quad[2], quad[3]};
-            } else {
-              mesh.triangles[w] = {quad[1], quad[2], quad[3]};
-              mesh.triangles[w + 1] = {quad[1], quad[3], quad[0]};
-            }
+            mesh.triangles[w] = {v[1], v[2], v[3]};
+            mesh.triangles[w + 1] = {v[1], v[3], v[0]};
           }
         }
       },

@@ -56,8 +56,9 @@ struct TetrahedralStats {
   std::size_t grown_tets = 0;         ///< tetrahedra added by hole fixing
   int growth_rounds = 0;              ///< rounds of hole fixing
   bool holes_left = false;            ///< true when hole fixing hit max_growth_rounds or the hull
-  std::size_t leaf_tets = 0;          ///< leaf tetrahedra after pruned subdivision
-  std::size_t vertices_evaluated = 0; ///< unique leaf vertices evaluated
+  std::size_t skipped_tets = 0;       ///< region tetrahedra whose bound excludes the surface
+  std::size_t leaf_tets = 0;          ///< leaf tetrahedra marched (8^levels per live one)
+  std::size_t vertices_evaluated = 0; ///< leaf corners evaluated (unique per region tetrahedron)
   std::size_t crossing_edges = 0;     ///< mesh vertices
   std::uint64_t root_evaluations = 0; ///< evaluations spent placing vertices
   double seconds_polyhedron = 0, seconds_tetrahedralize = 0, seconds_region = 0,

@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+// `ramiform generate OUT.json [--segments N] [--seed S] [...]`: a procedural branching tree.
+
+#include <cstdio>
+#include <string>
+
+#include "commands.h"
+#include "common.h"
+#include "ramiform/skeleton/generate.h"
+
+namespace ramiform::cli {
+namespace {
+
+struct GenerateArgs {
+  std::string out_path;
+  BranchingTreeOptions tree;
+  CommonOptions common;
+};
+
+int run_generate(const GenerateArgs& args) {
+  RunScope scope(args.common);
+  StageTimer timer;
+  const Skeleton skeleton = branching_tree(args.tree);
+  timer.lap("generate");
+  write_skeleton(skeleton, args.out_path);
+  timer.lap("write");
+  std::printf("wrote %s: %zu nodes, %zu edges\n", args.out_path.c_str(), skeleton.node_count(),
+              skeleton.edge_count());
+  nlohmann::json stats;
+  stats["nodes"] = skeleton.node_count();
+  stats["edges"] = skeleton.edge_count();
+  stats["seconds"] = timer.seconds();
+  write_stats(args.common.stats_path, stats);
+  return 0;
+}
+
+}  // namespace
+
+void register_generate(CLI::App& root, Action& action) {
+  auto args = std::make_shared<GenerateArgs>();
+  auto& t = args->tree;
+  CLI::App* c = root.add_subcommand(
+      "generate",
+      "Write a procedural binary branching tree with pipe-model radii (for tests and "
+      "benchmarks; the same options give the same tree everywhere).");
+  c->add_option("OUT", args->out_path, "output skeleton: .json (or .ply, .obj)")->required();
+  c->add_option("--segments", t.segments, "number of edges (default 1000)")
+      ->check(CLI::Range(1, 10000000));
+  c->add_option("--seed", t.seed, "random seed (default 1)");
+  c->add_option("--trunk-length", t.trunk_length, "length of the first edge (default 3)")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--length-ratio", t.length_ratio, "child/parent edge length (default 0.8)")
+      ->check(CLI::Range(1e-3, 1.0));
+  c->add_option("--branch-angle", t.branch_angle_deg, "child/parent angle, degrees (default 32)")
+      ->check(CLI::Range(0.0, 90.0));
+  c->add_option("--jitter", t.jitter_deg, "random direction deviation, degrees (default 6)")
+      ->check(CLI::Range(0.0, 45.0));
+  c->add_option("--tip-radius", t.tip_radius, "radius of every tip (default 0.02)")
+      ->check(CLI::PositiveNumber);
+  c->add_option("--pipe-exponent", t.pipe_exponent, "pipe model exponent n (default 2)")
+      ->check(CLI::Range(1.0, 4.0));
+  add_common_options(*c, args->common);
+  c->callback([args, &action] { action = [args] { return run_generate(*args); }; });
+}
+
+}  // namespace ramiform::cli
