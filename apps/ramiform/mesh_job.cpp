@@ -28,7 +28,7 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
                      Context& ctx, MeshJobResult& r) {
   TetrahedralOptions o;
   o.levels = options.levels;
-  // o.cleanup = options.cleanup;
+  o.cleanup = options.cleanup;
   TetrahedralStats st;
   r.mesh = polygonize_tetrahedral(field, skeleton, o, &ctx, &st);
   r.stats["levels"] = o.levels;
@@ -41,12 +41,19 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
   r.stats["leaf_tets"] = st.leaf_tets;
   r.stats["vertices_evaluated"] = st.vertices_evaluated;
   r.stats["crossing_edges"] = st.crossing_edges;
+  r.stats["skipped_tets"] = st.skipped_tets;
+  if (o.cleanup) {
+    r.stats["cleanup_collapsed_edges"] = st.collapsed_edges;
+    r.stats["min_angle_deg_before_cleanup"] = st.min_angle_before;
+    r.stats["median_angle_deg_before_cleanup"] = st.median_angle_before;
+  }
   r.stats["root_evaluations"] = st.root_evaluations;
   r.stats["tets_seconds"] = {{"polyhedron", st.seconds_polyhedron},
                              {"tetrahedralize", st.seconds_tetrahedralize},
                              {"region", st.seconds_region},
                              {"subdivide", st.seconds_subdivide},
-                             {"extract", st.seconds_extract}};
+                             {"extract", st.seconds_extract},
+                             {"cleanup", st.seconds_cleanup}};
 }
 
 }  // namespace

@@ -1,3 +1,4 @@
 set(RAMIFORM_MESH_SOURCES
   src/mesh/checks.cpp
+  src/mesh/cleanup.cpp
   src/mesh/winding.cpp)

@@ -25,6 +25,7 @@
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/core/random.h"
+#include "ramiform/mesh/cleanup.h"
 
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
@@ -823,6 +824,14 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
       },
       ctx);
   st.seconds_extract = seconds_since(clock);
+  if (options.cleanup) {
+    NeedleCleanupStats cs;
+    clean_needles(mesh, {}, &cs);
+    st.collapsed_edges = cs.collapsed_edges;
+    st.min_angle_before = cs.min_angle_before;
+    st.median_angle_before = cs.median_angle_before;
+  }
+  st.seconds_cleanup = seconds_since(clock);
   if (stats_out != nullptr) *stats_out = st;
   return mesh;
 }

@@ -46,6 +46,7 @@ struct TetrahedralOptions {
   double station_spacing = 4.0; ///< max distance between cross-sections along an edge, in radii
   int root_steps = 6;           ///< root-finding rounds per crossing edge (0 = linear)
   int max_growth_rounds = 200;  ///< rounds of hole fixing before giving up (reported)
+  bool cleanup = true;          ///< collapse needle edges afterwards (mesh/cleanup.h)
 };
 
 /// What the polygonizer did; counts and per-stage seconds.
@@ -61,6 +62,10 @@ struct TetrahedralStats {
   std::size_t vertices_evaluated = 0; ///< leaf corners evaluated (unique per region tetrahedron)
   std::size_t crossing_edges = 0;     ///< mesh vertices
   std::uint64_t root_evaluations = 0; ///< evaluations spent placing vertices
+  std::size_t collapsed_edges = 0;    ///< needle edges collapsed by the cleanup pass
+  double min_angle_before = 0;        ///< smallest triangle angle before cleanup, degrees
+  double median_angle_before = 0;     ///< median triangle angle before cleanup, degrees
+  double seconds_cleanup = 0;
   double seconds_polyhedron = 0, seconds_tetrahedralize = 0, seconds_region = 0,
          seconds_subdivide = 0, seconds_field = 0, seconds_extract = 0;
 };

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+/// \file
+/// Needle cleanup for polygonizer output. Marching tetrahedra (and marching cubes) make long,
+/// narrow triangles wherever the surface passes close to a grid corner: the vertices on the
+/// edges around that corner crowd together (Zhu, Guo & Jin, `003` §6, name this their method's
+/// weakness). clean_needles() collapses the short edges of such triangles, one at a time and
+/// only where the collapse keeps the mesh a closed, consistently oriented 2-manifold:
+/// - link condition: the end points share exactly the two vertices opposite the edge, and
+///   neither of those is left with fewer than three neighbours;
+/// - no fold: no surviving triangle turns its normal by more than `max_normal_turn_deg` or
+///   becomes degenerate;
+/// - better: every changed triangle's smallest angle beats the needle's.
+/// A needle whose short edge may not collapse (a cap, with one angle near 180 degrees) has its
+/// longest edge flipped instead when that improves the smallest angle of the two triangles.
+/// The kept end point stays where it was (a vertex already on the surface), so the surface is
+/// not moved off the iso-surface. Candidates are visited shortest first (ties by vertex
+/// index), so the result is deterministic.
+
+#include <cstddef>
+
+#include "ramiform/mesh/trimesh.h"
+
+namespace ramiform {
+
+/// Options of clean_needles(); validated at entry (InvalidArgument naming the option).
+struct NeedleCleanupOptions {
+  /// A triangle is a needle when its smallest angle is below this (degrees, in (0, 60)).
+  double min_angle_deg = 15.0;
+  /// Largest turn of a surviving triangle's normal a collapse may cause (degrees, (0, 90]).
+  double max_normal_turn_deg = 45.0;
+  int passes = 3;  ///< sweeps over the candidates (>= 1); later sweeps catch new needles
+};
+
+/// What clean_needles() did, with the angle quality before and after.
+struct NeedleCleanupStats {
+  std::size_t collapsed_edges = 0;
+  std::size_t removed_triangles = 0;
+  std::size_t flipped_edges = 0;  ///< longest edges of caps flipped (counted in collapsed_edges too)
+  double min_angle_before = 0, median_angle_before = 0;  ///< degrees
+  double min_angle_after = 0, median_angle_after = 0;    ///< degrees
+};
+
+/// Smallest and median corner angle of a mesh, degrees (0, 0 for an empty mesh).
+struct AngleSummary {
+  double min_deg = 0, median_deg = 0;
+};
+[[nodiscard]] AngleSummary angle_summary(const TriMesh& mesh);
+
+/// Collapses needle edges of `mesh` in place (see the file comment); unused vertices are
+/// removed and the rest keep their relative order.
+void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& options = {},
+                   NeedleCleanupStats* stats = nullptr);
+
+}  // namespace ramiform

@@ -1,0 +1,325 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/mesh/cleanup.h"
+
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "ramiform/core/errors.h"
+#include "ramiform/core/tolerances.h"
+
+namespace ramiform {
+namespace {
+
+using Tri = std::array<std::uint32_t, 3>;
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// Smallest corner angle (radians) of the triangle a, b, c; 0 when degenerate.
+double min_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, bc = c - b, ca = a - c;
+  const double cross = ab.cross(-ca).norm();
+  const double longest2 = std::max({ab.squaredNorm(), bc.squaredNorm(), ca.squaredNorm()});
+  if (!(cross > tol::kCoincident * longest2)) return 0.0;
+  return std::min({std::atan2(cross, ab.dot(-ca)), std::atan2(cross, bc.dot(-ab)),
+                   std::atan2(cross, ca.dot(-bc))});
+}
+
+struct Candidate {
+  double length;
+  std::uint32_t u, v;
+  std::uint32_t tri;
+  bool operator<(const Candidate& o) const {
+    if (length != o.length) return length < o.length;
+    return u != o.u ? u < o.u : v < o.v;
+  }
+};
+
+class Collapser {
+ public:
+  Collapser(TriMesh& mesh, const NeedleCleanupOptions& o)
+      : mesh_(mesh),
+        alive_(mesh.triangles.size(), 1),
+        removed_(mesh.positions.size(), 0),
+        faces_(mesh.positions.size()),
+        min_angle_(o.min_angle_deg * kDeg),
+        cos_turn_(std::cos(o.max_normal_turn_deg * kDeg)) {
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+      for (const std::uint32_t v : mesh.triangles[t]) faces_[v].push_back(t);
+    }
+  }
+
+  // One sweep over the needles' shortest edges; returns the number of collapses.
+  std::size_t sweep() {
+    std::vector<Candidate> candidates;
+    for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t) {
+      if (alive_[t] == 0) continue;
+      const Tri& f = mesh_.triangles[t];
+      if (angle_of(f) >= min_angle_) continue;
+      int best = 0;
+      double best_len = INFINITY;
+      for (int k = 0; k < 3; ++k) {
+        const double len = (pos(f[k]) - pos(f[(k + 1) % 3])).norm();
+        if (len < best_len) best_len = len, best = k;
+      }
+      const std::uint32_t a = f[best], b = f[(best + 1) % 3];
+      candidates.push_back({best_len, std::min(a, b), std::max(a, b), t});
+    }
+    tbb::parallel_sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end(),
+                                 [](const Candidate& x, const Candidate& y) { return x.u == y.u && x.v == y.v; }),
+                     candidates.end());
+    std::size_t done = 0;
+    for (const Candidate& c : candidates) {
+      if (removed_[c.u] != 0 || removed_[c.v] != 0) continue;
+      if (try_collapse(c.u, c.v)) {
+        ++done;
+      } else if (alive_[c.tri] != 0 && try_flip(c.tri)) {
+        ++done;
+        ++flipped_edges;
+      }
+    }
+    return done;
+  }
+
+  // Drops dead triangles and unused vertices, keeping the order of the rest.
+  void compact() {
+    std::vector<Tri> tris;
+    tris.reserve(mesh_.triangles.size());
+    for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
+      if (alive_[t] != 0) tris.push_back(mesh_.triangles[t]);
+    }
+    std::vector<std::uint32_t> remap(mesh_.positions.size(), UINT32_MAX);
+    for (const auto& t : tris) {
+      for (const std::uint32_t v : t) remap[v] = 0;
+    }
+    std::vector<Vec3> positions;
+    for (std::size_t v = 0; v < mesh_.positions.size(); ++v) {
+      if (remap[v] == 0) {
+        remap[v] = static_cast<std::uint32_t>(positions.size());
+        positions.push_back(mesh_.positions[v]);
+      }
+    }
+    for (auto& t : tris) {
+      for (auto& v : t) v = remap[v];
+    }
+    mesh_.positions = std::move(positions);
+    mesh_.triangles = std::move(tris);
+  }
+
+  std::size_t removed_triangles = 0;
+  std::size_t flipped_edges = 0;
+
+ private:
+  const Vec3& pos(std::uint32_t v) const { return mesh_.positions[v]; }
+  double angle_of(const Tri& f) const { return min_angle(pos(f[0]), pos(f[1]), pos(f[2])); }
+
+  // Alive triangles around v (drops dead entries on the way).
+  std::vector<std::uint32_t>& around(std::uint32_t v) {
+    auto& list = faces_[v];
+    list.erase(std::remove_if(list.begin(), list.end(), [&](std::uint32_t t) { return alive_[t] == 0; }),
+               list.end());
+    return list;
+  }
+
+  static bool has(const Tri& f, std::uint32_t v) { return f[0] == v || f[1] == v || f[2] == v; }
+
+  std::vector<std::uint32_t> neighbours(std::uint32_t v) {
+    std::vector<std::uint32_t> n;
+    for (const std::uint32_t t : around(v)) {
+      for (const std::uint32_t w : mesh_.triangles[t]) {
+        if (w != v) n.push_back(w);
+      }
+    }
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+    return n;
+  }
+
+  // Quality of removing x into y (y keeps its position): the smallest angle of the changed
+  // triangles, or -1 when the collapse is not allowed.
+  double evaluate(std::uint32_t x, std::uint32_t y, const std::vector<std::uint32_t>& shared) {
+    double worst_new = INFINITY;
+    for (const std::uint32_t t : around(x)) {
+      if (std::find(shared.begin(), shared.end(), t) != shared.end()) continue;
+      const Tri& f = mesh_.triangles[t];
+      std::array<Vec3, 3> p{pos(f[0]), pos(f[1]), pos(f[2])};
+      const Vec3 n0 = (p[1] - p[0]).cross(p[2] - p[0]);
+      for (int k = 0; k < 3; ++k) {
+        if (f[k] == x) p[k] = pos(y);
+      }
+      const Vec3 n1 = (p[1] - p[0]).cross(p[2] - p[0]);
+      if (!(n0.dot(n1) > cos_turn_ * n0.norm() * n1.norm())) return -1;
+      const double a = min_angle(p[0], p[1], p[2]);
+      if (a <= 0) return -1;
+      worst_new = std::min(worst_new, a);
+    }
+    return worst_new;
+  }
+
+  bool try_collapse(std::uint32_t u, std::uint32_t v) {
+    std::vector<std::uint32_t> shared;
+    for (const std::uint32_t t : around(u)) {
+      if (has(mesh_.triangles[t], v)) shared.push_back(t);
+    }
+    if (shared.size() != 2) return false;
+    // The edge must still belong to a needle.
+    double worst_old = INFINITY;
+    for (const std::uint32_t t : shared) worst_old = std::min(worst_old, angle_of(mesh_.triangles[t]));
+    if (worst_old >= min_angle_) return false;
+    // Link condition: the common neighbours are exactly the two opposite vertices, each of
+    // which keeps at least three neighbours.
+    std::array<std::uint32_t, 2> opposite{};
+    for (int k = 0; k < 2; ++k) {
+      for (const std::uint32_t w : mesh_.triangles[shared[k]]) {
+        if (w != u && w != v) opposite[k] = w;
+      }
+    }
+    if (opposite[0] == opposite[1]) return false;
+    const std::vector<std::uint32_t> nu = neighbours(u);
+    const std::vector<std::uint32_t> nv = neighbours(v);
+    std::vector<std::uint32_t> common;
+    std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
+    if (common.size() != 2) return false;
+    for (const std::uint32_t o : opposite) {
+      if (neighbours(o).size() <= 3) return false;
+    }
+    // Keep whichever end point gives the better triangles; they must all beat the needle.
+    const double keep_v = evaluate(u, v, shared);
+    const double keep_u = evaluate(v, u, shared);
+    const bool into_v = keep_v >= keep_u;
+    const double best = std::max(keep_v, keep_u);
+    if (!(best > worst_old)) return false;
+    const std::uint32_t x = into_v ? u : v;  // removed
+    const std::uint32_t y = into_v ? v : u;  // kept
+    for (const std::uint32_t t : shared) alive_[t] = 0;
+    removed_triangles += 2;
+    for (const std::uint32_t t : around(x)) {
+      for (auto& w : mesh_.triangles[t]) {
+        if (w == x) w = y;
+      }
+      faces_[y].push_back(t);
+    }
+    faces_[x].clear();
+    removed_[x] = 1;
+    return true;
+  }
+
+  // A cap (a needle whose shortest edge cannot go) loses its longest edge instead: the two
+  // triangles (a, b, c) and (b, a, d) on it become (a, d, c) and (d, b, c), which keeps every
+  // directed edge of the quad's boundary, so orientation and manifoldness stay.
+  bool try_flip(std::uint32_t t1) {
+    const Tri f1 = mesh_.triangles[t1];
+    int k = 0;
+    double longest = -1;
+    for (int i = 0; i < 3; ++i) {
+      const double len = (pos(f1[i]) - pos(f1[(i + 1) % 3])).squaredNorm();
+      if (len > longest) longest = len, k = i;
+    }
+    const std::uint32_t a = f1[k], b = f1[(k + 1) % 3], c = f1[(k + 2) % 3];
+    std::uint32_t t2 = UINT32_MAX;
+    for (const std::uint32_t t : around(a)) {
+      const Tri& f = mesh_.triangles[t];
+      for (int i = 0; i < 3; ++i) {
+        if (t != t1 && f[i] == b && f[(i + 1) % 3] == a) t2 = t;
+      }
+    }
+    if (t2 == UINT32_MAX) return false;
+    const Tri& f2 = mesh_.triangles[t2];
+    std::uint32_t d = f2[0];
+    for (const std::uint32_t w : f2) {
+      if (w != a && w != b) d = w;
+    }
+    if (d == c) return false;
+    const std::vector<std::uint32_t> nc = neighbours(c);
+    if (std::binary_search(nc.begin(), nc.end(), d)) return false;  // edge c-d exists
+    const Tri g1{a, d, c}, g2{d, b, c};
+    const double old_worst = std::min(angle_of(f1), angle_of(f2));
+    const double new_worst = std::min(angle_of(g1), angle_of(g2));
+    if (!(new_worst > old_worst)) return false;
+    auto normal = [&](const Tri& f) { return Vec3((pos(f[1]) - pos(f[0])).cross(pos(f[2]) - pos(f[0]))); };
+    const Vec3 n_old = normal(f1).normalized() + normal(f2).normalized();
+    for (const Tri& g : {g1, g2}) {
+      const Vec3 n = normal(g);
+      if (!(n.dot(n_old) > cos_turn_ * n.norm() * n_old.norm())) return false;
+    }
+    mesh_.triangles[t1] = g1;
+    mesh_.triangles[t2] = g2;
+    auto drop = [&](std::uint32_t v, std::uint32_t t) {
+      auto& list = faces_[v];
+      list.erase(std::remove(list.begin(), list.end(), t), list.end());
+    };
+    drop(a, t2);
+    drop(b, t1);
+    faces_[c].push_back(t2);
+    faces_[d].push_back(t1);
+    return true;
+  }
+
+  TriMesh& mesh_;
+  std::vector<char> alive_;
+  std::vector<char> removed_;
+  std::vector<std::vector<std::uint32_t>> faces_;
+  double min_angle_;
+  double cos_turn_;
+};
+
+}  // namespace
+
+AngleSummary angle_summary(const TriMesh& mesh) {
+  AngleSummary s;
+  if (mesh.triangles.empty()) return s;
+  std::vector<double> angles;
+  angles.reserve(3 * mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    const Vec3& a = mesh.positions[t[0]];
+    const Vec3& b = mesh.positions[t[1]];
+    const Vec3& c = mesh.positions[t[2]];
+    const Vec3 ab = b - a, bc = c - b, ca = a - c;
+    const double cross = ab.cross(-ca).norm();
+    angles.push_back(std::atan2(cross, ab.dot(-ca)) / kDeg);
+    angles.push_back(std::atan2(cross, bc.dot(-ab)) / kDeg);
+    angles.push_back(std::atan2(cross, ca.dot(-bc)) / kDeg);
+  }
+  s.min_deg = *std::min_element(angles.begin(), angles.end());
+  auto mid = angles.begin() + static_cast<std::ptrdiff_t>(angles.size() / 2);
+  std::nth_element(angles.begin(), mid, angles.end());
+  s.median_deg = *mid;
+  return s;
+}
+
+void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& o, NeedleCleanupStats* stats) {
+  if (!(o.min_angle_deg > 0 && o.min_angle_deg < 60)) {
+    throw InvalidArgument("NeedleCleanupOptions.min_angle_deg must be in (0, 60), got " +
+                          std::to_string(o.min_angle_deg));
+  }
+  if (!(o.max_normal_turn_deg > 0 && o.max_normal_turn_deg <= 90)) {
+    throw InvalidArgument("NeedleCleanupOptions.max_normal_turn_deg must be in (0, 90], got " +
+                          std::to_string(o.max_normal_turn_deg));
+  }
+  if (o.passes < 1) throw InvalidArgument("NeedleCleanupOptions.passes must be >= 1");
+  NeedleCleanupStats st;
+  const AngleSummary before = angle_summary(mesh);
+  st.min_angle_before = before.min_deg;
+  st.median_angle_before = before.median_deg;
+  Collapser c(mesh, o);
+  for (int pass = 0; pass < o.passes; ++pass) {
+    const std::size_t n = c.sweep();
+    st.collapsed_edges += n;
+    if (n == 0) break;
+  }
+  st.removed_triangles = c.removed_triangles;
+  st.flipped_edges = c.flipped_edges;
+  c.compact();
+  const AngleSummary after = angle_summary(mesh);
+  st.min_angle_after = after.min_deg;
+  st.median_angle_after = after.median_deg;
+  if (stats != nullptr) *stats = st;
+}
+
+}  // namespace ramiform
