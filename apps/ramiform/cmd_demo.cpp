@@ -15,7 +15,8 @@ namespace {
 
 struct DemoArgs {
   std::string out_dir = "out";
-  int resolution = 160;
+  MeshJobOptions job;
+  CLI::Option* resolution = nullptr;
   CommonOptions common;
 };
 
@@ -40,11 +41,8 @@ int run_demo(const DemoArgs& args) {
   const std::string stats_path = (fs::path(args.out_dir) / "stats.json").string();
   write_skeleton_json(skeleton, skeleton_path);
   timer.lap("skeleton");
-  MeshJobOptions job;
-  job.method = "mc";
-  job.resolution = args.resolution;
   SkeletonFieldOptions field;
-  const MeshJobResult result = mesh_skeleton(skeleton, field.resolved(), job, mesh_path, timer,
+  const MeshJobResult result = mesh_skeleton(skeleton, field.resolved(), args.job, mesh_path, timer,
                                              scope.context());
   nlohmann::json stats = result.stats;
   stats["skeleton_nodes"] = skeleton.node_count();
@@ -54,7 +52,9 @@ int run_demo(const DemoArgs& args) {
   write_stats(args.common.stats_path, stats);
   const auto& r = result.report;
   std::cout << "ramiform demo: a " << skeleton.edge_count()
-            << "-segment branching skeleton as a Cauchy convolution surface, marching cubes\n"
+            << "-segment branching skeleton as a Cauchy convolution surface, "
+            << (args.job.method == "mc" ? "marching cubes" : "skeleton-bounded tetrahedra")
+            << "\n"
             << "  " << skeleton_path << "  skeleton (" << skeleton.node_count() << " nodes)\n"
             << "  " << mesh_path << "  mesh (" << r.vertices << " vertices, " << r.triangles
             << " triangles; watertight " << (r.watertight ? "yes" : "NO") << ", oriented "
@@ -73,10 +73,23 @@ void register_demo(CLI::App& root, Action& action) {
       "demo", "Run the main job on a built-in branching skeleton: mesh it, check it, and write "
               "skeleton.json, tree.ply and stats.json into --out.");
   c->add_option("--out", args->out_dir, "output directory (created if missing)");
-  c->add_option("--resolution", args->resolution, "marching-cubes cells along the longest side")
-      ->check(CLI::Range(8, 2048));
+  c->add_option("--method", args->job.method,
+                "polygonizer: tets (skeleton-bounded tetrahedra, default) or mc (marching cubes)")
+      ->check(CLI::IsMember({"tets", "mc"}));
+  c->add_option("--levels", args->job.levels, "tets: 1:8 subdivision levels (default 3)")
+      ->check(CLI::Range(0, 6));
+  args->job.resolution = 160;
+  args->resolution =
+      c->add_option("--resolution", args->job.resolution,
+                    "mc: cells along the longest side (default 160)")
+          ->check(CLI::Range(8, 2048));
   add_common_options(*c, args->common);
-  c->callback([args, &action] { action = [args] { return run_demo(*args); }; });
+  c->callback([args, &action] {
+    if (args->resolution->count() > 0 && args->job.method != "mc") {
+      throw CLI::ValidationError("--resolution", "applies to --method mc only");
+    }
+    action = [args] { return run_demo(*args); };
+  });
 }
 
 }  // namespace ramiform::cli

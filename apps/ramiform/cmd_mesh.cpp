@@ -68,9 +68,19 @@ void register_mesh(CLI::App& root, Action& action) {
                             "mc: cells along the longest side of the surface's box (default 128)")
                   ->check(CLI::Range(2, 4096));
   cell->excludes(res);
+  auto* levels = c->get_option("--levels");
   add_field_options(*c, args->field);
   add_common_options(*c, args->common);
-  c->callback([args, &action] { action = [args] { return run_mesh(*args); }; });
+  c->callback([args, cell, res, levels, &action] {
+    if (args->job.method != "mc" && (cell->count() > 0 || res->count() > 0)) {
+      throw CLI::ValidationError(cell->count() > 0 ? "--cell" : "--resolution",
+                                 "applies to --method mc only (the default method is tets)");
+    }
+    if (args->job.method == "mc" && levels->count() > 0) {
+      throw CLI::ValidationError("--levels", "applies to --method tets only");
+    }
+    action = [args] { return run_mesh(*args); };
+  });
 }
 
 }  // namespace ramiform::cli

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/parallel.h"
 #include "ramiform/core/tolerances.h"
 
 namespace ramiform {
@@ -20,14 +21,16 @@ namespace {
 using Tri = std::array<std::uint32_t, 3>;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Smallest corner angle (radians) of the triangle a, b, c; 0 when degenerate.
+// Smallest corner angle (radians) of the triangle a, b, c; 0 when degenerate. It is the angle
+// opposite the shortest edge.
 double min_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, bc = c - b, ca = a - c;
+  const double lab = ab.squaredNorm(), lbc = bc.squaredNorm(), lca = ca.squaredNorm();
   const double cross = ab.cross(-ca).norm();
-  const double longest2 = std::max({ab.squaredNorm(), bc.squaredNorm(), ca.squaredNorm()});
-  if (!(cross > tol::kCoincident * longest2)) return 0.0;
-  return std::min({std::atan2(cross, ab.dot(-ca)), std::atan2(cross, bc.dot(-ab)),
-                   std::atan2(cross, ca.dot(-bc))});
+  if (!(cross > tol::kCoincident * std::max({lab, lbc, lca}))) return 0.0;
+  if (lbc <= lab && lbc <= lca) return std::atan2(cross, ab.dot(-ca));  // at a
+  if (lca <= lab) return std::atan2(cross, bc.dot(-ab));                // at b
+  return std::atan2(cross, ca.dot(-bc));                                // at c
 }
 
 struct Candidate {
@@ -46,11 +49,21 @@ class Collapser {
       : mesh_(mesh),
         alive_(mesh.triangles.size(), 1),
         removed_(mesh.positions.size(), 0),
-        faces_(mesh.positions.size()),
+        offset_(mesh.positions.size() + 1, 0),
+        extra_(mesh.positions.size()),
+        mark_(mesh.positions.size(), 0),
         min_angle_(o.min_angle_deg * kDeg),
         cos_turn_(std::cos(o.max_normal_turn_deg * kDeg)) {
+    // Vertex -> triangles as one compressed table; triangles that gain a vertex later are
+    // listed in extra_ (empty for almost every vertex).
+    for (const auto& t : mesh.triangles) {
+      for (const std::uint32_t v : t) ++offset_[v + 1];
+    }
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) offset_[v + 1] += offset_[v];
+    list_.resize(offset_.back());
+    std::vector<std::uint32_t> fill(offset_.begin(), offset_.end() - 1);
     for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
-      for (const std::uint32_t v : mesh.triangles[t]) faces_[v].push_back(t);
+      for (const std::uint32_t v : mesh.triangles[t]) list_[fill[v]++] = t;
     }
   }
 
@@ -119,26 +132,50 @@ class Collapser {
   const Vec3& pos(std::uint32_t v) const { return mesh_.positions[v]; }
   double angle_of(const Tri& f) const { return min_angle(pos(f[0]), pos(f[1]), pos(f[2])); }
 
-  // Alive triangles around v (drops dead entries on the way).
-  std::vector<std::uint32_t>& around(std::uint32_t v) {
-    auto& list = faces_[v];
-    list.erase(std::remove_if(list.begin(), list.end(), [&](std::uint32_t t) { return alive_[t] == 0; }),
-               list.end());
-    return list;
+  // Alive triangles around v, ascending. The result lives until the next call but one.
+  const std::vector<std::uint32_t>& around(std::uint32_t v) {
+    auto& out = scratch_[flip_ ^= 1];
+    out.clear();
+    auto take = [&](std::uint32_t t) {
+      if (alive_[t] != 0 && has(mesh_.triangles[t], v)) out.push_back(t);
+    };
+    for (std::uint32_t k = offset_[v]; k < offset_[v + 1]; ++k) take(list_[k]);
+    for (const std::uint32_t t : extra_[v]) take(t);
+    if (!extra_[v].empty()) {
+      std::sort(out.begin(), out.end());
+      out.erase(std::unique(out.begin(), out.end()), out.end());
+    }
+    return out;
   }
 
   static bool has(const Tri& f, std::uint32_t v) { return f[0] == v || f[1] == v || f[2] == v; }
 
-  std::vector<std::uint32_t> neighbours(std::uint32_t v) {
-    std::vector<std::uint32_t> n;
-    for (const std::uint32_t t : around(v)) {
+  // Number of distinct vertices adjacent to both u and v (stamped marks, no allocation).
+  std::size_t common_neighbours(std::uint32_t u, std::uint32_t v) {
+    stamp_ += 2;
+    const std::uint32_t of_u = stamp_, counted = stamp_ + 1;
+    for (const std::uint32_t t : around(u)) {
       for (const std::uint32_t w : mesh_.triangles[t]) {
-        if (w != v) n.push_back(w);
+        if (w != u) mark_[w] = of_u;
       }
     }
-    std::sort(n.begin(), n.end());
-    n.erase(std::unique(n.begin(), n.end()), n.end());
-    return n;
+    std::size_t common = 0;
+    for (const std::uint32_t t : around(v)) {
+      for (const std::uint32_t w : mesh_.triangles[t]) {
+        if (w != v && mark_[w] == of_u) {
+          mark_[w] = counted;
+          ++common;
+        }
+      }
+    }
+    return common;
+  }
+
+  bool adjacent(std::uint32_t c, std::uint32_t d) {
+    for (const std::uint32_t t : around(c)) {
+      if (has(mesh_.triangles[t], d)) return true;
+    }
+    return false;
   }
 
   // Quality of removing x into y (y keeps its position): the smallest angle of the changed
@@ -181,13 +218,9 @@ class Collapser {
       }
     }
     if (opposite[0] == opposite[1]) return false;
-    const std::vector<std::uint32_t> nu = neighbours(u);
-    const std::vector<std::uint32_t> nv = neighbours(v);
-    std::vector<std::uint32_t> common;
-    std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
-    if (common.size() != 2) return false;
+    if (common_neighbours(u, v) != 2) return false;
     for (const std::uint32_t o : opposite) {
-      if (neighbours(o).size() <= 3) return false;
+      if (around(o).size() <= 3) return false;  // on a closed manifold: valence = triangles
     }
     // Keep whichever end point gives the better triangles; they must all beat the needle.
     const double keep_v = evaluate(u, v, shared);
@@ -203,9 +236,8 @@ class Collapser {
       for (auto& w : mesh_.triangles[t]) {
         if (w == x) w = y;
       }
-      faces_[y].push_back(t);
+      extra_[y].push_back(t);
     }
-    faces_[x].clear();
     removed_[x] = 1;
     return true;
   }
@@ -236,8 +268,7 @@ class Collapser {
       if (w != a && w != b) d = w;
     }
     if (d == c) return false;
-    const std::vector<std::uint32_t> nc = neighbours(c);
-    if (std::binary_search(nc.begin(), nc.end(), d)) return false;  // edge c-d exists
+    if (adjacent(c, d)) return false;  // edge c-d exists
     const Tri g1{a, d, c}, g2{d, b, c};
     const double old_worst = std::min(angle_of(f1), angle_of(f2));
     const double new_worst = std::min(angle_of(g1), angle_of(g2));
@@ -250,21 +281,20 @@ class Collapser {
     }
     mesh_.triangles[t1] = g1;
     mesh_.triangles[t2] = g2;
-    auto drop = [&](std::uint32_t v, std::uint32_t t) {
-      auto& list = faces_[v];
-      list.erase(std::remove(list.begin(), list.end(), t), list.end());
-    };
-    drop(a, t2);
-    drop(b, t1);
-    faces_[c].push_back(t2);
-    faces_[d].push_back(t1);
+    extra_[c].push_back(t2);  // a and b lose a triangle: around() filters it out
+    extra_[d].push_back(t1);
     return true;
   }
 
   TriMesh& mesh_;
   std::vector<char> alive_;
   std::vector<char> removed_;
-  std::vector<std::vector<std::uint32_t>> faces_;
+  std::vector<std::uint32_t> offset_, list_;
+  std::vector<std::vector<std::uint32_t>> extra_;
+  std::array<std::vector<std::uint32_t>, 2> scratch_;
+  unsigned flip_ = 0;
+  std::vector<std::uint32_t> mark_;
+  std::uint32_t stamp_ = 0;
   double min_angle_;
   double cos_turn_;
 };
@@ -274,18 +304,20 @@ class Collapser {
 AngleSummary angle_summary(const TriMesh& mesh) {
   AngleSummary s;
   if (mesh.triangles.empty()) return s;
-  std::vector<double> angles;
-  angles.reserve(3 * mesh.triangles.size());
-  for (const auto& t : mesh.triangles) {
-    const Vec3& a = mesh.positions[t[0]];
-    const Vec3& b = mesh.positions[t[1]];
-    const Vec3& c = mesh.positions[t[2]];
-    const Vec3 ab = b - a, bc = c - b, ca = a - c;
-    const double cross = ab.cross(-ca).norm();
-    angles.push_back(std::atan2(cross, ab.dot(-ca)) / kDeg);
-    angles.push_back(std::atan2(cross, bc.dot(-ab)) / kDeg);
-    angles.push_back(std::atan2(cross, ca.dot(-bc)) / kDeg);
-  }
+  std::vector<double> angles(3 * mesh.triangles.size());
+  parallel::for_chunks(mesh.triangles.size(), 16384, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const auto& t = mesh.triangles[i];
+      const Vec3& a = mesh.positions[t[0]];
+      const Vec3& p = mesh.positions[t[1]];
+      const Vec3& c = mesh.positions[t[2]];
+      const Vec3 ab = p - a, bc = c - p, ca = a - c;
+      const double cross = ab.cross(-ca).norm();
+      angles[3 * i] = std::atan2(cross, ab.dot(-ca)) / kDeg;
+      angles[3 * i + 1] = std::atan2(cross, bc.dot(-ab)) / kDeg;
+      angles[3 * i + 2] = std::atan2(cross, ca.dot(-bc)) / kDeg;
+    }
+  });
   s.min_deg = *std::min_element(angles.begin(), angles.end());
   auto mid = angles.begin() + static_cast<std::ptrdiff_t>(angles.size() / 2);
   std::nth_element(angles.begin(), mid, angles.end());

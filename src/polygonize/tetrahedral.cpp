@@ -662,19 +662,35 @@ std::vector<ChunkOutput> extract_list(const Field& field, const std::vector<Vec3
 
 // Appends the chunk outputs to the global polygons and records (record indices rebased).
 void merge_outputs(std::vector<ChunkOutput>& outs, TetrahedralStats& st,
-                   std::vector<Polygon>& polygons, std::vector<EdgeRecord>& records) {
-  for (auto& c : outs) {
-    const auto base = static_cast<std::uint32_t>(records.size());
-    for (Polygon p : c.polygons) {
-      for (auto& r : p.record) r += base;
-      polygons.push_back(p);
-    }
-    records.insert(records.end(), c.records.begin(), c.records.end());
-    st.leaf_tets += c.leaves;
-    st.vertices_evaluated += c.evaluated;
-    st.skipped_tets += c.skipped;
-    c = ChunkOutput{};
+                   std::vector<Polygon>& polygons, std::vector<EdgeRecord>& records,
+                   const Context* ctx) {
+  std::vector<std::size_t> poly_at(outs.size() + 1, polygons.size());
+  std::vector<std::size_t> rec_at(outs.size() + 1, records.size());
+  for (std::size_t i = 0; i < outs.size(); ++i) {
+    poly_at[i + 1] = poly_at[i] + outs[i].polygons.size();
+    rec_at[i + 1] = rec_at[i] + outs[i].records.size();
+    st.leaf_tets += outs[i].leaves;
+    st.vertices_evaluated += outs[i].evaluated;
+    st.skipped_tets += outs[i].skipped;
   }
+  polygons.resize(poly_at.back());
+  records.resize(rec_at.back());
+  parallel::for_chunks(
+      outs.size(), 1,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+          const auto base = static_cast<std::uint32_t>(rec_at[i]);
+          std::size_t w = poly_at[i];
+          for (Polygon p : outs[i].polygons) {
+            for (auto& r : p.record) r += base;
+            polygons[w++] = p;
+          }
+          std::copy(outs[i].records.begin(), outs[i].records.end(),
+                    records.begin() + static_cast<std::ptrdiff_t>(rec_at[i]));
+          outs[i] = ChunkOutput{};
+        }
+      },
+      ctx);
 }
 
 }  // namespace
@@ -756,7 +772,7 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
         }
       }
     }
-    merge_outputs(outs, st, polygons, records);
+    merge_outputs(outs, st, polygons, records, ctx);
     if (!next.empty()) {
       if (st.growth_rounds == options.max_growth_rounds) {
         st.holes_left = true;
