@@ -42,6 +42,7 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
   r.stats["vertices_evaluated"] = st.vertices_evaluated;
   r.stats["crossing_edges"] = st.crossing_edges;
   r.stats["skipped_tets"] = st.skipped_tets;
+  r.stats["stray_components_removed"] = st.stray_components;
   if (o.cleanup) {
     r.stats["cleanup_collapsed_edges"] = st.collapsed_edges;
     r.stats["min_angle_deg_before_cleanup"] = st.min_angle_before;
@@ -78,7 +79,10 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
                       {"constraint_points", fit.constraint_points},
                       {"residual_rms", fit.residual_rms},
                       {"unit_residual_rms", fit.unit_residual_rms},
-                      {"converged", fit.converged}};
+                      {"converged", fit.converged},
+                      {"coverage_rounds", fit.coverage_rounds},
+                      {"coverage_raised", fit.coverage_raised},
+                      {"covered", fit.covered}};
     timer.lap("fit");
   }
   const FieldPtr field = make_skeleton_field(meshed, field_options, weights);

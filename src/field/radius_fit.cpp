@@ -13,6 +13,7 @@
 #include <string>
 
 #include "field/bvh.h"
+#include "field/cutoff.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/core/tolerances.h"
@@ -22,14 +23,15 @@ namespace {
 
 using SparseCol = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 using SparseRow = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+// The field's own cut-off (skeleton_field.cpp), so the fitted values are the field's.
+using detail::cauchy_segment_reach;
+using detail::fade_of;
+using tol::kSupportMargin;
 
 // A point counts as inside another edge's requested tube only when it is deeper than this
 // fraction of that tube's radius: circles of a straight chain's shared node lie exactly on both
 // tubes, and rounding must not decide whether they are kept.
 constexpr double kInsideMargin = 1e-3;
-// Support boxes are grown by this relative margin (as skeleton_field.cpp does), so a point
-// outside a box gets exactly 0 from that edge.
-constexpr double kSupportMargin = 1e-9;
 // Points per parallel chunk when building rows and checking tubes.
 constexpr std::size_t kRowGrain = 512;
 
@@ -106,24 +108,6 @@ class TubeIndex {
   const std::vector<EdgeGeometry>& edges_;
   detail::BoxBvh bvh_;
 };
-
-// skeleton_field.cpp's fade window (same constants): 1 up to 0.64 of the squared cut-off
-// distance (tol::kFadeStart squared), a C1 smoothstep to 0 at the cut-off.
-double fade_of(double v) {
-  if (v <= 0.64) return 1;
-  if (v >= 1) return 0;
-  const double s = (v - 0.64) / 0.36;
-  return 1 - s * s * (3 - 2 * s);
-}
-
-// skeleton_field.cpp's support of a Cauchy segment: the distance beyond which
-// weight * (upper bound of the integral) stays below `level`.
-double cauchy_segment_reach(double s, double len, double weight, double level) {
-  const double r_len = weight * len / level;
-  const double r_inf = weight * std::numbers::pi / (2 * s * level);
-  const double q = std::min(std::sqrt(r_len), std::cbrt(r_inf * r_inf));
-  return q <= 1 ? 0.0 : std::sqrt(q - 1) / s;
-}
 
 // One edge's primitive at unit weight, with lambda, s and the cut-off exactly as
 // skeleton_field.cpp builds them (so that sum_i w_i F(j, i) is the field with weights w, up to
@@ -436,6 +420,13 @@ void RadiusFitOptions::validate() const {
                           std::to_string(robust_threshold));
   }
   check_positive_int(outer_rounds, 0, "outer_rounds");
+  if (!std::isfinite(coverage_margin) || coverage_margin < 0) {
+    throw InvalidArgument("coverage_margin must be finite and >= 0, got " +
+                          std::to_string(coverage_margin));
+  }
+  if (!std::isfinite(min_weight) || min_weight < 0 || min_weight >= 1) {
+    throw InvalidArgument("min_weight must be in [0, 1), got " + std::to_string(min_weight));
+  }
   if (!std::isfinite(near_level) || near_level < 0 || near_level >= 1) {
     throw InvalidArgument("near_level must be in [0, 1), got " + std::to_string(near_level));
   }
@@ -592,6 +583,60 @@ RadiusFitSystem build_radius_fit_system(const Skeleton& skeleton,
   return sys;
 }
 
+namespace {
+
+// The skeleton coverage repair of RadiusFitOptions::coverage_margin: samples every half radius
+// along every edge (ends included), raises the weights of edges with a sample below the level.
+void cover_skeleton(const RadiusFitSystem& system, const RadiusFitOptions& options,
+                    Eigen::VectorXd& w, RadiusFitResult& result, Context* ctx) {
+  if (options.coverage_margin <= 0) return;
+  constexpr int kRounds = 12;
+  constexpr double kRaise = 1.25;
+  const Skeleton& s = system.skeleton;
+  std::vector<Vec3> samples;
+  std::vector<std::uint32_t> sample_edge;
+  for (std::uint32_t e = 0; e < s.edges.size(); ++e) {
+    const auto& a = s.nodes[s.edges[e][0]];
+    const auto& b = s.nodes[s.edges[e][1]];
+    const double len = (b.position - a.position).norm();
+    const int k = std::max(1, static_cast<int>(std::ceil(len / (0.5 * std::min(a.radius, b.radius)))));
+    for (int i = 0; i <= k; ++i) {
+      const double t = static_cast<double>(i) / k;
+      samples.push_back((1 - t) * a.position + t * b.position);
+      sample_edge.push_back(e);
+    }
+  }
+  const double level = (1 + options.coverage_margin) * system.iso;
+  std::vector<double> f(samples.size());
+  std::vector<char> raised(s.edges.size(), 0);
+  const auto n = static_cast<std::size_t>(w.size());
+  for (int round = 0;; ++round) {
+    check_cancel(ctx);
+    const FieldPtr field = make_skeleton_field(s, system.field_options,
+                                               std::span<const double>(w.data(), n));
+    field->evaluate(samples, f);
+    std::vector<char> low(s.edges.size(), 0);
+    bool any = false;
+    for (std::size_t j = 0; j < samples.size(); ++j) {
+      if (f[j] < level) low[sample_edge[j]] = 1, any = true;
+    }
+    if (!any) break;
+    if (round == kRounds) {
+      result.covered = false;
+      break;
+    }
+    for (std::size_t e = 0; e < s.edges.size(); ++e) {
+      if (low[e] == 0) continue;
+      w[static_cast<Eigen::Index>(e)] = std::max(w[static_cast<Eigen::Index>(e)] * kRaise, 0.25);
+      raised[e] = 1;
+    }
+    result.coverage_rounds = round + 1;
+  }
+  result.coverage_raised = static_cast<std::size_t>(std::count(raised.begin(), raised.end(), 1));
+}
+
+}  // namespace
+
 RadiusFitResult solve_radius_fit(const RadiusFitSystem& system, const RadiusFitOptions& options,
                                  Context* ctx) {
   options.validate();
@@ -647,17 +692,27 @@ RadiusFitResult solve_radius_fit(const RadiusFitSystem& system, const RadiusFitO
         omega[j] = r <= options.robust_threshold ? 1.0 : options.robust_threshold / r;
       }
     }
-    const NnlsProblem p = normal_equations(F, Fc, omega, Eigen::VectorXd::Constant(m, T) - offset,
-                                           options.regularization, ctx);
+    // Bounded below by l = min_weight: solve for v = w - l >= 0, with the target lowered by
+    // F l and the regularization pulling v toward 1 - l.
+    const double low = options.min_weight;
+    const Eigen::VectorXd floor_near = F * Eigen::VectorXd::Constant(n, low);
+    NnlsProblem p = normal_equations(F, Fc, omega,
+                                     Eigen::VectorXd::Constant(m, T) - offset - floor_near,
+                                     options.regularization, ctx);
+    for (int i = 0; i < n; ++i) {
+      p.rhs[i] -= options.regularization * low * p.diagonal[i] / (1 + options.regularization);
+    }
     // Warm start: the sparse solver begins with the previous round's positive weights free.
+    const Eigen::VectorXd start = (w.array() - low).max(0.0).matrix();
     const NnlsOutcome outcome =
-        dense ? lawson_hanson(p, w, options.kkt_tolerance, max_iterations, ctx)
-              : block_pivoting(p, w, options.kkt_tolerance, max_iterations, ctx);
-    w = outcome.w;
+        dense ? lawson_hanson(p, start, options.kkt_tolerance, max_iterations, ctx)
+              : block_pivoting(p, start, options.kkt_tolerance, max_iterations, ctx);
     result.iterations += outcome.iterations;
-    result.kkt_violation = kkt_violation(p, w);
+    result.kkt_violation = kkt_violation(p, outcome.w);
+    w = (outcome.w.array() + low).matrix();
   }
   result.converged = result.kkt_violation <= options.kkt_tolerance;
+  cover_skeleton(system, options, w, result, ctx);
   result.weights.assign(w.data(), w.data() + n);
   result.row_offset.assign(offset.data(), offset.data() + m);
   result.row_weight.assign(omega.data(), omega.data() + m);

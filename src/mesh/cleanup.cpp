@@ -52,6 +52,7 @@ class Collapser {
         offset_(mesh.positions.size() + 1, 0),
         extra_(mesh.positions.size()),
         mark_(mesh.positions.size(), 0),
+        moved_(mesh.positions.size(), 0),
         min_angle_(o.min_angle_deg * kDeg),
         cos_turn_(std::cos(o.max_normal_turn_deg * kDeg)) {
     // Vertex -> triangles as one compressed table; triangles that gain a vertex later are
@@ -132,18 +133,24 @@ class Collapser {
   const Vec3& pos(std::uint32_t v) const { return mesh_.positions[v]; }
   double angle_of(const Tri& f) const { return min_angle(pos(f[0]), pos(f[1]), pos(f[2])); }
 
-  // Alive triangles around v, ascending. The result lives until the next call but one.
+  // Alive triangles around v, ascending. The result lives until the next call but one. Once a
+  // vertex has gained triangles, its whole list moves to extra_ and is pruned on every visit,
+  // so lists stay as short as the vertex's current fan.
   const std::vector<std::uint32_t>& around(std::uint32_t v) {
     auto& out = scratch_[flip_ ^= 1];
     out.clear();
     auto take = [&](std::uint32_t t) {
       if (alive_[t] != 0 && has(mesh_.triangles[t], v)) out.push_back(t);
     };
-    for (std::uint32_t k = offset_[v]; k < offset_[v + 1]; ++k) take(list_[k]);
+    if (moved_[v] == 0) {
+      for (std::uint32_t k = offset_[v]; k < offset_[v + 1]; ++k) take(list_[k]);
+    }
     for (const std::uint32_t t : extra_[v]) take(t);
-    if (!extra_[v].empty()) {
+    if (moved_[v] != 0 || !extra_[v].empty()) {
       std::sort(out.begin(), out.end());
       out.erase(std::unique(out.begin(), out.end()), out.end());
+      extra_[v].assign(out.begin(), out.end());
+      moved_[v] = 1;
     }
     return out;
   }
@@ -294,6 +301,7 @@ class Collapser {
   std::array<std::vector<std::uint32_t>, 2> scratch_;
   unsigned flip_ = 0;
   std::vector<std::uint32_t> mark_;
+  std::vector<char> moved_;
   std::uint32_t stamp_ = 0;
   double min_angle_;
   double cos_turn_;

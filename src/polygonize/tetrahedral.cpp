@@ -25,7 +25,9 @@
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/core/random.h"
+#include "ramiform/mesh/checks.h"
 #include "ramiform/mesh/cleanup.h"
+#include "ramiform/mesh/winding.h"
 
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
@@ -693,6 +695,57 @@ void merge_outputs(std::vector<ChunkOutput>& outs, TetrahedralStats& st,
       ctx);
 }
 
+// Removes the small components (each under 1 % of the triangles) that enclose no skeleton
+// node: blobs where the field rises above the iso value away from the skeleton, mostly next to
+// fitted joints. Returns how many were removed.
+std::size_t drop_strays(TriMesh& mesh, const Skeleton& skeleton, Context* ctx) {
+  const TriangleComponents comps = triangle_components(mesh);
+  if (comps.count <= 1) return 0;
+  std::vector<std::size_t> size(comps.count, 0);
+  for (const std::uint32_t l : comps.label) ++size[l];
+  std::vector<char> keep(comps.count, 1);
+  std::size_t dropped = 0;
+  for (std::uint32_t c = 0; c < comps.count; ++c) {
+    if (100 * size[c] >= mesh.triangles.size()) continue;
+    TriMesh part;
+    part.positions = mesh.positions;
+    Aabb box;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (comps.label[t] != c) continue;
+      part.triangles.push_back(mesh.triangles[t]);
+      for (const std::uint32_t v : mesh.triangles[t]) box.extend(mesh.positions[v]);
+    }
+    std::vector<Vec3> nodes;
+    for (const auto& n : skeleton.nodes) {
+      if (box.contains(n.position)) nodes.push_back(n.position);
+    }
+    const std::vector<char> in = nodes.empty() ? std::vector<char>{} : points_inside(part, nodes, ctx);
+    if (std::find(in.begin(), in.end(), 1) == in.end()) {
+      keep[c] = 0;
+      ++dropped;
+    }
+  }
+  if (dropped == 0) return 0;
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (keep[comps.label[t]] != 0) tris.push_back(mesh.triangles[t]);
+  }
+  std::vector<std::uint32_t> remap(mesh.positions.size(), UINT32_MAX);
+  std::vector<Vec3> positions;
+  for (auto& t : tris) {
+    for (auto& v : t) {
+      if (remap[v] == UINT32_MAX) {
+        remap[v] = static_cast<std::uint32_t>(positions.size());
+        positions.push_back(mesh.positions[v]);
+      }
+      v = remap[v];
+    }
+  }
+  mesh.positions = std::move(positions);
+  mesh.triangles = std::move(tris);
+  return dropped;
+}
+
 }  // namespace
 
 TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
@@ -847,6 +900,7 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
     st.min_angle_before = cs.min_angle_before;
     st.median_angle_before = cs.median_angle_before;
   }
+  if (options.drop_strays) st.stray_components = drop_strays(mesh, skeleton, ctx);
   st.seconds_cleanup = seconds_since(clock);
   if (stats_out != nullptr) *stats_out = st;
   return mesh;

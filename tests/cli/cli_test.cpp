@@ -5,15 +5,14 @@
 // agreement with the library, and identical outputs for any thread count.
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
+#include "cli/cli_run.h"
 #include "ramiform/field/skeleton_field.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/skeleton_io.h"
@@ -24,49 +23,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int code = -1;
-  std::string out;  // stdout and stderr together
-};
+using test::CliRun;
+using test::run_cli;
 
-CliRun run_cli(const std::string& args) {
-  const std::string cmd = std::string(RAMIFORM_BINARY) + " " + args + " 2>&1";
-  CliRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buf[4096];
-  std::size_t n = 0;
-  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.out.append(buf, n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-class CliTest : public ::testing::Test {
+class CliTest : public test::CliDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("ramiform_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
-            "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name)) << text;
-    return path(name);
-  }
   std::string y_fork() const {
     return write("fork.json",
                  R"({"nodes":[{"position":[0,0,0],"radius":0.5},{"position":[0,0,3],"radius":0.4},)"
                  R"({"position":[-1.5,0,5],"radius":0.3},{"position":[1.5,0,5],"radius":0.3}],)"
                  R"("edges":[[0,1],[1,2],[1,3]]})");
   }
-  std::size_t files_in_dir() const {
-    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
-  }
-  fs::path dir_;
 };
 
 TEST_F(CliTest, MeshIsWatertightAndStatsHaveTheDocumentedKeys) {
@@ -210,7 +177,7 @@ TEST_F(CliTest, EveryCommandHasHelp) {
 }
 
 TEST_F(CliTest, DemoWritesACheckedWatertightTree) {
-  const CliRun r = run_cli("demo --out " + path("demo") + " --resolution 96");
+  const CliRun r = run_cli("demo --out " + path("demo") + " --levels 2");
   ASSERT_EQ(r.code, 0) << r.out;
   for (const char* f : {"skeleton.json", "tree.ply", "stats.json"}) {
     EXPECT_TRUE(fs::exists(dir_ / "demo" / f)) << f;

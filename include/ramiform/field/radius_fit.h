@@ -68,6 +68,16 @@ struct RadiusFitOptions {
   /// rounds off at its free end, so these trade the radius along the edge against the radius
   /// at the tip: off by default.
   bool tip_circles = false;
+  /// Lower bound of every weight, in [0, 1) (bounded least squares: the NNLS is solved for
+  /// v = w - min_weight >= 0). With 0 a short piece next to a joint may get weight 0 and the
+  /// surface can neck off between its neighbours (measured: a scanned tree meshed in 4
+  /// components); a small positive floor keeps every piece of the skeleton covered.
+  double min_weight = 0.25;
+  /// After the fit, the skeleton itself must lie inside the surface, or a twig can neck off
+  /// its parent: every edge is sampled every half radius and, while some sample has
+  /// f < (1 + coverage_margin) * iso, the weights of the edges whose samples fall short are
+  /// raised by 25 % (at most 12 rounds). >= 0; 0 turns the repair off.
+  double coverage_margin = 0.1;
   /// Tikhonov weight mu pulling each w_i toward 1, relative to |F_i|^2 (dimensionless, >= 0).
   double regularization = 1e-6;
   NnlsSolver solver = NnlsSolver::kAuto;  ///< see NnlsSolver
@@ -115,6 +125,9 @@ struct RadiusFitResult {
   double residual_rms = 0;            ///< rms of (f(p_j) - T) / T over the constraint points
   double unit_residual_rms = 0;       ///< the same for w = 1 (before the fit)
   int iterations = 0;                 ///< active-set (dense) or pivoting (sparse) iterations
+  int coverage_rounds = 0;            ///< rounds of the skeleton coverage repair
+  std::size_t coverage_raised = 0;    ///< edges whose weight the repair raised
+  bool covered = true;                ///< every skeleton sample ends above the coverage level
   bool converged = false;             ///< KKT conditions hold to `kkt_tolerance`
   double kkt_violation = 0;           ///< largest scaled KKT violation of the returned weights
   std::size_t constraint_points = 0;  ///< rows of F

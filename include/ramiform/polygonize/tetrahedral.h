@@ -47,6 +47,9 @@ struct TetrahedralOptions {
   int root_steps = 6;           ///< root-finding rounds per crossing edge (0 = linear)
   int max_growth_rounds = 200;  ///< rounds of hole fixing before giving up (reported)
   bool cleanup = true;          ///< collapse needle edges afterwards (mesh/cleanup.h)
+  /// Remove small components (< 1 % of the triangles) that enclose no skeleton node: blobs
+  /// where the field rises above the iso value away from the skeleton.
+  bool drop_strays = true;
 };
 
 /// What the polygonizer did; counts and per-stage seconds.
@@ -63,6 +66,7 @@ struct TetrahedralStats {
   std::size_t crossing_edges = 0;     ///< mesh vertices
   std::uint64_t root_evaluations = 0; ///< evaluations spent placing vertices
   std::size_t collapsed_edges = 0;    ///< needle edges collapsed by the cleanup pass
+  std::size_t stray_components = 0;   ///< components removed by drop_strays
   double min_angle_before = 0;        ///< smallest triangle angle before cleanup, degrees
   double median_angle_before = 0;     ///< median triangle angle before cleanup, degrees
   double seconds_cleanup = 0;
