@@ -33,8 +33,18 @@ sanitize: deps
 	cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j $(JOBS) --timeout 1200
 
-bench: build
-	@for b in $(BUILD_DIR)/bench/ramiform_bench_*; do echo "== $$b"; $$b; done
+# The Google Benchmarks, then (when OpenVDB is installed: scripts/install-bench-deps.sh) the
+# OpenVDB comparison on a 1500-segment tree with 4 mm twigs at a voxel equal to the twig radius.
+bench:
+	@bash scripts/install-bench-deps.sh
+	@$(MAKE) --no-print-directory build
+	@for b in $(BUILD_DIR)/bench/ramiform_bench_*; do \
+	  case $$b in *_openvdb) continue ;; esac; echo "== $$b"; $$b; done
+	@if [ -x $(BUILD_DIR)/bench/ramiform_bench_openvdb ]; then \
+	  ./$(BUILD_DIR)/ramiform generate $(BUILD_DIR)/bench/tree1500.json --segments 1500 \
+	    --tip-radius 0.004 --trunk-length 1 --seed 1 >/dev/null && \
+	  echo "== $(BUILD_DIR)/bench/ramiform_bench_openvdb tree1500.json 0.004" && \
+	  ./$(BUILD_DIR)/bench/ramiform_bench_openvdb $(BUILD_DIR)/bench/tree1500.json 0.004; fi
 
 format:
 	@find include src apps tests bench tools -name '*.h' -o -name '*.cpp' | xargs clang-format -i

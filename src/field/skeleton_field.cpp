@@ -9,6 +9,7 @@
 #include <string>
 
 #include "field/bvh.h"
+#include "field/cutoff.h"
 #include "field/skeleton_field_simd.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
@@ -17,11 +18,10 @@
 namespace ramiform {
 namespace {
 
+using detail::cauchy_segment_reach;
+using detail::fade_of;
 using detail::PrimitiveMode;
-
-// Margin that keeps every point outside a support box strictly beyond the cutoff in floating
-// point, so pruned primitives would have contributed exactly 0.
-constexpr double kSupportMargin = 1e-9;
+using tol::kSupportMargin;
 // Relative widening of bound() results: the bound is computed by scalar code and the values by
 // vector code, which may round differently in the last bits.
 constexpr double kBoundSlack = 1e-12;
@@ -77,32 +77,10 @@ DistanceRange box_segment_distance(const Aabb& box, const Vec3& a, const Vec3& b
   return r;
 }
 
-// Largest distance between a point of the box and a point of the segment.
-double box_segment_far(const Aabb& box, const Vec3& a, const Vec3& b) {
-  return std::max(max_distance(box, a), max_distance(box, b));
-}
-
-double fade_of(double v) {
-  if (v <= 0.64) return 1;
-  if (v >= 1) return 0;
-  const double s = (v - 0.64) / 0.36;
-  return 1 - s * s * (3 - 2 * s);
-}
-
 // Upper bound of the Cauchy segment integral at distance >= d from a segment of length len.
 double cauchy_segment_max(double s, double len, double d) {
   const double q = 1 + s * s * d * d;
   return std::min(len / (q * q), std::numbers::pi / (2 * s * q * std::sqrt(q)));
-}
-
-// Distance beyond which weight * cauchy_segment_max < level (0 if never above it).
-double cauchy_segment_reach(double s, double len, double weight, double level) {
-  const double r_len = weight * len / level;        // (1 + s^2 D^2)^2 = r_len
-  const double r_inf = weight * std::numbers::pi / (2 * s * level);  // (..)^(3/2) = r_inf
-  const double q_len = std::sqrt(r_len);
-  const double q_inf = std::cbrt(r_inf * r_inf);
-  const double q = std::min(q_len, q_inf);
-  return q <= 1 ? 0.0 : std::sqrt(q - 1) / s;
 }
 
 class SkeletonField final : public Field {

@@ -145,38 +145,13 @@ void write_off(const TriMesh& mesh, std::ostream& out) {
   sink.flush();
 }
 
-// Reads the next line that is not blank after removing a '#' comment; false at the end.
-bool next_content(LineCursor& cursor, std::vector<std::string_view>& fields) {
-  std::string_view line;
-  while (cursor.next(line)) {
-    split_fields(strip_comment(line), fields);
-    if (!fields.empty()) return true;
-  }
-  return false;
-}
-
 }  // namespace
 
 TriMesh parse_mesh_ply(std::string_view bytes, const std::string& source_name) {
   const std::string& source = source_name;
   const PlyHeader header = parse_ply_header(bytes, source);
-  const auto vertex = header.find("vertex");
-  if (!vertex) throw InputError(source, header.end_header_line, "no 'vertex' element");
-  const PlyElement& v = header.elements[*vertex];
-  std::vector<PlyRequest> requests(1);
-  requests[0].element = *vertex;
-  for (const char* name : {"x", "y", "z"}) {
-    requests[0].scalars.push_back(require_scalar(v, name, source));
-  }
-  const auto nx = optional_scalar(v, "nx", source);
-  const auto ny = optional_scalar(v, "ny", source);
-  const auto nz = optional_scalar(v, "nz", source);
-  const bool has_normals = nx && ny && nz;
-  if ((nx || ny || nz) && !has_normals) {
-    throw InputError(source, v.header_line,
-                     "element 'vertex' has only some of the normal properties nx, ny, nz");
-  }
-  if (has_normals) requests[0].scalars.insert(requests[0].scalars.end(), {*nx, *ny, *nz});
+  std::vector<PlyRequest> requests{vertex_request(header, {"x", "y", "z"}, source)};
+  const bool has_normals = add_vertex_normals(header, requests[0], source);
   const auto face = header.find("face");
   if (face) {
     const PlyElement& f = header.elements[*face];
@@ -236,16 +211,13 @@ TriMesh parse_mesh_obj(std::string_view text, const std::string& source_name) {
   std::size_t texcoords = 0;
   bool normals_match = true;
   LineCursor cursor(text);
-  std::string_view line;
   std::vector<std::string_view> f;
   std::vector<std::uint32_t> corners;
   std::string_view v;
   std::string_view vt;
   std::string_view vn;
-  while (cursor.next(line)) {
+  while (next_content(cursor, f)) {
     const std::size_t ln = cursor.line_number();
-    split_fields(strip_comment(line), f);
-    if (f.empty()) continue;
     const std::string_view key = f[0];
     if (key == "v") {
       mesh.positions.push_back(parse_obj_vertex(f, source, ln));

@@ -139,22 +139,9 @@ double load_double(const unsigned char* p, PlyType type, bool swap) {
 }
 
 std::int64_t load_int(const unsigned char* p, PlyType type, bool swap) {
-  switch (type) {
-    case PlyType::kInt8:
-      return load<std::int8_t>(p, false);
-    case PlyType::kUInt8:
-      return load<std::uint8_t>(p, false);
-    case PlyType::kInt16:
-      return load<std::int16_t>(p, swap);
-    case PlyType::kUInt16:
-      return load<std::uint16_t>(p, swap);
-    case PlyType::kInt32:
-      return load<std::int32_t>(p, swap);
-    case PlyType::kUInt32:
-      return load<std::uint32_t>(p, swap);
-    default:
-      return 0;  // float list types are rejected before reading
-  }
+  // Every integer type here (32 bits at most) converts to double and back exactly; float list
+  // types are rejected before reading.
+  return is_float(type) ? 0 : static_cast<std::int64_t>(load_double(p, type, swap));
 }
 
 std::string what_of(const PlyElement& e, std::size_t index, const PlyProperty& p) {
@@ -540,6 +527,32 @@ std::size_t require_scalar(const PlyElement& element, std::string_view name,
                      "element '" + element.name + "' has no property '" + std::string(name) + "'");
   }
   return *index;
+}
+
+PlyRequest vertex_request(const PlyHeader& header, std::initializer_list<std::string_view> names,
+                          const std::string& source) {
+  const auto vertex = header.find("vertex");
+  if (!vertex) throw InputError(source, header.end_header_line, "no 'vertex' element");
+  PlyRequest request;
+  request.element = *vertex;
+  for (const std::string_view name : names) {
+    request.scalars.push_back(require_scalar(header.elements[*vertex], name, source));
+  }
+  return request;
+}
+
+bool add_vertex_normals(const PlyHeader& header, PlyRequest& request, const std::string& source) {
+  const PlyElement& v = header.elements[request.element];
+  const auto nx = optional_scalar(v, "nx", source);
+  const auto ny = optional_scalar(v, "ny", source);
+  const auto nz = optional_scalar(v, "nz", source);
+  if (!nx && !ny && !nz) return false;
+  if (!(nx && ny && nz)) {
+    throw InputError(source, v.header_line,
+                     "element 'vertex' has only some of the normal properties nx, ny, nz");
+  }
+  request.scalars.insert(request.scalars.end(), {*nx, *ny, *nz});
+  return true;
 }
 
 std::vector<PlyElementData> read_ply_body(std::string_view data, const PlyHeader& header,

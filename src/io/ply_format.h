@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -71,6 +72,14 @@ struct PlyRequest {
   std::vector<std::size_t> scalars;  // scalar property indices, read as finite doubles
   std::optional<std::size_t> list;   // one list property of an integer type, read as int64
 };
+
+/// The request for the scalars `names` (each required, in that order) of the 'vertex' element;
+/// throws InputError when the header has no 'vertex' element or it lacks one of them.
+PlyRequest vertex_request(const PlyHeader& header, std::initializer_list<std::string_view> names,
+                          const std::string& source);
+/// Appends the vertex normal properties nx, ny, nz to a vertex_request when all three are
+/// present and returns true; false when none is; throws InputError when only some are.
+bool add_vertex_normals(const PlyHeader& header, PlyRequest& request, const std::string& source);
 
 /// What was extracted for one request.
 struct PlyElementData {

@@ -75,24 +75,8 @@ PointSet parse_points_text(std::string_view text, const std::string& source_name
 PointSet parse_points_ply(std::string_view bytes, const std::string& source_name) {
   const std::string& source = source_name;
   const PlyHeader header = parse_ply_header(bytes, source);
-  const auto vertex = header.find("vertex");
-  if (!vertex) throw InputError(source, header.end_header_line, "no 'vertex' element");
-  const PlyElement& v = header.elements[*vertex];
-  PlyRequest request;
-  request.element = *vertex;
-  for (std::size_t c = 0; c < 3; ++c)
-    request.scalars.push_back(require_scalar(v, kNames[c], source));
-  std::size_t present = 0;
-  for (std::size_t c = 3; c < 6; ++c) {
-    if (optional_scalar(v, kNames[c], source)) ++present;
-  }
-  if (present != 0 && present != 3) {
-    throw InputError(source, v.header_line,
-                     "element 'vertex' has only some of the normal properties nx, ny, nz");
-  }
-  if (present == 3) {
-    for (std::size_t c = 3; c < 6; ++c) request.scalars.push_back(*v.find(kNames[c]));
-  }
+  PlyRequest request = vertex_request(header, {"x", "y", "z"}, source);
+  add_vertex_normals(header, request, source);
   const std::vector<PlyElementData> data = read_ply_body(bytes, header, {request}, source);
   const std::size_t cols = request.scalars.size();
   PointSet points;

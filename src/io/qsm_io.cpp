@@ -14,24 +14,19 @@
 
 #include "io/text_scan.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/tolerances.h"
 
 namespace ramiform {
 namespace {
 
 using io_detail::LineCursor;
+using io_detail::next_content;
 using io_detail::NumberStatus;
 using io_detail::parse_double;
 using io_detail::parse_int64;
 using io_detail::split_fields;
 using io_detail::strip_comment;
 using io_detail::to_double;
-
-// Tolerances of the importer, as fractions of the local cylinder radius (documented in
-// qsm_io.h). The data they were chosen on: in archi_Tree_1_TreeQSM.txt the start of a branch's
-// next cylinder lies a median 0.27 r (90 %: 1.2 r) from its parent's end, side branches start
-// at 1.0 r from the parent's axis, and 1 % of cylinders are shorter than 0.5 r.
-constexpr double kJoinFraction = 0.5;    // child start this close to the parent axis: no connector
-constexpr double kMergeFraction = 0.25;  // points this close along one axis share a node
 
 constexpr std::int64_t kRootMarker = -1;  // the file marks the cylinder as the root
 constexpr std::int64_t kNoParent = -2;    // the parent does not name another cylinder
@@ -262,7 +257,7 @@ class SkeletonBuilder {
       start = add_node(c.start);
     } else {
       const double rp = cyl_[static_cast<std::size_t>(parent_[i])].radius;
-      if (offset[i] <= kJoinFraction * std::min(r, rp)) {
+      if (offset[i] <= tol::kQsmJoin * std::min(r, rp)) {
         start = attach_[i];
       } else {
         start = add_node(c.start);
@@ -272,7 +267,7 @@ class SkeletonBuilder {
     }
     out_radius_[start] = std::max(out_radius_[start], r);
 
-    const double merge = kMergeFraction * r;
+    const double merge = tol::kQsmMerge * r;
     if ((c.end - skeleton_.nodes[start].position).norm() < merge) {
       ++report_.merged_tiny;
       in_radius_[start] = std::max(in_radius_[start], r);
@@ -378,13 +373,10 @@ Skeleton parse_treeqsm(std::string_view text, const std::string& source_name,
   if (io_detail::is_blank(text)) throw InputError(source, 0, "file is empty");
   std::vector<Cylinder> cyl;
   LineCursor cursor(text);
-  std::string_view line;
   std::vector<std::string_view> f;
   bool first = true;
-  while (cursor.next(line)) {
+  while (next_content(cursor, f)) {
     const std::size_t ln = cursor.line_number();
-    split_fields(strip_comment(line), f);
-    if (f.empty()) continue;
     if (first) {
       first = false;
       double v = 0.0;

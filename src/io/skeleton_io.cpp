@@ -150,14 +150,7 @@ Skeleton parse_skeleton_ply(std::string_view bytes, const std::string& source_na
   using namespace io_detail;
   const std::string& source = source_name;
   const PlyHeader header = parse_ply_header(bytes, source);
-  const auto vertex = header.find("vertex");
-  if (!vertex) throw InputError(source, header.end_header_line, "no 'vertex' element");
-  const PlyElement& v = header.elements[*vertex];
-  std::vector<PlyRequest> requests(1);
-  requests[0].element = *vertex;
-  for (const char* name : {"x", "y", "z", "radius"}) {
-    requests[0].scalars.push_back(require_scalar(v, name, source));
-  }
+  std::vector<PlyRequest> requests{vertex_request(header, {"x", "y", "z", "radius"}, source)};
   const auto edge = header.find("edge");
   if (edge) {
     const PlyElement& e = header.elements[*edge];
@@ -203,15 +196,12 @@ Skeleton parse_skeleton_obj(std::string_view text, const std::string& source_nam
   if (is_blank(text)) throw InputError(source, 0, "file is empty");
   Skeleton s;
   LineCursor cursor(text);
-  std::string_view line;
   std::vector<std::string_view> f;
   std::string_view v;
   std::string_view vt;
   std::string_view vn;
-  while (cursor.next(line)) {
+  while (next_content(cursor, f)) {
     const std::size_t ln = cursor.line_number();
-    split_fields(strip_comment(line), f);
-    if (f.empty()) continue;
     if (f[0] == "v") {
       s.nodes.push_back({parse_obj_vertex(f, source, ln), options.obj_radius});
     } else if (f[0] == "l") {

@@ -77,6 +77,15 @@ bool is_blank(std::string_view line) {
   return true;
 }
 
+bool next_content(LineCursor& cursor, std::vector<std::string_view>& fields) {
+  std::string_view line;
+  while (cursor.next(line)) {
+    split_fields(strip_comment(line), fields);
+    if (!fields.empty()) return true;
+  }
+  return false;
+}
+
 bool split_fields(std::string_view line, std::vector<std::string_view>& fields, bool allow_commas) {
   fields.clear();
   const char* p = line.data();

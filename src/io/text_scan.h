@@ -51,6 +51,11 @@ bool is_blank(std::string_view line);
 bool split_fields(std::string_view line, std::vector<std::string_view>& fields,
                   bool allow_commas = false);
 
+/// Reads lines until one has fields (space- and tab-separated) after removing a '#' comment and
+/// sets `fields` to them; returns false at the end of the text. The line's number is then
+/// cursor.line_number().
+bool next_content(LineCursor& cursor, std::vector<std::string_view>& fields);
+
 /// Outcome of strict number parsing.
 enum class NumberStatus { kOk, kMalformed, kNotFinite, kOutOfRange };
 

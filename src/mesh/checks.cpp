@@ -8,16 +8,16 @@
 #include <numeric>
 #include <string>
 
+#include "mesh/mesh_indices.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/core/tolerances.h"
 
 namespace ramiform {
-namespace {
 
-constexpr std::size_t kGrain = 4096;
+namespace detail {
 
-void check_indices(const TriMesh& mesh, const char* who) {
+void check_triangle_indices(const TriMesh& mesh, const char* who) {
   const std::size_t n = mesh.positions.size();
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     for (const std::uint32_t v : mesh.triangles[t]) {
@@ -29,6 +29,12 @@ void check_indices(const TriMesh& mesh, const char* who) {
     }
   }
 }
+
+}  // namespace detail
+
+namespace {
+
+constexpr std::size_t kGrain = 4096;
 
 bool has_repeated_index(const std::array<std::uint32_t, 3>& t) {
   return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
@@ -212,7 +218,7 @@ std::array<double, 3> corner_angles(const TriMesh& mesh, const std::array<std::u
 }  // namespace
 
 MeshReport check_mesh(const TriMesh& mesh, Context* ctx) {
-  check_indices(mesh, "check_mesh");
+  detail::check_triangle_indices(mesh, "check_mesh");
   MeshReport r;
   r.vertices = mesh.positions.size();
   r.triangles = mesh.triangles.size();
@@ -278,7 +284,7 @@ MeshReport check_mesh(const TriMesh& mesh, Context* ctx) {
 }
 
 TriangleComponents triangle_components(const TriMesh& mesh) {
-  check_indices(mesh, "triangle_components");
+  detail::check_triangle_indices(mesh, "triangle_components");
   UnionFind uf(mesh.positions.size());
   for (const auto& t : mesh.triangles) {
     uf.unite(t[0], t[1]);
@@ -297,7 +303,7 @@ TriangleComponents triangle_components(const TriMesh& mesh) {
 }
 
 double signed_volume(const TriMesh& mesh) {
-  check_indices(mesh, "signed_volume");
+  detail::check_triangle_indices(mesh, "signed_volume");
   if (mesh.triangles.empty()) return 0.0;
   // Relative to a point near the mesh, so far-away meshes do not lose precision.
   const Vec3 o = mesh.positions[mesh.triangles[0][0]];
@@ -312,7 +318,7 @@ double signed_volume(const TriMesh& mesh) {
 }
 
 double surface_area(const TriMesh& mesh) {
-  check_indices(mesh, "surface_area");
+  detail::check_triangle_indices(mesh, "surface_area");
   double twice = 0.0;
   for (const auto& t : mesh.triangles) {
     const Vec3& a = mesh.positions[t[0]];

@@ -37,9 +37,11 @@ struct Candidate {
   double length;
   std::uint32_t u, v;
   std::uint32_t tri;
-  bool operator<(const Candidate& o) const {
+  bool collapsible;
+  bool operator<(const Candidate& o) const {  // a total order: the sort is deterministic
     if (length != o.length) return length < o.length;
-    return u != o.u ? u < o.u : v < o.v;
+    if (u != o.u) return u < o.u;
+    return v != o.v ? v < o.v : tri < o.tri;
   }
 };
 
@@ -54,6 +56,7 @@ class Collapser {
         mark_(mesh.positions.size(), 0),
         moved_(mesh.positions.size(), 0),
         min_angle_(o.min_angle_deg * kDeg),
+        max_edge_ratio_(o.max_edge_ratio),
         cos_turn_(std::cos(o.max_normal_turn_deg * kDeg)) {
     // Vertex -> triangles as one compressed table; triangles that gain a vertex later are
     // listed in extra_ (empty for almost every vertex).
@@ -76,13 +79,18 @@ class Collapser {
       const Tri& f = mesh_.triangles[t];
       if (angle_of(f) >= min_angle_) continue;
       int best = 0;
-      double best_len = INFINITY;
+      double best_len = INFINITY, longest = 0;
       for (int k = 0; k < 3; ++k) {
         const double len = (pos(f[k]) - pos(f[(k + 1) % 3])).norm();
         if (len < best_len) best_len = len, best = k;
+        longest = std::max(longest, len);
       }
       const std::uint32_t a = f[best], b = f[(best + 1) % 3];
-      candidates.push_back({best_len, std::min(a, b), std::max(a, b), t});
+      // A needle proper has one short edge: that one may collapse. A cap's shortest edge is
+      // not short (its other two edges are), and collapsing it would move the surface: it
+      // only gets its longest edge flipped.
+      const bool short_edge = best_len < max_edge_ratio_ * longest;
+      candidates.push_back({best_len, std::min(a, b), std::max(a, b), t, short_edge});
     }
     tbb::parallel_sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end(),
@@ -91,7 +99,7 @@ class Collapser {
     std::size_t done = 0;
     for (const Candidate& c : candidates) {
       if (removed_[c.u] != 0 || removed_[c.v] != 0) continue;
-      if (try_collapse(c.u, c.v)) {
+      if (c.collapsible && try_collapse(c.u, c.v)) {
         ++done;
       } else if (alive_[c.tri] != 0 && try_flip(c.tri)) {
         ++done;
@@ -304,6 +312,7 @@ class Collapser {
   std::vector<char> moved_;
   std::uint32_t stamp_ = 0;
   double min_angle_;
+  double max_edge_ratio_;
   double cos_turn_;
 };
 
@@ -327,9 +336,11 @@ AngleSummary angle_summary(const TriMesh& mesh) {
     }
   });
   s.min_deg = *std::min_element(angles.begin(), angles.end());
+  // The median as check_mesh() reports it: the mean of the two middle values for an even count.
   auto mid = angles.begin() + static_cast<std::ptrdiff_t>(angles.size() / 2);
   std::nth_element(angles.begin(), mid, angles.end());
   s.median_deg = *mid;
+  if (angles.size() % 2 == 0) s.median_deg = 0.5 * (s.median_deg + *std::max_element(angles.begin(), mid));
   return s;
 }
 
@@ -343,6 +354,10 @@ void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& o, NeedleCleanupSt
                           std::to_string(o.max_normal_turn_deg));
   }
   if (o.passes < 1) throw InvalidArgument("NeedleCleanupOptions.passes must be >= 1");
+  if (!(o.max_edge_ratio > 0 && o.max_edge_ratio < 1)) {
+    throw InvalidArgument("NeedleCleanupOptions.max_edge_ratio must be in (0, 1), got " +
+                          std::to_string(o.max_edge_ratio));
+  }
   NeedleCleanupStats st;
   const AngleSummary before = angle_summary(mesh);
   st.min_angle_before = before.min_deg;

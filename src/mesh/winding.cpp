@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "mesh/mesh_indices.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
 
@@ -15,19 +16,6 @@ namespace ramiform {
 namespace {
 
 constexpr double kInv4Pi = 0.25 / std::numbers::pi;
-
-void check_indices(const TriMesh& mesh, const char* who) {
-  const std::size_t n = mesh.positions.size();
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    for (const std::uint32_t v : mesh.triangles[t]) {
-      if (v >= n) {
-        throw InvalidArgument(std::string(who) + ": triangle " + std::to_string(t) +
-                              " refers to vertex " + std::to_string(v) + " of " +
-                              std::to_string(n));
-      }
-    }
-  }
-}
 
 /// Signed solid angle of triangle (a, b, c) seen from the origin, over 4 pi (van Oosterom and
 /// Strackee 1983): positive when the triangle is counter-clockwise seen from the origin's side
@@ -44,7 +32,7 @@ inline double solid_angle_fraction(const Vec3& a, const Vec3& b, const Vec3& c) 
 }  // namespace
 
 double winding_number(const TriMesh& mesh, const Vec3& p) {
-  check_indices(mesh, "winding_number");
+  detail::check_triangle_indices(mesh, "winding_number");
   double w = 0.0;
   for (const auto& t : mesh.triangles) {
     w += solid_angle_fraction(mesh.positions[t[0]] - p, mesh.positions[t[1]] - p,
@@ -209,7 +197,7 @@ WindingNumber::WindingNumber(const TriMesh& mesh, const WindingOptions& options)
     throw InvalidArgument("WindingOptions.leaf_size must be >= 1, got " +
                           std::to_string(options.leaf_size));
   }
-  check_indices(mesh, "WindingNumber");
+  detail::check_triangle_indices(mesh, "WindingNumber");
   impl_->beta2 = options.beta * options.beta;
   const std::size_t nt = mesh.triangles.size();
   if (nt == 0) return;

@@ -12,10 +12,18 @@
 
 namespace ramiform::detail {
 
-/// For every edge e from a[e] (field value fa[e]) to b[e] (fb[e]), where exactly one end is
-/// inside (f > iso), returns the point where f = iso, found by `steps` rounds of Illinois
-/// regula falsi with bisection safeguard; every round evaluates all unconverged edges in one
-/// batch. Steps = 0 gives linear interpolation. Adds the evaluations made to `evaluations`.
+/// For every edge e, the segment a[e] + t d[e] with t in [0, 1] (field values fa[e] at t = 0,
+/// fb[e] at t = 1), where exactly one end is inside (f > iso), returns the point where f = iso,
+/// found by `steps` rounds of Illinois regula falsi with bisection safeguard; every round
+/// evaluates all unconverged edges in one batch and an edge stops once its bracket in t is at
+/// most tol::kRootFinding. Steps = 0 gives linear interpolation. A NaN value counts as on the
+/// surface. Adds the evaluations made to `evaluations`. `d`, `fa` and `fb` have the size of `a`.
+std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Vec3>& a,
+                                        const std::vector<Vec3>& d, std::vector<double> fa,
+                                        std::vector<double> fb, int steps,
+                                        std::uint64_t& evaluations);
+
+/// find_edge_roots_along for the edges from a[e] to b[e] (d = b - a).
 std::vector<Vec3> find_edge_roots(const Field& field, const std::vector<Vec3>& a,
                                   const std::vector<Vec3>& b, std::vector<double> fa,
                                   std::vector<double> fb, int steps, std::uint64_t& evaluations);

@@ -8,11 +8,12 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "polygonize/edge_roots.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
-#include "ramiform/core/tolerances.h"
 
 namespace ramiform {
 namespace {
@@ -77,6 +78,18 @@ struct Grid {
     for (int z = 0; z < count[2]; ++z)
       for (int y = 0; y < count[1]; ++y)
         for (int x = 0; x < count[0]; ++x) fn(block_index(cand[0][x], cand[1][y], cand[2][z]));
+  }
+  /// Calls fn(block index) for every block touching block b (itself included).
+  template <class Fn>
+  void for_each_block_around(i64 b, Fn&& fn) const {
+    const auto bc = block_coords(b);
+    for (int d = 0; d < 27; ++d) {
+      const i64 x = bc[0] + d % 3 - 1;
+      const i64 y = bc[1] + (d / 3) % 3 - 1;
+      const i64 z = bc[2] + d / 9 - 1;
+      if (x < 0 || y < 0 || z < 0 || x >= nb[0] || y >= nb[1] || z >= nb[2]) continue;
+      fn(block_index(x, y, z));
+    }
   }
 };
 
@@ -195,15 +208,11 @@ bool force_sign(const Grid& g, const std::vector<BlockState>& state, double iso,
 /// True when some block touching block b (itself included) was skipped by its bound: only then
 /// may a point of b need its sign forced.
 bool touches_skipped(const Grid& g, const std::vector<BlockState>& state, i64 b) {
-  const auto bc = g.block_coords(b);
-  for (int d = 0; d < 27; ++d) {
-    const i64 x = bc[0] + d % 3 - 1;
-    const i64 y = bc[1] + (d / 3) % 3 - 1;
-    const i64 z = bc[2] + d / 9 - 1;
-    if (x < 0 || y < 0 || z < 0 || x >= g.nb[0] || y >= g.nb[1] || z >= g.nb[2]) continue;
-    if (state[static_cast<std::size_t>(g.block_index(x, y, z))] != BlockState::kActive) return true;
-  }
-  return false;
+  bool skipped = false;
+  g.for_each_block_around(b, [&](i64 nbr) {
+    skipped = skipped || state[static_cast<std::size_t>(nbr)] != BlockState::kActive;
+  });
+  return skipped;
 }
 
 /// Phase 2: evaluates the points owned by block b that some active block needs.
@@ -308,79 +317,6 @@ void gather_values(const Grid& g, const BlockStore& blocks, const std::array<i64
   }
 }
 
-/// Places the vertices of the crossing edges on the surface: Illinois regula falsi on each edge
-/// (g = f - iso, inside g > 0), bisection when the secant step leaves the bracket, all edges of
-/// the block evaluated together per step.
-void find_roots(const Field& restricted, double iso, double h, int steps,
-                const std::vector<Vec3>& p0, const std::vector<int>& axis, std::vector<double> ga,
-                std::vector<double> gb, std::vector<Vec3>& out, i64& evaluations) {
-  const std::size_t n = p0.size();
-  std::vector<double> ta(n, 0.0);
-  std::vector<double> tb(n, 1.0);
-  std::vector<double> t(n, 0.0);
-  std::vector<signed char> last_side(n, 0);  // -1: a replaced last, +1: b replaced last
-  std::vector<std::uint32_t> active(n);
-  for (std::size_t e = 0; e < n; ++e) active[e] = static_cast<std::uint32_t>(e);
-  auto secant = [&](std::size_t e) {
-    const double d = gb[e] - ga[e];
-    double s = d != 0.0 ? (ta[e] * gb[e] - tb[e] * ga[e]) / d : 0.5 * (ta[e] + tb[e]);
-    if (!(s >= ta[e] && s <= tb[e])) s = 0.5 * (ta[e] + tb[e]);
-    return s;
-  };
-  std::vector<Vec3> points;
-  std::vector<double> values;
-  for (int step = 0; step < steps && !active.empty(); ++step) {
-    points.clear();
-    std::size_t keep = 0;
-    for (const std::uint32_t e : active) {
-      if (tb[e] - ta[e] <= tol::kRootFinding) continue;  // converged
-      double s = secant(e);
-      // Safeguard: a secant step that hugs an end of the bracket becomes a bisection step.
-      if (!(s > ta[e] && s < tb[e])) s = 0.5 * (ta[e] + tb[e]);
-      t[e] = s;
-      Vec3 p = p0[e];
-      p[axis[e]] += s * h;
-      points.push_back(p);
-      active[keep++] = e;
-    }
-    active.resize(keep);
-    if (points.empty()) break;
-    values.resize(points.size());
-    restricted.evaluate(points, values);
-    evaluations += static_cast<i64>(points.size());
-    keep = 0;
-    for (std::size_t q = 0; q < active.size(); ++q) {
-      const std::uint32_t e = active[q];
-      const double g = std::isnan(values[q]) ? 0.0 : values[q] - iso;
-      if (g == 0.0) {  // exactly on the surface
-        ta[e] = tb[e] = t[e];
-        ga[e] = gb[e] = 0.0;
-        continue;
-      }
-      const bool inside = g > 0.0;
-      if (inside == (ga[e] > 0.0)) {
-        ta[e] = t[e];
-        ga[e] = g;
-        if (last_side[e] == -1) gb[e] *= 0.5;  // Illinois: damp the end that stayed
-        last_side[e] = -1;
-      } else {
-        tb[e] = t[e];
-        gb[e] = g;
-        if (last_side[e] == 1) ga[e] *= 0.5;
-        last_side[e] = 1;
-      }
-      active[keep++] = e;
-    }
-    active.resize(keep);
-  }
-  out.resize(n);
-  for (std::size_t e = 0; e < n; ++e) {
-    const double s = ta[e] == tb[e] ? ta[e] : secant(e);
-    out[e] = p0[e];
-    out[e][axis[e]] += s * h;
-  }
-}
-
 /// Phase 3: cell cases, owned crossing edges and their vertices of an active block.
 void classify_block(const Grid& g, const BlockStore& blocks, double iso, int root_steps, i64 b,
                     BlockData& data) {
@@ -420,11 +356,11 @@ void classify_block(const Grid& g, const BlockStore& blocks, double iso, int roo
     }
   }
 
-  // Owned crossing edges, in ascending key order (point index, then axis).
+  // Owned crossing edges, in ascending key order (point index, then axis): from p0 along dir.
   std::vector<Vec3> p0;
-  std::vector<int> axis;
-  std::vector<double> ga;
-  std::vector<double> gb;
+  std::vector<Vec3> dir;
+  std::vector<double> fa;
+  std::vector<double> fb;
   const std::array<i64, 3> step{1, sy, sz};
   for (i64 z = 0; z < oe[2]; ++z) {
     for (i64 y = 0; y < oe[1]; ++y) {
@@ -443,15 +379,17 @@ void classify_block(const Grid& g, const BlockStore& blocks, double iso, int roo
                               static_cast<std::uint64_t>(a));
           data.slots.push_back(static_cast<std::uint32_t>(3 * l + a));
           p0.push_back(g.point(p[0], p[1], p[2]));
-          axis.push_back(a);
-          ga.push_back(v[l] - iso);
-          gb.push_back(v[l + step[a]] - iso);
+          dir.push_back(Vec3::Unit(a) * g.h);
+          fa.push_back(v[l]);
+          fb.push_back(v[l + step[a]]);
         }
       }
     }
   }
-  find_roots(*data.restricted, iso, g.h, root_steps, p0, axis, std::move(ga), std::move(gb),
-             data.vertices, data.root_evaluations);
+  std::uint64_t evaluations = 0;
+  data.vertices = detail::find_edge_roots_along(*data.restricted, p0, dir, std::move(fa),
+                                                std::move(fb), root_steps, evaluations);
+  data.root_evaluations = static_cast<i64>(evaluations);
 }
 
 /// Phase 5: the triangles of an active block, with global vertex ids.
@@ -593,15 +531,10 @@ TriMesh marching_cubes(const Field& field, const MarchingCubesOptions& options, 
         nbu, 64,
         [&](std::size_t b) {
           if (state[b] == BlockState::kActive) return;
-          const auto bc = g.block_coords(static_cast<i64>(b));
-          for (int d = 0; d < 27; ++d) {
-            const i64 x = bc[0] + d % 3 - 1;
-            const i64 y = bc[1] + (d / 3) % 3 - 1;
-            const i64 z = bc[2] + d / 9 - 1;
-            if (x < 0 || y < 0 || z < 0 || x >= g.nb[0] || y >= g.nb[1] || z >= g.nb[2]) continue;
-            const BlockState other = state[static_cast<std::size_t>(g.block_index(x, y, z))];
+          g.for_each_block_around(static_cast<i64>(b), [&](i64 nbr) {
+            const BlockState other = state[static_cast<std::size_t>(nbr)];
             if (other != BlockState::kActive && other != state[b]) wake[b] = 1;
-          }
+          });
         },
         ctx);
     for (std::size_t b = 0; b < nbu; ++b) {

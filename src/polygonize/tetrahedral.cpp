@@ -142,6 +142,9 @@ PointSetBuilder bounding_points(const Skeleton& s, const TetrahedralOptions& o) 
   const double half_scale = 0.5 * o.section_scale;
   const std::vector<char> section = section_nodes(s, adjacent, o);
   for (std::uint32_t i = 0; i < n; ++i) {
+    // Every node is a point of the set: the lattice then samples the inside on the skeleton
+    // itself, so even at level 0 or 1 no branch can fall between lattice points.
+    pb.add(s.nodes[i].position, half_scale * s.nodes[i].radius);
     if (section[i] == 0) continue;
     const Vec3& p = s.nodes[i].position;
     const double r = s.nodes[i].radius;
@@ -193,7 +196,9 @@ PointSetBuilder bounding_points(const Skeleton& s, const TetrahedralOptions& o) 
     const int stations = static_cast<int>(std::ceil(len / (o.station_spacing * r_mean))) - 1;
     for (int k = 1; k <= stations; ++k) {
       const double t = static_cast<double>(k) / (stations + 1);
-      pb.square(na.position + t * d, d / len, half_scale * ((1 - t) * na.radius + t * nb.radius));
+      const double half = half_scale * ((1 - t) * na.radius + t * nb.radius);
+      pb.square(na.position + t * d, d / len, half);
+      pb.add(na.position + t * d, half);  // the station's centre, on the skeleton
     }
   }
   return pb;
@@ -543,7 +548,9 @@ void extract_chunk(const Field& field, const std::vector<Vec3>& pts, const std::
   for (std::size_t r = begin; r < end; ++r) {
     const Tet& t = tets[region[r]];
     const TetPoints c{pts[t[0]], pts[t[1]], pts[t[2]], pts[t[3]]};
-    const Interval bound = field.bound(box_of(c));
+    // The bound costs about as much as a few dozen evaluations: worth it only when the
+    // tetrahedron has more lattice points than that (levels >= 2: 35, 165, ...).
+    const Interval bound = o.levels >= 2 ? field.bound(box_of(c)) : Interval{-INFINITY, INFINITY};
     if (!bound.straddles(iso)) {
       ++out.skipped;
       if (bound.lo > iso) out.face_inside[r - begin] = 0xF;  // wholly inside: every face

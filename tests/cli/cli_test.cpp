@@ -59,7 +59,7 @@ TEST_F(CliTest, MeshIsWatertightAndStatsHaveTheDocumentedKeys) {
 
 TEST_F(CliTest, CheckJsonHasExactlyTheDocumentedKeys) {
   const std::string skel = y_fork();
-  ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("fork.ply") + " --resolution 48").code, 0);
+  ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("fork.ply") + " --levels 2").code, 0);
   const CliRun r = run_cli("check " + path("fork.ply") + " --skeleton " + skel + " --json");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
@@ -106,12 +106,14 @@ TEST_F(CliTest, EvalPrintsTheLibraryValues) {
 
 TEST_F(CliTest, OutputIsByteIdenticalForOneAndTwoThreads) {
   const std::string skel = y_fork();
-  ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("t1.ply") + " --resolution 80 --threads 1").code, 0);
-  ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("t2.ply") + " --resolution 80 --threads 2").code, 0);
-  std::ifstream a(path("t1.ply"), std::ios::binary), b(path("t2.ply"), std::ios::binary);
-  const std::string sa((std::istreambuf_iterator<char>(a)), {}), sb((std::istreambuf_iterator<char>(b)), {});
-  EXPECT_GT(sa.size(), 1000U);
-  EXPECT_EQ(sa, sb);
+  for (const std::string method : {"--method mc --resolution 80", "--levels 2"}) {
+    ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("t1.ply") + " " + method + " --threads 1").code, 0);
+    ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("t2.ply") + " " + method + " --threads 2").code, 0);
+    std::ifstream a(path("t1.ply"), std::ios::binary), b(path("t2.ply"), std::ios::binary);
+    const std::string sa((std::istreambuf_iterator<char>(a)), {}), sb((std::istreambuf_iterator<char>(b)), {});
+    EXPECT_GT(sa.size(), 1000U) << method;
+    EXPECT_EQ(sa, sb) << method;
+  }
 }
 
 struct BadInput {
@@ -137,7 +139,7 @@ TEST_F(CliTest, BadSkeletonsExitTwoWithLocatedMessageAndNoOutput) {
     const std::string in = write(c.name, c.text);
     const std::string out = path(std::string(c.name) + ".out.ply");
     const std::size_t before = files_in_dir();
-    const CliRun r = run_cli("mesh " + in + " -o " + out + " --resolution 16");
+    const CliRun r = run_cli("mesh " + in + " -o " + out + " --levels 1");
     EXPECT_EQ(r.code, 2) << c.name << ": " << r.out;
     EXPECT_NE(r.out.find(c.name), std::string::npos) << c.name << ": " << r.out;
     EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.name << " should mention '" << c.expect << "': " << r.out;
@@ -151,6 +153,8 @@ TEST_F(CliTest, UsageErrorsExitOne) {
   EXPECT_EQ(run_cli("mesh").code, 1);
   EXPECT_EQ(run_cli("mesh x.json --method nope").code, 1);
   EXPECT_EQ(run_cli("mesh x.json --cell 0.1 --resolution 20").code, 1);
+  EXPECT_EQ(run_cli("mesh x.json --cell 0.1").code, 1);            // mc option, tets method
+  EXPECT_EQ(run_cli("mesh x.json --method mc --levels 2").code, 1);  // tets option, mc method
   EXPECT_EQ(run_cli("frobnicate").code, 1);
 }
 

@@ -55,19 +55,22 @@ inline bool is_infinite_kernel(KernelKind kind) {
          kind == KernelKind::kCauchy;
 }
 
+/// Squared distance from p to the point a + t (b - a), in long double.
+inline long double squared_distance_at(const Vec3& p, const Vec3& a, const Vec3& b, long double t) {
+  long double s = 0;
+  for (int k = 0; k < 3; ++k) {
+    const long double q = static_cast<long double>(a[k]) +
+                          t * (static_cast<long double>(b[k]) - static_cast<long double>(a[k]));
+    const long double d = static_cast<long double>(p[k]) - q;
+    s += d * d;
+  }
+  return s;
+}
+
 /// Closest point parameter t in [0, 1] of p on segment [a, b], by dense sampling then bisection
 /// on the derivative of the squared distance, in long double (no projection formula).
 inline long double brute_closest_t(const Vec3& p, const Vec3& a, const Vec3& b) {
-  auto d2 = [&](long double t) {
-    long double s = 0;
-    for (int k = 0; k < 3; ++k) {
-      const long double q = static_cast<long double>(a[k]) +
-                            t * (static_cast<long double>(b[k]) - static_cast<long double>(a[k]));
-      const long double d = static_cast<long double>(p[k]) - q;
-      s += d * d;
-    }
-    return s;
-  };
+  auto d2 = [&](long double t) { return squared_distance_at(p, a, b, t); };
   constexpr int kSamples = 2000;
   int best = 0;
   long double best_d = d2(0);
@@ -104,14 +107,7 @@ inline long double brute_closest_t(const Vec3& p, const Vec3& a, const Vec3& b) 
 inline double brute_distance(const Vec3& p, const Vec3& a, const Vec3& b, long double* t_out = nullptr) {
   const long double t = brute_closest_t(p, a, b);
   if (t_out != nullptr) *t_out = t;
-  long double s = 0;
-  for (int k = 0; k < 3; ++k) {
-    const long double q = static_cast<long double>(a[k]) +
-                          t * (static_cast<long double>(b[k]) - static_cast<long double>(a[k]));
-    const long double d = static_cast<long double>(p[k]) - q;
-    s += d * d;
-  }
-  return static_cast<double>(std::sqrt(s));
+  return static_cast<double>(std::sqrt(squared_distance_at(p, a, b, t)));
 }
 
 /// Central-difference gradient of a field (own implementation; the library's

@@ -76,18 +76,20 @@ int expect_kkt(const RadiusFitSystem& sys, const RadiusFitResult& r, const Radiu
   const Eigen::VectorXd g = p.N * w - p.b;
   // The independent N sums in another order: allow rounding on top of the tolerance.
   const double tol = 10 * o.kkt_tolerance;
+  // The bounded problem w >= min_weight has the same conditions with the bound in place of 0.
+  const double low = o.min_weight;
   int zeros = 0;
   for (Eigen::Index i = 0; i < w.size(); ++i) {
-    EXPECT_GE(w[i], 0.0) << "edge " << i;
+    EXPECT_GE(w[i], low) << "edge " << i;
     if (p.N(i, i) == 0) {
       EXPECT_EQ(w[i], 1.0) << "edge " << i << " has no data and keeps weight 1";
       continue;
     }
-    if (w[i] > 0) {
+    if (w[i] > low) {
       EXPECT_LE(std::abs(g[i]), tol * p.N(i, i)) << "edge " << i << " w " << w[i];
     } else {
       ++zeros;
-      EXPECT_GE(g[i], -tol * p.N(i, i)) << "edge " << i << " at 0";
+      EXPECT_GE(g[i], -tol * p.N(i, i)) << "edge " << i << " at the bound";
     }
   }
   return zeros;
@@ -277,27 +279,56 @@ TEST(RadiusFit, BranchingTreeTrunkAndTwigs) {
 
 TEST(RadiusFit, KktConditionsHoldDenseAndSparse) {
   const Skeleton s = fork_with_hidden_rod();
-  for (const NnlsSolver solver : {NnlsSolver::kDense, NnlsSolver::kSparse}) {
-    RadiusFitOptions o;
-    o.solver = solver;
-    const RadiusFitSystem sys = build_radius_fit_system(s, kConvolution, o);
-    const RadiusFitResult r = solve_radius_fit(sys, o);
-    EXPECT_TRUE(r.converged);
-    EXPECT_LE(r.kkt_violation, o.kkt_tolerance);
-    ASSERT_EQ(r.row_weight.size(), sys.points.size());
-    const int zeros = expect_kkt(sys, r, o);
-    EXPECT_EQ(r.weights[3], 0.0)
-        << "the hidden rod only adds field where the trunk already has enough";
-    EXPECT_GE(zeros, 1);
+  // Plain NNLS (no floor, no coverage repair) and the default floor of 0.25: the hidden rod
+  // only adds field where the trunk already has enough, so it sits on the bound either way.
+  for (const double floor : {0.0, 0.25}) {
+    for (const NnlsSolver solver : {NnlsSolver::kDense, NnlsSolver::kSparse}) {
+      RadiusFitOptions o;
+      o.solver = solver;
+      o.min_weight = floor;
+      o.coverage_margin = 0;  // the repair runs after the solve and would move the weights
+      const RadiusFitSystem sys = build_radius_fit_system(s, kConvolution, o);
+      const RadiusFitResult r = solve_radius_fit(sys, o);
+      EXPECT_TRUE(r.converged);
+      EXPECT_LE(r.kkt_violation, o.kkt_tolerance);
+      ASSERT_EQ(r.row_weight.size(), sys.points.size());
+      const int zeros = expect_kkt(sys, r, o);
+      EXPECT_EQ(r.weights[3], floor) << "the hidden rod sits on the bound";
+      EXPECT_GE(zeros, 1);
+    }
   }
   // A larger problem through the sparse solver (the default for this size).
   const Skeleton tree = split_edges(small_tree(60)).skeleton;
   ASSERT_GT(tree.edges.size(), 200u);
-  const RadiusFitOptions o;
+  RadiusFitOptions o;
+  o.coverage_margin = 0;
   const RadiusFitSystem sys = build_radius_fit_system(tree, kConvolution, o);
   const RadiusFitResult r = solve_radius_fit(sys, o);
   EXPECT_TRUE(r.converged);
   expect_kkt(sys, r, o);
+}
+
+// The coverage repair: with the default options every point of the skeleton ends inside the
+// fitted surface with the margin, and no weight is below the floor.
+TEST(RadiusFit, FittedSurfaceCoversTheSkeleton) {
+  const Skeleton tree = split_edges(small_tree(60)).skeleton;
+  const RadiusFitOptions o;
+  const RadiusFitResult r = fit_edge_weights(tree, kConvolution, o);
+  EXPECT_TRUE(r.covered);
+  for (const double w : r.weights) EXPECT_GE(w, o.min_weight);
+  const FieldPtr f = make_skeleton_field(tree, kConvolution, r.weights);
+  std::vector<Vec3> samples;
+  for (const auto& e : tree.edges) {
+    for (int k = 0; k <= 8; ++k) {
+      const double t = k / 8.0;
+      samples.push_back((1 - t) * tree.nodes[e[0]].position + t * tree.nodes[e[1]].position);
+    }
+  }
+  std::vector<double> values(samples.size());
+  f->evaluate(samples, values);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    EXPECT_GT(values[i], f->iso()) << "sample " << i << " of edge " << i / 9;
+  }
 }
 
 TEST(RadiusFit, SparseMatchesDenseLawsonHanson) {

@@ -142,11 +142,7 @@ TEST(MarchingCubes, BlobsAreClosedManifoldsForManySeeds) {
     o.block_cells = 4 + static_cast<int>(seed % 5);  // many block boundaries, odd sizes
     MarchingCubesStats stats;
     const TriMesh m = marching_cubes(*field, o, nullptr, &stats);
-    const MeshReport r = check_mesh(m);
-    EXPECT_TRUE(r.watertight) << test::describe(r);
-    EXPECT_TRUE(r.oriented) << test::describe(r);
-    EXPECT_TRUE(r.manifold) << test::describe(r);
-    EXPECT_EQ(r.euler % 2, 0) << test::describe(r);
+    test::expect_closed_manifold(m);
     EXPECT_GT(signed_volume(m), 0.0);
     EXPECT_EQ(stats.sign_overrides, 0);
     // Every component is a closed surface, and the mesh's inside agrees with the field's.

@@ -46,11 +46,17 @@ void expect_oriented(const TriMesh& mesh) { EXPECT_TRUE(is_oriented(mesh)); }
 void expect_manifold(const TriMesh& mesh) { EXPECT_TRUE(is_manifold(mesh)); }
 void expect_components(const TriMesh& mesh, std::size_t n) { EXPECT_TRUE(has_components(mesh, n)); }
 
-void expect_closed_surface(const TriMesh& mesh, std::size_t components, long long euler) {
+MeshReport expect_closed_manifold(const TriMesh& mesh) {
   const MeshReport r = check_mesh(mesh);
   EXPECT_TRUE(r.watertight) << describe(r);
   EXPECT_TRUE(r.oriented) << describe(r);
   EXPECT_TRUE(r.manifold) << describe(r);
+  EXPECT_EQ(r.euler % 2, 0) << describe(r);
+  return r;
+}
+
+void expect_closed_surface(const TriMesh& mesh, std::size_t components, long long euler) {
+  const MeshReport r = expect_closed_manifold(mesh);
   EXPECT_EQ(r.components, components) << describe(r);
   EXPECT_EQ(r.euler, euler) << describe(r);
 }

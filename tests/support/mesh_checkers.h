@@ -28,8 +28,11 @@ void expect_watertight(const TriMesh& mesh);
 void expect_oriented(const TriMesh& mesh);
 void expect_manifold(const TriMesh& mesh);
 void expect_components(const TriMesh& mesh, std::size_t n);
-/// Watertight, oriented and manifold, with `components` components and Euler characteristic
-/// `euler` (2 per sphere-like component, 0 per torus).
+/// Watertight, oriented and manifold, with an even Euler characteristic (closed orientable
+/// surfaces of any genus); returns the report for further checks.
+MeshReport expect_closed_manifold(const TriMesh& mesh);
+/// expect_closed_manifold, with `components` components and Euler characteristic `euler` (2 per
+/// sphere-like component, 0 per torus).
 void expect_closed_surface(const TriMesh& mesh, std::size_t components, long long euler);
 
 }  // namespace ramiform::test

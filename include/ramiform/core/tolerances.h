@@ -22,11 +22,29 @@ inline constexpr double kKernelCutoff = 1e-4;
 /// Fraction of the cutoff radius at which the fade-out of an infinite-support kernel begins.
 inline constexpr double kFadeStart = 0.8;
 
+/// Relative margin by which primitive support boxes are grown (times the support radius), so
+/// that every point outside a box lies strictly beyond the cut-off in floating point and a
+/// pruned primitive would have contributed exactly 0.
+inline constexpr double kSupportMargin = 1e-9;
+
 /// Relative step for central-difference gradients (times the local length scale).
 inline constexpr double kFiniteDifference = 1e-6;
 
 /// Relative tolerance (times the edge length) of the root finding that places polygonizer
 /// vertices on the surface.
 inline constexpr double kRootFinding = 1e-7;
+
+// Cylinder-model import (io/qsm_io.h), as fractions of the local cylinder radius r. Chosen on
+// archi_Tree_1_TreeQSM.txt, where the start of a branch's next cylinder lies a median 0.27 r
+// (90 %: 1.2 r) from its parent's end, side branches start at 1.0 r from the parent's axis, and
+// 1 % of cylinders are shorter than 0.5 r.
+
+/// A child cylinder whose start lies within this fraction of min(r_parent, r_child) of its
+/// parent's axis starts at the parent's axis node (no connector edge).
+inline constexpr double kQsmJoin = 0.5;
+
+/// Points closer than this fraction of r along one cylinder axis share one node (split nodes,
+/// tiny cylinders, duplicate and overlapping cylinders).
+inline constexpr double kQsmMerge = 0.25;
 
 }  // namespace ramiform::tol

@@ -10,17 +10,18 @@
 /// importer turns it into one connected skeleton that passes `validate()`:
 ///
 /// - Every cylinder becomes a polyline along its axis from its start node to its end node.
-/// - **Joining.** A child whose start lies within 0.5 · min(r_parent, r_child) of the closest
-///   point of its parent's axis segment (clamped to the segment) starts at the parent's node
-///   there, so consecutive cylinders of a branch share nodes. Otherwise (a side branch starting
-///   on the parent's surface, or a gap) the child keeps its own start node and a *connector*
-///   edge joins it to the parent's axis node. The connector keeps the child's cylinder (its
-///   direction, length and radius) as it is and puts the change from the parent's radius to the
-///   child's inside the parent; moving the child's start onto the axis instead would tilt short
-///   children and widen their whole first segment to the parent's radius.
-/// - **Splitting.** A child attached more than 0.25 · r_parent (along the axis) from both ends
-///   of its parent's axis splits the parent there, so the graph gets a branch node. Attachment
-///   points closer than 0.25 · r_parent to each other share one split node (at their mean).
+/// - **Joining.** A child whose start lies within 0.5 · min(r_parent, r_child) (tol::kQsmJoin)
+///   of the closest point of its parent's axis segment (clamped to the segment) starts at the
+///   parent's node there, so consecutive cylinders of a branch share nodes. Otherwise (a side
+///   branch starting on the parent's surface, or a gap) the child keeps its own start node and
+///   a *connector* edge joins it to the parent's axis node. The connector keeps the child's
+///   cylinder (its direction, length and radius) as it is and puts the change from the parent's
+///   radius to the child's inside the parent; moving the child's start onto the axis instead
+///   would tilt short children and widen their whole first segment to the parent's radius.
+/// - **Splitting.** A child attached more than 0.25 · r_parent (tol::kQsmMerge, along the
+///   axis) from both ends of its parent's axis splits the parent there, so the graph gets a
+///   branch node. Attachment points closer than 0.25 · r_parent to each other share one split
+///   node (at their mean).
 /// - **Tiny cylinders.** A cylinder whose end lies within 0.25 · r of its start node is merged
 ///   into that node (no edge); its children attach there. Measuring from the node, not from the
 ///   cylinder's own start, keeps runs of tiny cylinders from collapsing more than that.

@@ -31,6 +31,9 @@ struct NeedleCleanupOptions {
   double min_angle_deg = 15.0;
   /// Largest turn of a surviving triangle's normal a collapse may cause (degrees, (0, 90]).
   double max_normal_turn_deg = 45.0;
+  /// Only a needle's shortest edge shorter than this fraction of its longest edge may collapse
+  /// (in (0, 1)); other needles (caps) can only have their longest edge flipped.
+  double max_edge_ratio = 0.35;
   int passes = 3;  ///< sweeps over the candidates (>= 1); later sweeps catch new needles
 };
 

@@ -44,7 +44,7 @@ struct TetrahedralOptions {
   int levels = 3;               ///< 1:8 subdivision levels (Figure 4), 0..6
   double section_scale = 3.0;   ///< cross-section square edge / node radius (paper: 3), >= 2
   double station_spacing = 4.0; ///< max distance between cross-sections along an edge, in radii
-  int root_steps = 6;           ///< root-finding rounds per crossing edge (0 = linear)
+  int root_steps = 12;          ///< root-finding rounds per crossing edge (0 = linear)
   int max_growth_rounds = 200;  ///< rounds of hole fixing before giving up (reported)
   bool cleanup = true;          ///< collapse needle edges afterwards (mesh/cleanup.h)
   /// Remove small components (< 1 % of the triangles) that enclose no skeleton node: blobs
@@ -75,8 +75,8 @@ struct TetrahedralStats {
 };
 
 /// Polygonizes the surface of `field` inside the region that `skeleton` bounds (normally the
-/// skeleton the field was built from). Throws InvalidArgument for bad options or an empty
-/// skeleton, Failure if the tetrahedralization fails.
+/// skeleton the field was built from). Throws InvalidArgument for bad options, InputError for an
+/// invalid (e.g. empty) skeleton, Failure if the tetrahedralization fails.
 [[nodiscard]] TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
                                              const TetrahedralOptions& options = {},
                                              Context* ctx = nullptr,

@@ -1,0 +1,418 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+//
+// ramiform_bench_openvdb SKELETON VOXEL [HALF_WIDTH=3] [--out MESH]
+//
+// The OpenVDB pipeline people use instead of ramiform, measured and checked the way we check our
+// own meshes: the union of the skeleton's round cones (each edge the convex hull of its two node
+// spheres, radius r_a to r_b; an isolated node is its sphere) as a narrow-band level set of
+// voxel size VOXEL (model units) and half width HALF_WIDTH (voxels), then
+// openvdb::tools::volumeToMesh at iso 0 with no adaptivity (quads split into two triangles).
+// Each stage is timed with std::chrono, best of three runs. The mesh of the last run is
+// converted to a ramiform::TriMesh and checked with ramiform::check_mesh and the winding-number
+// inside test of the skeleton nodes (what `ramiform check --skeleton --json` reports). Prints
+// one JSON object on stdout. With --out, the converted mesh is also written (ramiform::write_mesh:
+// .ply, .obj, .off), e.g. for `ramiform check MESH --skeleton SKELETON --json`.
+//
+// Level set: OpenVDB >= 11 has tools::createLevelSetTubeComplex (openvdb/tools/LevelSetTubes.h),
+// which is used when the header exists. OpenVDB 10 (Debian bookworm's libopenvdb-dev 10.0.1)
+// does not have it; there, `rasterize_round_cones` below builds the same grid: in every leaf
+// node (8^3 voxels) touched by a cone's bounding box grown by the band, each voxel gets the
+// minimum over those cones of the exact signed distance (clamped to +-HALF_WIDTH * VOXEL),
+// voxels inside the band are active, voxels deeper inside are inactive at -background, and
+// leaves without a value below the background are dropped; tools::pruneLevelSet then collapses
+// uniform interior leaves into tiles. That is the level set createLevelSetTubeComplex defines
+// (exact distance to the tapered capsules, union by minimum), so the mesh stage sees the same
+// input; only the level_set seconds measure our rasterizer instead of OpenVDB's scanline one.
+// The JSON field "level_set_method" says which one ran.
+//
+// OpenVDB is MPL-2.0 (10.x) / Apache-2.0 (>= 11): linked into this benchmark only, never into
+// the ramiform library.
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Prune.h>
+#include <openvdb/tools/VolumeToMesh.h>
+
+#if __has_include(<openvdb/tools/LevelSetTubes.h>)
+#include <openvdb/tools/LevelSetTubes.h>
+#define RAMIFORM_BENCH_VDB_TUBES 1
+#else
+#define RAMIFORM_BENCH_VDB_TUBES 0
+#endif
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "ramiform/io/mesh_io.h"
+#include "ramiform/io/skeleton_io.h"
+#include "ramiform/mesh/checks.h"
+#include "ramiform/mesh/trimesh.h"
+#include "ramiform/mesh/winding.h"
+#include "ramiform/skeleton/skeleton.h"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using FloatGrid = openvdb::FloatGrid;
+using FloatTree = FloatGrid::TreeType;
+using LeafT = FloatTree::LeafNodeType;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+/// One round cone in index space (voxel units): the convex hull of the spheres (a, ra) and
+/// (b, rb). Stored with ra >= rb; a cone whose smaller sphere lies inside the larger one is that
+/// larger sphere (len = 0).
+struct RoundCone {
+  openvdb::Vec3d a, b;    // sphere centres (index space)
+  double ra = 0, rb = 0;  // radii (voxels), ra >= rb
+  openvdb::Vec3d u;       // unit axis a -> b (zero for a sphere)
+  double len = 0;         // |b - a|, 0 for a sphere
+  double sin_t = 0;       // (ra - rb) / len: sine of the half opening angle
+  double cos_t = 1;       // sqrt(1 - sin_t^2)
+
+  RoundCone(openvdb::Vec3d pa, double r_a, openvdb::Vec3d pb, double r_b) {
+    if (r_b > r_a) {
+      std::swap(pa, pb);
+      std::swap(r_a, r_b);
+    }
+    a = pa;
+    b = pb;
+    ra = r_a;
+    rb = r_b;
+    const double d = (b - a).length();
+    if (d <= ra - rb) {  // one sphere contains the other (or a zero-length edge)
+      b = a;
+      rb = ra;
+      return;
+    }
+    len = d;
+    u = (b - a) / d;
+    sin_t = (ra - rb) / d;
+    cos_t = std::sqrt(std::max(0.0, 1.0 - sin_t * sin_t));
+  }
+
+  /// Exact signed distance (voxels) outside; inside, negative with the exact zero set and the
+  /// exact distance near the surface. In the (axial t, radial q) half plane the boundary is the
+  /// circle around a, the common tangent line (unit normal n = (sin_t, cos_t)) and the circle
+  /// around b; the coordinate s = t cos_t - q sin_t along the tangent line tells which part is
+  /// nearest (tangent points at s = 0 and s = len cos_t).
+  [[nodiscard]] double distance(const openvdb::Vec3d& p) const {
+    const openvdb::Vec3d w = p - a;
+    if (len == 0) return w.length() - ra;
+    const double t = w.dot(u);
+    const double q = std::sqrt(std::max(0.0, w.lengthSqr() - t * t));
+    const double s = t * cos_t - q * sin_t;
+    if (s <= 0) return std::sqrt(t * t + q * q) - ra;
+    if (s >= len * cos_t) return std::sqrt((t - len) * (t - len) + q * q) - rb;
+    return t * sin_t + q * cos_t - ra;
+  }
+
+  /// Index-space box of the points within `band` voxels of the cone.
+  void bounds(double band, openvdb::Vec3d& lo, openvdb::Vec3d& hi) const {
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(a[k] - ra, b[k] - rb) - band;
+      hi[k] = std::max(a[k] + ra, b[k] + rb) + band;
+    }
+  }
+};
+
+struct TubeComplex {
+  std::vector<openvdb::Vec3s> vertices;  // world units
+  std::vector<float> radii;              // world units, one per vertex
+  std::vector<openvdb::Vec2I> segments;  // edges, plus (i, i) for an isolated node
+};
+
+TubeComplex tube_complex(const ramiform::Skeleton& skeleton) {
+  TubeComplex tc;
+  std::vector<char> has_edge(skeleton.nodes.size(), 0);
+  for (const auto& n : skeleton.nodes) {
+    tc.vertices.emplace_back(static_cast<float>(n.position.x()),
+                             static_cast<float>(n.position.y()),
+                             static_cast<float>(n.position.z()));
+    tc.radii.push_back(static_cast<float>(n.radius));
+  }
+  for (const auto& e : skeleton.edges) {
+    tc.segments.emplace_back(static_cast<openvdb::Int32>(e[0]), static_cast<openvdb::Int32>(e[1]));
+    has_edge[e[0]] = has_edge[e[1]] = 1;
+  }
+  for (std::size_t i = 0; i < has_edge.size(); ++i) {
+    if (has_edge[i] == 0) {
+      tc.segments.emplace_back(static_cast<openvdb::Int32>(i), static_cast<openvdb::Int32>(i));
+    }
+  }
+  return tc;
+}
+
+/// The narrow-band level set of the union of round cones without LevelSetTubes.h (see the file
+/// comment). Vertices and radii are taken in double precision from the skeleton.
+FloatGrid::Ptr rasterize_round_cones(const ramiform::Skeleton& skeleton, const TubeComplex& tc,
+                                     double voxel, double half_width) {
+  const auto background = static_cast<float>(voxel * half_width);
+  FloatGrid::Ptr grid = openvdb::createLevelSet<FloatGrid>(voxel, half_width);
+
+  std::vector<RoundCone> cones;
+  cones.reserve(tc.segments.size());
+  for (const auto& s : tc.segments) {
+    const auto& na = skeleton.nodes[static_cast<std::size_t>(s[0])];
+    const auto& nb = skeleton.nodes[static_cast<std::size_t>(s[1])];
+    const openvdb::Vec3d pa(na.position.x(), na.position.y(), na.position.z());
+    const openvdb::Vec3d pb(nb.position.x(), nb.position.y(), nb.position.z());
+    cones.emplace_back(pa / voxel, na.radius / voxel, pb / voxel, nb.radius / voxel);
+  }
+
+  // (leaf origin, cone) pairs for every leaf a cone's grown box touches, sorted by leaf.
+  struct Pair {
+    openvdb::Int32 x, y, z;
+    std::uint32_t cone;
+  };
+  constexpr int kDim = static_cast<int>(LeafT::DIM);
+  auto leaf_of = [](double voxel_index) {  // origin of the leaf holding that voxel index
+    return static_cast<openvdb::Int32>(std::floor(voxel_index / kDim)) * kDim;
+  };
+  std::vector<Pair> pairs;
+  for (std::uint32_t c = 0; c < cones.size(); ++c) {
+    openvdb::Vec3d lo, hi;
+    cones[c].bounds(half_width, lo, hi);
+    const auto x0 = leaf_of(std::ceil(lo[0])), y0 = leaf_of(std::ceil(lo[1]));
+    const auto z0 = leaf_of(std::ceil(lo[2]));
+    const auto x1 = leaf_of(std::floor(hi[0])), y1 = leaf_of(std::floor(hi[1]));
+    const auto z1 = leaf_of(std::floor(hi[2]));
+    for (auto x = x0; x <= x1; x += kDim) {
+      for (auto y = y0; y <= y1; y += kDim) {
+        for (auto z = z0; z <= z1; z += kDim) pairs.push_back({x, y, z, c});
+      }
+    }
+  }
+  tbb::parallel_sort(pairs.begin(), pairs.end(), [](const Pair& p, const Pair& q) {
+    if (p.x != q.x) return p.x < q.x;
+    if (p.y != q.y) return p.y < q.y;
+    if (p.z != q.z) return p.z < q.z;
+    return p.cone < q.cone;
+  });
+  std::vector<std::size_t> starts;
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    if (i == 0 || pairs[i].x != pairs[i - 1].x || pairs[i].y != pairs[i - 1].y ||
+        pairs[i].z != pairs[i - 1].z) {
+      starts.push_back(i);
+    }
+  }
+  starts.push_back(pairs.size());
+
+  // Per leaf: a new leaf node, or a deep-interior tile (every voxel more than the band inside
+  // some cone), or nothing (every voxel at least the band outside). The distance is
+  // 1-Lipschitz, so its value at the leaf centre bounds it over the leaf to +-(half diagonal).
+  const std::size_t groups = starts.size() - 1;
+  std::vector<LeafT*> leaves(groups, nullptr);
+  std::vector<char> interior(groups, 0);
+  const double leaf_radius = 0.5 * (kDim - 1) * std::sqrt(3.0);
+  tbb::parallel_for(std::size_t{0}, groups, [&](std::size_t g) {
+    const Pair& first = pairs[starts[g]];
+    const openvdb::Vec3d centre(first.x + 0.5 * (kDim - 1), first.y + 0.5 * (kDim - 1),
+                                first.z + 0.5 * (kDim - 1));
+    std::vector<std::uint32_t> near;
+    for (std::size_t i = starts[g]; i < starts[g + 1]; ++i) {
+      const double d = cones[pairs[i].cone].distance(centre);
+      if (d < -(half_width + leaf_radius)) {
+        interior[g] = 1;
+        return;
+      }
+      if (d < half_width + leaf_radius) near.push_back(pairs[i].cone);
+    }
+    if (near.empty()) return;
+    std::array<double, LeafT::SIZE> value;
+    value.fill(half_width);
+    for (const std::uint32_t c : near) {
+      const RoundCone& cone = cones[c];
+      openvdb::Vec3d lo, hi;
+      cone.bounds(half_width, lo, hi);
+      const int x0 = std::max(first.x, static_cast<openvdb::Int32>(std::ceil(lo[0])));
+      const int y0 = std::max(first.y, static_cast<openvdb::Int32>(std::ceil(lo[1])));
+      const int z0 = std::max(first.z, static_cast<openvdb::Int32>(std::ceil(lo[2])));
+      const int x1 = std::min(first.x + kDim - 1, static_cast<openvdb::Int32>(std::floor(hi[0])));
+      const int y1 = std::min(first.y + kDim - 1, static_cast<openvdb::Int32>(std::floor(hi[1])));
+      const int z1 = std::min(first.z + kDim - 1, static_cast<openvdb::Int32>(std::floor(hi[2])));
+      for (int x = x0; x <= x1; ++x) {
+        for (int y = y0; y <= y1; ++y) {
+          for (int z = z0; z <= z1; ++z) {
+            const auto n = static_cast<std::size_t>(((x - first.x) << (2 * LeafT::LOG2DIM)) +
+                                                    ((y - first.y) << LeafT::LOG2DIM) +
+                                                    (z - first.z));
+            value[n] = std::min(value[n], cone.distance(openvdb::Vec3d(x, y, z)));
+          }
+        }
+      }
+    }
+    bool any = false;
+    for (const double v : value) any = any || v < half_width;
+    if (!any) return;
+    auto* leaf = new LeafT(openvdb::Coord(first.x, first.y, first.z), background, false);
+    for (openvdb::Index n = 0; n < LeafT::SIZE; ++n) {
+      const double v = value[n];
+      if (v >= half_width) continue;  // background, inactive
+      if (v <= -half_width) {
+        leaf->setValueOff(n, -background);
+      } else {
+        leaf->setValueOn(n, static_cast<float>(v * voxel));
+      }
+    }
+    leaves[g] = leaf;
+  });
+  FloatTree& tree = grid->tree();
+  for (std::size_t g = 0; g < groups; ++g) {
+    const Pair& first = pairs[starts[g]];
+    if (interior[g] != 0) {
+      tree.addTile(1, openvdb::Coord(first.x, first.y, first.z), -background, false);
+    } else if (leaves[g] != nullptr) {
+      tree.addLeaf(leaves[g]);
+    }
+  }
+  openvdb::tools::pruneLevelSet(tree);
+  return grid;
+}
+
+FloatGrid::Ptr level_set(const ramiform::Skeleton& skeleton, const TubeComplex& tc,
+                         double voxel, double half_width) {
+#if RAMIFORM_BENCH_VDB_TUBES
+  (void)skeleton;
+  return openvdb::tools::createLevelSetTubeComplex<FloatGrid>(
+      tc.vertices, tc.segments, tc.radii, static_cast<float>(voxel),
+      static_cast<float>(half_width), openvdb::tools::TUBE_VERTEX_RADII);
+#else
+  return rasterize_round_cones(skeleton, tc, voxel, half_width);
+#endif
+}
+
+struct VdbMesh {
+  std::vector<openvdb::Vec3s> points;
+  std::vector<openvdb::Vec3I> triangles;
+  std::vector<openvdb::Vec4I> quads;
+};
+
+/// OpenVDB's polygons, converted. volumeToMesh lists them clockwise seen from outside (checked:
+/// without the flip the signed volume of a sphere comes out negative and every skeleton node has
+/// winding number -1), so each triangle and quad is reversed; a quad (a, b, c, d) becomes the
+/// triangles (d, c, b) and (d, b, a).
+ramiform::TriMesh to_trimesh(const VdbMesh& m) {
+  ramiform::TriMesh mesh;
+  mesh.positions.reserve(m.points.size());
+  for (const auto& p : m.points) mesh.positions.emplace_back(p.x(), p.y(), p.z());
+  mesh.triangles.reserve(m.triangles.size() + 2 * m.quads.size());
+  for (const auto& t : m.triangles) mesh.triangles.push_back({t[2], t[1], t[0]});
+  for (const auto& q : m.quads) {
+    mesh.triangles.push_back({q[3], q[2], q[1]});
+    mesh.triangles.push_back({q[3], q[1], q[0]});
+  }
+  return mesh;
+}
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: ramiform_bench_openvdb SKELETON VOXEL [HALF_WIDTH=3] [--out MESH]\n"
+               "  SKELETON    skeleton file (.json, .ply, or a cylinder model; see "
+               "docs/formats.md)\n"
+               "  VOXEL       voxel size in model units (> 0)\n"
+               "  HALF_WIDTH  narrow-band half width in voxels (> 0, default 3)\n"
+               "  --out MESH  also write the mesh (.ply, .obj or .off)\n");
+  return 2;
+}
+
+bool parse_positive(const char* text, double& out) {
+  char* end = nullptr;
+  out = std::strtod(text, &end);
+  return end != text && *end == '\0' && std::isfinite(out) && out > 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args;
+  std::string out_path;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--out") {
+      if (i + 1 >= argc) return usage();
+      out_path = argv[++i];
+    } else {
+      args.push_back(a);
+    }
+  }
+  if (args.size() < 2 || args.size() > 3) return usage();
+  double voxel = 0, half_width = 3;
+  if (!parse_positive(args[1].c_str(), voxel) ||
+      (args.size() == 3 && !parse_positive(args[2].c_str(), half_width))) {
+    return usage();
+  }
+  try {
+    openvdb::initialize();
+    const ramiform::Skeleton skeleton = ramiform::read_skeleton(args[0]);
+    const TubeComplex tc = tube_complex(skeleton);
+
+    constexpr int kRuns = 3;
+    double best_ls = std::numeric_limits<double>::infinity();
+    double best_mesh = best_ls, best_total = best_ls;
+    VdbMesh vdb;
+    std::size_t active_voxels = 0;
+    for (int run = 0; run < kRuns; ++run) {
+      vdb = VdbMesh{};
+      const auto t0 = Clock::now();
+      FloatGrid::Ptr grid = level_set(skeleton, tc, voxel, half_width);
+      const double ls = seconds_since(t0);
+      const auto t1 = Clock::now();
+      openvdb::tools::volumeToMesh(*grid, vdb.points, vdb.triangles, vdb.quads, 0.0);
+      const double me = seconds_since(t1);
+      best_ls = std::min(best_ls, ls);
+      best_mesh = std::min(best_mesh, me);
+      best_total = std::min(best_total, ls + me);
+      active_voxels = static_cast<std::size_t>(grid->activeVoxelCount());
+    }
+
+    const ramiform::TriMesh mesh = to_trimesh(vdb);
+    if (!out_path.empty()) ramiform::write_mesh(mesh, out_path);
+    const ramiform::MeshReport report = ramiform::check_mesh(mesh);
+    std::vector<ramiform::Vec3> nodes;
+    nodes.reserve(skeleton.nodes.size());
+    for (const auto& n : skeleton.nodes) nodes.push_back(n.position);
+    const std::vector<char> inside = ramiform::points_inside(mesh, nodes);
+    std::size_t n_inside = 0;
+    for (const char f : inside) n_inside += f != 0 ? 1 : 0;
+    const double nodes_inside =
+        nodes.empty() ? 0.0 : static_cast<double>(n_inside) / static_cast<double>(nodes.size());
+
+    std::printf(
+        "{\"voxel\": %.17g, \"half_width\": %.17g, \"seconds\": {\"level_set\": %.6f, "
+        "\"mesh\": %.6f, \"total\": %.6f}, \"triangles\": %zu, \"watertight\": %s, "
+        "\"oriented\": %s, \"manifold\": %s, \"components\": %zu, \"nodes_inside\": %.17g, "
+        "\"vertices\": %zu, \"quads\": %zu, \"active_voxels\": %zu, \"euler\": %lld, "
+        "\"boundary_edges\": %zu, \"nonmanifold_edges\": %zu, \"nonmanifold_vertices\": %zu, "
+        "\"signed_volume\": %.9g, \"skeleton_nodes\": %zu, \"skeleton_edges\": %zu, "
+        "\"level_set_method\": \"%s\", \"openvdb\": \"%s\", \"runs\": %d}\n",
+        voxel, half_width, best_ls, best_mesh, best_total, report.triangles,
+        report.watertight ? "true" : "false", report.oriented ? "true" : "false",
+        report.manifold ? "true" : "false", report.components, nodes_inside, report.vertices,
+        vdb.quads.size(), active_voxels, report.euler, report.boundary_edges,
+        report.nonmanifold_edges, report.nonmanifold_vertices, ramiform::signed_volume(mesh),
+        skeleton.nodes.size(), skeleton.edges.size(),
+        RAMIFORM_BENCH_VDB_TUBES ? "openvdb::tools::createLevelSetTubeComplex"
+                                 : "exact round-cone rasterizer (OpenVDB < 11 has no "
+                                   "LevelSetTubes.h)",
+        std::string(openvdb::getLibraryVersionString()).c_str(), kRuns);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ramiform_bench_openvdb: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,186 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+//
+// The `generate` command and `mesh` with the tetrahedral polygonizer (the default method):
+// reproducible skeletons, the tets stats, option ranges, radius errors with and without
+// --fit-radii, and `check --skeleton` on the result.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli/cli_run.h"
+#include "ramiform/io/mesh_io.h"
+#include "ramiform/io/skeleton_io.h"
+#include "ramiform/mesh/checks.h"
+#include "ramiform/skeleton/skeleton.h"
+#include "support/mesh_checkers.h"
+
+namespace ramiform {
+namespace {
+
+namespace fs = std::filesystem;
+using test::CliRun;
+using test::run_cli;
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+class MeshTetsTest : public test::CliDirTest {
+ protected:
+  /// A 31-segment branching tree written by `generate` (seed 5).
+  std::string tree31() const {
+    const std::string out = path("tree31.json");
+    const CliRun r = run_cli("generate " + out + " --segments 31 --seed 5");
+    EXPECT_EQ(r.code, 0) << r.out;
+    return out;
+  }
+  /// A small Y-fork: trunk radius 0.5, branches 0.3.
+  std::string y_fork() const {
+    return write("fork.json",
+                 R"({"nodes":[{"position":[0,0,0],"radius":0.5},{"position":[0,0,3],"radius":0.4},)"
+                 R"({"position":[-1.5,0,5],"radius":0.3},{"position":[1.5,0,5],"radius":0.3}],)"
+                 R"("edges":[[0,1],[1,2],[1,3]]})");
+  }
+};
+
+TEST_F(MeshTetsTest, GenerateIsReproducibleAndSeeded) {
+  const std::string a = path("a.json"), b = path("b.json"), c = path("c.json");
+  const CliRun ra = run_cli("generate " + a + " --segments 31 --seed 5");
+  ASSERT_EQ(ra.code, 0) << ra.out;
+  ASSERT_EQ(run_cli("generate " + b + " --segments 31 --seed 5").code, 0);
+  ASSERT_EQ(run_cli("generate " + c + " --segments 31 --seed 6").code, 0);
+  const std::string ta = read_bytes(a);
+  EXPECT_GT(ta.size(), 100u);
+  EXPECT_EQ(ta, read_bytes(b));
+  EXPECT_NE(ta, read_bytes(c));
+  const Skeleton s = read_skeleton(a);
+  EXPECT_EQ(s.edge_count(), 31u);
+  EXPECT_EQ(s.node_count(), 32u);
+  EXPECT_EQ(connected_components(s).count, 1u);
+  EXPECT_NE(ra.out.find("31 edges"), std::string::npos) << ra.out;
+}
+
+TEST_F(MeshTetsTest, MeshUsesTetsByDefaultAndReportsItsStats) {
+  const std::string skel = tree31();
+  const CliRun r = run_cli("mesh " + skel + " -o " + path("m.ply") + " --levels 2 --stats " +
+                           path("s.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const TriMesh mesh = read_mesh(path("m.ply"));
+  const MeshReport rep = check_mesh(mesh);
+  EXPECT_TRUE(rep.watertight) << test::describe(rep);
+  EXPECT_TRUE(rep.oriented) << test::describe(rep);
+  EXPECT_TRUE(rep.manifold) << test::describe(rep);
+  EXPECT_EQ(rep.components, 1u);
+  const auto st = read_json(path("s.json"));
+  EXPECT_EQ(st["method"], "tets");
+  EXPECT_EQ(st["levels"].get<int>(), 2);
+  EXPECT_GT(st["region_tets"].get<std::size_t>(), 0u);
+  EXPECT_GE(st["grown_tets"].get<std::size_t>(), 0u);
+  EXPECT_FALSE(st["holes_left"].get<bool>());
+  EXPECT_EQ(st["triangles"].get<std::size_t>(), mesh.triangle_count());
+  EXPECT_EQ(st["vertices"].get<std::size_t>(), mesh.vertex_count());
+  EXPECT_GT(st["field_evals"].get<std::uint64_t>(), 0u);
+  EXPECT_TRUE(st["watertight"].get<bool>());
+  EXPECT_EQ(st["components"].get<std::size_t>(), 1u);
+  EXPECT_FALSE(st.contains("radius_error_median"));  // only on request
+
+  const CliRun c = run_cli("check " + path("m.ply") + " --skeleton " + skel + " --json");
+  ASSERT_EQ(c.code, 0) << c.out;
+  const auto j = nlohmann::json::parse(c.out);
+  EXPECT_DOUBLE_EQ(j["skeleton_nodes_inside"].get<double>(), 1.0);
+  EXPECT_TRUE(j["watertight"].get<bool>());
+  EXPECT_EQ(j["euler"].get<int>(), 2);
+}
+
+TEST_F(MeshTetsTest, LevelsOutOfRangeAreUsageErrors) {
+  const std::string skel = y_fork();
+  for (const char* levels : {"9", "7", "-1"}) {
+    const CliRun r = run_cli("mesh " + skel + " -o " + path("m.ply") + " --levels " + levels);
+    EXPECT_EQ(r.code, 1) << "--levels " << levels << ": " << r.out;
+    EXPECT_NE(r.out.find("--levels"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(path("m.ply")));
+  }
+}
+
+TEST_F(MeshTetsTest, MarchingCubesMethodStillWorks) {
+  const std::string skel = y_fork();
+  const CliRun r = run_cli("mesh " + skel + " -o " + path("m.ply") +
+                           " --method mc --resolution 48 --stats " + path("s.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto st = read_json(path("s.json"));
+  EXPECT_EQ(st["method"], "mc");
+  EXPECT_TRUE(st["watertight"].get<bool>());
+  EXPECT_TRUE(st.contains("cell_size"));
+  EXPECT_FALSE(st.contains("region_tets"));
+  const MeshReport rep = check_mesh(read_mesh(path("m.ply")));
+  EXPECT_TRUE(rep.watertight);
+  EXPECT_EQ(rep.euler, 2);
+}
+
+TEST_F(MeshTetsTest, NoCleanupKeepsTheMeshClosed) {
+  const std::string skel = y_fork();
+  ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("c.ply") + " --levels 2 --stats " +
+                    path("c.json")).code, 0);
+  const CliRun r = run_cli("mesh " + skel + " -o " + path("n.ply") +
+                           " --levels 2 --no-cleanup --stats " + path("n.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto cleaned = read_json(path("c.json"));
+  const auto raw = read_json(path("n.json"));
+  EXPECT_TRUE(raw["watertight"].get<bool>());
+  EXPECT_TRUE(cleaned["watertight"].get<bool>());
+  EXPECT_FALSE(raw.contains("cleanup_collapsed_edges"));
+  EXPECT_GT(cleaned["cleanup_collapsed_edges"].get<std::size_t>(), 0u);
+  EXPECT_LT(cleaned["triangles"].get<std::size_t>(), raw["triangles"].get<std::size_t>());
+  EXPECT_GT(cleaned["min_angle_deg"].get<double>(), raw["min_angle_deg"].get<double>());
+}
+
+TEST_F(MeshTetsTest, FitRadiiBringsTheSurfaceToTheRequestedRadii) {
+  const std::string skel = y_fork();
+  const CliRun plain = run_cli("mesh " + skel + " -o " + path("p.ply") +
+                               " --levels 1 --radius-error --stats " + path("p.json"));
+  ASSERT_EQ(plain.code, 0) << plain.out;
+  const CliRun fitted = run_cli("mesh " + skel + " -o " + path("f.ply") +
+                                " --levels 1 --fit-radii --stats " + path("f.json"));
+  ASSERT_EQ(fitted.code, 0) << fitted.out;
+  const auto p = read_json(path("p.json"));
+  const auto f = read_json(path("f.json"));
+  for (const auto* st : {&p, &f}) {
+    ASSERT_TRUE(st->contains("radius_error_median"));
+    ASSERT_TRUE(st->contains("radius_error_max"));
+    const double median = (*st)["radius_error_median"].get<double>();
+    const double max = (*st)["radius_error_max"].get<double>();
+    EXPECT_TRUE(std::isfinite(median) && median >= 0.0) << median;
+    EXPECT_GE(max, median);
+    EXPECT_TRUE((*st)["watertight"].get<bool>());
+  }
+  const double before = p["radius_error_median"].get<double>();
+  const double after = f["radius_error_median"].get<double>();
+  std::printf("Y-fork radius error median: %.4f without fit, %.4f with --fit-radii "
+              "(max %.4f, %.4f)\n",
+              before, after, p["radius_error_max"].get<double>(),
+              f["radius_error_max"].get<double>());
+  EXPECT_LT(after, before);
+  EXPECT_LT(after, 0.03);
+  EXPECT_TRUE(f.contains("fit"));
+  // Meshing follows the split skeleton; check against the original one.
+  const CliRun c = run_cli("check " + path("f.ply") + " --skeleton " + skel + " --json");
+  ASSERT_EQ(c.code, 0) << c.out;
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(c.out)["skeleton_nodes_inside"].get<double>(), 1.0);
+}
+
+}  // namespace
+}  // namespace ramiform
