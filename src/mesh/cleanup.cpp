@@ -21,16 +21,17 @@ namespace {
 using Tri = std::array<std::uint32_t, 3>;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Smallest corner angle (radians) of the triangle a, b, c; 0 when degenerate. It is the angle
-// opposite the shortest edge.
-double min_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
+// The sine of the smallest corner angle of the triangle a, b, c (the corner opposite the
+// shortest edge, at most 60 degrees, where the sine is increasing: a cheap stand-in for the
+// angle in comparisons); 0 when degenerate.
+double min_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, bc = c - b, ca = a - c;
   const double lab = ab.squaredNorm(), lbc = bc.squaredNorm(), lca = ca.squaredNorm();
   const double cross = ab.cross(-ca).norm();
   if (!(cross > tol::kCoincident * std::max({lab, lbc, lca}))) return 0.0;
-  if (lbc <= lab && lbc <= lca) return std::atan2(cross, ab.dot(-ca));  // at a
-  if (lca <= lab) return std::atan2(cross, bc.dot(-ab));                // at b
-  return std::atan2(cross, ca.dot(-bc));                                // at c
+  if (lbc <= lab && lbc <= lca) return cross / std::sqrt(lab * lca);  // at a
+  if (lca <= lab) return cross / std::sqrt(lab * lbc);                // at b
+  return cross / std::sqrt(lbc * lca);                                // at c
 }
 
 struct Candidate {
@@ -55,7 +56,8 @@ class Collapser {
         extra_(mesh.positions.size()),
         mark_(mesh.positions.size(), 0),
         moved_(mesh.positions.size(), 0),
-        min_angle_(o.min_angle_deg * kDeg),
+        touched_(mesh.positions.size(), 0),
+        min_angle_(std::sin(o.min_angle_deg * kDeg)),
         max_edge_ratio_(o.max_edge_ratio),
         cos_turn_(std::cos(o.max_normal_turn_deg * kDeg)) {
     // Vertex -> triangles as one compressed table; triangles that gain a vertex later are
@@ -72,30 +74,42 @@ class Collapser {
   }
 
   // One sweep over the needles' shortest edges; returns the number of collapses.
-  std::size_t sweep() {
-    std::vector<Candidate> candidates;
-    for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t) {
-      if (alive_[t] == 0) continue;
-      const Tri& f = mesh_.triangles[t];
-      if (angle_of(f) >= min_angle_) continue;
-      int best = 0;
-      double best_len = INFINITY, longest = 0;
-      for (int k = 0; k < 3; ++k) {
-        const double len = (pos(f[k]) - pos(f[(k + 1) % 3])).norm();
-        if (len < best_len) best_len = len, best = k;
-        longest = std::max(longest, len);
+  // One sweep over the needles' shortest edges; returns the number of changes. After the first
+  // sweep only needles next to a change of the previous sweep are looked at: the others were
+  // already refused and nothing around them moved.
+  std::size_t sweep(bool first) {
+    constexpr std::size_t kGrain = 16384;
+    const std::size_t n = mesh_.triangles.size();
+    std::vector<std::vector<Candidate>> parts((n + kGrain - 1) / kGrain);
+    parallel::for_chunks(n, kGrain, [&](std::size_t b, std::size_t e) {
+      auto& out = parts[b / kGrain];
+      for (auto t = static_cast<std::uint32_t>(b); t < e; ++t) {
+        if (alive_[t] == 0) continue;
+        const Tri& f = mesh_.triangles[t];
+        if (!first && touched_[f[0]] == 0 && touched_[f[1]] == 0 && touched_[f[2]] == 0) continue;
+        if (angle_of(f) >= min_angle_) continue;
+        int best = 0;
+        double best_len = INFINITY, longest = 0;
+        for (int k = 0; k < 3; ++k) {
+          const double len = (pos(f[k]) - pos(f[(k + 1) % 3])).norm();
+          if (len < best_len) best_len = len, best = k;
+          longest = std::max(longest, len);
+        }
+        const std::uint32_t a = f[best], c = f[(best + 1) % 3];
+        // A needle proper has one short edge: that one may collapse. A cap's shortest edge is
+        // not short (its other two edges are), and collapsing it would move the surface: it
+        // only gets its longest edge flipped.
+        const bool short_edge = best_len < max_edge_ratio_ * longest;
+        out.push_back({best_len, std::min(a, c), std::max(a, c), t, short_edge});
       }
-      const std::uint32_t a = f[best], b = f[(best + 1) % 3];
-      // A needle proper has one short edge: that one may collapse. A cap's shortest edge is
-      // not short (its other two edges are), and collapsing it would move the surface: it
-      // only gets its longest edge flipped.
-      const bool short_edge = best_len < max_edge_ratio_ * longest;
-      candidates.push_back({best_len, std::min(a, b), std::max(a, b), t, short_edge});
-    }
+    });
+    std::vector<Candidate> candidates;
+    for (auto& p : parts) candidates.insert(candidates.end(), p.begin(), p.end());
     tbb::parallel_sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end(),
                                  [](const Candidate& x, const Candidate& y) { return x.u == y.u && x.v == y.v; }),
                      candidates.end());
+    std::fill(touched_.begin(), touched_.end(), 0);
     std::size_t done = 0;
     for (const Candidate& c : candidates) {
       if (removed_[c.u] != 0 || removed_[c.v] != 0) continue;
@@ -139,7 +153,7 @@ class Collapser {
 
  private:
   const Vec3& pos(std::uint32_t v) const { return mesh_.positions[v]; }
-  double angle_of(const Tri& f) const { return min_angle(pos(f[0]), pos(f[1]), pos(f[2])); }
+  double angle_of(const Tri& f) const { return min_angle_sine(pos(f[0]), pos(f[1]), pos(f[2])); }
 
   // Alive triangles around v, ascending. The result lives until the next call but one. Once a
   // vertex has gained triangles, its whole list moves to extra_ and is pruned on every visit,
@@ -207,7 +221,7 @@ class Collapser {
       }
       const Vec3 n1 = (p[1] - p[0]).cross(p[2] - p[0]);
       if (!(n0.dot(n1) > cos_turn_ * n0.norm() * n1.norm())) return -1;
-      const double a = min_angle(p[0], p[1], p[2]);
+      const double a = min_angle_sine(p[0], p[1], p[2]);
       if (a <= 0) return -1;
       worst_new = std::min(worst_new, a);
     }
@@ -254,6 +268,9 @@ class Collapser {
       extra_[y].push_back(t);
     }
     removed_[x] = 1;
+    for (const std::uint32_t t : around(y)) {
+      for (const std::uint32_t w : mesh_.triangles[t]) touched_[w] = 1;
+    }
     return true;
   }
 
@@ -298,6 +315,7 @@ class Collapser {
     mesh_.triangles[t2] = g2;
     extra_[c].push_back(t2);  // a and b lose a triangle: around() filters it out
     extra_[d].push_back(t1);
+    touched_[a] = touched_[b] = touched_[c] = touched_[d] = 1;
     return true;
   }
 
@@ -310,8 +328,9 @@ class Collapser {
   unsigned flip_ = 0;
   std::vector<std::uint32_t> mark_;
   std::vector<char> moved_;
+  std::vector<char> touched_;  // vertices next to a change of the current sweep
   std::uint32_t stamp_ = 0;
-  double min_angle_;
+  double min_angle_;  // as a sine, see min_angle_sine()
   double max_edge_ratio_;
   double cos_turn_;
 };
@@ -364,7 +383,7 @@ void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& o, NeedleCleanupSt
   st.median_angle_before = before.median_deg;
   Collapser c(mesh, o);
   for (int pass = 0; pass < o.passes; ++pass) {
-    const std::size_t n = c.sweep();
+    const std::size_t n = c.sweep(pass == 0);
     st.collapsed_edges += n;
     if (n == 0) break;
   }

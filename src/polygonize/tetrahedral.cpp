@@ -488,14 +488,14 @@ Vec3 lattice_point(const TetPoints& c, const Bary& w, double inv_m) {
 
 // Figure 4 on barycentric leaves: four corner tetrahedra, then the octahedron of the six edge
 // midpoints split along its shortest diagonal (m1m6, m2m5 or m3m4), measured in model space.
-void split_1_to_8(const BaryTet& t, const TetPoints& c, double inv_m, std::vector<BaryTet>& out) {
+template <class At>
+void split_1_to_8(const BaryTet& t, At&& at, std::vector<BaryTet>& out) {
   const Bary m1 = midpoint(t[0], t[1]), m2 = midpoint(t[0], t[2]), m3 = midpoint(t[0], t[3]);
   const Bary m4 = midpoint(t[1], t[2]), m5 = midpoint(t[1], t[3]), m6 = midpoint(t[2], t[3]);
   out.push_back({t[0], m1, m2, m3});
   out.push_back({t[1], m1, m4, m5});
   out.push_back({t[2], m2, m4, m6});
   out.push_back({t[3], m3, m5, m6});
-  auto at = [&](const Bary& w) { return lattice_point(c, w, inv_m); };
   const double d16 = (at(m1) - at(m6)).squaredNorm();
   const double d25 = (at(m2) - at(m5)).squaredNorm();
   const double d34 = (at(m3) - at(m4)).squaredNorm();
@@ -518,6 +518,33 @@ struct LatticeScratch {
   std::vector<BaryTet> leaves, next;
   std::vector<std::uint32_t> stamp, id;
   std::uint32_t generation = 0;
+};
+
+// The lattice points of one region tetrahedron, each registered (position computed, appended
+// to the chunk's batch) on first use through the stamped table.
+struct LatticeIndex {
+  LatticeScratch& sc;
+  std::size_t side;
+  const TetPoints& corners;
+  double inv_m;
+  std::vector<Vec3>& batch;
+  std::vector<Vec3>& bary;
+  std::vector<std::uint8_t>& faces;
+  std::size_t base;
+
+  std::uint32_t id(const Bary& w) {
+    const std::size_t key = (w[1] * side + w[2]) * side + w[3];
+    if (sc.stamp[key] != sc.generation) {
+      sc.stamp[key] = sc.generation;
+      sc.id[key] = static_cast<std::uint32_t>(batch.size() - base);
+      batch.push_back(lattice_point(corners, w, inv_m));
+      bary.emplace_back(w[1], w[2], w[3]);
+      faces.push_back(static_cast<std::uint8_t>((w[0] == 0 ? 1 : 0) | (w[1] == 0 ? 2 : 0) |
+                                                (w[2] == 0 ? 4 : 0) | (w[3] == 0 ? 8 : 0)));
+    }
+    return sc.id[key];
+  }
+  const Vec3& at(const Bary& w) { return batch[base + id(w)]; }
 };
 
 // Subdivides, evaluates and marches the region tetrahedra [begin, end) into `out`.
@@ -558,34 +585,22 @@ void extract_chunk(const Field& field, const std::vector<Vec3>& pts, const std::
     }
     live_slot.push_back(r - begin);
     live_flip.push_back((c[1] - c[0]).cross(c[2] - c[0]).dot(c[3] - c[0]) < 0 ? 1 : 0);
-    sc.leaves.assign(1, root);
-    for (int level = 0; level < o.levels; ++level) {
-      sc.next.clear();
-      for (const auto& l : sc.leaves) split_1_to_8(l, c, inv_m, sc.next);
-      std::swap(sc.leaves, sc.next);
-    }
     if (++sc.generation == 0) {  // stamps wrapped: clear once
       std::fill(sc.stamp.begin(), sc.stamp.end(), 0);
       sc.generation = 1;
     }
     const std::size_t base = batch.size();
     batch_begin.push_back(base);
+    LatticeIndex lattice{sc, side, c, inv_m, batch, corner_bary, corner_faces, base};
+    auto at = [&](const Bary& w) { return lattice.at(w); };
+    sc.leaves.assign(1, root);
+    for (int level = 0; level < o.levels; ++level) {
+      sc.next.clear();
+      for (const auto& l : sc.leaves) split_1_to_8(l, at, sc.next);
+      std::swap(sc.leaves, sc.next);
+    }
     for (const auto& l : sc.leaves) {
-      std::array<std::uint32_t, 4> ids{};
-      for (int k = 0; k < 4; ++k) {
-        const Bary& w = l[k];
-        const std::size_t key = (w[1] * side + w[2]) * side + w[3];
-        if (sc.stamp[key] != sc.generation) {
-          sc.stamp[key] = sc.generation;
-          sc.id[key] = static_cast<std::uint32_t>(batch.size() - base);
-          batch.push_back(lattice_point(c, w, inv_m));
-          corner_bary.emplace_back(w[1], w[2], w[3]);
-          corner_faces.push_back(static_cast<std::uint8_t>((w[0] == 0 ? 1 : 0) | (w[1] == 0 ? 2 : 0) |
-                                                           (w[2] == 0 ? 4 : 0) | (w[3] == 0 ? 8 : 0)));
-        }
-        ids[k] = sc.id[key];
-      }
-      leaf_ids.push_back(ids);
+      leaf_ids.push_back({lattice.id(l[0]), lattice.id(l[1]), lattice.id(l[2]), lattice.id(l[3])});
     }
   }
   batch_begin.push_back(batch.size());
@@ -702,6 +717,26 @@ void merge_outputs(std::vector<ChunkOutput>& outs, TetrahedralStats& st,
       ctx);
 }
 
+// Numbers vertices in the order the triangles first use them. The crossing edges come out of
+// their sort ordered by position along x, which scatters every vertex's neighbours across the
+// array; triangles come region tetrahedron by region tetrahedron, so this order keeps
+// neighbours close in memory (the cleanup and every later pass over the mesh run faster).
+void renumber_by_first_use(TriMesh& mesh) {
+  std::vector<std::uint32_t> remap(mesh.positions.size(), UINT32_MAX);
+  std::vector<Vec3> positions;
+  positions.reserve(mesh.positions.size());
+  for (auto& t : mesh.triangles) {
+    for (auto& v : t) {
+      if (remap[v] == UINT32_MAX) {
+        remap[v] = static_cast<std::uint32_t>(positions.size());
+        positions.push_back(mesh.positions[v]);
+      }
+      v = remap[v];
+    }
+  }
+  mesh.positions = std::move(positions);
+}
+
 // Removes the small components (each under 1 % of the triangles) that enclose no skeleton
 // node: blobs where the field rises above the iso value away from the skeleton, mostly next to
 // fitted joints. Returns how many were removed.
@@ -737,19 +772,8 @@ std::size_t drop_strays(TriMesh& mesh, const Skeleton& skeleton, Context* ctx) {
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     if (keep[comps.label[t]] != 0) tris.push_back(mesh.triangles[t]);
   }
-  std::vector<std::uint32_t> remap(mesh.positions.size(), UINT32_MAX);
-  std::vector<Vec3> positions;
-  for (auto& t : tris) {
-    for (auto& v : t) {
-      if (remap[v] == UINT32_MAX) {
-        remap[v] = static_cast<std::uint32_t>(positions.size());
-        positions.push_back(mesh.positions[v]);
-      }
-      v = remap[v];
-    }
-  }
-  mesh.positions = std::move(positions);
   mesh.triangles = std::move(tris);
+  renumber_by_first_use(mesh);  // drops the vertices of the removed components
   return dropped;
 }
 
@@ -899,6 +923,7 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
         }
       },
       ctx);
+  renumber_by_first_use(mesh);
   st.seconds_extract = seconds_since(clock);
   if (options.cleanup) {
     NeedleCleanupStats cs;
