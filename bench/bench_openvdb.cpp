@@ -14,20 +14,22 @@
 // one JSON object on stdout. With --out, the converted mesh is also written (ramiform::write_mesh:
 // .ply, .obj, .off), e.g. for `ramiform check MESH --skeleton SKELETON --json`.
 //
-// Level set: OpenVDB >= 11 has tools::createLevelSetTubeComplex (openvdb/tools/LevelSetTubes.h),
-// which is used when the header exists. OpenVDB 10 (Debian bookworm's libopenvdb-dev 10.0.1)
+// Level set: newer OpenVDB releases have tools::createLevelSetTubeComplex
+// (openvdb/tools/LevelSetTubes.h; in the 12.x and 13.x documentation), which is used when the
+// header exists (that branch is untested here). OpenVDB 10.0.1 (Debian bookworm's libopenvdb-dev)
 // does not have it; there, `rasterize_round_cones` below builds the same grid: in every leaf
 // node (8^3 voxels) touched by a cone's bounding box grown by the band, each voxel gets the
 // minimum over those cones of the exact signed distance (clamped to +-HALF_WIDTH * VOXEL),
 // voxels inside the band are active, voxels deeper inside are inactive at -background, and
-// leaves without a value below the background are dropped; tools::pruneLevelSet then collapses
-// uniform interior leaves into tiles. That is the level set createLevelSetTubeComplex defines
-// (exact distance to the tapered capsules, union by minimum), so the mesh stage sees the same
-// input; only the level_set seconds measure our rasterizer instead of OpenVDB's scanline one.
-// The JSON field "level_set_method" says which one ran.
+// leaves without a value below the background are dropped; a leaf whose centre lies deeper than
+// the band plus its half diagonal inside a cone becomes an inactive interior tile, and
+// tools::pruneLevelSet collapses uniform interior nodes. That is the level set
+// createLevelSetTubeComplex defines (exact distance to the tapered capsules, union by minimum), so
+// the mesh stage sees the same input; only the level_set seconds measure our rasterizer instead of
+// OpenVDB's scanline one. The JSON field "level_set_method" says which one ran.
 //
-// OpenVDB is MPL-2.0 (10.x) / Apache-2.0 (>= 11): linked into this benchmark only, never into
-// the ramiform library.
+// OpenVDB (MPL-2.0 in 10.x, Apache-2.0 in newer releases) is linked into this benchmark only,
+// never into the ramiform library.
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Prune.h>
@@ -140,8 +142,7 @@ TubeComplex tube_complex(const ramiform::Skeleton& skeleton) {
   TubeComplex tc;
   std::vector<char> has_edge(skeleton.nodes.size(), 0);
   for (const auto& n : skeleton.nodes) {
-    tc.vertices.emplace_back(static_cast<float>(n.position.x()),
-                             static_cast<float>(n.position.y()),
+    tc.vertices.emplace_back(static_cast<float>(n.position.x()), static_cast<float>(n.position.y()),
                              static_cast<float>(n.position.z()));
     tc.radii.push_back(static_cast<float>(n.radius));
   }
@@ -248,9 +249,9 @@ FloatGrid::Ptr rasterize_round_cones(const ramiform::Skeleton& skeleton, const T
       for (int x = x0; x <= x1; ++x) {
         for (int y = y0; y <= y1; ++y) {
           for (int z = z0; z <= z1; ++z) {
-            const auto n = static_cast<std::size_t>(((x - first.x) << (2 * LeafT::LOG2DIM)) +
-                                                    ((y - first.y) << LeafT::LOG2DIM) +
-                                                    (z - first.z));
+            const auto n =
+                static_cast<std::size_t>(((x - first.x) << (2 * LeafT::LOG2DIM)) +
+                                         ((y - first.y) << LeafT::LOG2DIM) + (z - first.z));
             value[n] = std::min(value[n], cone.distance(openvdb::Vec3d(x, y, z)));
           }
         }
@@ -284,13 +285,13 @@ FloatGrid::Ptr rasterize_round_cones(const ramiform::Skeleton& skeleton, const T
   return grid;
 }
 
-FloatGrid::Ptr level_set(const ramiform::Skeleton& skeleton, const TubeComplex& tc,
-                         double voxel, double half_width) {
+FloatGrid::Ptr level_set(const ramiform::Skeleton& skeleton, const TubeComplex& tc, double voxel,
+                         double half_width) {
 #if RAMIFORM_BENCH_VDB_TUBES
   (void)skeleton;
   return openvdb::tools::createLevelSetTubeComplex<FloatGrid>(
-      tc.vertices, tc.segments, tc.radii, static_cast<float>(voxel),
-      static_cast<float>(half_width), openvdb::tools::TUBE_VERTEX_RADII);
+      tc.vertices, tc.segments, tc.radii, static_cast<float>(voxel), static_cast<float>(half_width),
+      openvdb::tools::TUBE_VERTEX_RADII);
 #else
   return rasterize_round_cones(skeleton, tc, voxel, half_width);
 #endif
@@ -407,7 +408,7 @@ int main(int argc, char** argv) {
         report.nonmanifold_edges, report.nonmanifold_vertices, ramiform::signed_volume(mesh),
         skeleton.nodes.size(), skeleton.edges.size(),
         RAMIFORM_BENCH_VDB_TUBES ? "openvdb::tools::createLevelSetTubeComplex"
-                                 : "exact round-cone rasterizer (OpenVDB < 11 has no "
+                                 : "exact round-cone rasterizer (this OpenVDB has no "
                                    "LevelSetTubes.h)",
         std::string(openvdb::getLibraryVersionString()).c_str(), kRuns);
   } catch (const std::exception& e) {

@@ -53,7 +53,7 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
     for (std::size_t q = 0; q < active.size(); ++q) {
       const std::uint32_t e = active[q];
       const double g = std::isnan(values[q]) ? 0.0 : values[q] - iso;
-      if (g == 0.0) {  // exactly on the surface
+      if (std::abs(g) <= tol::kRootValue * std::abs(iso)) {  // on the surface
         ta[e] = tb[e] = t[e];
         fa[e] = fb[e] = 0.0;
         continue;

@@ -33,6 +33,10 @@ inline constexpr double kFiniteDifference = 1e-6;
 /// Relative tolerance (times the edge length) of the root finding that places polygonizer
 /// vertices on the surface.
 inline constexpr double kRootFinding = 1e-7;
+/// The root finding also stops once |f - iso| is below this fraction of iso: the vertex is then
+/// within about 1e-8 of a branch radius of the surface, and steep fields (the convolution field
+/// near thin branches) no longer spend every round shrinking the bracket.
+inline constexpr double kRootValue = 1e-8;
 
 // Cylinder-model import (io/qsm_io.h), as fractions of the local cylinder radius r. Chosen on
 // archi_Tree_1_TreeQSM.txt, where the start of a branch's next cylinder lies a median 0.27 r
