@@ -16,8 +16,9 @@ namespace ramiform::detail {
 /// fb[e] at t = 1), where exactly one end is inside (f > iso), returns the point where f = iso,
 /// found by `steps` rounds of Illinois regula falsi with bisection safeguard; every round
 /// evaluates all unconverged edges in one batch and an edge stops once its bracket in t is at
-/// most tol::kRootFinding. Steps = 0 gives linear interpolation. A NaN value counts as on the
-/// surface. Adds the evaluations made to `evaluations`. `d`, `fa` and `fb` have the size of `a`.
+/// most tol::kRootFinding or |f - iso| at the last point is at most tol::kRootValue |iso|.
+/// Steps = 0 gives linear interpolation. A NaN value counts as on the surface. Adds the
+/// evaluations made to `evaluations`. `d`, `fa` and `fb` have the size of `a`.
 std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Vec3>& a,
                                         const std::vector<Vec3>& d, std::vector<double> fa,
                                         std::vector<double> fb, int steps,

@@ -927,7 +927,9 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
   st.seconds_extract = seconds_since(clock);
   if (options.cleanup) {
     NeedleCleanupStats cs;
-    clean_needles(mesh, {}, &cs);
+    NeedleCleanupOptions co;
+    co.measure_after = false;  // the caller's mesh check measures the result
+    clean_needles(mesh, co, &cs);
     st.collapsed_edges = cs.collapsed_edges;
     st.min_angle_before = cs.min_angle_before;
     st.median_angle_before = cs.median_angle_before;

@@ -16,8 +16,8 @@
 /// A needle whose short edge may not collapse (a cap, with one angle near 180 degrees) has its
 /// longest edge flipped instead when that improves the smallest angle of the two triangles.
 /// The kept end point stays where it was (a vertex already on the surface), so the surface is
-/// not moved off the iso-surface. Candidates are visited shortest first (ties by vertex
-/// index), so the result is deterministic.
+/// not moved off the iso-surface. Candidates are visited in triangle order (polygonizers emit
+/// triangles cell by cell, so this walks the mesh in space), and the result is deterministic.
 
 #include <cstddef>
 
@@ -35,6 +35,9 @@ struct NeedleCleanupOptions {
   /// (in (0, 1)); other needles (caps) can only have their longest edge flipped.
   double max_edge_ratio = 0.35;
   int passes = 3;  ///< sweeps over the candidates (>= 1); later sweeps catch new needles
+  /// Also measure the angles afterwards (stats min/median_angle_after; costs a pass of atan2
+  /// over the whole mesh, which callers that check the mesh anyway can skip).
+  bool measure_after = true;
 };
 
 /// What clean_needles() did, with the angle quality before and after.
@@ -43,7 +46,7 @@ struct NeedleCleanupStats {
   std::size_t removed_triangles = 0;
   std::size_t flipped_edges = 0;  ///< longest edges of caps flipped (counted in collapsed_edges too)
   double min_angle_before = 0, median_angle_before = 0;  ///< degrees
-  double min_angle_after = 0, median_angle_after = 0;    ///< degrees
+  double min_angle_after = 0, median_angle_after = 0;    ///< degrees (if measure_after)
 };
 
 /// Smallest and median corner angle of a mesh, degrees (0, 0 for an empty mesh).

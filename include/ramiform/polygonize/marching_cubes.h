@@ -44,7 +44,8 @@ struct MarchingCubesOptions {
   /// side by less than one cell).
   Aabb box;
   /// Root-finding steps per crossing edge (0 = linear interpolation of the corner values);
-  /// steps stop early once the bracket is below tol::kRootFinding times the cell size. 0..64.
+  /// steps stop early once the bracket is below tol::kRootFinding times the cell size or
+  /// |f - iso| is at most tol::kRootValue |iso|. 0..64.
   int root_steps = 6;
   /// Cells along each side of a block (the unit of bound-based skipping and batching), 2..64.
   int block_cells = 16;
