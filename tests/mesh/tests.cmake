@@ -1,3 +1,4 @@
 set(RAMIFORM_mesh_TESTS
   mesh/checks_test.cpp
+  mesh/cleanup_test.cpp
   mesh/winding_test.cpp)
