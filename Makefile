@@ -33,10 +33,10 @@ sanitize: deps
 	cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
 	  ctest --output-on-failure -j $(JOBS) --timeout 1200
 
-# The Google Benchmarks, then (when OpenVDB is installed: scripts/install-bench-deps.sh) the
+# The Google Benchmarks, then (when OpenVDB is installed: scripts/install-deps.sh --bench) the
 # OpenVDB comparison on a 1500-segment tree with 4 mm twigs at a voxel equal to the twig radius.
 bench:
-	@bash scripts/install-bench-deps.sh
+	@bash scripts/install-deps.sh --bench
 	@$(MAKE) --no-print-directory build
 	@for b in $(BUILD_DIR)/bench/ramiform_bench_*; do \
 	  case $$b in *_openvdb) continue ;; esac; echo "== $$b"; $$b; done

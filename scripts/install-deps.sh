@@ -1,11 +1,21 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # Copyright (c) 2026 the ramiform authors
-# Installs the Debian packages ramiform needs, if any are missing. Safe to run repeatedly.
+# Installs the Debian packages ramiform needs, if any are missing (`--bench`: also those of the
+# optional OpenVDB comparison benchmark). Safe to run repeatedly.
 set -euo pipefail
 
 packages=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libnanoflann-dev
           libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev libhwy-dev libqhull-dev)
+
+# `--bench`: also the optional comparison benchmark's OpenVDB (MPL-2.0; linked into
+# bench/bench_openvdb.cpp only, never into the library; `make test` never needs it).
+# libopenvdb-dev (10.0.1 on bookworm) does not depend on what its headers and CMake module need:
+# Boost.Iostreams (FindOpenVDB.cmake requires it; the headers include Boost) and log4cplus
+# (libopenvdb links it). Hence the two extra packages.
+if [ "${1:-}" = "--bench" ]; then
+  packages+=(libopenvdb-dev libboost-iostreams-dev liblog4cplus-dev)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
