@@ -3,10 +3,12 @@
 # Copyright (c) 2026 the ramiform authors
 #
 # tets against mc on generated trees (and the real cylinder models when ../shared/data/trees
-# exists): time, field evaluations, triangles, components and the fraction of skeleton nodes
-# inside the mesh ("twigs kept": a twig that marching cubes loses leaves its nodes outside).
-# mc runs at the coarsest cell that still keeps every node inside (searched by halving from the
-# smallest node radius x 4) and at the cell that gives about tets' triangle count.
+# exists): time, field evaluations, triangles, components and the fraction of edge midpoints
+# inside the mesh ("twigs kept": a twig that marching cubes loses leaves its midpoint outside;
+# nodes are not used because a free end of a convolution surface pulls in to about its tip
+# node, which then sits on the surface). mc runs at the coarsest cell that still keeps every
+# midpoint inside (searched by halving from the smallest node radius x 4, not below 1/1024 of
+# the tree's longest side) and at the cell that gives about tets' triangle count.
 # Usage: bench/compare_polygonizers.sh [BUILD_DIR] [OUT.md]     (prints a markdown table)
 set -euo pipefail
 build=${1:-build}
@@ -16,13 +18,25 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 root=$(cd "$(dirname "$0")/.." && pwd)
 
+# The edge midpoints of a skeleton as a skeleton of isolated nodes (for `ramiform check`).
+midpoints() {
+  python3 - "$1" "$2" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+n = s["nodes"]
+mids = [{"position": [(n[a]["position"][k] + n[b]["position"][k]) / 2 for k in range(3)],
+         "radius": min(n[a]["radius"], n[b]["radius"])} for a, b in s["edges"]]
+json.dump({"nodes": mids, "edges": []}, open(sys.argv[2], "w"))
+PY
+}
+
 json() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval(sys.argv[2]))" "$@"; }
 
 row() {  # name method skeleton extra-args...
   local name=$1 method=$2 skel=$3
   shift 3
   "$bin" mesh "$skel" --method "$method" "$@" -o "$work/m.ply" --stats "$work/s.json" >/dev/null
-  "$bin" check "$work/m.ply" --skeleton "$skel" --json >"$work/c.json"
+  "$bin" check "$work/m.ply" --skeleton "${skel%.json}.mid.json" --json >"$work/c.json"
   printf '| %s | %s %s | %.2f | %s | %s | %s | %s | %.4f |\n' "$name" "$method" "$*" \
     "$(json "$work/s.json" "d['seconds']['polygonize']")" "$(json "$work/s.json" "d['field_evals']")" \
     "$(json "$work/s.json" "d['triangles']")" "$(json "$work/c.json" "d['watertight']")" \
@@ -31,7 +45,7 @@ row() {  # name method skeleton extra-args...
 
 inside() {  # skeleton cell -> fraction of nodes inside the mc mesh
   "$bin" mesh "$1" --method mc --cell "$2" -o "$work/p.ply" >/dev/null
-  "$bin" check "$work/p.ply" --skeleton "$1" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['skeleton_nodes_inside'])"
+  "$bin" check "$work/p.ply" --skeleton "${1%.json}.mid.json" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['skeleton_nodes_inside'])"
 }
 
 compare() {  # name skeleton levels... (mc is matched to the last level's triangle count)
@@ -39,12 +53,20 @@ compare() {  # name skeleton levels... (mc is matched to the last level's triang
   shift 2
   local rmin cell tris levels last
   last=${*: -1}
+  midpoints "$skel" "${skel%.json}.mid.json"
   rmin=$(python3 -c "import json,sys; print(min(n['radius'] for n in json.load(open(sys.argv[1]))['nodes']))" "$skel")
   for levels in "$@"; do row "$name" tets "$skel" --levels "$levels"; done
-  # Coarsest mc cell keeping every node inside: halve from 4 x the smallest radius.
+  # Coarsest mc cell keeping every node inside: halve from 4 x the smallest radius, but not
+  # below 1/1024 of the tree's longest side (finer grids take minutes to hours).
+  local floor
+  floor=$(python3 -c "import json,sys; p=[n['position'] for n in json.load(open(sys.argv[1]))['nodes']]; print(max(max(q[k] for q in p)-min(q[k] for q in p) for k in range(3)) / 1024)" "$skel")
   cell=$(python3 -c "print(4 * $rmin)")
   for _ in 1 2 3 4 5 6; do
     [ "$(inside "$skel" "$cell")" = "1.0" ] && break
+    if python3 -c "import sys; sys.exit(0 if $cell / 2 < $floor else 1)"; then
+      cell=$floor
+      break
+    fi
     cell=$(python3 -c "print($cell / 2)")
   done
   row "$name" mc "$skel" --cell "$cell"
@@ -57,7 +79,7 @@ compare() {  # name skeleton levels... (mc is matched to the last level's triang
 }
 
 {
-  echo "| tree | method | polygonize s | field evals | triangles | watertight | components | nodes inside |"
+  echo "| tree | method | polygonize s | field evals | triangles | watertight | components | midpoints inside |"
   echo "|---|---|---|---|---|---|---|---|"
   for n in 1000 5000 20000; do
     "$bin" generate "$work/tree$n.json" --segments "$n" --seed 1 >/dev/null

@@ -5,8 +5,10 @@
 // header describes the steps. Differences from the paper, and why:
 // - Delaunay tetrahedralization of the bounding point set (Qhull) replaces TetGen (GPL); the
 //   region is the set of Delaunay tetrahedra near the skeleton instead of a meshed polyhedron.
-// - Holes are detected and closed (step 3) instead of hoped away with auxiliary points only.
-// - Subdivision skips tetrahedra whose field bound excludes the iso value.
+// - Holes are detected and closed (step 5) instead of hoped away with auxiliary points only.
+// - Subdivision skips region tetrahedra whose field bound excludes the iso value.
+// - The skeleton's own points join the bounding set, so that the lattice samples the inside
+//   even at levels 0 and 1.
 
 #include "ramiform/polygonize/tetrahedral.h"
 

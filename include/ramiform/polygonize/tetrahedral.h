@@ -5,29 +5,33 @@
 /// \file
 /// The skeleton-bounded tetrahedral polygonizer (Zhu, Guo & Jin 2013, `003` §3–5).
 ///
-/// 1. A bounding point set follows the skeleton: a square cross-section of edge
-///    `section_scale` x radius at every node and at intermediate stations along long edges, a
-///    second square and a cap point beyond every tip, and the auxiliary points of §5 on both
-///    sides of the plane of every pair of branches at a fork.
-/// 2. The points (plus a far bounding box) are tetrahedralized by a Delaunay tetrahedralization
-///    (Qhull, permissive licence; TetGen and CGAL are GPL/AGPL and not used). The region kept is
-///    the set of tetrahedra whose centroid lies within the cross-sections' reach of the skeleton,
-///    plus those holding a skeleton node. A Delaunay tetrahedralization is conforming, so any
-///    subset of it is.
-/// 3. Holes are not hoped away but verified: every boundary face of the region whose field bound
-///    does not prove it outside (f <= iso) gets the tetrahedron behind it added, until none is
-///    left. The surface therefore never crosses the region's boundary.
-/// 4. Every kept tetrahedron is split 1:8 `levels` times exactly as Figure 4 (corner tetrahedra
-///    plus the octahedron split along its shortest diagonal); a tetrahedron whose field bound
-///    excludes the iso value is not split further and emits nothing (no vertex is created on its
-///    faces, which keeps the mesh conforming).
-/// 5. The field is evaluated at the unique vertices of the leaf tetrahedra in one batch;
-///    marching tetrahedra emits 0, 1 or 2 triangles per leaf through per-leaf counts, a prefix
-///    sum and compaction (the paper's data-parallel kernels, here on CPU threads); vertices are
-///    shared through edge keys and placed on the surface by root finding along their edge.
+/// 1. A bounding point set follows the skeleton: every node; a square cross-section of edge
+///    `section_scale` x radius at forks, tips and every `station_spacing` radii along chains
+///    (with its centre); a second square and a cap point beyond every tip; the auxiliary points
+///    of §5 on both sides of the plane of every pair of branches at a fork.
+/// 2. The points (plus a far bounding box) get a Delaunay tetrahedralization (Qhull, permissive
+///    licence; TetGen and CGAL are GPL/AGPL and not used). The region is the set of tetrahedra
+///    whose centroid lies within the cross-sections' reach of the skeleton, plus those holding a
+///    skeleton node. A Delaunay tetrahedralization is conforming, and so is every subset of it.
+/// 3. Every region tetrahedron is split 1:8 `levels` times exactly as Figure 4 (corner
+///    tetrahedra plus the octahedron split along its shortest diagonal), over integer barycentric
+///    coordinates, so that neighbours compute bit-identical points on their shared faces. A
+///    region tetrahedron whose field bound excludes the iso value is skipped whole (levels >= 2).
+/// 4. Per chunk of region tetrahedra (the paper's data-parallel kernels, here tasks on CPU
+///    threads): the field at the lattice points in one batch, marching tetrahedra per leaf,
+///    crossing edges keyed by their exact end points; then one global dedupe, vertices placed by
+///    root finding along their edge, quads split along the shorter diagonal.
+/// 5. Holes are verified, not hoped away: a region-boundary face with an inside lattice point
+///    gets the tetrahedron behind it added and extracted, round after round, until no boundary
+///    face has one; the mesh is then closed by construction (`holes_left` reports the growth
+///    limit or the far box being reached).
+/// 6. Needle cleanup (mesh/cleanup.h) and removal of small components that enclose no skeleton
+///    node.
 ///
-/// The result is watertight and consistently oriented by construction; every step is
-/// deterministic, so equal inputs give identical meshes for any thread count.
+/// The result is watertight, consistently oriented (orientation is decided in barycentric
+/// space, so slivers cannot flip it) and 2-manifold; every step is deterministic, so equal
+/// inputs give identical meshes for any thread count. docs/polygonize.md has the details and
+/// the measured numbers.
 
 #include <cstddef>
 #include <cstdint>
