@@ -35,7 +35,11 @@ json() { python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(eval
 row() {  # name method skeleton extra-args...
   local name=$1 method=$2 skel=$3
   shift 3
-  "$bin" mesh "$skel" --method "$method" "$@" -o "$work/m.ply" --stats "$work/s.json" >/dev/null
+  if ! "$bin" mesh "$skel" --method "$method" "$@" -o "$work/m.ply" --stats "$work/s.json" \
+      >/dev/null 2>"$work/err.txt"; then
+    printf '| %s | %s %s | failed: %s | | | | | |\n' "$name" "$method" "$*" "$(head -c 120 "$work/err.txt")"
+    return 0
+  fi
   "$bin" check "$work/m.ply" --skeleton "${skel%.json}.mid.json" --json >"$work/c.json"
   printf '| %s | %s %s | %.2f | %s | %s | %s | %s | %.4f |\n' "$name" "$method" "$*" \
     "$(json "$work/s.json" "d['seconds']['polygonize']")" "$(json "$work/s.json" "d['field_evals']")" \
@@ -43,8 +47,8 @@ row() {  # name method skeleton extra-args...
     "$(json "$work/c.json" "d['components']")" "$(json "$work/c.json" "d['skeleton_nodes_inside']")"
 }
 
-inside() {  # skeleton cell -> fraction of nodes inside the mc mesh
-  "$bin" mesh "$1" --method mc --cell "$2" -o "$work/p.ply" >/dev/null
+inside() {  # skeleton cell -> fraction of midpoints inside the mc mesh (0 if mc fails)
+  "$bin" mesh "$1" --method mc --cell "$2" -o "$work/p.ply" >/dev/null 2>&1 || { echo 0; return; }
   "$bin" check "$work/p.ply" --skeleton "${1%.json}.mid.json" --json | python3 -c "import json,sys; print(json.load(sys.stdin)['skeleton_nodes_inside'])"
 }
 
@@ -73,10 +77,17 @@ compare() {  # name skeleton levels... (mc is matched to the last level's triang
   # mc at about the triangle count of tets at the last level: triangles scale as 1 / cell^2.
   "$bin" mesh "$skel" --levels "$last" -o "$work/t.ply" --stats "$work/t.json" >/dev/null
   tris=$(json "$work/t.json" "d['triangles']")
-  "$bin" mesh "$skel" --method mc --cell "$cell" -o "$work/p.ply" --stats "$work/p.json" >/dev/null
+  if ! "$bin" mesh "$skel" --method mc --cell "$cell" -o "$work/p.ply" --stats "$work/p.json" \
+      >/dev/null 2>&1; then
+    return 0  # mc cannot run at that cell (the row above says why)
+  fi
   cell=$(python3 -c "import math; print($cell * math.sqrt($(json "$work/p.json" "d['triangles']") / $tris))")
   row "$name" mc "$skel" --cell "$cell"
 }
+
+# TREES selects the rows (default: all): gen1000 gen5000 gen20000 archi rtwig.
+trees_wanted=${TREES:-"gen1000 gen5000 gen20000 archi rtwig"}
+want() { [[ " $trees_wanted " == *" $1 "* ]]; }
 
 {
   echo "| tree | method | polygonize s | field evals | triangles | watertight | components | midpoints inside |"
@@ -84,15 +95,15 @@ compare() {  # name skeleton levels... (mc is matched to the last level's triang
   for n in 1000 5000 20000; do
     "$bin" generate "$work/tree$n.json" --segments "$n" --seed 1 >/dev/null
   done
-  compare "generated 1000" "$work/tree1000.json" 2 3
-  compare "generated 5000" "$work/tree5000.json" 1 2
-  compare "generated 20000" "$work/tree20000.json" 1
+  if want gen1000; then compare "generated 1000" "$work/tree1000.json" 2 3; fi
+  if want gen5000; then compare "generated 5000" "$work/tree5000.json" 1 2; fi
+  if want gen20000; then compare "generated 20000" "$work/tree20000.json" 1; fi
   trees="$root/../shared/data/trees"
   if [ -d "$trees" ]; then
     "$bin" convert "$trees/archi_Tree_1_TreeQSM.txt" "$work/archi.json" >/dev/null
     "$bin" convert "$trees/rtwig_QSM.csv" "$work/rtwig.json" >/dev/null
-    compare "archi_Tree_1 (TreeQSM)" "$work/archi.json" 2 3
-    compare "rtwig (SimpleForest)" "$work/rtwig.json" 2 3
+    if want archi; then compare "archi_Tree_1 (TreeQSM)" "$work/archi.json" 2; fi
+    if want rtwig; then compare "rtwig (SimpleForest)" "$work/rtwig.json" 2 3; fi
   else
     echo "(real trees skipped: $trees not found)" >&2
   fi
