@@ -23,8 +23,11 @@ build: configure
 run: build
 	./$(BUILD_DIR)/ramiform demo --out out
 
+# ctest's summary line comes before its list of skipped tests (those that need ../shared/data);
+# repeat it last so that it ends the output.
 test: build
-	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) --timeout 600
+	@cd $(BUILD_DIR) && { ctest --output-on-failure -j $(JOBS) --timeout 600 > ctest.log 2>&1; \
+	  rc=$$?; cat ctest.log; grep -E '^[0-9]+% tests passed' ctest.log | tail -1; exit $$rc; }
 
 sanitize: deps
 	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRAMIFORM_SANITIZE=ON \
