@@ -53,6 +53,13 @@ class CliDirTest : public ::testing::Test {
     std::ofstream(path(name)) << text;
     return path(name);
   }
+  /// A small Y-fork skeleton file (trunk radius 0.5, branches 0.3); returns its path.
+  [[nodiscard]] std::string y_fork() const {
+    return write("fork.json",
+                 R"({"nodes":[{"position":[0,0,0],"radius":0.5},{"position":[0,0,3],"radius":0.4},)"
+                 R"({"position":[-1.5,0,5],"radius":0.3},{"position":[1.5,0,5],"radius":0.3}],)"
+                 R"("edges":[[0,1],[1,2],[1,3]]})");
+  }
   /// Number of entries in the test's directory.
   [[nodiscard]] std::size_t files_in_dir() const {
     return static_cast<std::size_t>(std::distance(std::filesystem::directory_iterator(dir_),

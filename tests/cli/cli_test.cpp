@@ -26,15 +26,7 @@ namespace fs = std::filesystem;
 using test::CliRun;
 using test::run_cli;
 
-class CliTest : public test::CliDirTest {
- protected:
-  std::string y_fork() const {
-    return write("fork.json",
-                 R"({"nodes":[{"position":[0,0,0],"radius":0.5},{"position":[0,0,3],"radius":0.4},)"
-                 R"({"position":[-1.5,0,5],"radius":0.3},{"position":[1.5,0,5],"radius":0.3}],)"
-                 R"("edges":[[0,1],[1,2],[1,3]]})");
-  }
-};
+class CliTest : public test::CliDirTest {};
 
 TEST_F(CliTest, MeshIsWatertightAndStatsHaveTheDocumentedKeys) {
   const std::string skel = y_fork();

@@ -48,13 +48,6 @@ class MeshTetsTest : public test::CliDirTest {
     EXPECT_EQ(r.code, 0) << r.out;
     return out;
   }
-  /// A small Y-fork: trunk radius 0.5, branches 0.3.
-  std::string y_fork() const {
-    return write("fork.json",
-                 R"({"nodes":[{"position":[0,0,0],"radius":0.5},{"position":[0,0,3],"radius":0.4},)"
-                 R"({"position":[-1.5,0,5],"radius":0.3},{"position":[1.5,0,5],"radius":0.3}],)"
-                 R"("edges":[[0,1],[1,2],[1,3]]})");
-  }
 };
 
 TEST_F(MeshTetsTest, GenerateIsReproducibleAndSeeded) {
