@@ -43,6 +43,7 @@ using Tet = std::array<std::uint32_t, 4>;
 using TetPoints = std::array<Vec3, 4>;
 constexpr std::uint32_t kNone = UINT32_MAX;
 constexpr double kJitter = 1e-3;  // bounding point jitter / local cross-section half size
+constexpr int kBoundLevel = 4;    // levels from which region tetrahedra are pruned by the bound
 
 double seconds_since(Clock::time_point& t) {
   const auto now = Clock::now();
@@ -577,9 +578,10 @@ void extract_chunk(const Field& field, const std::vector<Vec3>& pts, const std::
   for (std::size_t r = begin; r < end; ++r) {
     const Tet& t = tets[region[r]];
     const TetPoints c{pts[t[0]], pts[t[1]], pts[t[2]], pts[t[3]]};
-    // The bound costs about as much as a few dozen evaluations: worth it only when the
-    // tetrahedron has more lattice points than that (levels >= 2: 35, 165, ...).
-    const Interval bound = o.levels >= 2 ? field.bound(box_of(c)) : Interval{-INFINITY, INFINITY};
+    // The region hugs the surface, so the bound almost never excludes a region tetrahedron
+    // (measured: 2 % at level 3, 0.7 % at level 2) and costs more than it saves below level 4
+    // (969 lattice points per tetrahedron); above, a skipped tetrahedron saves a lot.
+    const Interval bound = o.levels >= kBoundLevel ? field.bound(box_of(c)) : Interval{-INFINITY, INFINITY};
     if (!bound.straddles(iso)) {
       ++out.skipped;
       if (bound.lo > iso) out.face_inside[r - begin] = 0xF;  // wholly inside: every face

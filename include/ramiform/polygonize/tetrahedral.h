@@ -16,7 +16,8 @@
 /// 3. Every region tetrahedron is split 1:8 `levels` times exactly as Figure 4 (corner
 ///    tetrahedra plus the octahedron split along its shortest diagonal), over integer barycentric
 ///    coordinates, so that neighbours compute bit-identical points on their shared faces. A
-///    region tetrahedron whose field bound excludes the iso value is skipped whole (levels >= 2).
+///    region tetrahedron whose field bound excludes the iso value is skipped whole (levels >= 4;
+///    below, the bound costs more than the lattice it could save).
 /// 4. Per chunk of region tetrahedra (the paper's data-parallel kernels, here tasks on CPU
 ///    threads): the field at the lattice points in one batch, marching tetrahedra per leaf,
 ///    crossing edges keyed by their exact end points; then one global dedupe, vertices placed by
