@@ -78,6 +78,25 @@ MeshReport expect_closed(const TriMesh& m, std::size_t components) {
   return r;
 }
 
+/// A polygonized skeleton with its stats and checks.
+struct Meshed {
+  TriMesh mesh;
+  TetrahedralStats stats;
+  MeshReport report;
+};
+
+/// Polygonizes `s` and checks what every case must hold: closed (expect_closed) with
+/// `components` components, every skeleton node inside, no hole left.
+Meshed mesh_checked(const Field& field, const Skeleton& s, const TetrahedralOptions& o,
+                    std::size_t components) {
+  Meshed r;
+  r.mesh = polygonize_tetrahedral(field, s, o, nullptr, &r.stats);
+  r.report = expect_closed(r.mesh, components);
+  expect_nodes_inside(r.mesh, s);
+  EXPECT_FALSE(r.stats.holes_left);
+  return r;
+}
+
 Skeleton translated(Skeleton s, const Vec3& by) {
   for (auto& n : s.nodes) n.position += by;
   return s;
@@ -110,8 +129,8 @@ TetrahedralOptions at_levels(int levels) {
   return o;
 }
 
-/// Options whose vertex placement converges fully: the default 6 root-finding rounds leave up
-/// to a few percent of iso on long edges (grown tetrahedra) and across thin twigs.
+/// Options whose vertex placement converges fully, whatever the default root-finding rounds:
+/// long edges (grown tetrahedra) and thin twigs need the most.
 TetrahedralOptions converged(int levels) {
   TetrahedralOptions o = at_levels(levels);
   o.root_steps = 24;
@@ -124,12 +143,8 @@ TEST(Tetrahedral, IsolatedNodeIsASphereOfTheRootFoundRadius) {
   Skeleton s;
   s.nodes = {{Vec3(1.0, -2.0, 3.0), 0.7}};
   const FieldPtr field = make_skeleton_field(s);
-  TetrahedralStats st;
-  const TriMesh m = polygonize_tetrahedral(*field, s, converged(3), nullptr, &st);
-  const MeshReport r = expect_closed(m, 1);
+  const auto [m, st, r] = mesh_checked(*field, s, converged(3), 1);
   EXPECT_EQ(r.euler, 2) << test::describe(r);
-  expect_nodes_inside(m, s);
-  EXPECT_FALSE(st.holes_left);
   EXPECT_EQ(st.grown_tets, 0u);  // the surface lies within the cube of edge 3 radii
 
   // The point surface is a sphere; its radius by bisection along one axis.
@@ -150,12 +165,8 @@ TEST(Tetrahedral, IsolatedNodeIsASphereOfTheRootFoundRadius) {
 TEST(Tetrahedral, SegmentIsATubeWhoseVerticesLieOnTheSurface) {
   const Skeleton s = test::single_segment(Vec3(0, 0, 0), Vec3(0, 0, 10), 1.0, 1.0);
   const FieldPtr field = make_skeleton_field(s);
-  TetrahedralStats st;
-  const TriMesh m = polygonize_tetrahedral(*field, s, converged(3), nullptr, &st);
-  const MeshReport r = expect_closed(m, 1);
+  const auto [m, st, r] = mesh_checked(*field, s, converged(3), 1);
   EXPECT_EQ(r.euler, 2) << test::describe(r);
-  expect_nodes_inside(m, s);
-  EXPECT_FALSE(st.holes_left);
 
   // Mid-segment radius close to the node radius (exact for an infinite segment).
   EXPECT_NEAR(surface_distance(*field, Vec3(0, 0, 5), Vec3::UnitX(), 4.0), 1.0, 0.03);
@@ -189,16 +200,12 @@ TEST(Tetrahedral, SegmentIsATubeWhoseVerticesLieOnTheSurface) {
 TEST(Tetrahedral, YForkIsOneClosedSphereOnTheSurface) {
   const Skeleton s = test::y_fork();
   const FieldPtr field = make_skeleton_field(s);
-  TetrahedralStats st;
-  const TriMesh m = polygonize_tetrahedral(*field, s, converged(2), nullptr, &st);
-  const MeshReport r = expect_closed(m, 1);
+  const auto [m, st, r] = mesh_checked(*field, s, converged(2), 1);
   EXPECT_EQ(r.euler, 2) << test::describe(r);
-  expect_nodes_inside(m, s);
   EXPECT_LT(max_relative_residual(*field, m), 1e-6);
   EXPECT_GT(st.polyhedron_points, 0u);
   EXPECT_GT(st.delaunay_tets, st.region_tets);
   EXPECT_GT(st.region_tets, 0u);
-  EXPECT_FALSE(st.holes_left);
   EXPECT_EQ(st.leaf_tets % 64, 0u);  // 8^2 leaves per live region tetrahedron
   EXPECT_GE(st.crossing_edges, m.positions.size());  // cleanup only removes vertices
 }
@@ -213,13 +220,9 @@ TEST(Tetrahedral, BranchingTreesAreClosedAndHoldTheirSkeleton) {
     const Skeleton s = tree(c.segments);
     ASSERT_EQ(connected_components(s).count, 1u);
     const FieldPtr field = make_skeleton_field(s);
-    TetrahedralStats st;
-    const TriMesh m = polygonize_tetrahedral(*field, s, converged(c.levels), nullptr, &st);
-    const MeshReport r = expect_closed(m, 1);
+    const auto [m, st, r] = mesh_checked(*field, s, converged(c.levels), 1);
     // A tree whose branches meet only at forks: a sphere.
     EXPECT_EQ(r.euler, 2) << test::describe(r);
-    expect_nodes_inside(m, s);
-    EXPECT_FALSE(st.holes_left);
     EXPECT_LT(max_relative_residual(*field, m), 1e-6);
   }
 }
@@ -232,12 +235,8 @@ TEST(Tetrahedral, DisjointSkeletonComponentsGiveDisjointMeshComponents) {
                             translated(point, Vec3(-30, 5, 10)));
   ASSERT_EQ(connected_components(s).count, 3u);
   const FieldPtr field = make_skeleton_field(s);
-  TetrahedralStats st;
-  const TriMesh m = polygonize_tetrahedral(*field, s, at_levels(2), nullptr, &st);
-  const MeshReport r = expect_closed(m, 3);
+  const auto [m, st, r] = mesh_checked(*field, s, at_levels(2), 3);
   EXPECT_EQ(r.euler, 6) << test::describe(r);  // three spheres
-  expect_nodes_inside(m, s);
-  EXPECT_FALSE(st.holes_left);
 }
 
 // --- coordinates, determinism, levels ------------------------------------------------------
@@ -249,12 +248,8 @@ TEST(Tetrahedral, GeoreferencedMillimetreForkIsClosedAndOriented) {
   const Skeleton far = translated(local, Vec3(5e5, 5e6, 300));
   const FieldPtr local_field = make_skeleton_field(local);
   const FieldPtr far_field = make_skeleton_field(far);
-  TetrahedralStats st;
-  const TriMesh m = polygonize_tetrahedral(*far_field, far, at_levels(2), nullptr, &st);
-  const MeshReport r = expect_closed(m, 1);
+  const auto [m, st, r] = mesh_checked(*far_field, far, at_levels(2), 1);
   EXPECT_EQ(r.euler, 2) << test::describe(r);
-  expect_nodes_inside(m, far);
-  EXPECT_FALSE(st.holes_left);
   // The same shape as at the origin: equal volume (computed about a local origin, since the
   // signed volume of a mesh 5e6 away from the origin cancels catastrophically).
   TriMesh shifted = m;
@@ -378,14 +373,10 @@ TEST(Tetrahedral, SurfaceFarOutsideTheSectionsIsReachedByGrowth) {
   const Skeleton s = test::y_fork();
   const Skeleton thin = with_radii_scaled(s, 1.0 / 3.0);
   const FieldPtr field = make_skeleton_field(s);
-  TetrahedralStats st;
-  const TriMesh m = polygonize_tetrahedral(*field, thin, converged(2), nullptr, &st);
-  const MeshReport r = expect_closed(m, 1);
+  const auto [m, st, r] = mesh_checked(*field, thin, converged(2), 1);
   EXPECT_EQ(r.euler, 2) << test::describe(r);
-  expect_nodes_inside(m, s);
   EXPECT_GT(st.grown_tets, 0u);
   EXPECT_GT(st.growth_rounds, 0);
-  EXPECT_FALSE(st.holes_left);
   EXPECT_LT(max_relative_residual(*field, m), 1e-6);
   // The whole surface was found: the volume matches the mesh made with the true radii.
   const TriMesh reference = polygonize_tetrahedral(*field, s, converged(2));
@@ -409,13 +400,9 @@ TEST(Tetrahedral, HeavyWeightedSurfaceIsReachedByGrowth) {
   const FieldPtr field = make_skeleton_field(s, {}, weights);
   const double R = surface_distance(*field, Vec3(0, 0, 5), Vec3::UnitX(), 20.0);
   EXPECT_GT(R, 2.3 * 0.9);  // node radii 1 and 0.8 around z = 5
-  TetrahedralStats st;
-  const TriMesh m = polygonize_tetrahedral(*field, s, converged(1), nullptr, &st);
-  const MeshReport r = expect_closed(m, 1);
+  const auto [m, st, r] = mesh_checked(*field, s, converged(1), 1);
   EXPECT_EQ(r.euler, 2) << test::describe(r);
-  expect_nodes_inside(m, s);
   EXPECT_GT(st.grown_tets, 0u);
-  EXPECT_FALSE(st.holes_left);
   EXPECT_LT(max_relative_residual(*field, m), 1e-6);
 }
 
@@ -471,12 +458,8 @@ void check_real_tree(const char* file, int levels) {
   const Skeleton s = read_skeleton((trees / file).string());
   ASSERT_EQ(connected_components(s).count, 1u);
   const FieldPtr field = make_skeleton_field(s);
-  TetrahedralStats st;
-  const TriMesh m = polygonize_tetrahedral(*field, s, at_levels(levels), nullptr, &st);
-  const MeshReport r = expect_closed(m, 1);
+  const auto [m, st, r] = mesh_checked(*field, s, at_levels(levels), 1);
   EXPECT_EQ(r.euler % 2, 0) << test::describe(r);
-  expect_nodes_inside(m, s);
-  EXPECT_FALSE(st.holes_left);
 }
 
 TEST(Tetrahedral, RealTreeRtwigIsClosedWithEveryNodeInside) {
