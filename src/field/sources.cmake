@@ -5,4 +5,9 @@ set(RAMIFORM_FIELD_SOURCES
   src/field/operators.cpp
   src/field/skeleton_field.cpp
   src/field/skeleton_field_simd.cpp
-  src/field/radius_fit.cpp)
+  src/field/radius_fit.cpp
+  src/field/primitives.cpp
+  src/field/warps.cpp
+  src/field/rbf.cpp
+  src/field/curves.cpp
+  src/field/sweep.cpp)

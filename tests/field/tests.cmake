@@ -3,4 +3,9 @@ set(RAMIFORM_field_TESTS
   field/cauchy_integral_test.cpp
   field/skeleton_field_test.cpp
   field/operators_test.cpp
-  field/radius_fit_test.cpp)
+  field/radius_fit_test.cpp
+  field/primitives_test.cpp
+  field/warps_test.cpp
+  field/rbf_test.cpp
+  field/curves_test.cpp
+  field/sweep_test.cpp)
