@@ -19,5 +19,7 @@ void register_eval(CLI::App& root, Action& action);
 void register_demo(CLI::App& root, Action& action);
 void register_convert(CLI::App& root, Action& action);
 void register_generate(CLI::App& root, Action& action);
+void register_run(CLI::App& root, Action& action);
+void register_shell(CLI::App& root, Action& action);
 
 }  // namespace ramiform::cli

@@ -31,6 +31,8 @@ int main(int argc, char** argv) {
   cli::register_demo(app, action);
   cli::register_convert(app, action);
   cli::register_generate(app, action);
+  cli::register_run(app, action);
+  cli::register_shell(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

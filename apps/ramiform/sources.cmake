@@ -7,4 +7,5 @@ set(RAMIFORM_APP_SOURCES
   cmd_demo.cpp
   cmd_eval.cpp
   cmd_generate.cpp
-  cmd_mesh.cpp)
+  cmd_mesh.cpp
+  cmd_script.cpp)

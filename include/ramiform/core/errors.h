@@ -25,17 +25,21 @@ class InputError : public std::runtime_error {
  public:
   /// `file` may be empty (in-memory data); `line` is 1-based, 0 when unknown.
   InputError(std::string file, std::size_t line, const std::string& problem);
+  /// An error at a 1-based line and column: "FILE:LINE:COLUMN: problem".
+  InputError(std::string file, std::size_t line, std::size_t column, const std::string& problem);
   /// An error about the element `element_index` (0-based) of kind `element` (e.g. "edge").
   InputError(std::string file, const std::string& element, std::size_t element_index,
              const std::string& problem);
 
   [[nodiscard]] const std::string& file() const { return file_; }
   [[nodiscard]] std::size_t line() const { return line_; }  ///< 1-based, 0 when unknown
+  [[nodiscard]] std::size_t column() const { return column_; }  ///< 1-based, 0 when unknown
   [[nodiscard]] const std::string& problem() const { return problem_; }
 
  private:
   std::string file_;
   std::size_t line_ = 0;
+  std::size_t column_ = 0;
   std::string problem_;
 };
 

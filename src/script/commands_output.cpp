@@ -1,0 +1,208 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+// Session commands: parameters, meshing and evaluation outputs, inspection and help, and the
+// point-set commands that arrive with a later stage (they fail with a clear message).
+
+#include <cmath>
+#include <cstdio>
+
+#include "ramiform/core/errors.h"
+#include "ramiform/io/atomic_file.h"
+#include "ramiform/io/mesh_io.h"
+#include "ramiform/io/points_io.h"
+#include "ramiform/mesh/checks.h"
+#include "ramiform/polygonize/marching_cubes.h"
+#include "ramiform/polygonize/tetrahedral.h"
+#include "session.h"
+
+namespace ramiform::script {
+namespace {
+
+CommandResult run_param(Call& c) {
+  c.expect_count(2, 2, "NAME VALUE");
+  const std::string name = c.arg(0).text;
+  const bool ok = !name.empty() && std::isdigit(static_cast<unsigned char>(name[0])) == 0 &&
+                  std::all_of(name.begin(), name.end(), [](char ch) {
+                    return std::isalnum(static_cast<unsigned char>(ch)) != 0 || ch == '_';
+                  });
+  if (!ok) c.fail(c.arg(0), "'" + name + "' is not a valid parameter name (letters, digits, '_')");
+  auto& s = c.session();
+  if (s.declared.count(name) != 0) c.fail(c.arg(0), "parameter '" + name + "' is declared twice");
+  s.declared.insert(name);
+  const auto set = s.options.params.find(name);
+  const std::string value = set != s.options.params.end() ? set->second : c.arg(1).text;
+  s.params[name] = value;
+  return {c.spec().name, name + " = " + value + (set != s.options.params.end() ? " (from --set)" : ""), false};
+}
+
+std::string count_text(std::size_t n) {
+  std::string s = std::to_string(n);
+  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<std::size_t>(i), ",");
+  return s;
+}
+
+CommandResult run_save_mesh(Call& c) {
+  c.expect_count(2, 2, "NAME FILE");
+  const Object& obj = c.object(0, ObjectKind::kShape);
+  const std::string method = c.option_word("method", "mc", {"mc", "tets"});
+  const std::string ext = [&] {
+    const std::string& f = c.arg(1).text;
+    const std::size_t dot = f.rfind('.');
+    std::string e = dot == std::string::npos ? "" : f.substr(dot);
+    for (char& ch : e) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return e;
+  }();
+  if (ext != ".ply" && ext != ".obj" && ext != ".off") {
+    c.fail(c.arg(1), "mesh files end in .ply, .obj or .off, got '" + c.arg(1).text + "'");
+  }
+  TriMesh mesh;
+  std::string how;
+  if (method == "tets") {
+    if (!obj.skeleton) {
+      c.fail(c.arg(0), "method=tets needs a shape made by 'skeleton' (unchanged since); use method=mc");
+    }
+    for (const char* key : {"cell", "resolution"}) {
+      if (const Token* t = c.option_token(key)) c.fail(*t, std::string(key) + "= applies to method=mc");
+    }
+    TetrahedralOptions o;
+    o.levels = c.option_integer("levels", 3, 0, 6);
+    mesh = polygonize_tetrahedral(*obj.field, *obj.skeleton, o, c.session().ctx);
+    how = "tets, " + std::to_string(o.levels) + " levels";
+  } else {
+    if (const Token* t = c.option_token("levels")) c.fail(*t, "levels= applies to method=tets");
+    if (c.has_option("cell") && c.has_option("resolution")) {
+      c.fail(*c.option_token("resolution"), "give cell= or resolution=, not both");
+    }
+    const Aabb box = obj.field->bounds();
+    if (box.isEmpty()) c.fail(c.arg(0), "'" + c.arg(0).text + "' has no inside: nothing to mesh");
+    if (!box.min().allFinite() || !box.max().allFinite()) {
+      c.fail(c.arg(0), "'" + c.arg(0).text + "' is unbounded (a plane?); intersect it with a bounded shape first");
+    }
+    MarchingCubesOptions o;
+    o.cell_size = c.option_positive("cell", 0.0);
+    o.resolution = c.option_integer("resolution", 96, 1, 4096);
+    mesh = marching_cubes(*obj.field, o, c.session().ctx);
+    how = o.cell_size > 0 ? "mc, cell " + format_number(o.cell_size)
+                          : "mc, resolution " + std::to_string(o.resolution);
+  }
+  const MeshReport report = check_mesh(mesh);
+  const std::string path = c.output_path(1);
+  write_mesh(mesh, path);
+  return {c.spec().name,
+          c.arg(1).text + ": " + count_text(report.triangles) + " triangles (" + how + "), " +
+              (report.watertight && report.oriented && report.manifold ? "watertight" : "NOT watertight") +
+              ", " + std::to_string(report.components) + " component(s)",
+          true};
+}
+
+std::string value_line(const Field& f, const Vec3& p) {
+  const double v = f.value(p);
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "f(%s) = %.17g (%s, iso %g)", format_vec3(p).c_str(), v,
+                v > f.iso() ? "inside" : "outside", f.iso());
+  return buf;
+}
+
+CommandResult run_eval(Call& c) {
+  c.expect_count(4, 4, "NAME X Y Z");
+  const Object& obj = c.object(0, ObjectKind::kShape);
+  const Vec3 p(c.number(1, "x"), c.number(2, "y"), c.number(3, "z"));
+  return {c.spec().name, value_line(*obj.field, p), true};
+}
+
+CommandResult run_eval_points(Call& c) {
+  c.expect_count(3, 3, "NAME POINTS OUT");
+  const Object& obj = c.object(0, ObjectKind::kShape);
+  const PointSet points = read_points(c.input_path(1));
+  std::vector<double> values(points.size());
+  obj.field->evaluate(points.positions, values);
+  const std::string path = c.output_path(2);
+  write_file_atomically(path, [&](std::ostream& out) {
+    char buf[64];
+    for (double v : values) {
+      std::snprintf(buf, sizeof buf, "%.17g\n", v);
+      out << buf;
+    }
+  });
+  std::size_t inside = 0;
+  for (double v : values) inside += v > obj.field->iso() ? 1 : 0;
+  return {c.spec().name,
+          c.arg(2).text + ": " + std::to_string(values.size()) + " values, " + std::to_string(inside) + " inside",
+          true};
+}
+
+CommandResult run_info(Call& c) {
+  c.expect_count(1, 1, "NAME");
+  const auto it = c.session().objects.find(c.arg(0).text);
+  if (it == c.session().objects.end()) (void)c.object(0, ObjectKind::kShape);  // throws with a hint
+  const Object& o = it->second;
+  std::string text = c.arg(0).text + ": " + o.summary;
+  if (o.kind == ObjectKind::kShape) {
+    const Aabb b = o.field->bounds();
+    text += "; iso " + format_number(o.field->iso());
+    if (!b.isEmpty()) text += "; bounds " + format_vec3(b.min()) + " to " + format_vec3(b.max());
+  }
+  return {c.spec().name, text, true};
+}
+
+CommandResult run_list(Call& c) {
+  c.expect_count(0, 0, "no arguments");
+  std::string text;
+  for (const auto& [name, o] : c.session().objects) {
+    text += (text.empty() ? "" : "\n") + name + " (" + kind_name(o.kind) + "): " + o.summary;
+  }
+  if (text.empty()) text = "no objects yet";
+  return {c.spec().name, text, true};
+}
+
+CommandResult run_help(Call& c) {
+  c.expect_count(0, 1, "[COMMAND]");
+  if (c.count() == 1) {
+    try {
+      return {c.spec().name, ScriptSession::command_help(c.arg(0).text), true};
+    } catch (const InvalidArgument& e) {
+      c.fail(c.arg(0), e.what());
+    }
+  }
+  std::string text = "commands (help COMMAND for details):";
+  for (const std::string& name : ScriptSession::command_names()) {
+    text += "\n  " + command_table().at(name)->synopsis;
+  }
+  return {c.spec().name, text, true};
+}
+
+CommandResult not_yet(Call& c) {
+  c.fail("is not available yet: point sets and tree growth arrive with the point-set stage "
+         "(see docs/language.md, 'Not available yet'); nothing was written");
+}
+
+}  // namespace
+
+void add_output_commands(std::vector<CommandSpec>& out) {
+  out.push_back({"param", "param NAME VALUE",
+                 "Declares a parameter with a default VALUE; `ramiform run --set NAME=V` overrides it. "
+                 "Later arguments use it as $NAME or ${NAME}.",
+                 "param r 2\nsphere s $r", {}, run_param, {}});
+  out.push_back({"save_mesh", "save_mesh NAME FILE [resolution=N | cell=H] [method=mc|tets] [levels=N]",
+                 "Polygonizes a shape into FILE (.ply, .obj, .off) inside the output directory: marching "
+                 "cubes over the shape's bounds (default 96 cells along the longest side), or for a "
+                 "shape loaded by `skeleton` the skeleton-bounded tetrahedral polygonizer.",
+                 "save_mesh s3 s3.ply resolution=128", {"resolution", "cell", "method", "levels"},
+                 run_save_mesh, {}});
+  out.push_back({"eval", "eval NAME X Y Z", "Prints the field value at a point and whether it is inside.",
+                 "eval s3 0 0 0", {}, run_eval, {}});
+  out.push_back({"eval_points", "eval_points NAME POINTS OUT",
+                 "Evaluates a shape at every point of POINTS ('x y z' per line, or .ply) and writes one "
+                 "value per line to OUT.",
+                 "eval_points s3 probe.txt values.txt", {}, run_eval_points, {}});
+  out.push_back({"info", "info NAME", "Describes an object: what it is, its iso value and bounds.",
+                 "info s3", {}, run_info, {}});
+  out.push_back({"list", "list", "Lists every named object.", "list", {}, run_list, {}});
+  out.push_back({"help", "help [COMMAND]", "Lists the commands, or describes one.", "help skin", {}, run_help, {}});
+  for (const char* name : {"point_set_gen", "save_point_set", "point_set_thin", "load_point_set", "grow"}) {
+    out.push_back({name, std::string(name) + " ...",
+                   "Not available yet: arrives with point sets and tree growth.", "", {"*"}, not_yet, {}});
+  }
+}
+
+}  // namespace ramiform::script

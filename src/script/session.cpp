@@ -1,0 +1,524 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "session.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+
+#include "ramiform/core/errors.h"
+
+namespace ramiform {
+namespace script {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool is_name_char(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-' || c == '.';
+}
+
+std::string join(const std::vector<std::string>& words, const std::string& sep) {
+  std::string out;
+  for (std::size_t i = 0; i < words.size(); ++i) out += (i > 0 ? sep : "") + words[i];
+  return out;
+}
+
+std::string hint(const std::string& word, const std::vector<std::string>& candidates) {
+  const std::string best = closest_name(word, candidates);
+  return best.empty() ? std::string() : " (did you mean '" + best + "'?)";
+}
+
+// Replaces $NAME and ${NAME} by declared parameter values.
+std::string substitute(const Token& token, const ScriptSession::Impl& session,
+                       const std::string& file, std::size_t line) {
+  const std::string& t = token.text;
+  if (t.find('$') == std::string::npos) return t;
+  std::string out;
+  for (std::size_t i = 0; i < t.size();) {
+    if (t[i] != '$') {
+      out += t[i++];
+      continue;
+    }
+    std::size_t start = i + 1;
+    std::size_t end = start;
+    const bool braced = start < t.size() && t[start] == '{';
+    if (braced) {
+      end = t.find('}', start);
+      if (end == std::string::npos) {
+        throw InputError(file, line, token.column + i, "unterminated '${' in '" + t + "'");
+      }
+      ++start;
+    } else {
+      while (end < t.size() && (std::isalnum(static_cast<unsigned char>(t[end])) != 0 || t[end] == '_')) ++end;
+    }
+    const std::string name = t.substr(start, end - start);
+    const auto it = session.params.find(name);
+    if (it == session.params.end()) {
+      std::vector<std::string> known;
+      for (const auto& [k, v] : session.params) known.push_back(k);
+      throw InputError(file, line, token.column + i,
+                       "unknown parameter '$" + name + "'" + hint(name, known) +
+                           "; declare it first with 'param " + (name.empty() ? "NAME" : name) +
+                           " VALUE'");
+    }
+    out += it->second;
+    i = braced ? end + 1 : end;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Token> tokenize(std::string_view text, const std::string& file, std::size_t line) {
+  std::vector<Token> out;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const char c = text[i];
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\n') {
+      ++i;
+      continue;
+    }
+    if (c == '#') break;
+    Token token;
+    token.column = i + 1;
+    if (c == '"') {
+      const std::size_t close = text.find('"', i + 1);
+      if (close == std::string_view::npos) {
+        throw InputError(file, line, i + 1, "unterminated quote");
+      }
+      token.text = std::string(text.substr(i + 1, close - i - 1));
+      i = close + 1;
+    } else {
+      const std::size_t start = i;
+      while (i < text.size() && text[i] != ' ' && text[i] != '\t' && text[i] != '\r' &&
+             text[i] != '\n' && text[i] != '#') {
+        ++i;
+      }
+      token.text = std::string(text.substr(start, i - start));
+    }
+    out.push_back(std::move(token));
+  }
+  return out;
+}
+
+std::string kind_name(ObjectKind kind) {
+  switch (kind) {
+    case ObjectKind::kShape: return "shape";
+    case ObjectKind::kCurve2: return "2-D curve";
+    case ObjectKind::kCurve3: return "3-D path";
+  }
+  return "object";
+}
+
+std::string format_number(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+std::string format_vec3(const Vec3& v) {
+  return format_number(v.x()) + "," + format_number(v.y()) + "," + format_number(v.z());
+}
+
+const std::map<std::string, const CommandSpec*>& command_table() {
+  static const std::vector<CommandSpec> specs = [] {
+    std::vector<CommandSpec> all;
+    add_shape_commands(all);
+    add_curve_commands(all);
+    add_output_commands(all);
+    return all;
+  }();
+  static const std::map<std::string, const CommandSpec*> table = [] {
+    std::map<std::string, const CommandSpec*> t;
+    for (const CommandSpec& spec : specs) {
+      t[spec.name] = &spec;
+      for (const std::string& alias : spec.aliases) t[alias] = &spec;
+    }
+    return t;
+  }();
+  return table;
+}
+
+Call::Call(ScriptSession::Impl& session, const CommandSpec& spec, std::vector<Token> tokens,
+           std::string file, std::size_t line)
+    : session_(session), spec_(spec), command_(tokens.front()), file_(std::move(file)), line_(line) {
+  for (std::size_t i = 1; i < tokens.size(); ++i) {
+    Token token = tokens[i];
+    token.text = substitute(token, session, file_, line_);
+    const std::size_t eq = token.text.find('=');
+    if (eq != std::string::npos && eq > 0) {
+      const std::string key = token.text.substr(0, eq);
+      const bool any = std::find(spec.options.begin(), spec.options.end(), "*") != spec.options.end();
+      if (!any && std::find(spec.options.begin(), spec.options.end(), key) == spec.options.end()) {
+        fail(token, "unknown option '" + key + "'" + hint(key, spec.options) +
+                        (spec.options.empty() ? "; it takes no options"
+                                              : "; options: " + join(spec.options, ", ")));
+      }
+      if (has_option(key)) fail(token, "option '" + key + "' given twice");
+      Token value{token.text.substr(eq + 1), token.column + eq + 1};
+      options_.emplace_back(key, std::move(value));
+    } else {
+      positional_.push_back(std::move(token));
+    }
+  }
+}
+
+void Call::fail(const Token& token, const std::string& problem) const {
+  throw InputError(file_, line_, token.column, spec_.name + ": " + problem);
+}
+
+void Call::fail(const std::string& problem) const { fail(command_, problem); }
+
+const Token& Call::arg(std::size_t i) const {
+  if (i >= positional_.size()) fail("missing argument " + std::to_string(i + 1) + "; usage: " + spec_.synopsis);
+  return positional_[i];
+}
+
+void Call::expect_count(std::size_t min, std::size_t max, const std::string& what) const {
+  if (positional_.size() < min) {
+    fail("expected " + what + ", got " + std::to_string(positional_.size()) +
+         " argument(s); usage: " + spec_.synopsis);
+  }
+  if (positional_.size() > max) {
+    fail(positional_[max], "unexpected argument '" + positional_[max].text + "': expected " + what +
+                               "; usage: " + spec_.synopsis);
+  }
+}
+
+std::string Call::new_name(std::size_t i) const {
+  const Token& t = arg(i);
+  const bool ok = !t.text.empty() && std::isdigit(static_cast<unsigned char>(t.text[0])) == 0 &&
+                  t.text[0] != '-' && t.text[0] != '.' &&
+                  std::all_of(t.text.begin(), t.text.end(), is_name_char);
+  if (!ok) {
+    fail(t, "'" + t.text + "' is not a valid object name (letters, digits, '_', '-', '.'; not starting with a digit)");
+  }
+  return t.text;
+}
+
+double Call::parse_number(const Token& token, const std::string& what) const {
+  const std::string& s = token.text;
+  double v = 0;
+  const char* begin = s.data();
+  const char* end = s.data() + s.size();
+  if (!s.empty() && *begin == '+') ++begin;
+  const auto [ptr, ec] = std::from_chars(begin, end, v);
+  if (s.empty() || ec != std::errc() || ptr != end) {
+    fail(token, "expected a number for " + what + ", got '" + s + "'");
+  }
+  if (!std::isfinite(v)) fail(token, what + " must be finite, got '" + s + "'");
+  return v;
+}
+
+double Call::number(std::size_t i, const std::string& what) const { return parse_number(arg(i), what); }
+
+double Call::positive(std::size_t i, const std::string& what) const {
+  const double v = number(i, what);
+  if (!(v > 0)) fail(arg(i), what + " must be > 0, got " + arg(i).text);
+  return v;
+}
+
+int Call::integer(std::size_t i, const std::string& what) const {
+  const double v = number(i, what);
+  if (v != std::floor(v) || std::abs(v) > 1e9) fail(arg(i), what + " must be an integer, got " + arg(i).text);
+  return static_cast<int>(v);
+}
+
+Vec3 Call::parse_vec3(const Token& token, const std::string& what) const {
+  Vec3 v;
+  std::size_t start = 0;
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t comma = token.text.find(',', start);
+    if ((k < 2) != (comma != std::string::npos)) {
+      fail(token, "expected X,Y,Z (three numbers separated by commas) for " + what + ", got '" +
+                      token.text + "'");
+    }
+    const std::size_t stop = k < 2 ? comma : token.text.size();
+    const Token part{token.text.substr(start, stop - start), token.column + start};
+    v[k] = parse_number(part, what);
+    start = stop + 1;
+  }
+  return v;
+}
+
+const Object& Call::object_named(const Token& token, ObjectKind kind) const {
+  const auto it = session_.objects.find(token.text);
+  if (it == session_.objects.end()) {
+    std::vector<std::string> known;
+    for (const auto& [name, obj] : session_.objects) {
+      if (obj.kind == kind) known.push_back(name);
+    }
+    fail(token, "unknown " + kind_name(kind) + " '" + token.text + "'" + hint(token.text, known) +
+                    (known.empty() ? "; none is defined yet" : ""));
+  }
+  if (it->second.kind != kind) {
+    fail(token, "'" + token.text + "' is a " + kind_name(it->second.kind) + ", expected a " +
+                    kind_name(kind));
+  }
+  return it->second;
+}
+
+const Object& Call::object(std::size_t i, ObjectKind kind) const { return object_named(arg(i), kind); }
+
+std::string Call::input_path(const Token& token) const {
+  fs::path p(token.text);
+  if (p.is_relative()) p = fs::path(session_.input_dir) / p;
+  // A file written earlier in this script is still staged.
+  for (const Staged& s : session_.staged) {
+    if (fs::path(s.final_path).lexically_normal() == p.lexically_normal()) return s.staged_path;
+  }
+  std::error_code ec;
+  if (!fs::is_regular_file(p, ec)) fail(token, "cannot read '" + p.string() + "': no such file");
+  return p.string();
+}
+
+std::string Call::input_path(std::size_t i) const { return input_path(arg(i)); }
+
+std::string Call::output_path(std::size_t i) {
+  const Token& t = arg(i);
+  fs::path rel(t.text);
+  const fs::path out = fs::path(session_.options.out_dir);
+  if (!session_.options.allow_any_path) {
+    const fs::path norm = rel.lexically_normal();
+    const bool escapes = rel.is_absolute() || norm.empty() || *norm.begin() == "..";
+    if (escapes) {
+      fail(t, "output '" + t.text + "' is outside the output directory; use a path inside --out "
+                                    "or pass --allow-any-path");
+    }
+  }
+  const fs::path final_path = rel.is_absolute() ? rel : out / rel;
+  if (final_path.filename().empty()) fail(t, "output '" + t.text + "' names no file");
+  std::error_code ec;
+  const fs::path dir = final_path.parent_path().empty() ? fs::path(".") : final_path.parent_path();
+  if (!fs::is_directory(dir, ec)) {
+    fail(t, "cannot write '" + final_path.string() + "': directory '" + dir.string() + "' does not exist");
+  }
+  for (const Staged& s : session_.staged) {
+    if (s.final_path == final_path.string()) return s.staged_path;  // written twice: last wins
+  }
+  const fs::path staged =
+      dir / (".rf-staged-" + std::to_string(session_.staged.size()) + "-" + final_path.filename().string());
+  session_.staged.push_back({final_path.string(), staged.string()});
+  return staged.string();
+}
+
+const Token* Call::option_token(const std::string& key) const {
+  for (const auto& [k, v] : options_) {
+    if (k == key) return &v;
+  }
+  return nullptr;
+}
+
+bool Call::has_option(const std::string& key) const { return option_token(key) != nullptr; }
+
+double Call::option_number(const std::string& key, double fallback) const {
+  const Token* t = option_token(key);
+  return t == nullptr ? fallback : parse_number(*t, key);
+}
+
+double Call::option_positive(const std::string& key, double fallback) const {
+  const Token* t = option_token(key);
+  if (t == nullptr) return fallback;
+  const double v = parse_number(*t, key);
+  if (!(v > 0)) fail(*t, key + " must be > 0, got " + t->text);
+  return v;
+}
+
+int Call::option_integer(const std::string& key, int fallback, int min, int max) const {
+  const Token* t = option_token(key);
+  if (t == nullptr) return fallback;
+  const double v = parse_number(*t, key);
+  if (v != std::floor(v) || v < min || v > max) {
+    fail(*t, key + " must be an integer in [" + std::to_string(min) + ", " + std::to_string(max) +
+                 "], got " + t->text);
+  }
+  return static_cast<int>(v);
+}
+
+Vec3 Call::option_vec3(const std::string& key, const Vec3& fallback) const {
+  const Token* t = option_token(key);
+  return t == nullptr ? fallback : parse_vec3(*t, key);
+}
+
+std::string Call::option_word(const std::string& key, const std::string& fallback,
+                              const std::vector<std::string>& allowed) const {
+  const Token* t = option_token(key);
+  if (t == nullptr) return fallback;
+  if (std::find(allowed.begin(), allowed.end(), t->text) == allowed.end()) {
+    fail(*t, key + " must be one of " + join(allowed, ", ") + ", got '" + t->text + "'" +
+                 hint(t->text, allowed));
+  }
+  return t->text;
+}
+
+void Call::define(const std::string& name, Object object) {
+  session_.objects[name] = std::move(object);
+}
+
+}  // namespace script
+
+std::string closest_name(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  std::size_t best_d = std::max<std::size_t>(2, word.size() / 2) + 1;
+  for (const std::string& c : candidates) {
+    // Levenshtein distance, two rows.
+    std::vector<std::size_t> prev(c.size() + 1), cur(c.size() + 1);
+    for (std::size_t j = 0; j <= c.size(); ++j) prev[j] = j;
+    for (std::size_t i = 1; i <= word.size(); ++i) {
+      cur[0] = i;
+      for (std::size_t j = 1; j <= c.size(); ++j) {
+        const std::size_t sub = prev[j - 1] + (std::tolower(static_cast<unsigned char>(word[i - 1])) ==
+                                                       std::tolower(static_cast<unsigned char>(c[j - 1]))
+                                                   ? 0
+                                                   : 1);
+        cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, sub});
+      }
+      std::swap(prev, cur);
+    }
+    if (prev[c.size()] < best_d) {
+      best_d = prev[c.size()];
+      best = c;
+    }
+  }
+  return best;
+}
+
+ScriptSession::ScriptSession(ScriptOptions options, Context* ctx) : impl_(std::make_unique<Impl>()) {
+  impl_->options = std::move(options);
+  impl_->ctx = ctx;
+  impl_->input_dir = impl_->options.input_dir.empty() ? "." : impl_->options.input_dir;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(impl_->options.out_dir, ec)) {
+    throw InvalidArgument("output directory '" + impl_->options.out_dir + "' does not exist");
+  }
+}
+
+ScriptSession::~ScriptSession() { discard(); }
+
+CommandResult ScriptSession::execute_line(std::string_view text, const std::string& file,
+                                          std::size_t line) {
+  std::vector<script::Token> tokens = script::tokenize(text, file, line);
+  if (tokens.empty()) return {};
+  const auto& table = script::command_table();
+  const auto it = table.find(tokens.front().text);
+  if (it == table.end()) {
+    throw InputError(file, line, tokens.front().column,
+                     "unknown command '" + tokens.front().text + "'" +
+                         script::hint(tokens.front().text, command_names()) +
+                         "; 'help' lists the commands");
+  }
+  script::Call call(*impl_, *it->second, std::move(tokens), file, line);
+  try {
+    CommandResult result = it->second->run(call);
+    result.command = it->second->name;
+    return result;
+  } catch (const InputError&) {
+    throw;
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const InvalidArgument& e) {
+    call.fail(e.what());
+  } catch (const Failure& e) {
+    call.fail(e.what());
+  }
+}
+
+std::vector<CommandResult> ScriptSession::run_text(std::string_view text, const std::string& file) {
+  std::vector<CommandResult> results;
+  std::size_t line = 1;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    check_cancel(impl_->ctx);
+    CommandResult r = execute_line(text.substr(start, end - start), file, line);
+    if (!r.command.empty()) results.push_back(std::move(r));
+    start = end + 1;
+    ++line;
+  }
+  for (const auto& [name, value] : impl_->options.params) {
+    if (impl_->declared.count(name) == 0) {
+      std::vector<std::string> known(impl_->declared.begin(), impl_->declared.end());
+      throw InputError(file, 0, "--set " + name + "=" + value + ": the script declares no parameter '" +
+                                    name + "'" + script::hint(name, known) +
+                                    (known.empty() ? "" : "; it declares: " + script::join(known, ", ")));
+    }
+  }
+  return results;
+}
+
+std::vector<CommandResult> ScriptSession::run_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  if (!in || std::filesystem::is_directory(path, ec)) throw InputError(path, 0, "cannot read the script");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  if (impl_->options.input_dir.empty()) {
+    const std::filesystem::path dir = std::filesystem::path(path).parent_path();
+    impl_->input_dir = dir.empty() ? "." : dir.string();
+  }
+  return run_text(buffer.str(), path);
+}
+
+std::vector<std::string> ScriptSession::commit() {
+  std::vector<std::string> done;
+  for (const script::Staged& s : impl_->staged) {
+    std::error_code ec;
+    std::filesystem::rename(s.staged_path, s.final_path, ec);
+    if (ec) throw Failure("cannot move '" + s.staged_path + "' to '" + s.final_path + "': " + ec.message());
+    done.push_back(s.final_path);
+  }
+  impl_->staged.clear();
+  return done;
+}
+
+void ScriptSession::discard() noexcept {
+  if (!impl_) return;
+  for (const script::Staged& s : impl_->staged) {
+    std::error_code ec;
+    std::filesystem::remove(s.staged_path, ec);
+  }
+  impl_->staged.clear();
+}
+
+std::vector<std::string> ScriptSession::command_names() {
+  std::vector<std::string> names;
+  for (const auto& [name, spec] : script::command_table()) {
+    if (spec->name == name) names.push_back(name);
+  }
+  return names;
+}
+
+std::string ScriptSession::command_help(const std::string& name) {
+  const auto& table = script::command_table();
+  const auto it = table.find(name);
+  if (it == table.end()) {
+    throw InvalidArgument("unknown command '" + name + "'" + script::hint(name, command_names()));
+  }
+  const script::CommandSpec& s = *it->second;
+  std::string text = s.synopsis + "\n  " + s.description;
+  if (!s.aliases.empty()) text += "\n  aliases: " + script::join(s.aliases, ", ");
+  if (!s.example.empty()) text += "\n  example:\n    " + s.example;
+  return text;
+}
+
+std::vector<CommandResult> run_script(const std::string& path, const ScriptOptions& options,
+                                      Context* ctx) {
+  ScriptSession session(options, ctx);
+  std::vector<CommandResult> results;
+  try {
+    results = session.run_file(path);
+    session.commit();
+  } catch (...) {
+    session.discard();
+    throw;
+  }
+  return results;
+}
+
+}  // namespace ramiform

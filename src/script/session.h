@@ -1,0 +1,157 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+// Internals of the scene language: tokens, objects, the session state and the `Call` through
+// which a command reads its arguments. Commands live in commands_*.cpp, one group per file,
+// each registering its specs in `command_table()`.
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "ramiform/core/types.h"
+#include "ramiform/field/curves.h"
+#include "ramiform/field/field.h"
+#include "ramiform/script/script.h"
+#include "ramiform/skeleton/skeleton.h"
+
+namespace ramiform::script {
+
+struct Token {
+  std::string text;
+  std::size_t column = 1;  // 1-based, of the token's first character in the source line
+};
+
+/// Splits a line into whitespace-separated tokens; `"..."` quotes keep spaces, `#` outside
+/// quotes starts a comment. Throws InputError on an unterminated quote.
+std::vector<Token> tokenize(std::string_view text, const std::string& file, std::size_t line);
+
+enum class ObjectKind { kShape, kCurve2, kCurve3 };
+std::string kind_name(ObjectKind kind);
+
+/// A named object of a script.
+struct Object {
+  ObjectKind kind = ObjectKind::kShape;
+  FieldPtr field;                   // kShape
+  std::optional<Skeleton> skeleton;  // kShape straight from `skeleton` (for method=tets)
+  Curve2 curve2;                    // kCurve2
+  Curve3 curve3;                    // kCurve3
+  std::string summary;              // one line for `info` and `list`
+};
+
+struct Staged {
+  std::string final_path;
+  std::string staged_path;
+};
+
+}  // namespace ramiform::script
+
+namespace ramiform {
+
+struct ScriptSession::Impl {
+  ScriptOptions options;
+  Context* ctx = nullptr;
+  std::map<std::string, script::Object> objects;
+  std::map<std::string, std::string> params;  // declared parameters and their values
+  std::set<std::string> declared;
+  std::vector<script::Staged> staged;
+  std::string input_dir;  // resolved base of relative input paths
+};
+
+}  // namespace ramiform
+
+namespace ramiform::script {
+
+class Call;
+using Handler = std::function<CommandResult(Call&)>;
+
+/// One command of the language.
+struct CommandSpec {
+  std::string name;
+  std::string synopsis;     // "sphere NAME [RADIUS] [center=X,Y,Z] [kernel=K]"
+  std::string description;  // one paragraph
+  std::string example;      // lines of script
+  std::vector<std::string> options;  // accepted option keys
+  Handler run;
+  std::vector<std::string> aliases;
+};
+
+/// Every command, by name (aliases included).
+const std::map<std::string, const CommandSpec*>& command_table();
+/// Registration per group (called once by command_table()).
+void add_shape_commands(std::vector<CommandSpec>& out);
+void add_curve_commands(std::vector<CommandSpec>& out);
+void add_output_commands(std::vector<CommandSpec>& out);
+
+/// The arguments of one command line, with typed accessors that throw InputError pointing at
+/// the offending token.
+class Call {
+ public:
+  Call(ScriptSession::Impl& session, const CommandSpec& spec, std::vector<Token> tokens,
+       std::string file, std::size_t line);
+
+  ScriptSession::Impl& session() const { return session_; }
+  const CommandSpec& spec() const { return spec_; }
+
+  /// Number of positional arguments (tokens after the command that are not key=value).
+  std::size_t count() const { return positional_.size(); }
+  const Token& arg(std::size_t i) const;
+  /// Requires between `min` and `max` positional arguments.
+  void expect_count(std::size_t min, std::size_t max, const std::string& what) const;
+
+  /// A new object name (letters, digits, '_', '-', '.'; not starting with a digit).
+  std::string new_name(std::size_t i) const;
+  double number(std::size_t i, const std::string& what) const;
+  double positive(std::size_t i, const std::string& what) const;
+  int integer(std::size_t i, const std::string& what) const;
+  /// An existing object of `kind`; unknown names suggest the closest.
+  const Object& object(std::size_t i, ObjectKind kind) const;
+  const Object& object_named(const Token& token, ObjectKind kind) const;
+  /// An input path resolved against the session's input directory (must exist).
+  std::string input_path(std::size_t i) const;
+  std::string input_path(const Token& token) const;
+  /// An output path resolved against out_dir (inside it unless allow_any_path), staged: the
+  /// returned path is where to write now; commit() renames it to the final path.
+  std::string output_path(std::size_t i);
+
+  bool has_option(const std::string& key) const;
+  double option_number(const std::string& key, double fallback) const;
+  double option_positive(const std::string& key, double fallback) const;
+  int option_integer(const std::string& key, int fallback, int min, int max) const;
+  Vec3 option_vec3(const std::string& key, const Vec3& fallback) const;
+  std::string option_word(const std::string& key, const std::string& fallback,
+                          const std::vector<std::string>& allowed) const;
+  const Token* option_token(const std::string& key) const;
+
+  /// Parses "X,Y,Z" (for option values and `vec` positional arguments).
+  Vec3 parse_vec3(const Token& token, const std::string& what) const;
+  double parse_number(const Token& token, const std::string& what) const;
+
+  [[noreturn]] void fail(const Token& token, const std::string& problem) const;
+  [[noreturn]] void fail(const std::string& problem) const;  // at the command itself
+
+  /// Stores an object under `name` (replacing an existing one).
+  void define(const std::string& name, Object object);
+
+  const std::string& file() const { return file_; }
+  std::size_t line() const { return line_; }
+
+ private:
+  ScriptSession::Impl& session_;
+  const CommandSpec& spec_;
+  Token command_;
+  std::vector<Token> positional_;
+  std::vector<std::pair<std::string, Token>> options_;  // key, value token (column of value)
+  std::string file_;
+  std::size_t line_;
+};
+
+/// "3 objects" style helpers.
+std::string format_number(double v);
+std::string format_vec3(const Vec3& v);
+
+}  // namespace ramiform::script

@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+// Every script in examples/ runs and every mesh it writes is watertight; every ```rf example
+// of docs/language.md runs.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "ramiform/core/errors.h"
+#include "ramiform/io/mesh_io.h"
+#include "ramiform/mesh/checks.h"
+#include "ramiform/script/script.h"
+#include "support/fixtures.h"
+
+namespace ramiform::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kSource = RAMIFORM_SOURCE_DIR;
+
+std::vector<fs::path> example_scripts() {
+  std::vector<fs::path> out;
+  for (const auto& e : fs::directory_iterator(kSource / "examples")) {
+    if (e.path().extension() == ".rf") out.push_back(e.path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+class ExampleScript : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ExampleScript, RunsAndWritesOnlyWatertightMeshes) {
+  const fs::path script = kSource / "examples" / GetParam();
+  const fs::path out = temp_dir("example-" + script.stem().string());
+  ScriptOptions options;
+  options.out_dir = out.string();
+  const auto results = run_script(script.string(), options);
+  std::size_t meshes = 0;
+  for (const auto& e : fs::directory_iterator(out)) {
+    const std::string ext = e.path().extension().string();
+    ASSERT_TRUE(ext == ".ply" || ext == ".obj" || ext == ".off") << e.path();  // nothing staged left
+    const TriMesh mesh = read_mesh(e.path().string());
+    const MeshReport r = check_mesh(mesh);
+    EXPECT_TRUE(r.watertight) << e.path() << ": " << r.boundary_edges << " boundary edges";
+    EXPECT_TRUE(r.oriented) << e.path();
+    EXPECT_TRUE(r.manifold) << e.path();
+    EXPECT_EQ(r.components, 1u) << e.path();
+    EXPECT_GT(signed_volume(mesh), 0.0) << e.path();
+    ++meshes;
+  }
+  EXPECT_GT(meshes, 0u) << "an example should write at least one mesh";
+  fs::remove_all(out);
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, ExampleScript, ::testing::ValuesIn([] {
+                           std::vector<std::string> names;
+                           for (const fs::path& p : example_scripts()) names.push_back(p.filename().string());
+                           return names;
+                         }()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           std::string n = fs::path(info.param).stem().string();
+                           for (char& c : n) {
+                             if (std::isalnum(static_cast<unsigned char>(c)) == 0) c = '_';
+                           }
+                           return n;
+                         });
+
+TEST(LanguageDoc, EveryExampleBlockRuns) {
+  std::ifstream in(kSource / "docs" / "language.md");
+  ASSERT_TRUE(in) << "docs/language.md is missing";
+  std::string line;
+  std::string block;
+  bool inside = false;
+  std::size_t block_line = 0;
+  std::size_t line_no = 0;
+  int blocks = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!inside && line.rfind("```rf", 0) == 0) {
+      inside = true;
+      block.clear();
+      block_line = line_no + 1;
+      continue;
+    }
+    if (inside && line.rfind("```", 0) == 0) {
+      inside = false;
+      ++blocks;
+      const fs::path out = temp_dir("language-doc-" + std::to_string(blocks));
+      ScriptOptions options;
+      options.out_dir = out.string();
+      options.input_dir = (kSource / "examples").string();
+      ScriptSession session(options);
+      // A block that shows an error says so on its first line: "# error: WORDS".
+      const std::string expect_error = block.rfind("# error: ", 0) == 0
+                                           ? block.substr(9, block.find('\n') - 9)
+                                           : std::string();
+      try {
+        session.run_text(block, "docs/language.md:" + std::to_string(block_line));
+        EXPECT_TRUE(expect_error.empty()) << "block at line " << block_line << " should fail with: " << expect_error;
+      } catch (const InputError& e) {
+        EXPECT_FALSE(expect_error.empty()) << "block at line " << block_line << ": " << e.what();
+        if (!expect_error.empty()) {
+          EXPECT_NE(std::string(e.what()).find(expect_error), std::string::npos) << e.what();
+        }
+      }
+      session.discard();
+      fs::remove_all(out);
+      continue;
+    }
+    if (inside) block += line + "\n";
+  }
+  EXPECT_FALSE(inside) << "unterminated code block";
+  EXPECT_GE(blocks, 20) << "every command should have an example";
+}
+
+}  // namespace
+}  // namespace ramiform::test

@@ -1,0 +1,232 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+// The scene language: the thesis's listings, values against independent formulas, errors with
+// file/line/column and hints, parameters, staged (all-or-nothing) outputs.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "ramiform/core/errors.h"
+#include "ramiform/io/mesh_io.h"
+#include "ramiform/mesh/checks.h"
+#include "ramiform/script/script.h"
+#include "support/fixtures.h"
+
+namespace ramiform::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Wyvill's kernel written out (thesis §3.2), and R = r / (1/2) for a surface radius r.
+double wyvill(double x) {
+  if (x >= 1) return 0;
+  const double x2 = x * x;
+  return 1 - 22.0 / 9 * x2 + 17.0 / 9 * x2 * x2 - 4.0 / 9 * x2 * x2 * x2;
+}
+
+double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+class ScriptTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = temp_dir(std::string("script-") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    options_.out_dir = dir_.string();
+    options_.input_dir = dir_.string();
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::size_t files() const {
+    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
+  }
+  // The InputError a script raises (fails the test if it runs).
+  InputError error_of(const std::string& text) {
+    ScriptSession s(options_);
+    try {
+      s.run_text(text, "t.rf");
+    } catch (const InputError& e) {
+      return e;
+    }
+    ADD_FAILURE() << "script ran without error:\n" << text;
+    return InputError("", 0, "none");
+  }
+  double value(ScriptSession& s, const std::string& name, const Vec3& p) {
+    const CommandResult r = s.execute_line("eval " + name + " " + std::to_string(p.x()) + " " +
+                                           std::to_string(p.y()) + " " + std::to_string(p.z()));
+    const std::size_t eq = r.message.find("= ");
+    return std::stod(r.message.substr(eq + 2));
+  }
+
+  fs::path dir_;
+  ScriptOptions options_;
+};
+
+TEST_F(ScriptTest, ThesisDifferenceListingRunsVerbatimAndMatchesTheFormula) {
+  ScriptSession s(options_);
+  s.run_text("sphere s1\nline s2\ndiff s1 s2 s3\n", "thesis.rf");
+  // s1: unit sphere (R = 2), s2: segment (0,0,-1.5)-(0,0,1.5) radius 0.3 (R = 0.6);
+  // diff = min(f1, 2 iso - f2) with iso 0.5.
+  for (const Vec3& p : {Vec3(0.7, 0, 0), Vec3(0, 0, 0), Vec3(0.2, 0.1, 0.5), Vec3(0, 0.5, 0.9),
+                        Vec3(1.2, 0, 0), Vec3(0.31, 0, 0)}) {
+    const double f1 = wyvill(p.norm() / 2);
+    const double f2 = wyvill(segment_distance(p, Vec3(0, 0, -1.5), Vec3(0, 0, 1.5)) / 0.6);
+    EXPECT_NEAR(value(s, "s3", p), std::min(f1, 1.0 - f2), 1e-12) << p.transpose();
+  }
+  EXPECT_GT(value(s, "s3", Vec3(0.7, 0, 0)), 0.5);  // in the sphere's body
+  EXPECT_LT(value(s, "s3", Vec3(0, 0, 0)), 0.5);    // in the drilled hole
+  EXPECT_LT(value(s, "s3", Vec3(1.2, 0, 0)), 0.5);  // outside the sphere
+}
+
+TEST_F(ScriptTest, DrilledSphereMeshIsWatertightWithTheNapkinRingVolume) {
+  ScriptSession s(options_);
+  s.run_text("sphere s1\nline s2\ndiff s1 s2 s3\nsave_mesh s3 s3.ply resolution=128\n", "t.rf");
+  EXPECT_EQ(files(), 1u);  // staged, not yet committed
+  EXPECT_FALSE(fs::exists(dir_ / "s3.ply"));
+  s.commit();
+  const TriMesh mesh = read_mesh((dir_ / "s3.ply").string());
+  const MeshReport r = check_mesh(mesh);
+  EXPECT_TRUE(r.watertight && r.oriented && r.manifold);
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.euler, 0);  // a torus: the hole goes through
+  // Sphere of radius 1 minus a cylinder of radius a = 0.3 through it: 4/3 pi (1 - a^2)^(3/2).
+  const double expected = 4.0 / 3 * std::numbers::pi * std::pow(1 - 0.09, 1.5);
+  EXPECT_NEAR(signed_volume(mesh), expected, 0.01 * expected);
+}
+
+TEST_F(ScriptTest, ThesisCrownListingScalesThenStopsAtPointSets) {
+  ScriptSession s(options_);
+  const InputError e = error_of(
+      "sphere s\nscale s 50 80 50\npoint_set_gen s poisson poisson.props\nsave_point_set points.txt\n");
+  EXPECT_EQ(e.line(), 3u);
+  EXPECT_EQ(e.column(), 1u);
+  EXPECT_NE(std::string(e.what()).find("not available yet"), std::string::npos) << e.what();
+  s.run_text("sphere s\nscale s 50 80 50\n", "t.rf");
+  EXPECT_GT(value(s, "s", Vec3(0, 79, 0)), 0.5);
+  EXPECT_LT(value(s, "s", Vec3(0, 81, 0)), 0.5);
+  EXPECT_GT(value(s, "s", Vec3(49, 0, 0)), 0.5);
+  EXPECT_LT(value(s, "s", Vec3(51, 0, 0)), 0.5);
+}
+
+TEST_F(ScriptTest, TransformsRebindTheNameAndCopiesKeepTheOldShape) {
+  ScriptSession s(options_);
+  s.run_text("sphere a 1\ncopy a b\ntranslate a 3 0 0\nrotate b z 90 center=0,2,0\n", "t.rf");
+  EXPECT_NEAR(value(s, "a", Vec3(3, 0, 0)), 1.0, 1e-12);
+  // b: the unit sphere at the origin turned 90 degrees about (0,2,0): centre (2,2,0).
+  EXPECT_NEAR(value(s, "b", Vec3(2, 2, 0)), 1.0, 1e-12);
+  EXPECT_NEAR(value(s, "b", Vec3(2.5, 2, 0)), wyvill(0.25), 1e-12);
+}
+
+TEST_F(ScriptTest, ParametersTakeDefaultsAndOverrides) {
+  {
+    ScriptSession s(options_);
+    s.run_text("param r 2\nsphere s $r\n", "t.rf");
+    EXPECT_NEAR(value(s, "s", Vec3(1.9, 0, 0)), wyvill(1.9 / 4), 1e-12);
+  }
+  options_.params["r"] = "0.5";
+  {
+    ScriptSession s(options_);
+    s.run_text("param r 2\nsphere s ${r}\n", "t.rf");
+    EXPECT_NEAR(value(s, "s", Vec3(0.4, 0, 0)), wyvill(0.4), 1e-12);
+  }
+  options_.params["radius"] = "1";
+  const InputError e = error_of("param r 2\nsphere s $r\n");
+  EXPECT_NE(std::string(e.what()).find("no parameter 'radius'"), std::string::npos) << e.what();
+}
+
+struct BadLine {
+  const char* script;
+  std::size_t line;
+  std::size_t column;
+  const char* words;
+};
+
+TEST_F(ScriptTest, ErrorsNameLineColumnCommandAndExpectation) {
+  const BadLine cases[] = {
+      {"sphre s\n", 1, 1, "unknown command 'sphre' (did you mean 'sphere'?)"},
+      {"sphere s1\nline s2\ndiff s1 s4 s3\n", 3, 9, "diff: unknown shape 's4' (did you mean 's1'?)"},
+      {"sphere s x\n", 1, 10, "sphere: expected a number for radius, got 'x'"},
+      {"sphere s -1\n", 1, 10, "radius must be > 0"},
+      {"sphere s 1 centre=0,0,0\n", 1, 12, "unknown option 'centre' (did you mean 'center'?)"},
+      {"sphere s 1 center=0,0\n", 1, 19, "expected X,Y,Z"},
+      {"sphere s\nsave_mesh s ../up.ply\n", 2, 13, "outside the output directory"},
+      {"sphere s\nsave_mesh s s.stl\n", 2, 13, "mesh files end in .ply, .obj or .off"},
+      {"sphere s\ndiff s s\n", 2, 1, "expected A B OUT"},
+      {"curve c polyline 0 0 1 1\nsweep w c c\n", 2, 11, "'c' is a 2-D curve, expected a 3-D path"},
+      {"curve c polyline 0 0 1\n", 1, 22, "X Y pairs"},
+      {"curve c polygon 0 0 1 1\n", 1, 9, "(did you mean 'polyline'?)"},
+      {"sphere 1s\n", 1, 8, "not a valid object name"},
+      {"sphere s \"unterminated\n", 1, 10, "unterminated quote"},
+      {"sphere s $radius\n", 1, 10, "unknown parameter '$radius'"},
+      {"skeleton t missing.json\n", 1, 12, "no such file"},
+      {"plane p\nsave_mesh p p.ply\n", 2, 11, "unbounded"},
+      {"sphere a\nsphere b 1 kernel=cauchy\n", 2, 19, "Cauchy kernel"},
+  };
+  for (const BadLine& c : cases) {
+    const InputError e = error_of(c.script);
+    EXPECT_EQ(e.file(), "t.rf");
+    EXPECT_EQ(e.line(), c.line) << c.script;
+    EXPECT_EQ(e.column(), c.column) << c.script << " -> " << e.what();
+    EXPECT_NE(std::string(e.what()).find(c.words), std::string::npos) << c.script << " -> " << e.what();
+    const std::string prefix = "t.rf:" + std::to_string(c.line) + ":" + std::to_string(c.column) + ": ";
+    EXPECT_EQ(std::string(e.what()).rfind(prefix, 0), 0u) << e.what();
+  }
+}
+
+TEST_F(ScriptTest, AFailedScriptLeavesNoOutput) {
+  const std::string script = (dir_ / "bad.rf").string();
+  std::ofstream(script) << "sphere s\nsave_mesh s a.ply resolution=16\nsave_mesh s b.obj resolution=16\n"
+                           "diff s nothing x\n";
+  EXPECT_THROW(run_script(script, options_), InputError);
+  EXPECT_EQ(files(), 1u);  // only bad.rf
+  std::ofstream(script) << "sphere s\nsave_mesh s a.ply resolution=16\nsave_mesh s b.obj resolution=16\n";
+  const auto results = run_script(script, options_);
+  EXPECT_EQ(results.size(), 3u);
+  EXPECT_TRUE(fs::exists(dir_ / "a.ply"));
+  EXPECT_TRUE(fs::exists(dir_ / "b.obj"));
+  EXPECT_EQ(files(), 3u);
+}
+
+TEST_F(ScriptTest, OutputsMayLeaveTheOutputDirectoryOnlyWhenAllowed) {
+  fs::create_directories(dir_ / "out");
+  options_.out_dir = (dir_ / "out").string();
+  EXPECT_NE(std::string(error_of("sphere s\nsave_mesh s ../x.ply resolution=8\n").what()).find("--allow-any-path"),
+            std::string::npos);
+  options_.allow_any_path = true;
+  ScriptSession s(options_);
+  s.run_text("sphere s\nsave_mesh s ../x.ply resolution=8\n", "t.rf");
+  s.commit();
+  EXPECT_TRUE(fs::exists(dir_ / "x.ply"));
+}
+
+TEST_F(ScriptTest, HelpListsEveryCommandAndDescribesOne) {
+  const auto names = ScriptSession::command_names();
+  for (const char* want : {"sphere", "line", "circle", "box", "cylinder", "cone", "plane", "skeleton",
+                           "blend", "union", "intersect", "diff", "translate", "rotate", "scale",
+                           "bend", "taper", "twist", "curve", "path", "revolve", "sweep", "skin",
+                           "rbf", "save_mesh", "eval", "eval_points", "param", "help"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), want), names.end()) << want;
+  }
+  EXPECT_NE(ScriptSession::command_help("skin").find("SECTION@S"), std::string::npos);
+  EXPECT_THROW((void)ScriptSession::command_help("skn"), InvalidArgument);
+  ScriptSession s(options_);
+  EXPECT_NE(s.execute_line("help").message.find("save_mesh NAME FILE"), std::string::npos);
+}
+
+TEST_F(ScriptTest, TokenizerKeepsQuotedPathsAndStripsComments) {
+  fs::create_directories(dir_ / "with space");
+  ScriptSession s(options_);
+  s.run_text("# a comment line\n\n  sphere s   # trailing comment\nsave_mesh s \"with space/s.off\" resolution=8\n",
+             "t.rf");
+  s.commit();
+  EXPECT_TRUE(fs::exists(dir_ / "with space" / "s.off"));
+}
+
+}  // namespace
+}  // namespace ramiform::test

@@ -1,0 +1,1 @@
+set(RAMIFORM_script_TESTS script/script_test.cpp script/examples_test.cpp)
