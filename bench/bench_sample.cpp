@@ -1,0 +1,4 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include <benchmark/benchmark.h>
+BENCHMARK_MAIN();

@@ -1,0 +1,1 @@
+set(RAMIFORM_sample_TESTS sample/point_sets_test.cpp)
