@@ -273,7 +273,8 @@ std::string Call::input_path(const Token& token) const {
     if (fs::path(s.final_path).lexically_normal() == p.lexically_normal()) return s.staged_path;
   }
   std::error_code ec;
-  if (!fs::is_regular_file(p, ec)) fail(token, "cannot read '" + p.string() + "': no such file");
+  if (!fs::exists(p, ec)) fail(token, "cannot read '" + p.string() + "': no such file");
+  if (!fs::is_regular_file(p, ec)) fail(token, "cannot read '" + p.string() + "': not a regular file");
   return p.string();
 }
 
@@ -417,8 +418,9 @@ CommandResult ScriptSession::execute_line(std::string_view text, const std::stri
     CommandResult result = it->second->run(call);
     result.command = it->second->name;
     return result;
-  } catch (const InputError&) {
-    throw;
+  } catch (const InputError& e) {
+    if (e.file() == file) throw;
+    call.fail(e.what());  // an input file's error, located at the command that read it
   } catch (const Cancelled&) {
     throw;
   } catch (const InvalidArgument& e) {

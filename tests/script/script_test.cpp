@@ -179,6 +179,18 @@ TEST_F(ScriptTest, ErrorsNameLineColumnCommandAndExpectation) {
   }
 }
 
+TEST_F(ScriptTest, ErrorsInInputFilesNameTheScriptLineAndTheFileLine) {
+  std::ofstream(dir_ / "bad.json") << "{\"nodes\": [}";
+  const InputError e = error_of("sphere s\nskeleton t bad.json\n");
+  EXPECT_EQ(e.line(), 2u);
+  EXPECT_EQ(std::string(e.what()).rfind("t.rf:2:1: skeleton: ", 0), 0u) << e.what();
+  EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
+  std::ofstream(dir_ / "pts.txt") << "0 0\n1 x\n";
+  const InputError c = error_of("curve c polyline file=pts.txt\n");
+  EXPECT_EQ(std::string(c.what()).rfind("t.rf:1:1: curve: ", 0), 0u) << c.what();
+  EXPECT_NE(std::string(c.what()).find("pts.txt:2"), std::string::npos) << c.what();
+}
+
 TEST_F(ScriptTest, AFailedScriptLeavesNoOutput) {
   const std::string script = (dir_ / "bad.rf").string();
   std::ofstream(script) << "sphere s\nsave_mesh s a.ply resolution=16\nsave_mesh s b.obj resolution=16\n"
