@@ -2,6 +2,7 @@
 // Copyright (c) 2026 the ramiform authors
 #include "ramiform/io/mesh_io.h"
 
+#include "io/gltf_format.h"
 #include "io/obj_format.h"
 #include "io/ply_format.h"
 #include "io/text_scan.h"
@@ -343,12 +344,15 @@ TriMesh read_mesh(const std::string& path) {
 
 void write_mesh(const TriMesh& mesh, const std::string& path) {
   const std::string ext = lower_extension(path);
-  if (ext != ".ply" && ext != ".obj" && ext != ".off") {
+  if (ext != ".ply" && ext != ".obj" && ext != ".off" && ext != ".glb") {
     throw InvalidArgument("write_mesh: unknown format '" + ext + "' for '" + path +
-                          "' (supported: .ply, .obj, .off)");
+                          "' (supported: .ply, .obj, .off, .glb)");
   }
   check_writable(mesh);
-  if (ext == ".ply") {
+  if (ext == ".glb") {
+    write_file_atomically(
+        path, [&](std::ostream& out) { io::write_glb(mesh, out); }, FileMode::kBinary);
+  } else if (ext == ".ply") {
     write_file_atomically(
         path, [&](std::ostream& out) { write_ply(mesh, out); }, FileMode::kBinary);
   } else if (ext == ".obj") {

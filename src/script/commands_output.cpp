@@ -52,8 +52,8 @@ CommandResult run_save_mesh(Call& c) {
     for (char& ch : e) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
     return e;
   }();
-  if (ext != ".ply" && ext != ".obj" && ext != ".off") {
-    c.fail(c.arg(1), "mesh files end in .ply, .obj or .off, got '" + c.arg(1).text + "'");
+  if (ext != ".ply" && ext != ".obj" && ext != ".off" && ext != ".glb") {
+    c.fail(c.arg(1), "mesh files end in .ply, .obj, .off or .glb, got '" + c.arg(1).text + "'");
   }
   TriMesh mesh;
   std::string how;
@@ -184,7 +184,7 @@ void add_output_commands(std::vector<CommandSpec>& out) {
                  "Later arguments use it as $NAME or ${NAME}.",
                  "param r 2\nsphere s $r", {}, run_param, {}});
   out.push_back({"save_mesh", "save_mesh NAME FILE [resolution=N | cell=H] [method=mc|tets] [levels=N]",
-                 "Polygonizes a shape into FILE (.ply, .obj, .off) inside the output directory: marching "
+                 "Polygonizes a shape into FILE (.ply, .obj, .off, .glb) inside the output directory: marching "
                  "cubes over the shape's bounds (default 96 cells along the longest side), or for a "
                  "shape loaded by `skeleton` the skeleton-bounded tetrahedral polygonizer.",
                  "save_mesh s3 s3.ply resolution=128", {"resolution", "cell", "method", "levels"},

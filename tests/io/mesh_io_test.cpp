@@ -5,6 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
 
 #include "io/io_test_util.h"
 #include "ramiform/core/errors.h"
@@ -304,6 +308,80 @@ TEST(MeshIo, ReadErrorsCarryThePath) {
   const std::string obj = dir.file("bad.obj");
   write_bytes(obj, "v 0 0 0\nv 0 0 0\nf 1 2 3\n");
   EXPECT_INPUT_ERROR_AT(read_mesh(obj), obj, 3, "vertex index 3 out of range");
+}
+
+}  // namespace
+}  // namespace ramiform
+
+namespace ramiform {
+namespace {
+
+std::uint32_t u32_at(const std::string& s, std::size_t at) {
+  std::uint32_t v = 0;
+  for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(s[at + static_cast<std::size_t>(i)]);
+  return v;
+}
+
+// Decodes a .glb independently (GLB header, JSON chunk, BIN chunk; accessor -> bufferView ->
+// bytes) and compares with the mesh rounded to float.
+TEST(MeshGlb, ChunksAccessorsAndDataFollowTheGltfSpecification) {
+  const io_test::TempDir dir;
+  TriMesh huge = awkward_mesh(false);
+  EXPECT_THROW(write_mesh(huge, dir.file("huge.glb")), InvalidArgument);  // -1e300 is no float
+  EXPECT_FALSE(std::filesystem::exists(dir.file("huge.glb")));
+  for (bool normals : {false, true}) {
+    TriMesh m = awkward_mesh(normals);
+    m.positions[2].x() = -1e30;
+    write_mesh(m, dir.file("m.glb"));
+    std::ifstream in(dir.file("m.glb"), std::ios::binary);
+    const std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GE(s.size(), 28u);
+    EXPECT_EQ(s.substr(0, 4), "glTF");
+    EXPECT_EQ(u32_at(s, 4), 2u);
+    EXPECT_EQ(u32_at(s, 8), s.size());
+    const std::uint32_t json_len = u32_at(s, 12);
+    EXPECT_EQ(s.substr(16, 4), "JSON");
+    EXPECT_EQ(json_len % 4, 0u);
+    const auto j = nlohmann::json::parse(s.substr(20, json_len));
+    const std::size_t bin_at = 20 + json_len;
+    EXPECT_EQ(s.substr(bin_at + 4, 4), std::string("BIN\0", 4));
+    const std::string bin = s.substr(bin_at + 8, u32_at(s, bin_at));
+    EXPECT_EQ(j["asset"]["version"], "2.0");
+    EXPECT_EQ(j["buffers"][0]["byteLength"].get<std::size_t>(), bin.size());
+    const auto& prim = j["meshes"][0]["primitives"][0];
+    EXPECT_EQ(prim["mode"], 4);
+    auto floats = [&](int accessor) {
+      const auto& a = j["accessors"][accessor];
+      EXPECT_EQ(a["componentType"], 5126);
+      const auto& v = j["bufferViews"][a["bufferView"].get<int>()];
+      std::vector<float> out(a["count"].get<std::size_t>() * 3);
+      std::memcpy(out.data(), bin.data() + v["byteOffset"].get<std::size_t>(), out.size() * 4);
+      return out;
+    };
+    const std::vector<float> pos = floats(prim["attributes"]["POSITION"].get<int>());
+    ASSERT_EQ(pos.size(), m.positions.size() * 3);
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(pos[i * 3 + static_cast<std::size_t>(k)], static_cast<float>(m.positions[i][k]));
+        EXPECT_LE(j["accessors"][0]["min"][k].get<float>(), pos[i * 3 + static_cast<std::size_t>(k)]);
+        EXPECT_GE(j["accessors"][0]["max"][k].get<float>(), pos[i * 3 + static_cast<std::size_t>(k)]);
+      }
+    }
+    EXPECT_EQ(prim["attributes"].contains("NORMAL"), normals);
+    if (normals) {
+      const std::vector<float> nor = floats(prim["attributes"]["NORMAL"].get<int>());
+      EXPECT_EQ(nor[3], static_cast<float>(m.normals[1].x()));
+    }
+    const auto& ia = j["accessors"][prim["indices"].get<int>()];
+    EXPECT_EQ(ia["componentType"], 5125);
+    EXPECT_EQ(ia["count"].get<std::size_t>(), m.triangles.size() * 3);
+    const auto& iv = j["bufferViews"][ia["bufferView"].get<int>()];
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+      for (std::size_t c = 0; c < 3; ++c) {
+        EXPECT_EQ(u32_at(bin, iv["byteOffset"].get<std::size_t>() + (t * 3 + c) * 4), m.triangles[t][c]);
+      }
+    }
+  }
 }
 
 }  // namespace

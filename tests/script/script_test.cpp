@@ -156,7 +156,7 @@ TEST_F(ScriptTest, ErrorsNameLineColumnCommandAndExpectation) {
       {"sphere s 1 centre=0,0,0\n", 1, 12, "unknown option 'centre' (did you mean 'center'?)"},
       {"sphere s 1 center=0,0\n", 1, 19, "expected X,Y,Z"},
       {"sphere s\nsave_mesh s ../up.ply\n", 2, 13, "outside the output directory"},
-      {"sphere s\nsave_mesh s s.stl\n", 2, 13, "mesh files end in .ply, .obj or .off"},
+      {"sphere s\nsave_mesh s s.stl\n", 2, 13, "mesh files end in .ply, .obj, .off or .glb"},
       {"sphere s\ndiff s s\n", 2, 1, "expected A B OUT"},
       {"curve c polyline 0 0 1 1\nsweep w c c\n", 2, 11, "'c' is a 2-D curve, expected a 3-D path"},
       {"curve c polyline 0 0 1\n", 1, 22, "X Y pairs"},

@@ -40,8 +40,9 @@ namespace ramiform {
 /// Writes a mesh, choosing the format by the extension (case-insensitive): `.ply` (binary
 /// little-endian; vertex x, y, z and, with normals, nx, ny, nz as double; faces as a uchar/uint
 /// `vertex_indices` list), `.obj` (text; `vn` lines and v//vn corners when there are normals) or
-/// `.off` (text, no normals). Numbers are written so that reading gives identical doubles. The
-/// write is atomic (io/atomic_file.h).
+/// `.off` (text, no normals) or `.glb` (glTF 2.0 binary, write only: float32 positions and
+/// normals, uint32 indices). Numbers in .ply/.obj/.off are written so that reading gives
+/// identical doubles. The write is atomic (io/atomic_file.h).
 ///
 /// Throws `InvalidArgument` for another extension, a normal count that is neither 0 nor the
 /// vertex count, non-finite coordinates or indices out of range; `Failure` when the file cannot
