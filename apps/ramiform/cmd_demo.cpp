@@ -1,67 +1,80 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
-// `ramiform demo [--out DIR]`: a built-in branching skeleton, meshed and checked.
+// `ramiform demo [--out DIR]`: the whole pipeline on the built-in scene examples/demo.rf — a
+// crown modeled in the scene language, points, a grown tree with pipe-model radii, and its
+// tetrahedral mesh.
 
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 
 #include "commands.h"
 #include "common.h"
-#include "mesh_job.h"
-#include "ramiform/skeleton/generate.h"
+#include "demo_scene.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/script/script.h"
 
 namespace ramiform::cli {
 namespace {
 
 struct DemoArgs {
   std::string out_dir = "out";
-  MeshJobOptions job;
-  CLI::Option* resolution = nullptr;
+  int levels = 2;
+  int points = 2500;
+  std::uint64_t seed = 1;
   CommonOptions common;
 };
 
-// The built-in scene: a 31-segment binary tree (four forks deep) with pipe-model radii.
-Skeleton demo_skeleton() {
-  BranchingTreeOptions o;
-  o.segments = 31;
-  o.seed = 2026;
-  o.trunk_length = 3.0;
-  o.tip_radius = 0.1;
-  return branching_tree(o);
-}
-
 int run_demo(const DemoArgs& args) {
   RunScope scope(args.common);
-  StageTimer timer;
   namespace fs = std::filesystem;
   fs::create_directories(args.out_dir);
-  const Skeleton skeleton = demo_skeleton();
-  const std::string skeleton_path = (fs::path(args.out_dir) / "skeleton.json").string();
-  const std::string mesh_path = (fs::path(args.out_dir) / "tree.ply").string();
+  ScriptOptions options;
+  options.out_dir = args.out_dir;
+  options.seed = args.seed;
+  options.params = {{"levels", std::to_string(args.levels)}, {"points", std::to_string(args.points)}};
+  ScriptSession session(options, &scope.context());
+  nlohmann::json commands = nlohmann::json::array();
+  std::vector<std::string> reports;
+  const std::string text = kDemoScene;
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<std::string> written;
+  try {
+    std::size_t line_no = 1;
+    for (std::size_t at = 0; at <= text.size(); ++line_no) {
+      std::size_t end = text.find('\n', at);
+      if (end == std::string::npos) end = text.size();
+      const auto t0 = std::chrono::steady_clock::now();
+      const CommandResult r = session.execute_line(std::string_view(text).substr(at, end - at), "demo.rf", line_no);
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (!r.command.empty()) {
+        commands.push_back({{"line", line_no}, {"command", r.command}, {"result", r.message}, {"seconds", seconds}});
+        if (r.command == "grow" || r.command == "point_set_thin" || r.command == "point_set_gen" ||
+            r.command.rfind("save_", 0) == 0) {
+          reports.push_back(r.message);
+        }
+      }
+      at = end + 1;
+    }
+    written = session.commit();
+  } catch (...) {
+    session.discard();
+    throw;
+  }
+  nlohmann::json stats;
+  stats["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stats["commands"] = commands;
+  stats["outputs"] = written;
+  stats["seed"] = args.seed;
   const std::string stats_path = (fs::path(args.out_dir) / "stats.json").string();
-  write_skeleton_json(skeleton, skeleton_path);
-  timer.lap("skeleton");
-  SkeletonFieldOptions field;
-  const MeshJobResult result = mesh_skeleton(skeleton, field.resolved(), args.job, mesh_path, timer,
-                                             scope.context());
-  nlohmann::json stats = result.stats;
-  stats["skeleton_nodes"] = skeleton.node_count();
-  stats["skeleton_edges"] = skeleton.edge_count();
-  stats["seconds"] = timer.seconds();
   write_stats(stats_path, stats);
   write_stats(args.common.stats_path, stats);
-  const auto& r = result.report;
-  std::cout << "ramiform demo: a " << skeleton.edge_count()
-            << "-segment branching skeleton as a Cauchy convolution surface, "
-            << (args.job.method == "mc" ? "marching cubes" : "skeleton-bounded tetrahedra")
-            << "\n"
-            << "  " << skeleton_path << "  skeleton (" << skeleton.node_count() << " nodes)\n"
-            << "  " << mesh_path << "  mesh (" << r.vertices << " vertices, " << r.triangles
-            << " triangles; watertight " << (r.watertight ? "yes" : "NO") << ", oriented "
-            << (r.oriented ? "yes" : "NO") << ", manifold " << (r.manifold ? "yes" : "NO")
-            << ", " << r.components << " component(s))\n"
-            << "  " << stats_path << "  timings and counts (" << result.stats["field_evals"]
-            << " field evaluations)\n";
+  std::cout << "ramiform demo: crown (scene language) -> points -> space colonization -> pipe-model radii -> "
+               "tetrahedral mesh\n";
+  for (const std::string& r : reports) std::cout << "  " << r << '\n';
+  std::cout << "files in " << args.out_dir << ":";
+  for (const std::string& w : written) std::cout << ' ' << fs::path(w).filename().string();
+  std::cout << " stats.json\n(the scene is examples/demo.rf; run it yourself with: ramiform run examples/demo.rf --out DIR)\n";
   return 0;
 }
 
@@ -70,26 +83,19 @@ int run_demo(const DemoArgs& args) {
 void register_demo(CLI::App& root, Action& action) {
   auto args = std::make_shared<DemoArgs>();
   CLI::App* c = root.add_subcommand(
-      "demo", "Run the main job on a built-in branching skeleton: mesh it, check it, and write "
-              "skeleton.json, tree.ply and stats.json into --out.");
-  c->add_option("--out", args->out_dir, "output directory (created if missing)");
-  c->add_option("--method", args->job.method,
-                "polygonizer: tets (skeleton-bounded tetrahedra, default) or mc (marching cubes)")
-      ->check(CLI::IsMember({"tets", "mc"}));
-  c->add_option("--levels", args->job.levels, "tets: 1:8 subdivision levels (default 3)")
-      ->check(CLI::Range(0, 6));
-  args->job.resolution = 160;
-  args->resolution =
-      c->add_option("--resolution", args->job.resolution,
-                    "mc: cells along the longest side (default 160)")
-          ->check(CLI::Range(8, 2048));
+      "demo", "Run the whole pipeline on the built-in scene (examples/demo.rf): model a crown, fill it "
+              "with points, grow a tree, mesh it; writes crown.ply, points.txt, skeleton.json, tree.ply, "
+              "tree.glb and stats.json into --out.");
+  c->add_option("--out", args->out_dir, "output directory (created if missing)")->capture_default_str();
+  c->add_option("--levels", args->levels, "tets: 1:8 subdivision levels of the tree mesh")
+      ->check(CLI::Range(0, 6))
+      ->capture_default_str();
+  c->add_option("--points", args->points, "attraction points in the crown")
+      ->check(CLI::Range(10, 10'000'000))
+      ->capture_default_str();
+  c->add_option("--seed", args->seed, "random seed")->capture_default_str();
   add_common_options(*c, args->common);
-  c->callback([args, &action] {
-    if (args->resolution->count() > 0 && args->job.method != "mc") {
-      throw CLI::ValidationError("--resolution", "applies to --method mc only");
-    }
-    action = [args] { return run_demo(*args); };
-  });
+  c->callback([args, &action] { action = [args] { return run_demo(*args); }; });
 }
 
 }  // namespace ramiform::cli

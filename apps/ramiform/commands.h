@@ -21,5 +21,8 @@ void register_convert(CLI::App& root, Action& action);
 void register_generate(CLI::App& root, Action& action);
 void register_run(CLI::App& root, Action& action);
 void register_shell(CLI::App& root, Action& action);
+void register_grow(CLI::App& root, Action& action);
+void register_sample(CLI::App& root, Action& action);
+void register_lsystem(CLI::App& root, Action& action);
 
 }  // namespace ramiform::cli

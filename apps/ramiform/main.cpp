@@ -33,6 +33,9 @@ int main(int argc, char** argv) {
   cli::register_generate(app, action);
   cli::register_run(app, action);
   cli::register_shell(app, action);
+  cli::register_grow(app, action);
+  cli::register_sample(app, action);
+  cli::register_lsystem(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -8,4 +8,5 @@ set(RAMIFORM_APP_SOURCES
   cmd_eval.cpp
   cmd_generate.cpp
   cmd_mesh.cpp
-  cmd_script.cpp)
+  cmd_script.cpp
+  cmd_grow.cpp)

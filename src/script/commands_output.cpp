@@ -41,25 +41,29 @@ std::string count_text(std::size_t n) {
   return s;
 }
 
+std::string lower_extension(const std::string& file) {
+  const std::size_t dot = file.rfind('.');
+  std::string e = dot == std::string::npos ? "" : file.substr(dot);
+  for (char& ch : e) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return e;
+}
+
+// save_mesh NAME FILE [FILE ...]: one polygonization, written in every format asked for.
 CommandResult run_save_mesh(Call& c) {
-  c.expect_count(2, 2, "NAME FILE");
+  c.expect_count(2, 9, "NAME FILE [FILE ...]");
   const Object& obj = c.object(0, ObjectKind::kShape);
   const std::string method = c.option_word("method", "mc", {"mc", "tets"});
-  const std::string ext = [&] {
-    const std::string& f = c.arg(1).text;
-    const std::size_t dot = f.rfind('.');
-    std::string e = dot == std::string::npos ? "" : f.substr(dot);
-    for (char& ch : e) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    return e;
-  }();
-  if (ext != ".ply" && ext != ".obj" && ext != ".off" && ext != ".glb") {
-    c.fail(c.arg(1), "mesh files end in .ply, .obj, .off or .glb, got '" + c.arg(1).text + "'");
+  for (std::size_t i = 1; i < c.count(); ++i) {
+    const std::string ext = lower_extension(c.arg(i).text);
+    if (ext != ".ply" && ext != ".obj" && ext != ".off" && ext != ".glb") {
+      c.fail(c.arg(i), "mesh files end in .ply, .obj, .off or .glb, got '" + c.arg(i).text + "'");
+    }
   }
   TriMesh mesh;
   std::string how;
   if (method == "tets") {
     if (!obj.skeleton) {
-      c.fail(c.arg(0), "method=tets needs a shape made by 'skeleton' (unchanged since); use method=mc");
+      c.fail(c.arg(0), "method=tets needs a shape made by skeleton, grow or lsystem (unchanged since); use method=mc");
     }
     for (const char* key : {"cell", "resolution"}) {
       if (const Token* t = c.option_token(key)) c.fail(*t, std::string(key) + "= applies to method=mc");
@@ -86,10 +90,13 @@ CommandResult run_save_mesh(Call& c) {
                           : "mc, resolution " + std::to_string(o.resolution);
   }
   const MeshReport report = check_mesh(mesh);
-  const std::string path = c.output_path(1);
-  write_mesh(mesh, path);
+  std::string files;
+  for (std::size_t i = 1; i < c.count(); ++i) {
+    write_mesh(mesh, c.output_path(i));
+    files += (i > 1 ? ", " : "") + c.arg(i).text;
+  }
   return {c.spec().name,
-          c.arg(1).text + ": " + count_text(report.triangles) + " triangles (" + how + "), " +
+          files + ": " + count_text(report.triangles) + " triangles (" + how + "), " +
               (report.watertight && report.oriented && report.manifold ? "watertight" : "NOT watertight") +
               ", " + std::to_string(report.components) + " component(s)",
           true};
@@ -171,10 +178,6 @@ CommandResult run_help(Call& c) {
   return {c.spec().name, text, true};
 }
 
-CommandResult not_yet(Call& c) {
-  c.fail("is not available yet: point sets and tree growth arrive with the point-set stage "
-         "(see docs/language.md, 'Not available yet'); nothing was written");
-}
 
 }  // namespace
 
@@ -183,10 +186,11 @@ void add_output_commands(std::vector<CommandSpec>& out) {
                  "Declares a parameter with a default VALUE; `ramiform run --set NAME=V` overrides it. "
                  "Later arguments use it as $NAME or ${NAME}.",
                  "param r 2\nsphere s $r", {}, run_param, {}});
-  out.push_back({"save_mesh", "save_mesh NAME FILE [resolution=N | cell=H] [method=mc|tets] [levels=N]",
-                 "Polygonizes a shape into FILE (.ply, .obj, .off, .glb) inside the output directory: marching "
-                 "cubes over the shape's bounds (default 96 cells along the longest side), or for a "
-                 "shape loaded by `skeleton` the skeleton-bounded tetrahedral polygonizer.",
+  out.push_back({"save_mesh", "save_mesh NAME FILE [FILE ...] [resolution=N | cell=H] [method=mc|tets] [levels=N]",
+                 "Polygonizes a shape once and writes it to every FILE (.ply, .obj, .off, .glb) inside the "
+                 "output directory: marching cubes over the shape's bounds (default 96 cells along the "
+                 "longest side), or for a shape made by skeleton, grow or lsystem the skeleton-bounded "
+                 "tetrahedral polygonizer.",
                  "save_mesh s3 s3.ply resolution=128", {"resolution", "cell", "method", "levels"},
                  run_save_mesh, {}});
   out.push_back({"eval", "eval NAME X Y Z", "Prints the field value at a point and whether it is inside.",
@@ -199,10 +203,6 @@ void add_output_commands(std::vector<CommandSpec>& out) {
                  "info s3", {}, run_info, {}});
   out.push_back({"list", "list", "Lists every named object.", "list", {}, run_list, {}});
   out.push_back({"help", "help [COMMAND]", "Lists the commands, or describes one.", "help skin", {}, run_help, {}});
-  for (const char* name : {"point_set_gen", "save_point_set", "point_set_thin", "load_point_set", "grow"}) {
-    out.push_back({name, std::string(name) + " ...",
-                   "Not available yet: arrives with point sets and tree growth.", "", {"*"}, not_yet, {}});
-  }
 }
 
 }  // namespace ramiform::script

@@ -131,6 +131,7 @@ const std::map<std::string, const CommandSpec*>& command_table() {
     add_shape_commands(all);
     add_curve_commands(all);
     add_output_commands(all);
+    add_growth_commands(all);
     return all;
   }();
   static const std::map<std::string, const CommandSpec*> table = [] {

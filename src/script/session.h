@@ -16,6 +16,7 @@
 #include "ramiform/core/types.h"
 #include "ramiform/field/curves.h"
 #include "ramiform/field/field.h"
+#include "ramiform/mesh/trimesh.h"
 #include "ramiform/script/script.h"
 #include "ramiform/skeleton/skeleton.h"
 
@@ -59,6 +60,8 @@ struct ScriptSession::Impl {
   std::map<std::string, std::string> params;  // declared parameters and their values
   std::set<std::string> declared;
   std::vector<script::Staged> staged;
+  std::map<std::string, PointSet> point_sets;  // by name (point_set_gen names them after the shape)
+  std::string current_points;                  // the point set made or changed last
   std::string input_dir;  // resolved base of relative input paths
 };
 
@@ -86,6 +89,7 @@ const std::map<std::string, const CommandSpec*>& command_table();
 void add_shape_commands(std::vector<CommandSpec>& out);
 void add_curve_commands(std::vector<CommandSpec>& out);
 void add_output_commands(std::vector<CommandSpec>& out);
+void add_growth_commands(std::vector<CommandSpec>& out);
 
 /// The arguments of one command line, with typed accessors that throw InputError pointing at
 /// the offending token.

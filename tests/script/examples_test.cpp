@@ -5,12 +5,15 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "ramiform/core/errors.h"
 #include "ramiform/io/mesh_io.h"
+#include "ramiform/io/points_io.h"
+#include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/script/script.h"
 #include "support/fixtures.h"
@@ -33,6 +36,46 @@ std::vector<fs::path> example_scripts() {
 
 class ExampleScript : public ::testing::TestWithParam<std::string> {};
 
+// A grown or loaded skeleton: one tree (connected, edges = nodes - 1); with pipe-model radii
+// (exponent 2.5, the default of grow) every fork satisfies r^n = sum r_child^n.
+void expect_tree(const fs::path& path, bool pipe_model) {
+  const Skeleton s = read_skeleton(path.string());
+  EXPECT_EQ(connected_components(s).count, 1u) << path;
+  EXPECT_EQ(s.edge_count() + 1, s.node_count()) << path;
+  if (!pipe_model) return;
+  std::vector<std::vector<std::uint32_t>> adjacent(s.node_count());
+  for (const auto& e : s.edges) {
+    adjacent[e[0]].push_back(e[1]);
+    adjacent[e[1]].push_back(e[0]);
+  }
+  std::vector<int> parent(s.node_count(), -2);
+  std::vector<std::uint32_t> order = {0};
+  parent[0] = -1;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    for (std::uint32_t w : adjacent[order[i]]) {
+      if (parent[w] == -2) {
+        parent[w] = static_cast<int>(order[i]);
+        order.push_back(w);
+      }
+    }
+  }
+  std::size_t forks = 0;
+  for (std::uint32_t v = 0; v < s.node_count(); ++v) {
+    double sum = 0;
+    std::size_t children = 0;
+    for (std::uint32_t w : adjacent[v]) {
+      if (parent[w] == static_cast<int>(v)) {
+        sum += std::pow(s.nodes[w].radius, 2.5);
+        ++children;
+      }
+    }
+    if (children == 0) continue;
+    forks += children > 1 ? 1 : 0;
+    EXPECT_NEAR(std::pow(s.nodes[v].radius, 2.5), sum, 1e-9 * sum) << path << " node " << v;
+  }
+  EXPECT_GT(forks, 0u) << path;
+}
+
 TEST_P(ExampleScript, RunsAndWritesOnlyWatertightMeshes) {
   const fs::path script = kSource / "examples" / GetParam();
   const fs::path out = temp_dir("example-" + script.stem().string());
@@ -42,7 +85,23 @@ TEST_P(ExampleScript, RunsAndWritesOnlyWatertightMeshes) {
   std::size_t meshes = 0;
   for (const auto& e : fs::directory_iterator(out)) {
     const std::string ext = e.path().extension().string();
-    ASSERT_TRUE(ext == ".ply" || ext == ".obj" || ext == ".off") << e.path();  // nothing staged left
+    ASSERT_NE(e.path().filename().string().rfind(".rf-staged", 0), 0u) << "left staged: " << e.path();
+    if (ext == ".json") {
+      expect_tree(e.path(), GetParam() != "fork.rf");
+      continue;
+    }
+    if (ext == ".txt") {
+      EXPECT_GT(read_points(e.path().string()).size(), 0u) << e.path();
+      continue;
+    }
+    if (ext == ".glb") {
+      std::ifstream in(e.path(), std::ios::binary);
+      std::string magic(4, '\0');
+      in.read(magic.data(), 4);
+      EXPECT_EQ(magic, "glTF") << e.path();
+      continue;
+    }
+    ASSERT_TRUE(ext == ".ply" || ext == ".obj" || ext == ".off") << e.path();
     const TriMesh mesh = read_mesh(e.path().string());
     const MeshReport r = check_mesh(mesh);
     EXPECT_TRUE(r.watertight) << e.path() << ": " << r.boundary_edges << " boundary edges";

@@ -8,10 +8,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <numbers>
 
 #include "ramiform/core/errors.h"
 #include "ramiform/io/mesh_io.h"
+#include "ramiform/io/points_io.h"
+#include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/script/script.h"
 #include "support/fixtures.h"
@@ -100,18 +103,69 @@ TEST_F(ScriptTest, DrilledSphereMeshIsWatertightWithTheNapkinRingVolume) {
   EXPECT_NEAR(signed_volume(mesh), expected, 0.01 * expected);
 }
 
-TEST_F(ScriptTest, ThesisCrownListingScalesThenStopsAtPointSets) {
+TEST_F(ScriptTest, ThesisCrownListingRunsVerbatim) {
+  std::ofstream(dir_ / "poisson.props") << "# thesis-style properties\ncount = 300\nmin_distance = 7\n";
   ScriptSession s(options_);
-  const InputError e = error_of(
-      "sphere s\nscale s 50 80 50\npoint_set_gen s poisson poisson.props\nsave_point_set points.txt\n");
-  EXPECT_EQ(e.line(), 3u);
-  EXPECT_EQ(e.column(), 1u);
-  EXPECT_NE(std::string(e.what()).find("not available yet"), std::string::npos) << e.what();
-  s.run_text("sphere s\nscale s 50 80 50\n", "t.rf");
+  s.run_text("sphere s\nscale s 50 80 50\npoint_set_gen s poisson poisson.props\nsave_point_set points.txt\n",
+             "crown.rf");
   EXPECT_GT(value(s, "s", Vec3(0, 79, 0)), 0.5);
   EXPECT_LT(value(s, "s", Vec3(0, 81, 0)), 0.5);
-  EXPECT_GT(value(s, "s", Vec3(49, 0, 0)), 0.5);
-  EXPECT_LT(value(s, "s", Vec3(51, 0, 0)), 0.5);
+  s.commit();
+  const PointSet p = read_points((dir_ / "points.txt").string());
+  ASSERT_EQ(p.size(), 300u);
+  double closest = 1e300;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const Vec3& q = p.positions[i];
+    // Inside the ellipsoid of semi-axes 50, 80, 50 (the scaled unit sphere).
+    EXPECT_LT(std::pow(q.x() / 50, 2) + std::pow(q.y() / 80, 2) + std::pow(q.z() / 50, 2), 1.0) << i;
+    for (std::size_t j = 0; j < i; ++j) closest = std::min(closest, (q - p.positions[j]).norm());
+  }
+  EXPECT_GE(closest, 7.0);
+}
+
+TEST_F(ScriptTest, ThinningGrowthAndSkeletonsThroughTheLanguage) {
+  ScriptSession s(options_);
+  const auto results = s.run_text(
+      "sphere crown 2 center=0,0,4\nsphere secondary 1 center=1,0,4\n"
+      "point_set_gen crown uniform count=800\npoint_set_thin crown secondary 100\n"
+      "save_point_set thinned.txt\n"
+      "grow tree from crown step=0.25 influence=1.5 kill=0.5 root=0,0,0\nsave_skeleton tree tree.json\n"
+      "lsystem plant bush-2d iterations=2\nsave_skeleton plant plant.json\n",
+      "t.rf");
+  s.commit();
+  // Every point inside `secondary` was removed, none outside it.
+  const PointSet thinned = read_points((dir_ / "thinned.txt").string());
+  EXPECT_LT(thinned.size(), 800u);
+  for (const Vec3& q : thinned.positions) EXPECT_GT((q - Vec3(1, 0, 4)).norm(), 0.999);
+  const Skeleton tree = read_skeleton((dir_ / "tree.json").string());
+  EXPECT_EQ(connected_components(tree).count, 1u);
+  EXPECT_EQ(tree.edge_count() + 1, tree.node_count());
+  EXPECT_EQ(tree.nodes[0].position, Vec3(0, 0, 0));
+  const Skeleton plant = read_skeleton((dir_ / "plant.json").string());
+  EXPECT_EQ(connected_components(plant).count, 1u);
+  EXPECT_EQ(plant.edge_count() + 1, plant.node_count());
+  // Errors of the pipeline commands name the line and the problem.
+  EXPECT_NE(std::string(error_of("sphere s\npoint_set_gen s poison\n").what()).find("(did you mean 'poisson'?)"),
+            std::string::npos);
+  EXPECT_NE(std::string(error_of("sphere s\ngrow t from s\n").what()).find("no point set 's'"), std::string::npos);
+  EXPECT_NE(std::string(error_of("lsystem p bush2d\n").what()).find("did you mean 'bush-2d'"), std::string::npos);
+  const InputError bad = error_of("sphere s\npoint_set_gen s uniform count=10\ngrow t of s\n");
+  EXPECT_EQ(bad.line(), 3u);
+  EXPECT_EQ(bad.column(), 8u);
+}
+
+TEST_F(ScriptTest, PointSetsDependOnlyOnTheSeed) {
+  auto run = [&](std::uint64_t seed) {
+    options_.seed = seed;
+    ScriptSession s(options_);
+    s.run_text("sphere s\npoint_set_gen s poisson count=200\nsave_point_set p.txt\n", "t.rf");
+    s.commit();
+    std::ifstream in(dir_ / "p.txt");
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string a = run(5);
+  EXPECT_EQ(a, run(5));
+  EXPECT_NE(a, run(6));
 }
 
 TEST_F(ScriptTest, TransformsRebindTheNameAndCopiesKeepTheOldShape) {
@@ -222,7 +276,9 @@ TEST_F(ScriptTest, HelpListsEveryCommandAndDescribesOne) {
   for (const char* want : {"sphere", "line", "circle", "box", "cylinder", "cone", "plane", "skeleton",
                            "blend", "union", "intersect", "diff", "translate", "rotate", "scale",
                            "bend", "taper", "twist", "curve", "path", "revolve", "sweep", "skin",
-                           "rbf", "save_mesh", "eval", "eval_points", "param", "help"}) {
+                           "rbf", "save_mesh", "eval", "eval_points", "param", "help", "point_set_gen",
+                           "save_point_set", "point_set_thin", "load_point_set", "point_set_mesh", "grow",
+                           "lsystem", "save_skeleton"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), want), names.end()) << want;
   }
   EXPECT_NE(ScriptSession::command_help("skin").find("SECTION@S"), std::string::npos);

@@ -1,0 +1,232 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+// `ramiform grow --points FILE ... -o TREE.json`, `ramiform sample SCRIPT NAME --dist KIND ...`,
+// `ramiform lsystem EXAMPLE|FILE -o TREE.json`.
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "commands.h"
+#include "common.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/grow/lsystem.h"
+#include "ramiform/grow/space_colonization.h"
+#include "ramiform/io/points_io.h"
+#include "ramiform/io/skeleton_io.h"
+#include "ramiform/sample/point_sets.h"
+#include "ramiform/sample/props.h"
+#include "ramiform/script/script.h"
+
+namespace ramiform::cli {
+namespace {
+
+// "X,Y,Z" -> vector (InvalidArgument naming the flag otherwise).
+Vec3 parse_vec3(const std::string& text, const std::string& flag) {
+  Vec3 v;
+  std::stringstream ss(text);
+  std::string part;
+  int k = 0;
+  while (std::getline(ss, part, ',')) {
+    if (k == 3) break;
+    char* end = nullptr;
+    v[k] = std::strtod(part.c_str(), &end);
+    if (part.empty() || *end != '\0' || !std::isfinite(v[k])) k = 4;
+    ++k;
+  }
+  if (k != 3) throw InvalidArgument(flag + " expects X,Y,Z (three numbers), got '" + text + "'");
+  return v;
+}
+
+struct GrowArgs {
+  std::string points_path;
+  std::string out_path;
+  ColonizationOptions options;
+  std::string root = "0,0,0";
+  std::string direction = "0,0,1";
+  std::string tropism = "0,0,0";
+  CommonOptions common;
+};
+
+int run_grow(const GrowArgs& args) {
+  RunScope scope(args.common);
+  StageTimer timer;
+  const PointSet points = read_points(args.points_path);
+  timer.lap("read");
+  ColonizationOptions o = args.options;
+  o.roots = {parse_vec3(args.root, "--root")};
+  o.direction = parse_vec3(args.direction, "--direction");
+  o.tropism = parse_vec3(args.tropism, "--tropism");
+  const ColonizationResult r = grow_space_colonization(points.positions, o, &scope.context());
+  timer.lap("grow");
+  if (r.skeleton.edge_count() == 0) {
+    throw InvalidArgument("grew no branch from " + args.points_path + ": " + r.stall_reason);
+  }
+  write_skeleton(r.skeleton, args.out_path);
+  timer.lap("write");
+  nlohmann::json stats;
+  stats["nodes"] = r.skeleton.node_count();
+  stats["iterations"] = r.iterations;
+  stats["points_reached"] = r.points_reached;
+  stats["points_total"] = r.points_total;
+  stats["stalled"] = r.stalled;
+  stats["stall_reason"] = r.stall_reason;
+  stats["seconds"] = timer.seconds();
+  write_stats(args.common.stats_path, stats);
+  std::cout << "wrote " << args.out_path << ": " << r.skeleton.node_count() << " nodes, " << r.iterations
+            << " iterations, " << r.points_reached << " of " << r.points_total << " points reached"
+            << (r.stalled ? "; stopped early: " + r.stall_reason : std::string()) << '\n';
+  return 0;
+}
+
+struct SampleArgs {
+  std::string script;
+  std::string name;
+  std::string dist;
+  std::string props_path;
+  std::size_t count = 0;
+  std::string out_path;
+  std::uint64_t seed = 1;
+  std::vector<std::string> sets;
+  CommonOptions common;
+};
+
+// Runs the script (its outputs are discarded: only the named shape is used), then samples.
+int run_sample(const SampleArgs& args) {
+  RunScope scope(args.common);
+  StageTimer timer;
+  ScriptOptions so;
+  so.seed = args.seed;
+  so.allow_any_path = true;  // -o names the output explicitly
+  for (const std::string& s : args.sets) {
+    const std::size_t eq = s.find('=');
+    if (eq == std::string::npos || eq == 0) throw InvalidArgument("--set expects name=value, got '" + s + "'");
+    so.params[s.substr(0, eq)] = s.substr(eq + 1);
+  }
+  ScriptSession session(so, &scope.context());
+  session.run_file(args.script);
+  session.discard();
+  timer.lap("script");
+  std::string line = "point_set_gen " + args.name + " " + args.dist;
+  // Command-line paths are relative to the working directory, not to the script.
+  if (!args.props_path.empty()) line += " \"" + std::filesystem::absolute(args.props_path).string() + "\"";
+  if (args.count > 0) line += " count=" + std::to_string(args.count);
+  line += " name=__sample";
+  session.execute_line(line, "<sample>", 1);
+  timer.lap("sample");
+  session.execute_line("save_point_set \"" + std::filesystem::absolute(args.out_path).string() + "\" __sample",
+                       "<sample>", 2);
+  // Outputs of the session are relative to its out_dir "."; commit moves the staged file.
+  const std::vector<std::string> written = session.commit();
+  timer.lap("write");
+  nlohmann::json stats;
+  stats["seconds"] = timer.seconds();
+  stats["outputs"] = written;
+  write_stats(args.common.stats_path, stats);
+  std::cout << "wrote " << args.out_path << '\n';
+  return 0;
+}
+
+struct LSystemArgs {
+  std::string source;
+  std::string out_path;
+  LSystemOptions options;
+  std::string radii = "width";
+  bool list = false;
+  CommonOptions common;
+};
+
+int run_lsystem(const LSystemArgs& args) {
+  if (args.list || args.source.empty()) {
+    for (const auto& [name, text] : lsystem_examples()) std::cout << name << '\n';
+    if (args.source.empty() && !args.list) throw InvalidArgument("give an example name or a file (--list lists them)");
+    return 0;
+  }
+  if (args.out_path.empty()) throw InvalidArgument("-o TREE.json is required");
+  RunScope scope(args.common);
+  std::string text;
+  std::string source = args.source;
+  for (const auto& [name, body] : lsystem_examples()) {
+    if (name == args.source) text = body;
+  }
+  if (text.empty()) {
+    std::ifstream in(args.source);
+    if (!in) throw InputError(args.source, 0, "not an L-system example name and not a readable file");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  }
+  LSystemOptions o = args.options;
+  o.radius = args.radii == "pipe" ? LSystemRadius::kPipe : LSystemRadius::kWidth;
+  const Skeleton skeleton = lsystem_skeleton(text, source, o);
+  if (skeleton.edge_count() == 0) throw InvalidArgument(args.source + ": the L-system draws no segment");
+  write_skeleton(skeleton, args.out_path);
+  std::cout << "wrote " << args.out_path << ": " << skeleton.node_count() << " nodes, " << skeleton.edge_count()
+            << " edges\n";
+  return 0;
+}
+
+}  // namespace
+
+void register_grow(CLI::App& root, Action& action) {
+  auto a = std::make_shared<GrowArgs>();
+  CLI::App* c = root.add_subcommand(
+      "grow", "Grow a tree skeleton toward attraction points by space colonization (Runions et al. 2007), "
+              "with pipe-model radii; writes skeleton JSON (docs/growth.md).");
+  c->add_option("--points", a->points_path, "attraction points: 'x y z' per line, or .ply")->required();
+  c->add_option("-o,--out", a->out_path, "output skeleton (.json, .ply, .obj)")->required();
+  c->add_option("--step", a->options.step, "node spacing D")->capture_default_str();
+  c->add_option("--influence", a->options.influence, "influence distance d_i")->capture_default_str();
+  c->add_option("--kill", a->options.kill, "kill distance d_k")->capture_default_str();
+  c->add_option("--root", a->root, "trunk start X,Y,Z")->capture_default_str();
+  c->add_option("--direction", a->direction, "initial trunk direction X,Y,Z")->capture_default_str();
+  c->add_option("--tropism", a->tropism, "tropism vector added to each growth direction")->capture_default_str();
+  c->add_option("--max-iterations", a->options.max_iterations, "iteration limit")->capture_default_str();
+  c->add_option("--tip-radius", a->options.tip_radius, "pipe model: radius of every tip")->capture_default_str();
+  c->add_option("--pipe-exponent", a->options.pipe_exponent, "pipe model exponent n in [2, 3]")->capture_default_str();
+  std::uint64_t seed = 0;
+  c->add_option("--seed", seed, "accepted for symmetry; growth itself makes no random choice");
+  add_common_options(*c, a->common);
+  c->callback([a, &action] { action = [a] { return run_grow(*a); }; });
+}
+
+void register_sample(CLI::App& root, Action& action) {
+  auto a = std::make_shared<SampleArgs>();
+  CLI::App* c = root.add_subcommand(
+      "sample", "Sample a named shape of a scene script with a point distribution (docs/sampling.md).");
+  c->add_option("SCRIPT", a->script, "the scene script (.rf)")->required();
+  c->add_option("NAME", a->name, "the shape to sample")->required();
+  c->add_option("--dist", a->dist, "distribution: " + [] {
+    std::string s;
+    for (const std::string& n : distribution_names()) s += (s.empty() ? "" : ", ") + n;
+    return s;
+  }())->required();
+  c->add_option("--props", a->props_path, "a .props file of 'key = value' parameters");
+  c->add_option("--count", a->count, "number of points (overrides the props' count)");
+  c->add_option("-o,--out", a->out_path, "output points ('x y z' text, or .ply)")->required();
+  c->add_option("--seed", a->seed, "random seed")->capture_default_str();
+  c->add_option("--set", a->sets, "override a script parameter: name=value");
+  add_common_options(*c, a->common);
+  c->callback([a, &action] { action = [a] { return run_sample(*a); }; });
+}
+
+void register_lsystem(CLI::App& root, Action& action) {
+  auto a = std::make_shared<LSystemArgs>();
+  CLI::App* c = root.add_subcommand(
+      "lsystem", "Derive a bracketed parametric L-system and write its turtle skeleton (docs/growth.md).");
+  c->add_option("SOURCE", a->source, "a built-in example name (--list) or an L-system file");
+  c->add_option("-o,--out", a->out_path, "output skeleton (.json, .ply, .obj)");
+  c->add_flag("--list", a->list, "list the built-in examples");
+  c->add_option("--iterations", a->options.iterations, "derivation steps")->capture_default_str();
+  c->add_option("--angle", a->options.angle_deg, "default turn angle, degrees")->capture_default_str();
+  c->add_option("--step", a->options.step, "default segment length")->capture_default_str();
+  c->add_option("--width", a->options.width, "initial width")->capture_default_str();
+  c->add_option("--radii", a->radii, "node radii from the turtle width or the pipe model")
+      ->check(CLI::IsMember({"width", "pipe"}))
+      ->capture_default_str();
+  add_common_options(*c, a->common);
+  c->callback([a, &action] { action = [a] { return run_lsystem(*a); }; });
+}
+
+}  // namespace ramiform::cli
