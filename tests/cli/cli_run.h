@@ -38,6 +38,12 @@ inline CliRun run_cli(const std::string& args) {
   return r;
 }
 
+/// The bytes of a file ("" when it cannot be read).
+inline std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 /// A test with its own empty directory (test::temp_dir), removed after the test.
 class CliDirTest : public ::testing::Test {
  protected:

@@ -172,20 +172,31 @@ TEST_F(CliTest, EveryCommandHasHelp) {
   }
 }
 
-TEST_F(CliTest, DemoWritesACheckedWatertightTree) {
-  const CliRun r = run_cli("demo --out " + path("demo") + " --levels 2");
+TEST_F(CliTest, DemoRunsTheWholePipelineIdenticallyOnAnyThreadCount) {
+  const CliRun r = run_cli("demo --out " + path("demo") + " --levels 1 --points 600 --threads 2");
   ASSERT_EQ(r.code, 0) << r.out;
-  for (const char* f : {"skeleton.json", "tree.ply", "stats.json"}) {
+  for (const char* f : {"crown.ply", "points.txt", "skeleton.json", "tree.ply", "tree.glb", "stats.json"}) {
     EXPECT_TRUE(fs::exists(dir_ / "demo" / f)) << f;
     EXPECT_NE(r.out.find(f), std::string::npos) << "summary should name " << f;
   }
-  const TriMesh mesh = read_mesh((dir_ / "demo" / "tree.ply").string());
-  const MeshReport rep = check_mesh(mesh);
-  EXPECT_TRUE(rep.watertight);
-  EXPECT_TRUE(rep.oriented);
-  EXPECT_EQ(rep.components, 1U);
+  for (const char* f : {"crown.ply", "tree.ply"}) {
+    const MeshReport rep = check_mesh(read_mesh((dir_ / "demo" / f).string()));
+    EXPECT_TRUE(rep.watertight && rep.oriented && rep.manifold) << f;
+    EXPECT_EQ(rep.components, 1U) << f;
+  }
   const Skeleton s = read_skeleton((dir_ / "demo" / "skeleton.json").string());
-  EXPECT_EQ(s.edge_count(), 31U);
+  EXPECT_EQ(connected_components(s).count, 1U);
+  EXPECT_EQ(s.edge_count() + 1, s.node_count());
+  EXPECT_GT(s.edge_count(), 100U);
+  // Same seed, one thread: byte-identical outputs.
+  const CliRun one = run_cli("demo --out " + path("demo1") + " --levels 1 --points 600 --threads 1");
+  ASSERT_EQ(one.code, 0) << one.out;
+  for (const char* f : {"crown.ply", "points.txt", "skeleton.json", "tree.ply", "tree.glb"}) {
+    EXPECT_EQ(test::read_file((dir_ / "demo" / f).string()), test::read_file((dir_ / "demo1" / f).string())) << f;
+  }
+  const CliRun other = run_cli("demo --out " + path("demo2") + " --levels 0 --points 600 --seed 2");
+  ASSERT_EQ(other.code, 0) << other.out;
+  EXPECT_NE(test::read_file((dir_ / "demo" / "points.txt").string()), test::read_file((dir_ / "demo2" / "points.txt").string()));
 }
 
 }  // namespace
