@@ -29,7 +29,7 @@ constexpr std::size_t kBlock = 2048;
 constexpr std::size_t kEvalGrain = 256;
 /// Cells of the bound-pruned candidate region along the longest axis.
 constexpr int kRegionInside = 32;
-constexpr int kRegionBand = 64;
+constexpr int kRegionBand = 128;
 
 // ---------------------------------------------------------------------------------------------
 // Target sets {lo < f < hi} and their classification by a conservative bound.

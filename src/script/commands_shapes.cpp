@@ -14,7 +14,9 @@
 #include "ramiform/field/rbf.h"
 #include "ramiform/field/skeleton_field.h"
 #include "ramiform/field/warps.h"
+#include "ramiform/io/mesh_io.h"
 #include "ramiform/io/skeleton_io.h"
+#include "ramiform/mesh/mesh_field.h"
 #include "session.h"
 
 namespace ramiform::script {
@@ -197,6 +199,15 @@ CommandResult run_skeleton(Call& c) {
                          " surface");
   obj.skeleton = std::move(skeleton);
   c.define(name, std::move(obj));
+  return defined(c, name);
+}
+
+CommandResult run_mesh_shape(Call& c) {
+  c.expect_count(2, 2, "NAME FILE");
+  const std::string name = c.new_name(0);
+  const TriMesh mesh = read_mesh(c.input_path(1));
+  c.define(name, shape(make_mesh_field(mesh), "closed mesh from " + c.arg(1).text + ", " +
+                                                  std::to_string(mesh.triangles.size()) + " triangles"));
   return defined(c, name);
 }
 
@@ -425,6 +436,10 @@ void add_shape_commands(std::vector<CommandSpec>& out) {
                  "A line skeleton read from a file (.json, .ply, .obj, TreeQSM .txt, SimpleForest .csv), "
                  "as a distance surface (Wyvill by default) or a Cauchy convolution surface.",
                  "skeleton tree fork.json surface=convolution", {"surface", "kernel"}, run_skeleton, {}});
+  out.push_back({"mesh_shape", "mesh_shape NAME FILE",
+                 "A closed triangle mesh (.ply, .obj, .off) as a shape: inside where its winding number "
+                 "exceeds 0.5. Use it in CSG, as an obstacle (grow ... avoid=NAME) or to sample.",
+                 "mesh_shape cube data/cube.obj", {}, run_mesh_shape, {"mesh"}});
   out.push_back({"blend", "blend A B [C ...] OUT", "Sum blend of shapes (Wyvill's BlobTree '+'): smooth joins.",
                  "blend body wheel car", {}, [](Call& c) { return run_nary(c, "blend"); }, {"sum"}});
   out.push_back({"union", "union A B [C ...] OUT", "CSG union (max of the fields).", "union a b ab", {},

@@ -1,4 +1,5 @@
 set(RAMIFORM_mesh_TESTS
   mesh/checks_test.cpp
   mesh/cleanup_test.cpp
-  mesh/winding_test.cpp)
+  mesh/winding_test.cpp
+  mesh/mesh_field_test.cpp)
