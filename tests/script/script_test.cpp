@@ -141,6 +141,31 @@ TEST_F(ScriptTest, ThinningGrowthAndSkeletonsThroughTheLanguage) {
   EXPECT_EQ(connected_components(tree).count, 1u);
   EXPECT_EQ(tree.edge_count() + 1, tree.node_count());
   EXPECT_EQ(tree.nodes[0].position, Vec3(0, 0, 0));
+  // Every node lies inside the crown (a sphere of radius 2 about (0,0,4)) except the trunk that
+  // leads to it from the root: a chain without forks.
+  std::vector<std::vector<std::uint32_t>> adjacent(tree.node_count());
+  for (const auto& e : tree.edges) {
+    adjacent[e[0]].push_back(e[1]);
+    adjacent[e[1]].push_back(e[0]);
+  }
+  auto inside = [&](std::uint32_t v) { return (tree.nodes[v].position - Vec3(0, 0, 4)).norm() < 2.0; };
+  std::vector<char> trunk(tree.node_count(), 0);
+  for (std::uint32_t v = 0, previous = UINT32_MAX; !inside(v);) {
+    trunk[v] = 1;
+    std::vector<std::uint32_t> next;
+    for (std::uint32_t w : adjacent[v]) {
+      if (w != previous) next.push_back(w);
+    }
+    ASSERT_EQ(next.size(), 1u) << "the tree forks outside the crown at node " << v;
+    previous = v;
+    v = next[0];
+  }
+  std::size_t outside = 0;
+  for (std::uint32_t v = 0; v < tree.node_count(); ++v) {
+    if (!trunk[v]) EXPECT_TRUE(inside(v)) << "node " << v << " at " << tree.nodes[v].position.transpose();
+    outside += trunk[v];
+  }
+  EXPECT_LT(outside, 20u);
   const Skeleton plant = read_skeleton((dir_ / "plant.json").string());
   EXPECT_EQ(connected_components(plant).count, 1u);
   EXPECT_EQ(plant.edge_count() + 1, plant.node_count());
