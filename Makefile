@@ -24,8 +24,10 @@ run: build
 	./$(BUILD_DIR)/ramiform demo --out out
 
 # ctest's summary line comes before its list of skipped tests (those that need ../shared/data);
-# repeat it last so that it ends the output.
-test: build
+# repeat it last so that it ends the output. Only the CLI and the test programs are built (the
+# benchmarks are built by `make bench`).
+test: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target ramiform_test_programs
 	@cd $(BUILD_DIR) && { ctest --output-on-failure -j $(JOBS) --timeout 600 > ctest.log 2>&1; \
 	  rc=$$?; cat ctest.log; grep -E '^[0-9]+% tests passed' ctest.log | tail -1; exit $$rc; }
 
