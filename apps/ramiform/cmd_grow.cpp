@@ -46,6 +46,7 @@ struct GrowArgs {
   std::string root = "0,0,0";
   std::string direction = "0,0,1";
   std::string tropism = "0,0,0";
+  std::uint64_t seed = 0;
   CommonOptions common;
 };
 
@@ -185,8 +186,7 @@ void register_grow(CLI::App& root, Action& action) {
   c->add_option("--max-iterations", a->options.max_iterations, "iteration limit")->capture_default_str();
   c->add_option("--tip-radius", a->options.tip_radius, "pipe model: radius of every tip")->capture_default_str();
   c->add_option("--pipe-exponent", a->options.pipe_exponent, "pipe model exponent n in [2, 3]")->capture_default_str();
-  std::uint64_t seed = 0;
-  c->add_option("--seed", seed, "accepted for symmetry; growth itself makes no random choice");
+  c->add_option("--seed", a->seed, "accepted for symmetry: growth itself makes no random choice");
   add_common_options(*c, a->common);
   c->callback([a, &action] { action = [a] { return run_grow(*a); }; });
 }

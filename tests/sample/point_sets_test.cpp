@@ -72,6 +72,17 @@ bool same_points(const PointSet& a, const PointSet& b) {
   return true;
 }
 
+template <class Fn>
+InputError input_error(Fn&& fn) {
+  try {
+    fn();
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError";
+  return InputError("", 0, "");
+}
+
 void expect_inside(const Field& f, const PointSet& ps) {
   const auto v = values_of(f, ps.positions);
   for (std::size_t i = 0; i < v.size(); ++i) {
@@ -313,6 +324,179 @@ TEST(SampleNearSurface, CacheKeepsTheBandRoughlyUniform) {
   EXPECT_NEAR(share(plain), share(cached), 0.05);
 }
 
+using Method = NearSurfaceOptions::Method;
+
+void expect_band(const Field& f, const PointSet& ps, double epsilon) {
+  const auto v = values_of(f, ps.positions);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    ASSERT_GT(v[i], f.iso() - epsilon) << "point " << i;
+    ASSERT_LT(v[i], f.iso()) << "point " << i;
+  }
+}
+
+TEST(SampleNearSurface, ProjectionKeepsBandCountAndMinimumDistance) {
+  // A thin band (epsilon 0.005, about 0.005 units on the fork) with automatic and explicit
+  // widths of the wider band, plain and Poisson-disk.
+  const FieldPtr f = fork();
+  for (const double width : {0.0, 0.05, 0.2}) {
+    for (const double r : {0.0, 0.25}) {
+      SCOPED_TRACE("project_width " + std::to_string(width) + " min_distance " +
+                   std::to_string(r));
+      NearSurfaceOptions o;
+      o.count = 500;
+      o.epsilon = 0.005;
+      o.project_width = width;
+      o.min_distance = r;
+      SampleStats st;
+      const PointSet ps = sample_near_surface(*f, o, 4, nullptr, &st);
+      ASSERT_EQ(ps.size(), 500U);
+      EXPECT_EQ(st.points, 500U);
+      EXPECT_FALSE(st.saturated);
+      expect_band(*f, ps, 0.005);
+      if (r > 0) {
+        EXPECT_GE(min_pair_distance(ps.positions), r);
+      }
+    }
+  }
+}
+
+TEST(SampleNearSurface, ProjectionNeedsFarFewerEvaluationsThanRejection) {
+  const FieldPtr f = fork();
+  NearSurfaceOptions o;
+  o.count = 300;
+  o.epsilon = 0.002;
+  o.project_width = 0.1;
+  SampleStats project, reject;
+  const PointSet a = sample_near_surface(*f, o, 3, nullptr, &project);
+  o.method = Method::kReject;
+  const PointSet b = sample_near_surface(*f, o, 3, nullptr, &reject);
+  ASSERT_EQ(a.size(), 300U);
+  ASSERT_EQ(b.size(), 300U);
+  expect_band(*f, a, 0.002);
+  expect_band(*f, b, 0.002);
+  // The wider band is 50x thicker: far more of the candidates become band points.
+  EXPECT_LT(5 * project.field_evals, reject.field_evals)
+      << "project " << project.field_evals << " reject " << reject.field_evals;
+  EXPECT_LT(5 * project.attempts, reject.attempts);
+}
+
+TEST(SampleNearSurface, ProjectionIsUniformOverTheSphere) {
+  // On a sphere, equal-height zones have equal area (Archimedes): points uniform over the
+  // surface give equal counts in 10 z slabs and in the 8 octants. The band is compressed 25x.
+  const FieldPtr f = sphere(1.0);
+  NearSurfaceOptions o;
+  o.count = 8000;
+  o.epsilon = 0.002;
+  o.project_width = 0.05;
+  const PointSet ps = sample_near_surface(*f, o, 17);
+  ASSERT_EQ(ps.size(), 8000U);
+  expect_band(*f, ps, 0.002);
+  std::array<double, 8> oct{};
+  std::array<double, 10> slab{};
+  double rmin = 10, rmax = 0;
+  for (const auto& p : ps.positions) {
+    oct[(p.x() > 0 ? 1 : 0) + (p.y() > 0 ? 2 : 0) + (p.z() > 0 ? 4 : 0)] += 1;
+    const double r = p.norm();
+    rmin = std::min(rmin, r);
+    rmax = std::max(rmax, r);
+    slab[static_cast<std::size_t>(std::clamp(int((p.z() / r + 1.0) * 5.0), 0, 9))] += 1;
+  }
+  double chi_oct = 0, chi_slab = 0;
+  for (const double c : oct) chi_oct += (c - 1000.0) * (c - 1000.0) / 1000.0;
+  for (const double c : slab) chi_slab += (c - 800.0) * (c - 800.0) / 800.0;
+  EXPECT_LT(chi_oct, 30.0);   // 7 degrees of freedom: p < 1e-4 beyond 27.9
+  EXPECT_LT(chi_slab, 35.0);  // 9 degrees of freedom: p < 1e-4 beyond 33.7
+  EXPECT_GT(rmin, 0.99);  // the band around r = 1 is a few thousandths thick
+  EXPECT_LT(rmax, 1.01);
+}
+
+TEST(SampleNearSurface, ProjectionMatchesRejectionOnTheFork) {
+  // The fork's gradient varies along its surface (blends, tips): the share of points near the
+  // trunk must match rejection sampling's, which is exactly uniform in the band.
+  const FieldPtr f = fork();
+  NearSurfaceOptions o;
+  o.count = 3000;
+  o.epsilon = 0.005;
+  o.project_width = 0.1;
+  const PointSet project = sample_near_surface(*f, o, 5);
+  o.method = Method::kReject;
+  const PointSet reject = sample_near_surface(*f, o, 6);
+  ASSERT_EQ(project.size(), 3000U);
+  ASSERT_EQ(reject.size(), 3000U);
+  const auto share = [](const PointSet& ps, double z) {
+    std::size_t n = 0;
+    for (const auto& p : ps.positions) n += p.z() < z ? 1 : 0;
+    return double(n) / double(ps.size());
+  };
+  for (const double z : {4.0, 8.0, 12.0}) {
+    SCOPED_TRACE(z);
+    // Two binomial shares of 3000: sd of the difference <= sqrt(2 * 0.25 / 3000) = 0.013.
+    EXPECT_NEAR(share(project, z), share(reject, z), 0.05);
+  }
+}
+
+TEST(SampleNearSurface, ProjectionStaysInTheBoxAndReportsSaturation) {
+  const FieldPtr f = sphere(1.0);
+  NearSurfaceOptions o;
+  o.count = 400;
+  o.epsilon = 0.002;
+  o.project_width = 0.05;
+  o.box = Aabb(Vec3(-2, -2, 0.5), Vec3(2, 2, 2));  // only the polar cap z > 0.5
+  const PointSet cap = sample_near_surface(*f, o, 8);
+  ASSERT_EQ(cap.size(), 400U);
+  expect_band(*f, cap, 0.002);
+  for (const auto& p : cap.positions) ASSERT_TRUE(o.box.contains(p));
+  // No room for 1000 points 0.5 apart on a unit sphere: saturated within the budget.
+  o.box = Aabb();
+  o.count = 1000;
+  o.min_distance = 0.5;
+  o.max_attempts = 40000;
+  SampleStats st;
+  const PointSet sparse = sample_near_surface(*f, o, 8, nullptr, &st);
+  EXPECT_TRUE(st.saturated);
+  EXPECT_LT(sparse.size(), 1000U);
+  EXPECT_GT(sparse.size(), 10U);
+  EXPECT_EQ(st.attempts, 40000U);
+  EXPECT_GE(min_pair_distance(sparse.positions), 0.5);
+  expect_band(*f, sparse, 0.002);
+}
+
+TEST(SampleNearSurface, MethodAndWidthFromProps) {
+  const FieldPtr f = fork();
+  const Props reject = parse_props("count = 80\nepsilon = 0.01\nmethod = reject\n", "n.props");
+  const Props project =
+      parse_props("count = 80\nepsilon = 0.01\nmethod = project\nproject_width = 0.1\n", "n.props");
+  SampleStats sr, sp;
+  const PointSet a = generate_points(*f, "near_surface", reject, 2, 0, nullptr, &sr);
+  const PointSet b = generate_points(*f, "near_surface", project, 2, 0, nullptr, &sp);
+  ASSERT_EQ(a.size(), 80U);
+  ASSERT_EQ(b.size(), 80U);
+  expect_band(*f, a, 0.01);
+  expect_band(*f, b, 0.01);
+  EXPECT_FALSE(same_points(a, b));
+  // method = reject is the rejection sampler itself.
+  NearSurfaceOptions o;
+  o.count = 80;
+  o.epsilon = 0.01;
+  o.method = Method::kReject;
+  EXPECT_TRUE(same_points(a, sample_near_surface(*f, o, 2)));
+  const Props bad = parse_props("count = 5\n\nmethod = newton\n", "n.props");
+  auto e = input_error([&] { (void)generate_points(*f, "near_surface", bad, 1); });
+  EXPECT_EQ(e.line(), 3U);
+  EXPECT_NE(std::string(e.what()).find("project or reject"), std::string::npos);
+  const Props narrow = parse_props("epsilon = 0.1\nproject_width = 0.05\n", "n.props");
+  e = input_error([&] { (void)generate_points(*f, "near_surface", narrow, 1); });
+  EXPECT_EQ(e.line(), 2U);
+  NearSurfaceOptions w;
+  w.project_width = -1;
+  try {
+    (void)sample_near_surface(*f, w, 1);
+    ADD_FAILURE() << "no throw";
+  } catch (const InvalidArgument& ex) {
+    EXPECT_NE(std::string(ex.what()).find("project_width"), std::string::npos);
+  }
+}
+
 // ----------------------------------------------------------------------------------------------
 // Near meshes.
 
@@ -490,6 +674,20 @@ TEST(SampleDeterminism, SameSeedSameThreadsIndependent) {
         o.use_cache = true;
         return sample_near_surface(*f, o, s, c);
       },
+      [&](std::uint64_t s, Context* c) {  // projection (the default), automatic width
+        NearSurfaceOptions o;
+        o.count = 3000;
+        o.epsilon = 0.003;
+        return sample_near_surface(*f, o, s, c);
+      },
+      [&](std::uint64_t s, Context* c) {  // projection, Poisson-disk, several blocks
+        NearSurfaceOptions o;
+        o.count = 600;
+        o.epsilon = 0.003;
+        o.project_width = 0.1;
+        o.min_distance = 0.2;
+        return sample_near_surface(*f, o, s, c);
+      },
   };
   for (std::size_t i = 0; i < runs.size(); ++i) {
     SCOPED_TRACE(i);
@@ -521,17 +719,6 @@ TEST(SampleProps, ParsesKeysValuesAndLines) {
   ASSERT_EQ(p.values.size(), 2U);
   EXPECT_EQ(p.values.at("count"), std::make_pair(std::string("250"), std::size_t{3}));
   EXPECT_EQ(p.values.at("min_distance"), std::make_pair(std::string("0.4"), std::size_t{4}));
-}
-
-template <class Fn>
-InputError input_error(Fn&& fn) {
-  try {
-    fn();
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError";
-  return InputError("", 0, "");
 }
 
 TEST(SampleProps, SyntaxErrorsNameFileAndLine) {

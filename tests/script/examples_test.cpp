@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "ramiform/core/errors.h"
@@ -174,6 +175,45 @@ TEST(LanguageDoc, EveryExampleBlockRuns) {
   }
   EXPECT_FALSE(inside) << "unterminated code block";
   EXPECT_GE(blocks, 20) << "every command should have an example";
+}
+
+}  // namespace
+}  // namespace ramiform::test
+
+namespace ramiform::test {
+namespace {
+
+// Every command has a heading in docs/language.md and is used in at least one of its example
+// blocks (which EveryExampleBlockRuns runs).
+TEST(LanguageDoc, EveryCommandHasAHeadingAndAnExample) {
+  std::ifstream in(kSource / "docs" / "language.md");
+  ASSERT_TRUE(in);
+  std::set<std::string> headed;
+  std::set<std::string> used;
+  std::string line;
+  bool inside = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("```", 0) == 0) {
+      inside = !inside && line.rfind("```rf", 0) == 0;
+      continue;
+    }
+    if (inside) {
+      std::istringstream words(line);
+      std::string first;
+      if (words >> first) used.insert(first);
+    } else if (line.rfind("### ", 0) == 0) {
+      std::istringstream words(line.substr(4));
+      std::string w;
+      while (words >> w) {
+        while (!w.empty() && (w.back() == ',' || w.back() == '`')) w.pop_back();
+        headed.insert(w);
+      }
+    }
+  }
+  for (const std::string& name : ScriptSession::command_names()) {
+    EXPECT_TRUE(headed.count(name) == 1) << "docs/language.md has no heading for " << name;
+    EXPECT_TRUE(used.count(name) == 1) << "docs/language.md has no example using " << name;
+  }
 }
 
 }  // namespace
