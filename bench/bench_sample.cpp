@@ -2,9 +2,10 @@
 // Copyright (c) 2026 the ramiform authors
 //
 // Point-set generation (docs/sampling.md, "Speed"), after thesis `001` Tables 6.1-6.2:
-// 1,000 Poisson-disk points with f in (0.40, 0.41) near a deep blended surface, without and with
-// the field cache (cube edge 0.5) and with Lane's restricted grid; plus inside Poisson-disk sets
-// of 10k and 100k points.
+// 1,000 Poisson-disk points with f in (0.40, 0.41) near a deep blended surface, by rejection
+// without and with the field cache (cube edge 0.5) and with Lane's restricted grid, and by
+// projection (NearSurfaceOptions::Method::kProject); plus inside Poisson-disk sets of 10k and
+// 100k points.
 //
 // The deep blended surface: 32 Wyvill distance primitives from field/primitives.h (8 tori,
 // 8 rounded boxes, 8 rounded cylinders, 8 rounded cones; iso 0.41, radii 0.6-1.4) placed on a
@@ -70,17 +71,20 @@ void report(benchmark::State& state, const SampleStats& st) {
 
 // Tables 6.1-6.2. range(0): 0 rejection in the box (thesis "without cache"), 1 bound-pruned
 // rejection, 2 pruned + cache, 3 Lane unrestricted (thesis "Lane's distribution method"),
-// 4 Lane restricted grid ("initialize grid without cache"), 5 restricted grid + cache.
+// 4 Lane restricted grid ("initialize grid without cache"), 5 restricted grid + cache,
+// 6 projection (the default method; not in the thesis).
 void BM_NearSurfacePoisson(benchmark::State& state) {
   const int variant = static_cast<int>(state.range(0));
   NearSurfaceOptions o;
+  o.method = variant == 6 ? NearSurfaceOptions::Method::kProject
+                          : NearSurfaceOptions::Method::kReject;
   o.count = 1000;
   o.epsilon = 0.01;  // f in (0.40, 0.41)
   o.min_distance = 0.25;
   o.cache_cell = 0.5;  // the thesis's cube edge
   o.prune = !(variant == 0 || variant == 3);
   o.use_cache = variant == 2 || variant == 5;
-  o.use_lane_grid = variant >= 3;
+  o.use_lane_grid = variant >= 3 && variant <= 5;
   o.grid = 128;
   // The unpruned baselines hit the band about once per 10^5 candidates (~100 s for 1000
   // points, as in the thesis): cap them and report the attempts.
@@ -92,15 +96,18 @@ void BM_NearSurfacePoisson(benchmark::State& state) {
   }
   report(state, st);
 }
-BENCHMARK(BM_NearSurfacePoisson)->DenseRange(0, 5)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NearSurfacePoisson)->DenseRange(0, 6)->Unit(benchmark::kMillisecond);
 
-// The same without the Poisson-disk condition (uniform in the band).
+// The same without the Poisson-disk condition. range(0): 0 rejection, 1 rejection + cache,
+// 2 projection.
 void BM_NearSurfaceUniform(benchmark::State& state) {
   NearSurfaceOptions o;
+  o.method = state.range(0) == 2 ? NearSurfaceOptions::Method::kProject
+                                 : NearSurfaceOptions::Method::kReject;
   o.count = 1000;
   o.epsilon = 0.01;
   o.cache_cell = 0.5;
-  o.use_cache = state.range(0) != 0;
+  o.use_cache = state.range(0) == 1;
   SampleStats st;
   for (auto _ : state) {
     PointSet ps = sample_near_surface(*shape(), o, 1, nullptr, &st);
@@ -108,7 +115,27 @@ void BM_NearSurfaceUniform(benchmark::State& state) {
   }
   report(state, st);
 }
-BENCHMARK(BM_NearSurfaceUniform)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NearSurfaceUniform)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+// Projection at larger counts (f in (0.40, 0.41), plain and Poisson-disk with min distance
+// 0.1): range(0) points, range(1) 1 for Poisson-disk.
+void BM_NearSurfaceProject(benchmark::State& state) {
+  NearSurfaceOptions o;
+  o.count = static_cast<std::size_t>(state.range(0));
+  o.epsilon = 0.01;
+  o.min_distance = state.range(1) != 0 ? 0.1 : 0.0;
+  SampleStats st;
+  for (auto _ : state) {
+    PointSet ps = sample_near_surface(*shape(), o, 1, nullptr, &st);
+    benchmark::DoNotOptimize(ps.positions.data());
+  }
+  report(state, st);
+}
+BENCHMARK(BM_NearSurfaceProject)
+    ->Args({10000, 0})
+    ->Args({100000, 0})
+    ->Args({10000, 1})
+    ->Unit(benchmark::kMillisecond);
 
 // Inside Poisson-disk sets (automatic radius) and uniform sets of 10k and 100k points.
 void BM_InsidePoisson(benchmark::State& state) {

@@ -32,7 +32,8 @@ int run_demo(const DemoArgs& args) {
   ScriptOptions options;
   options.out_dir = args.out_dir;
   options.seed = args.seed;
-  options.params = {{"levels", std::to_string(args.levels)}, {"points", std::to_string(args.points)}};
+  options.params = {{"levels", std::to_string(args.levels)},
+                    {"points", std::to_string(args.points)}};
   ScriptSession session(options, &scope.context());
   nlohmann::json commands = nlohmann::json::array();
   std::vector<std::string> reports;
@@ -45,10 +46,15 @@ int run_demo(const DemoArgs& args) {
       std::size_t end = text.find('\n', at);
       if (end == std::string::npos) end = text.size();
       const auto t0 = std::chrono::steady_clock::now();
-      const CommandResult r = session.execute_line(std::string_view(text).substr(at, end - at), "demo.rf", line_no);
-      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const CommandResult r =
+          session.execute_line(std::string_view(text).substr(at, end - at), "demo.rf", line_no);
+      const double seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!r.command.empty()) {
-        commands.push_back({{"line", line_no}, {"command", r.command}, {"result", r.message}, {"seconds", seconds}});
+        commands.push_back({{"line", line_no},
+                            {"command", r.command},
+                            {"result", r.message},
+                            {"seconds", seconds}});
         if (r.command == "grow" || r.command == "point_set_thin" || r.command == "point_set_gen" ||
             r.command.rfind("save_", 0) == 0) {
           reports.push_back(r.message);
@@ -62,19 +68,22 @@ int run_demo(const DemoArgs& args) {
     throw;
   }
   nlohmann::json stats;
-  stats["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stats["seconds"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   stats["commands"] = commands;
   stats["outputs"] = written;
   stats["seed"] = args.seed;
   const std::string stats_path = (fs::path(args.out_dir) / "stats.json").string();
   write_stats(stats_path, stats);
   write_stats(args.common.stats_path, stats);
-  std::cout << "ramiform demo: crown (scene language) -> points -> space colonization -> pipe-model radii -> "
+  std::cout << "ramiform demo: crown (scene language) -> points -> space colonization -> "
+               "pipe-model radii -> "
                "tetrahedral mesh\n";
   for (const std::string& r : reports) std::cout << "  " << r << '\n';
   std::cout << "files in " << args.out_dir << ":";
   for (const std::string& w : written) std::cout << ' ' << fs::path(w).filename().string();
-  std::cout << " stats.json\n(the scene is examples/demo.rf; run it yourself with: ramiform run examples/demo.rf --out DIR)\n";
+  std::cout << " stats.json\n(the scene is examples/demo.rf; run it yourself with: ramiform run "
+               "examples/demo.rf --out DIR)\n";
   return 0;
 }
 
@@ -83,10 +92,12 @@ int run_demo(const DemoArgs& args) {
 void register_demo(CLI::App& root, Action& action) {
   auto args = std::make_shared<DemoArgs>();
   CLI::App* c = root.add_subcommand(
-      "demo", "Run the whole pipeline on the built-in scene (examples/demo.rf): model a crown, fill it "
-              "with points, grow a tree, mesh it; writes crown.ply, points.txt, skeleton.json, tree.ply, "
-              "tree.glb and stats.json into --out.");
-  c->add_option("--out", args->out_dir, "output directory (created if missing)")->capture_default_str();
+      "demo",
+      "Run the whole pipeline on the built-in scene (examples/demo.rf): model a crown, fill it "
+      "with points, grow a tree, mesh it; writes crown.ply, points.txt, skeleton.json, tree.ply, "
+      "tree.glb and stats.json into --out.");
+  c->add_option("--out", args->out_dir, "output directory (created if missing)")
+      ->capture_default_str();
   c->add_option("--levels", args->levels, "tets: 1:8 subdivision levels of the tree mesh")
       ->check(CLI::Range(0, 6))
       ->capture_default_str();

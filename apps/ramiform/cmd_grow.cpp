@@ -75,8 +75,9 @@ int run_grow(const GrowArgs& args) {
   stats["stall_reason"] = r.stall_reason;
   stats["seconds"] = timer.seconds();
   write_stats(args.common.stats_path, stats);
-  std::cout << "wrote " << args.out_path << ": " << r.skeleton.node_count() << " nodes, " << r.iterations
-            << " iterations, " << r.points_reached << " of " << r.points_total << " points reached"
+  std::cout << "wrote " << args.out_path << ": " << r.skeleton.node_count() << " nodes, "
+            << r.iterations << " iterations, " << r.points_reached << " of " << r.points_total
+            << " points reached"
             << (r.stalled ? "; stopped early: " + r.stall_reason : std::string()) << '\n';
   return 0;
 }
@@ -102,7 +103,8 @@ int run_sample(const SampleArgs& args) {
   so.allow_any_path = true;  // -o names the output explicitly
   for (const std::string& s : args.sets) {
     const std::size_t eq = s.find('=');
-    if (eq == std::string::npos || eq == 0) throw InvalidArgument("--set expects name=value, got '" + s + "'");
+    if (eq == std::string::npos || eq == 0)
+      throw InvalidArgument("--set expects name=value, got '" + s + "'");
     so.params[s.substr(0, eq)] = s.substr(eq + 1);
   }
   ScriptSession session(so, &scope.context());
@@ -111,13 +113,15 @@ int run_sample(const SampleArgs& args) {
   timer.lap("script");
   std::string line = "point_set_gen " + args.name + " " + args.dist;
   // Command-line paths are relative to the working directory, not to the script.
-  if (!args.props_path.empty()) line += " \"" + std::filesystem::absolute(args.props_path).string() + "\"";
+  if (!args.props_path.empty())
+    line += " \"" + std::filesystem::absolute(args.props_path).string() + "\"";
   if (args.count > 0) line += " count=" + std::to_string(args.count);
   line += " name=__sample";
   session.execute_line(line, "<sample>", 1);
   timer.lap("sample");
-  session.execute_line("save_point_set \"" + std::filesystem::absolute(args.out_path).string() + "\" __sample",
-                       "<sample>", 2);
+  session.execute_line(
+      "save_point_set \"" + std::filesystem::absolute(args.out_path).string() + "\" __sample",
+      "<sample>", 2);
   // Outputs of the session are relative to its out_dir "."; commit moves the staged file.
   const std::vector<std::string> written = session.commit();
   timer.lap("write");
@@ -141,7 +145,8 @@ struct LSystemArgs {
 int run_lsystem(const LSystemArgs& args) {
   if (args.list || args.source.empty()) {
     for (const auto& [name, text] : lsystem_examples()) std::cout << name << '\n';
-    if (args.source.empty() && !args.list) throw InvalidArgument("give an example name or a file (--list lists them)");
+    if (args.source.empty() && !args.list)
+      throw InvalidArgument("give an example name or a file (--list lists them)");
     return 0;
   }
   if (args.out_path.empty()) throw InvalidArgument("-o TREE.json is required");
@@ -153,7 +158,8 @@ int run_lsystem(const LSystemArgs& args) {
   }
   if (text.empty()) {
     std::ifstream in(args.source);
-    if (!in) throw InputError(args.source, 0, "not an L-system example name and not a readable file");
+    if (!in)
+      throw InputError(args.source, 0, "not an L-system example name and not a readable file");
     std::stringstream ss;
     ss << in.rdbuf();
     text = ss.str();
@@ -161,10 +167,11 @@ int run_lsystem(const LSystemArgs& args) {
   LSystemOptions o = args.options;
   o.radius = args.radii == "pipe" ? LSystemRadius::kPipe : LSystemRadius::kWidth;
   const Skeleton skeleton = lsystem_skeleton(text, source, o);
-  if (skeleton.edge_count() == 0) throw InvalidArgument(args.source + ": the L-system draws no segment");
+  if (skeleton.edge_count() == 0)
+    throw InvalidArgument(args.source + ": the L-system draws no segment");
   write_skeleton(skeleton, args.out_path);
-  std::cout << "wrote " << args.out_path << ": " << skeleton.node_count() << " nodes, " << skeleton.edge_count()
-            << " edges\n";
+  std::cout << "wrote " << args.out_path << ": " << skeleton.node_count() << " nodes, "
+            << skeleton.edge_count() << " edges\n";
   return 0;
 }
 
@@ -173,19 +180,27 @@ int run_lsystem(const LSystemArgs& args) {
 void register_grow(CLI::App& root, Action& action) {
   auto a = std::make_shared<GrowArgs>();
   CLI::App* c = root.add_subcommand(
-      "grow", "Grow a tree skeleton toward attraction points by space colonization (Runions et al. 2007), "
-              "with pipe-model radii; writes skeleton JSON (docs/growth.md).");
-  c->add_option("--points", a->points_path, "attraction points: 'x y z' per line, or .ply")->required();
+      "grow",
+      "Grow a tree skeleton toward attraction points by space colonization (Runions et al. 2007), "
+      "with pipe-model radii; writes skeleton JSON (docs/growth.md).");
+  c->add_option("--points", a->points_path, "attraction points: 'x y z' per line, or .ply")
+      ->required();
   c->add_option("-o,--out", a->out_path, "output skeleton (.json, .ply, .obj)")->required();
   c->add_option("--step", a->options.step, "node spacing D")->capture_default_str();
-  c->add_option("--influence", a->options.influence, "influence distance d_i")->capture_default_str();
+  c->add_option("--influence", a->options.influence, "influence distance d_i")
+      ->capture_default_str();
   c->add_option("--kill", a->options.kill, "kill distance d_k")->capture_default_str();
   c->add_option("--root", a->root, "trunk start X,Y,Z")->capture_default_str();
-  c->add_option("--direction", a->direction, "initial trunk direction X,Y,Z")->capture_default_str();
-  c->add_option("--tropism", a->tropism, "tropism vector added to each growth direction")->capture_default_str();
-  c->add_option("--max-iterations", a->options.max_iterations, "iteration limit")->capture_default_str();
-  c->add_option("--tip-radius", a->options.tip_radius, "pipe model: radius of every tip")->capture_default_str();
-  c->add_option("--pipe-exponent", a->options.pipe_exponent, "pipe model exponent n in [2, 3]")->capture_default_str();
+  c->add_option("--direction", a->direction, "initial trunk direction X,Y,Z")
+      ->capture_default_str();
+  c->add_option("--tropism", a->tropism, "tropism vector added to each growth direction")
+      ->capture_default_str();
+  c->add_option("--max-iterations", a->options.max_iterations, "iteration limit")
+      ->capture_default_str();
+  c->add_option("--tip-radius", a->options.tip_radius, "pipe model: radius of every tip")
+      ->capture_default_str();
+  c->add_option("--pipe-exponent", a->options.pipe_exponent, "pipe model exponent n in [2, 3]")
+      ->capture_default_str();
   c->add_option("--seed", a->seed, "accepted for symmetry: growth itself makes no random choice");
   add_common_options(*c, a->common);
   c->callback([a, &action] { action = [a] { return run_grow(*a); }; });
@@ -194,14 +209,19 @@ void register_grow(CLI::App& root, Action& action) {
 void register_sample(CLI::App& root, Action& action) {
   auto a = std::make_shared<SampleArgs>();
   CLI::App* c = root.add_subcommand(
-      "sample", "Sample a named shape of a scene script with a point distribution (docs/sampling.md).");
+      "sample",
+      "Sample a named shape of a scene script with a point distribution (docs/sampling.md).");
   c->add_option("SCRIPT", a->script, "the scene script (.rf)")->required();
   c->add_option("NAME", a->name, "the shape to sample")->required();
-  c->add_option("--dist", a->dist, "distribution: " + [] {
-    std::string s;
-    for (const std::string& n : distribution_names()) s += (s.empty() ? "" : ", ") + n;
-    return s;
-  }())->required();
+  c->add_option(
+       "--dist", a->dist,
+       "distribution: " +
+           [] {
+             std::string s;
+             for (const std::string& n : distribution_names()) s += (s.empty() ? "" : ", ") + n;
+             return s;
+           }())
+      ->required();
   c->add_option("--props", a->props_path, "a .props file of 'key = value' parameters");
   c->add_option("--count", a->count, "number of points (overrides the props' count)");
   c->add_option("-o,--out", a->out_path, "output points ('x y z' text, or .ply)")->required();
@@ -214,12 +234,14 @@ void register_sample(CLI::App& root, Action& action) {
 void register_lsystem(CLI::App& root, Action& action) {
   auto a = std::make_shared<LSystemArgs>();
   CLI::App* c = root.add_subcommand(
-      "lsystem", "Derive a bracketed parametric L-system and write its turtle skeleton (docs/growth.md).");
+      "lsystem",
+      "Derive a bracketed parametric L-system and write its turtle skeleton (docs/growth.md).");
   c->add_option("SOURCE", a->source, "a built-in example name (--list) or an L-system file");
   c->add_option("-o,--out", a->out_path, "output skeleton (.json, .ply, .obj)");
   c->add_flag("--list", a->list, "list the built-in examples");
   c->add_option("--iterations", a->options.iterations, "derivation steps")->capture_default_str();
-  c->add_option("--angle", a->options.angle_deg, "default turn angle, degrees")->capture_default_str();
+  c->add_option("--angle", a->options.angle_deg, "default turn angle, degrees")
+      ->capture_default_str();
   c->add_option("--step", a->options.step, "default segment length")->capture_default_str();
   c->add_option("--width", a->options.width, "initial width")->capture_default_str();
   c->add_option("--radii", a->radii, "node radii from the turtle width or the pipe model")

@@ -79,7 +79,8 @@ int run_shell(const ScriptArgs& args) {
   RunScope scope(args.common);
   ScriptSession session(script_options(args), &scope.context());
   const bool interactive = isatty(STDIN_FILENO) != 0;
-  if (interactive) std::cout << "ramiform shell: 'help' lists the commands, 'quit' or Ctrl-D ends.\n";
+  if (interactive)
+    std::cout << "ramiform shell: 'help' lists the commands, 'quit' or Ctrl-D ends.\n";
   std::string line;
   std::size_t line_no = 0;
   int errors = 0;
@@ -123,8 +124,9 @@ void add_session_options(CLI::App& c, ScriptArgs& args) {
 void register_run(CLI::App& root, Action& action) {
   auto args = std::make_shared<ScriptArgs>();
   CLI::App* c = root.add_subcommand(
-      "run", "Run a scene script (.rf, see docs/language.md); outputs are written only when the "
-             "whole script succeeds.");
+      "run",
+      "Run a scene script (.rf, see docs/language.md); outputs are written only when the "
+      "whole script succeeds.");
   c->add_option("SCRIPT", args->script, "the script file")->required();
   add_session_options(*c, *args);
   c->add_option("--set", args->sets, "override a parameter declared with 'param': name=value")
@@ -137,8 +139,9 @@ void register_run(CLI::App& root, Action& action) {
 void register_shell(CLI::App& root, Action& action) {
   auto args = std::make_shared<ScriptArgs>();
   CLI::App* c = root.add_subcommand(
-      "shell", "The interactive command editor: type scene-language commands, one per line; each "
-               "result is reported. Reading from a pipe, it exits with 2 if any command failed.");
+      "shell",
+      "The interactive command editor: type scene-language commands, one per line; each "
+      "result is reported. Reading from a pipe, it exits with 2 if any command failed.");
   add_session_options(*c, *args);
   add_common_options(*c, args->common);
   c->callback([args, &action] { action = [args] { return run_shell(*args); }; });

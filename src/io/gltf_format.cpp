@@ -36,7 +36,8 @@ void append_f32(std::string& s, float f) {
 void write_glb(const TriMesh& mesh, std::ostream& out) {
   const std::size_t nv = mesh.positions.size();
   const std::size_t nt = mesh.triangles.size();
-  if (nv > std::numeric_limits<std::uint32_t>::max() / 12 || nt > std::numeric_limits<std::uint32_t>::max() / 12) {
+  if (nv > std::numeric_limits<std::uint32_t>::max() / 12 ||
+      nt > std::numeric_limits<std::uint32_t>::max() / 12) {
     throw InvalidArgument("write_glb: mesh too large for one glTF buffer");
   }
   const bool normals = !mesh.normals.empty();
@@ -80,17 +81,32 @@ void write_glb(const TriMesh& mesh, std::ostream& out) {
   ordered_json attributes = {{"POSITION", 0}};
   if (normals) attributes["NORMAL"] = 2;
   j["meshes"] = ordered_json::array(
-      {{{"primitives", ordered_json::array({{{"attributes", attributes}, {"indices", 1}, {"mode", kTriangles}}})}}});
+      {{{"primitives",
+         ordered_json::array(
+             {{{"attributes", attributes}, {"indices", 1}, {"mode", kTriangles}}})}}});
   ordered_json accessors = ordered_json::array();
-  accessors.push_back({{"bufferView", 0}, {"componentType", kFloat}, {"count", nv}, {"type", "VEC3"},
-                       {"min", {lo[0], lo[1], lo[2]}}, {"max", {hi[0], hi[1], hi[2]}}});
-  accessors.push_back({{"bufferView", 1}, {"componentType", kUnsignedInt}, {"count", nt * 3}, {"type", "SCALAR"}});
+  accessors.push_back({{"bufferView", 0},
+                       {"componentType", kFloat},
+                       {"count", nv},
+                       {"type", "VEC3"},
+                       {"min", {lo[0], lo[1], lo[2]}},
+                       {"max", {hi[0], hi[1], hi[2]}}});
+  accessors.push_back(
+      {{"bufferView", 1}, {"componentType", kUnsignedInt}, {"count", nt * 3}, {"type", "SCALAR"}});
   ordered_json views = ordered_json::array();
-  views.push_back({{"buffer", 0}, {"byteOffset", 0}, {"byteLength", nv * 12}, {"target", kArrayBuffer}});
-  views.push_back({{"buffer", 0}, {"byteOffset", index_offset}, {"byteLength", nt * 12}, {"target", kElementArrayBuffer}});
+  views.push_back(
+      {{"buffer", 0}, {"byteOffset", 0}, {"byteLength", nv * 12}, {"target", kArrayBuffer}});
+  views.push_back({{"buffer", 0},
+                   {"byteOffset", index_offset},
+                   {"byteLength", nt * 12},
+                   {"target", kElementArrayBuffer}});
   if (normals) {
-    accessors.push_back({{"bufferView", 2}, {"componentType", kFloat}, {"count", nv}, {"type", "VEC3"}});
-    views.push_back({{"buffer", 0}, {"byteOffset", normal_offset}, {"byteLength", nv * 12}, {"target", kArrayBuffer}});
+    accessors.push_back(
+        {{"bufferView", 2}, {"componentType", kFloat}, {"count", nv}, {"type", "VEC3"}});
+    views.push_back({{"buffer", 0},
+                     {"byteOffset", normal_offset},
+                     {"byteLength", nv * 12},
+                     {"target", kArrayBuffer}});
   }
   if (nv == 0) {
     // An empty mesh: accessors of count 0 are invalid, so write a scene without a mesh.

@@ -67,8 +67,9 @@ FieldPtr make_mesh_field(const TriMesh& mesh) {
   if (mesh.triangles.empty()) throw InvalidArgument("mesh field: the mesh has no triangles");
   const MeshReport r = check_mesh(mesh);
   if (!r.watertight || !r.oriented || !r.manifold) {
-    throw InvalidArgument("mesh field: the mesh must be closed (watertight " + std::string(r.watertight ? "yes" : "no") +
-                          ", oriented " + (r.oriented ? "yes" : "no") + ", manifold " +
+    throw InvalidArgument("mesh field: the mesh must be closed (watertight " +
+                          std::string(r.watertight ? "yes" : "no") + ", oriented " +
+                          (r.oriented ? "yes" : "no") + ", manifold " +
                           (r.manifold ? "yes" : "no") + ")");
   }
   if (signed_volume(mesh) < 0) {  // oriented inside out: flip, so that the inside is inside

@@ -19,8 +19,9 @@ CurveKind curve_kind(const Call& c, std::size_t i) {
   if (t.text == "bezier") return CurveKind::kBezier;
   if (t.text == "bspline") return CurveKind::kBSpline;
   c.fail(t, "expected the curve kind polyline, bezier or bspline, got '" + t.text + "'" +
-                (closest_name(t.text, kCurveKinds).empty() ? ""
-                                                          : " (did you mean '" + closest_name(t.text, kCurveKinds) + "'?)"));
+                (closest_name(t.text, kCurveKinds).empty()
+                     ? ""
+                     : " (did you mean '" + closest_name(t.text, kCurveKinds) + "'?)"));
 }
 
 // Coordinates from the positional arguments [first, count) or from file=F.
@@ -29,7 +30,8 @@ std::vector<Eigen::Matrix<double, Dim, 1>> curve_points(const Call& c, std::size
   using V = Eigen::Matrix<double, Dim, 1>;
   std::vector<V> pts;
   if (const Token* file = c.option_token("file")) {
-    if (c.count() > first) c.fail(c.arg(first), "give the points either inline or in file=, not both");
+    if (c.count() > first)
+      c.fail(c.arg(first), "give the points either inline or in file=, not both");
     const std::string path = c.input_path(*file);
     if constexpr (Dim == 2) {
       pts = read_points2(path);
@@ -41,8 +43,8 @@ std::vector<Eigen::Matrix<double, Dim, 1>> curve_points(const Call& c, std::size
   const std::size_t n = c.count() - first;
   if (n == 0 || n % Dim != 0) {
     c.fail(n == 0 ? c.arg(first - 1) : c.arg(c.count() - 1),
-           "expected " + std::string(Dim == 2 ? "X Y pairs" : "X Y Z triples") + " of coordinates, got " +
-               std::to_string(n) + " number(s)");
+           "expected " + std::string(Dim == 2 ? "X Y pairs" : "X Y Z triples") +
+               " of coordinates, got " + std::to_string(n) + " number(s)");
   }
   for (std::size_t i = first; i < c.count(); i += Dim) {
     V p;
@@ -138,13 +140,15 @@ CommandResult run_skin(Call& c) {
     const Token& t = c.arg(i);
     const std::size_t at = t.text.rfind('@');
     if (at == std::string::npos || at == 0) {
-      c.fail(t, "expected SECTION@S (a 2-D curve name and its arc-length parameter in [0, 1]), got '" +
-                    t.text + "'");
+      c.fail(t,
+             "expected SECTION@S (a 2-D curve name and its arc-length parameter in [0, 1]), got '" +
+                 t.text + "'");
     }
     const Token curve_name{t.text.substr(0, at), t.column};
     const Token s_token{t.text.substr(at + 1), t.column + at + 1};
     const double s = c.parse_number(s_token, "section parameter");
-    if (s < 0 || s > 1) c.fail(s_token, "section parameter must lie in [0, 1], got " + s_token.text);
+    if (s < 0 || s > 1)
+      c.fail(s_token, "section parameter must lie in [0, 1], got " + s_token.text);
     sections.push_back({c.object_named(curve_name, ObjectKind::kCurve2).curve2, s});
   }
   SkinOptions o;
@@ -163,28 +167,49 @@ CommandResult run_skin(Call& c) {
 
 void add_curve_commands(std::vector<CommandSpec>& out) {
   const std::vector<std::string> surf = {"radius", "kernel", "weight"};
-  out.push_back({"curve", "curve NAME polyline|bezier|bspline [closed] X Y X Y ... | file=F",
-                 "A planar (2-D) curve for profiles and cross-sections: a polyline, one Bezier curve "
-                 "through its control points' hull, or a cubic B-spline. `closed` makes it bound a "
-                 "filled region. The points may come from a file ('x y' per line).",
-                 "curve square polyline closed -1 -1 1 -1 1 1 -1 1", {"file"}, run_curve, {"curve2d"}});
-  out.push_back({"path", "path NAME polyline|bezier|bspline X Y Z ... | file=F",
+  out.push_back(
+      {"curve",
+       "curve NAME polyline|bezier|bspline [closed] X Y X Y ... | file=F",
+       "A planar (2-D) curve for profiles and cross-sections: a polyline, one Bezier curve "
+       "through its control points' hull, or a cubic B-spline. `closed` makes it bound a "
+       "filled region. The points may come from a file ('x y' per line).",
+       "curve square polyline closed -1 -1 1 -1 1 1 -1 1",
+       {"file"},
+       run_curve,
+       {"curve2d"}});
+  out.push_back({"path",
+                 "path NAME polyline|bezier|bspline X Y Z ... | file=F",
                  "A 3-D path curve for sweeps and skinning ('x y z' per line in a file).",
-                 "path up polyline 0 0 0 0 0 1", {"file"}, run_path, {"curve3d"}});
-  out.push_back({"revolve", "revolve NAME PROFILE [radius=R] [kernel=K] [weight=W]",
+                 "path up polyline 0 0 0 0 0 1",
+                 {"file"},
+                 run_path,
+                 {"curve3d"}});
+  out.push_back({"revolve",
+                 "revolve NAME PROFILE [radius=R] [kernel=K] [weight=W]",
                  "Surface of revolution: the 2-D PROFILE (x = distance from the axis, y = height) "
                  "turned about the z axis; a closed profile is a filled region. The surface lies "
                  "`radius` (default 0.1) from the profile.",
-                 "revolve vase outline radius=0.05", surf, run_revolve, {"revolution"}});
-  out.push_back({"sweep", "sweep NAME SECTION PATH [radius=R] [kernel=K] [weight=W]",
+                 "revolve vase outline radius=0.05",
+                 surf,
+                 run_revolve,
+                 {"revolution"}});
+  out.push_back({"sweep",
+                 "sweep NAME SECTION PATH [radius=R] [kernel=K] [weight=W]",
                  "Sweep surface: the 2-D SECTION carried along PATH in rotation-minimizing frames.",
-                 "sweep pipe ring bend_path radius=0.02", surf, run_sweep, {}});
-  out.push_back({"skin", "skin NAME PATH SECTION@S [SECTION@S ...] [interp=linear|quadratic|cubic] [radius=R]",
-                 "Implicit skinning (thesis §4.2): 2-D sections attached to normalized arc-length "
-                 "parameters S of PATH; the distance field is interpolated between them. Several "
-                 "sections at one S are united (the table of Figure 4.10).",
-                 "skin table up leg1@0 leg2@0 leg3@0 leg4@0 top@1",
-                 {"radius", "kernel", "weight", "interp"}, run_skin, {}});
+                 "sweep pipe ring bend_path radius=0.02",
+                 surf,
+                 run_sweep,
+                 {}});
+  out.push_back(
+      {"skin",
+       "skin NAME PATH SECTION@S [SECTION@S ...] [interp=linear|quadratic|cubic] [radius=R]",
+       "Implicit skinning (thesis §4.2): 2-D sections attached to normalized arc-length "
+       "parameters S of PATH; the distance field is interpolated between them. Several "
+       "sections at one S are united (the table of Figure 4.10).",
+       "skin table up leg1@0 leg2@0 leg3@0 leg4@0 top@1",
+       {"radius", "kernel", "weight", "interp"},
+       run_skin,
+       {}});
 }
 
 }  // namespace ramiform::script

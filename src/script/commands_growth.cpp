@@ -28,7 +28,8 @@ namespace {
 std::uint64_t seed_for(const Call& c, const std::string& name) {
   if (c.has_option("seed")) {
     const double v = c.option_number("seed", 0);
-    if (v < 0 || v != std::floor(v) || v > 9.0e15) c.fail(*c.option_token("seed"), "seed must be an integer >= 0");
+    if (v < 0 || v != std::floor(v) || v > 9.0e15)
+      c.fail(*c.option_token("seed"), "seed must be an integer >= 0");
     return static_cast<std::uint64_t>(v);
   }
   std::uint64_t h = 1469598103934665603ull;
@@ -43,7 +44,8 @@ const PointSet& point_set(const Call& c, const Token& token) {
     std::vector<std::string> known;
     for (const auto& [name, p] : sets) known.push_back(name);
     const std::string best = closest_name(token.text, known);
-    c.fail(token, "no point set '" + token.text + "'" + (best.empty() ? "" : " (did you mean '" + best + "'?)") +
+    c.fail(token, "no point set '" + token.text + "'" +
+                      (best.empty() ? "" : " (did you mean '" + best + "'?)") +
                       (known.empty() ? "; make one with point_set_gen or load_point_set" : ""));
   }
   return it->second;
@@ -65,8 +67,8 @@ CommandResult run_point_set_gen(Call& c) {
     const std::string best = closest_name(dist.text, names);
     std::string list;
     for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-    c.fail(dist, "unknown distribution '" + dist.text + "'" + (best.empty() ? "" : " (did you mean '" + best + "'?)") +
-                     "; known: " + list);
+    c.fail(dist, "unknown distribution '" + dist.text + "'" +
+                     (best.empty() ? "" : " (did you mean '" + best + "'?)") + "; known: " + list);
   }
   Props props;
   props.source = "<none>";
@@ -76,19 +78,23 @@ CommandResult run_point_set_gen(Call& c) {
   SampleStats stats;
   PointSet points = generate_points(*shape.field, dist.text, props, seed_for(c, name),
                                     static_cast<std::size_t>(count), c.session().ctx, &stats);
-  return stored(c, name, std::move(points),
-                " (" + dist.text + " in " + c.arg(0).text + (stats.saturated ? ", saturated" : "") + ")");
+  return stored(
+      c, name, std::move(points),
+      " (" + dist.text + " in " + c.arg(0).text + (stats.saturated ? ", saturated" : "") + ")");
 }
 
 CommandResult run_save_point_set(Call& c) {
   c.expect_count(1, 2, "FILE [POINTS]");
   const std::string& current = c.session().current_points;
-  if (c.count() == 1 && current.empty()) c.fail("no point set yet: make one with point_set_gen or load_point_set");
+  if (c.count() == 1 && current.empty())
+    c.fail("no point set yet: make one with point_set_gen or load_point_set");
   const Token name_token = c.count() == 2 ? c.arg(1) : Token{current, c.arg(0).column};
   const PointSet& points = point_set(c, name_token);
   const std::string path = c.output_path(0);
   write_points(points, path);
-  return {c.spec().name, c.arg(0).text + ": " + std::to_string(points.size()) + " points of " + name_token.text, true};
+  return {c.spec().name,
+          c.arg(0).text + ": " + std::to_string(points.size()) + " points of " + name_token.text,
+          true};
 }
 
 CommandResult run_point_set_thin(Call& c) {
@@ -96,12 +102,14 @@ CommandResult run_point_set_thin(Call& c) {
   const PointSet& points = point_set(c, c.arg(0));
   const Object& secondary = c.object(1, ObjectKind::kShape);
   const double percent = c.number(2, "percent");
-  if (percent < 0 || percent > 100) c.fail(c.arg(2), "percent must lie in [0, 100], got " + c.arg(2).text);
+  if (percent < 0 || percent > 100)
+    c.fail(c.arg(2), "percent must lie in [0, 100], got " + c.arg(2).text);
   const std::string name = c.arg(0).text;
   const std::size_t before = points.size();
   PointSet thinned = thin_points(points, *secondary.field, percent, seed_for(c, name + "/thin"));
   const std::size_t removed = before - thinned.size();
-  return stored(c, name, std::move(thinned), " (" + std::to_string(removed) + " removed inside " + c.arg(1).text + ")");
+  return stored(c, name, std::move(thinned),
+                " (" + std::to_string(removed) + " removed inside " + c.arg(1).text + ")");
 }
 
 CommandResult run_load_point_set(Call& c) {
@@ -118,7 +126,8 @@ CommandResult run_point_set_mesh(Call& c) {
   o.count = static_cast<std::size_t>(c.option_integer("count", 1000, 1, 100'000'000));
   o.min_offset = c.option_number("min_offset", 0.0);
   o.max_offset = c.option_number("max_offset", o.min_offset);
-  return stored(c, name, sample_near_mesh(mesh, o, seed_for(c, name)), " (near " + c.arg(1).text + ")");
+  return stored(c, name, sample_near_mesh(mesh, o, seed_for(c, name)),
+                " (near " + c.arg(1).text + ")");
 }
 
 Object tree_object(Skeleton skeleton, std::string summary) {
@@ -134,7 +143,8 @@ Object tree_object(Skeleton skeleton, std::string summary) {
 CommandResult run_grow(Call& c) {
   c.expect_count(3, 3, "TREE from POINTS");
   const std::string name = c.new_name(0);
-  if (c.arg(1).text != "from") c.fail(c.arg(1), "expected the word 'from', got '" + c.arg(1).text + "'");
+  if (c.arg(1).text != "from")
+    c.fail(c.arg(1), "expected the word 'from', got '" + c.arg(1).text + "'");
   const PointSet& points = point_set(c, c.arg(2));
   ColonizationOptions o;
   o.step = c.option_positive("step", o.step);
@@ -152,12 +162,15 @@ CommandResult run_grow(Call& c) {
     o.obstacle = avoid.get();
   }
   const ColonizationResult r = grow_space_colonization(points.positions, o, c.session().ctx);
-  std::string summary = "tree grown from " + c.arg(2).text + ": " + std::to_string(r.skeleton.node_count()) +
-                        " nodes, " + std::to_string(r.iterations) + " iterations, " +
+  std::string summary = "tree grown from " + c.arg(2).text + ": " +
+                        std::to_string(r.skeleton.node_count()) + " nodes, " +
+                        std::to_string(r.iterations) + " iterations, " +
                         std::to_string(r.points_reached) + " of " + std::to_string(r.points_total) +
                         " points reached";
   if (r.stalled) summary += "; stopped early: " + r.stall_reason;
-  if (r.skeleton.edge_count() == 0) c.fail("grew no branch: " + (r.stall_reason.empty() ? std::string("no growth") : r.stall_reason));
+  if (r.skeleton.edge_count() == 0)
+    c.fail("grew no branch: " +
+           (r.stall_reason.empty() ? std::string("no growth") : r.stall_reason));
   c.define(name, tree_object(r.skeleton, summary));
   return {c.spec().name, name + ": " + summary, true};
 }
@@ -174,15 +187,16 @@ CommandResult run_lsystem(Call& c) {
     }
   }
   if (text.empty()) {
-    if (c.arg(1).text.find('.') == std::string::npos && c.arg(1).text.find('/') == std::string::npos) {
+    if (c.arg(1).text.find('.') == std::string::npos &&
+        c.arg(1).text.find('/') == std::string::npos) {
       std::vector<std::string> known;
       for (const auto& [example, body] : lsystem_examples()) known.push_back(example);
       const std::string best = closest_name(c.arg(1).text, known);
       std::string list;
       for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
       c.fail(c.arg(1), "no L-system example '" + c.arg(1).text + "'" +
-                           (best.empty() ? "" : " (did you mean '" + best + "'?)") + "; examples: " + list +
-                           "; or give a file path");
+                           (best.empty() ? "" : " (did you mean '" + best + "'?)") +
+                           "; examples: " + list + "; or give a file path");
     }
     source = c.input_path(1);
     std::ifstream in(source);
@@ -200,9 +214,11 @@ CommandResult run_lsystem(Call& c) {
   o.tip_radius = c.option_positive("tip_radius", o.tip_radius);
   o.pipe_exponent = c.option_number("pipe_exponent", o.pipe_exponent);
   Skeleton skeleton = lsystem_skeleton(text, source, o);
-  if (skeleton.edge_count() == 0) c.fail(c.arg(1), "the L-system draws no segment (no F) after " + std::to_string(o.iterations) + " iterations");
-  const std::string summary = "L-system " + c.arg(1).text + ", " + std::to_string(o.iterations) + " iterations, " +
-                              std::to_string(skeleton.node_count()) + " nodes";
+  if (skeleton.edge_count() == 0)
+    c.fail(c.arg(1), "the L-system draws no segment (no F) after " + std::to_string(o.iterations) +
+                         " iterations");
+  const std::string summary = "L-system " + c.arg(1).text + ", " + std::to_string(o.iterations) +
+                              " iterations, " + std::to_string(skeleton.node_count()) + " nodes";
   c.define(name, tree_object(std::move(skeleton), summary));
   return {c.spec().name, name + ": " + c.session().objects.at(name).summary, false};
 }
@@ -210,7 +226,8 @@ CommandResult run_lsystem(Call& c) {
 CommandResult run_save_skeleton(Call& c) {
   c.expect_count(2, 2, "TREE FILE");
   const Object& obj = c.object(0, ObjectKind::kShape);
-  if (!obj.skeleton) c.fail(c.arg(0), "'" + c.arg(0).text + "' has no skeleton (made by grow, lsystem or skeleton)");
+  if (!obj.skeleton)
+    c.fail(c.arg(0), "'" + c.arg(0).text + "' has no skeleton (made by grow, lsystem or skeleton)");
   const std::string path = c.output_path(1);
   write_skeleton(*obj.skeleton, path);
   return {c.spec().name,
@@ -222,49 +239,84 @@ CommandResult run_save_skeleton(Call& c) {
 }  // namespace
 
 void add_growth_commands(std::vector<CommandSpec>& out) {
-  out.push_back({"point_set_gen", "point_set_gen SHAPE DISTRIBUTION [PROPS] [count=N] [name=P] [seed=S]",
-                 "Generates points for SHAPE (thesis §7.0.1): uniform, stratified, poisson, lane, field, "
-                 "boundary, near_surface, ... (docs/sampling.md); parameters come from the PROPS file "
-                 "('key = value' lines), count= overrides its count. The set is named after the shape "
-                 "(or name=P) and becomes the current point set.",
-                 "sphere s\nscale s 50 80 50\npoint_set_gen s poisson data/poisson.props\nsave_point_set points.txt",
-                 {"count", "name", "seed"}, run_point_set_gen, {}});
-  out.push_back({"save_point_set", "save_point_set FILE [POINTS]",
-                 "Writes the current point set (or the named one): text 'x y z' per line, or binary .ply.",
-                 "sphere s\npoint_set_gen s uniform count=100\nsave_point_set points.txt", {}, run_save_point_set, {}});
-  out.push_back({"point_set_thin", "point_set_thin POINTS SECONDARY PERCENT",
-                 "Removes PERCENT % of the points of POINTS that lie inside the shape SECONDARY "
-                 "(thesis §7.1).",
-                 "sphere crown 2\nsphere secondary 1 center=1,0,0\npoint_set_gen crown uniform count=500\n"
-                 "point_set_thin crown secondary 80",
-                 {"seed"}, run_point_set_thin, {}});
-  out.push_back({"load_point_set", "load_point_set FILE [NAME]",
+  out.push_back(
+      {"point_set_gen",
+       "point_set_gen SHAPE DISTRIBUTION [PROPS] [count=N] [name=P] [seed=S]",
+       "Generates points for SHAPE (thesis §7.0.1): uniform, stratified, poisson, lane, field, "
+       "boundary, near_surface, ... (docs/sampling.md); parameters come from the PROPS file "
+       "('key = value' lines), count= overrides its count. The set is named after the shape "
+       "(or name=P) and becomes the current point set.",
+       "sphere s\nscale s 50 80 50\npoint_set_gen s poisson data/poisson.props\nsave_point_set "
+       "points.txt",
+       {"count", "name", "seed"},
+       run_point_set_gen,
+       {}});
+  out.push_back(
+      {"save_point_set",
+       "save_point_set FILE [POINTS]",
+       "Writes the current point set (or the named one): text 'x y z' per line, or binary .ply.",
+       "sphere s\npoint_set_gen s uniform count=100\nsave_point_set points.txt",
+       {},
+       run_save_point_set,
+       {}});
+  out.push_back(
+      {"point_set_thin",
+       "point_set_thin POINTS SECONDARY PERCENT",
+       "Removes PERCENT % of the points of POINTS that lie inside the shape SECONDARY "
+       "(thesis §7.1).",
+       "sphere crown 2\nsphere secondary 1 center=1,0,0\npoint_set_gen crown uniform count=500\n"
+       "point_set_thin crown secondary 80",
+       {"seed"},
+       run_point_set_thin,
+       {}});
+  out.push_back({"load_point_set",
+                 "load_point_set FILE [NAME]",
                  "Reads a point set ('x y z' per line or .ply) under NAME (default 'points').",
-                 "load_point_set data/blob_points.txt blob", {}, run_load_point_set, {}});
-  out.push_back({"point_set_mesh", "point_set_mesh NAME MESH [count=N] [min_offset=A] [max_offset=B]",
-                 "Points near a triangle mesh (thesis §6.3): triangles by area, a uniform point in each, "
-                 "moved along the interpolated normal by an offset in [min_offset, max_offset].",
-                 "point_set_mesh shell data/cube.obj count=200 min_offset=0.05 max_offset=0.2",
-                 {"count", "min_offset", "max_offset", "seed"}, run_point_set_mesh, {}});
-  out.push_back({"grow", "grow TREE from POINTS [step=D] [influence=DI] [kill=DK] [root=X,Y,Z] "
-                 "[direction=X,Y,Z] [tropism=X,Y,Z] [max_iterations=N] [tip_radius=R] [pipe_exponent=N] [avoid=SHAPE]",
-                 "Space colonization (Runions et al. 2007, thesis §2.5): grows a tree from `root` toward "
-                 "the points, then sets pipe-model radii. `avoid` keeps nodes out of a shape (§7.2). "
-                 "TREE is a shape (Cauchy convolution surface of the skeleton); save_mesh method=tets "
-                 "meshes it, save_skeleton writes the skeleton.",
-                 "sphere crown 3 center=0,0,5\npoint_set_gen crown uniform count=300\n"
-                 "grow tree from crown step=0.4 influence=2 kill=0.8\nsave_skeleton tree tree.json",
-                 {"step", "influence", "kill", "root", "direction", "tropism", "max_iterations", "tip_radius",
-                  "pipe_exponent", "avoid"},
-                 run_grow, {}});
-  out.push_back({"lsystem", "lsystem TREE EXAMPLE|FILE [iterations=N] [angle=DEG] [step=L] [width=W] [radii=width|pipe]",
-                 "A skeleton from a bracketed parametric L-system (docs/growth.md): one of the built-in "
-                 "examples or a file.",
-                 "lsystem plant abop_fig1_24a iterations=4\nsave_skeleton plant plant.json",
-                 {"iterations", "angle", "step", "width", "radii", "tip_radius", "pipe_exponent"}, run_lsystem, {}});
-  out.push_back({"save_skeleton", "save_skeleton TREE FILE",
-                 "Writes the skeleton of a tree (grow, lsystem or skeleton) as JSON (or .ply/.obj).",
-                 "skeleton fork data/fork.json\nsave_skeleton fork fork_copy.json", {}, run_save_skeleton, {}});
+                 "load_point_set data/blob_points.txt blob",
+                 {},
+                 run_load_point_set,
+                 {}});
+  out.push_back(
+      {"point_set_mesh",
+       "point_set_mesh NAME MESH [count=N] [min_offset=A] [max_offset=B]",
+       "Points near a triangle mesh (thesis §6.3): triangles by area, a uniform point in each, "
+       "moved along the interpolated normal by an offset in [min_offset, max_offset].",
+       "point_set_mesh shell data/cube.obj count=200 min_offset=0.05 max_offset=0.2",
+       {"count", "min_offset", "max_offset", "seed"},
+       run_point_set_mesh,
+       {}});
+  out.push_back(
+      {"grow",
+       "grow TREE from POINTS [step=D] [influence=DI] [kill=DK] [root=X,Y,Z] "
+       "[direction=X,Y,Z] [tropism=X,Y,Z] [max_iterations=N] [tip_radius=R] [pipe_exponent=N] "
+       "[avoid=SHAPE]",
+       "Space colonization (Runions et al. 2007, thesis §2.5): grows a tree from `root` toward "
+       "the points, then sets pipe-model radii. `avoid` keeps nodes out of a shape (§7.2). "
+       "TREE is a shape (Cauchy convolution surface of the skeleton); save_mesh method=tets "
+       "meshes it, save_skeleton writes the skeleton.",
+       "sphere crown 3 center=0,0,5\npoint_set_gen crown uniform count=300\n"
+       "grow tree from crown step=0.4 influence=2 kill=0.8\nsave_skeleton tree tree.json",
+       {"step", "influence", "kill", "root", "direction", "tropism", "max_iterations", "tip_radius",
+        "pipe_exponent", "avoid"},
+       run_grow,
+       {}});
+  out.push_back(
+      {"lsystem",
+       "lsystem TREE EXAMPLE|FILE [iterations=N] [angle=DEG] [step=L] [width=W] [radii=width|pipe]",
+       "A skeleton from a bracketed parametric L-system (docs/growth.md): one of the built-in "
+       "examples or a file.",
+       "lsystem plant abop_fig1_24a iterations=4\nsave_skeleton plant plant.json",
+       {"iterations", "angle", "step", "width", "radii", "tip_radius", "pipe_exponent"},
+       run_lsystem,
+       {}});
+  out.push_back(
+      {"save_skeleton",
+       "save_skeleton TREE FILE",
+       "Writes the skeleton of a tree (grow, lsystem or skeleton) as JSON (or .ply/.obj).",
+       "skeleton fork data/fork.json\nsave_skeleton fork fork_copy.json",
+       {},
+       run_save_skeleton,
+       {}});
 }
 
 }  // namespace ramiform::script

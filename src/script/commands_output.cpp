@@ -32,12 +32,14 @@ CommandResult run_param(Call& c) {
   const auto set = s.options.params.find(name);
   const std::string value = set != s.options.params.end() ? set->second : c.arg(1).text;
   s.params[name] = value;
-  return {c.spec().name, name + " = " + value + (set != s.options.params.end() ? " (from --set)" : ""), false};
+  return {c.spec().name,
+          name + " = " + value + (set != s.options.params.end() ? " (from --set)" : ""), false};
 }
 
 std::string count_text(std::size_t n) {
   std::string s = std::to_string(n);
-  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<std::size_t>(i), ",");
+  for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3)
+    s.insert(static_cast<std::size_t>(i), ",");
   return s;
 }
 
@@ -63,10 +65,13 @@ CommandResult run_save_mesh(Call& c) {
   std::string how;
   if (method == "tets") {
     if (!obj.skeleton) {
-      c.fail(c.arg(0), "method=tets needs a shape made by skeleton, grow or lsystem (unchanged since); use method=mc");
+      c.fail(c.arg(0),
+             "method=tets needs a shape made by skeleton, grow or lsystem (unchanged since); use "
+             "method=mc");
     }
     for (const char* key : {"cell", "resolution"}) {
-      if (const Token* t = c.option_token(key)) c.fail(*t, std::string(key) + "= applies to method=mc");
+      if (const Token* t = c.option_token(key))
+        c.fail(*t, std::string(key) + "= applies to method=mc");
     }
     TetrahedralOptions o;
     o.levels = c.option_integer("levels", 3, 0, 6);
@@ -80,7 +85,8 @@ CommandResult run_save_mesh(Call& c) {
     const Aabb box = obj.field->bounds();
     if (box.isEmpty()) c.fail(c.arg(0), "'" + c.arg(0).text + "' has no inside: nothing to mesh");
     if (!box.min().allFinite() || !box.max().allFinite()) {
-      c.fail(c.arg(0), "'" + c.arg(0).text + "' is unbounded (a plane?); intersect it with a bounded shape first");
+      c.fail(c.arg(0), "'" + c.arg(0).text +
+                           "' is unbounded (a plane?); intersect it with a bounded shape first");
     }
     MarchingCubesOptions o;
     o.cell_size = c.option_positive("cell", 0.0);
@@ -97,7 +103,8 @@ CommandResult run_save_mesh(Call& c) {
   }
   return {c.spec().name,
           files + ": " + count_text(report.triangles) + " triangles (" + how + "), " +
-              (report.watertight && report.oriented && report.manifold ? "watertight" : "NOT watertight") +
+              (report.watertight && report.oriented && report.manifold ? "watertight"
+                                                                       : "NOT watertight") +
               ", " + std::to_string(report.components) + " component(s)",
           true};
 }
@@ -134,7 +141,8 @@ CommandResult run_eval_points(Call& c) {
   std::size_t inside = 0;
   for (double v : values) inside += v > obj.field->iso() ? 1 : 0;
   return {c.spec().name,
-          c.arg(2).text + ": " + std::to_string(values.size()) + " values, " + std::to_string(inside) + " inside",
+          c.arg(2).text + ": " + std::to_string(values.size()) + " values, " +
+              std::to_string(inside) + " inside",
           true};
 }
 
@@ -178,31 +186,60 @@ CommandResult run_help(Call& c) {
   return {c.spec().name, text, true};
 }
 
-
 }  // namespace
 
 void add_output_commands(std::vector<CommandSpec>& out) {
-  out.push_back({"param", "param NAME VALUE",
-                 "Declares a parameter with a default VALUE; `ramiform run --set NAME=V` overrides it. "
-                 "Later arguments use it as $NAME or ${NAME}.",
-                 "param r 2\nsphere s $r", {}, run_param, {}});
-  out.push_back({"save_mesh", "save_mesh NAME FILE [FILE ...] [resolution=N | cell=H] [method=mc|tets] [levels=N]",
-                 "Polygonizes a shape once and writes it to every FILE (.ply, .obj, .off, .glb) inside the "
-                 "output directory: marching cubes over the shape's bounds (default 96 cells along the "
-                 "longest side), or for a shape made by skeleton, grow or lsystem the skeleton-bounded "
-                 "tetrahedral polygonizer.",
-                 "save_mesh s3 s3.ply resolution=128", {"resolution", "cell", "method", "levels"},
-                 run_save_mesh, {}});
-  out.push_back({"eval", "eval NAME X Y Z", "Prints the field value at a point and whether it is inside.",
-                 "eval s3 0 0 0", {}, run_eval, {}});
-  out.push_back({"eval_points", "eval_points NAME POINTS OUT",
-                 "Evaluates a shape at every point of POINTS ('x y z' per line, or .ply) and writes one "
-                 "value per line to OUT.",
-                 "eval_points s3 probe.txt values.txt", {}, run_eval_points, {}});
-  out.push_back({"info", "info NAME", "Describes an object: what it is, its iso value and bounds.",
-                 "info s3", {}, run_info, {}});
+  out.push_back(
+      {"param",
+       "param NAME VALUE",
+       "Declares a parameter with a default VALUE; `ramiform run --set NAME=V` overrides it. "
+       "Later arguments use it as $NAME or ${NAME}.",
+       "param r 2\nsphere s $r",
+       {},
+       run_param,
+       {}});
+  out.push_back(
+      {"save_mesh",
+       "save_mesh NAME FILE [FILE ...] [resolution=N | cell=H] [method=mc|tets] [levels=N]",
+       "Polygonizes a shape once and writes it to every FILE (.ply, .obj, .off, .glb) inside the "
+       "output directory: marching cubes over the shape's bounds (default 96 cells along the "
+       "longest side), or for a shape made by skeleton, grow or lsystem the skeleton-bounded "
+       "tetrahedral polygonizer.",
+       "save_mesh s3 s3.ply resolution=128",
+       {"resolution", "cell", "method", "levels"},
+       run_save_mesh,
+       {}});
+  out.push_back({"eval",
+                 "eval NAME X Y Z",
+                 "Prints the field value at a point and whether it is inside.",
+                 "eval s3 0 0 0",
+                 {},
+                 run_eval,
+                 {}});
+  out.push_back(
+      {"eval_points",
+       "eval_points NAME POINTS OUT",
+       "Evaluates a shape at every point of POINTS ('x y z' per line, or .ply) and writes one "
+       "value per line to OUT.",
+       "eval_points s3 probe.txt values.txt",
+       {},
+       run_eval_points,
+       {}});
+  out.push_back({"info",
+                 "info NAME",
+                 "Describes an object: what it is, its iso value and bounds.",
+                 "info s3",
+                 {},
+                 run_info,
+                 {}});
   out.push_back({"list", "list", "Lists every named object.", "list", {}, run_list, {}});
-  out.push_back({"help", "help [COMMAND]", "Lists the commands, or describes one.", "help skin", {}, run_help, {}});
+  out.push_back({"help",
+                 "help [COMMAND]",
+                 "Lists the commands, or describes one.",
+                 "help skin",
+                 {},
+                 run_help,
+                 {}});
 }
 
 }  // namespace ramiform::script

@@ -22,7 +22,8 @@
 namespace ramiform::script {
 namespace {
 
-const std::vector<std::string> kKernelNames = {"wyvill", "blinn", "metaball", "power", "inverse-power"};
+const std::vector<std::string> kKernelNames = {"wyvill", "blinn", "metaball", "power",
+                                               "inverse-power"};
 
 Kernel kernel_option(const Call& call) {
   const Token* t = call.option_token("kernel");
@@ -35,8 +36,10 @@ Kernel kernel_option(const Call& call) {
     call.fail(*t, e.what());
   }
   if (k.kind == KernelKind::kCauchy) {
-    call.fail(*t, "the Cauchy kernel makes convolution surfaces; primitives are distance surfaces "
-                  "(use wyvill, blinn, metaball or power), or load a skeleton with surface=convolution");
+    call.fail(
+        *t,
+        "the Cauchy kernel makes convolution surfaces; primitives are distance surfaces "
+        "(use wyvill, blinn, metaball or power), or load a skeleton with surface=convolution");
   }
   return k;
 }
@@ -52,7 +55,8 @@ SkeletonFieldOptions distance_options(const Call& call) {
   SkeletonFieldOptions o;
   o.surface = SurfaceKind::kDistance;
   o.kernel = kernel_option(call);
-  if (call.has_option("weight")) call.fail(*call.option_token("weight"), "weight is not supported here");
+  if (call.has_option("weight"))
+    call.fail(*call.option_token("weight"), "weight is not supported here");
   return o;
 }
 
@@ -76,7 +80,8 @@ Vec3 vec_args(const Call& call, std::size_t first, const std::string& what) {
 
 const std::vector<std::string> kPrimitiveOptions = {"center", "kernel", "weight"};
 
-std::vector<std::string> with(std::vector<std::string> base, std::initializer_list<std::string> more) {
+std::vector<std::string> with(std::vector<std::string> base,
+                              std::initializer_list<std::string> more) {
   base.insert(base.end(), more);
   return base;
 }
@@ -115,17 +120,20 @@ CommandResult run_circle(Call& c) {
   const double t = c.option_positive("thickness", 0.25);
   const Vec3 center = c.option_vec3("center", Vec3::Zero());
   const Vec3 normal = c.option_vec3("normal", Vec3::UnitZ());
-  c.define(name, shape(make_circle_field(center, normal, R, t, primitive_options(c)),
-                       "torus, circle radius " + format_number(R) + ", thickness " + format_number(t)));
+  c.define(name,
+           shape(make_circle_field(center, normal, R, t, primitive_options(c)),
+                 "torus, circle radius " + format_number(R) + ", thickness " + format_number(t)));
   return defined(c, name);
 }
 
 CommandResult run_box(Call& c) {
-  if (c.count() != 1 && c.count() != 2 && c.count() != 4) c.expect_count(1, 1, "NAME [SIZE | SX SY SZ]");
+  if (c.count() != 1 && c.count() != 2 && c.count() != 4)
+    c.expect_count(1, 1, "NAME [SIZE | SX SY SZ]");
   const std::string name = c.new_name(0);
   Vec3 size = Vec3::Ones();
   if (c.count() == 2) size = Vec3::Constant(c.positive(1, "size"));
-  if (c.count() == 4) size = {c.positive(1, "size x"), c.positive(2, "size y"), c.positive(3, "size z")};
+  if (c.count() == 4)
+    size = {c.positive(1, "size x"), c.positive(2, "size y"), c.positive(3, "size z")};
   const double rounding = c.option_positive("rounding", 0.05 * size.minCoeff());
   const Vec3 center = c.option_vec3("center", Vec3::Zero());
   c.define(name, shape(make_box_field(center, size / 2, rounding, primitive_options(c)),
@@ -158,8 +166,8 @@ CommandResult run_cone(Call& c) {
   if (top < 0) c.fail(*c.option_token("top"), "top must be >= 0");
   const double rounding = c.option_positive("rounding", 0.05 * std::min(r, h));
   const Vec3 center = c.option_vec3("center", Vec3::Zero());
-  c.define(name, shape(make_cone_field(center - Vec3(0, 0, h / 2), r, center + Vec3(0, 0, h / 2), top,
-                                       rounding, primitive_options(c)),
+  c.define(name, shape(make_cone_field(center - Vec3(0, 0, h / 2), r, center + Vec3(0, 0, h / 2),
+                                       top, rounding, primitive_options(c)),
                        "cone, radius " + format_number(r) + " to " + format_number(top) +
                            ", height " + format_number(h) + " along z"));
   return defined(c, name);
@@ -172,8 +180,8 @@ CommandResult run_plane(Call& c) {
   const Vec3 point = c.option_vec3("point", Vec3::Zero());
   const double falloff = c.option_positive("falloff", 0.1);
   c.define(name, shape(make_plane_field(point, n, falloff, primitive_options(c)),
-                       "half-space behind the plane through " + format_vec3(point) + " with normal " +
-                           format_vec3(n) + " (unbounded)"));
+                       "half-space behind the plane through " + format_vec3(point) +
+                           " with normal " + format_vec3(n) + " (unbounded)"));
   return defined(c, name);
 }
 
@@ -194,9 +202,9 @@ CommandResult run_skeleton(Call& c) {
   }
   Skeleton skeleton = read_skeleton(path);
   Object obj = shape(make_skeleton_field(skeleton, o),
-                     "skeleton from " + c.arg(1).text + ", " + std::to_string(skeleton.nodes.size()) +
-                         " nodes, " + std::to_string(skeleton.edges.size()) + " edges, " + surface +
-                         " surface");
+                     "skeleton from " + c.arg(1).text + ", " +
+                         std::to_string(skeleton.nodes.size()) + " nodes, " +
+                         std::to_string(skeleton.edges.size()) + " edges, " + surface + " surface");
   obj.skeleton = std::move(skeleton);
   c.define(name, std::move(obj));
   return defined(c, name);
@@ -206,8 +214,9 @@ CommandResult run_mesh_shape(Call& c) {
   c.expect_count(2, 2, "NAME FILE");
   const std::string name = c.new_name(0);
   const TriMesh mesh = read_mesh(c.input_path(1));
-  c.define(name, shape(make_mesh_field(mesh), "closed mesh from " + c.arg(1).text + ", " +
-                                                  std::to_string(mesh.triangles.size()) + " triangles"));
+  c.define(name,
+           shape(make_mesh_field(mesh), "closed mesh from " + c.arg(1).text + ", " +
+                                            std::to_string(mesh.triangles.size()) + " triangles"));
   return defined(c, name);
 }
 
@@ -225,8 +234,9 @@ CommandResult run_nary(Call& c, const std::string& op) {
   if (op == "blend") {
     for (std::size_t i = 1; i < kids.size(); ++i) {
       if (kids[i]->iso() != kids[0]->iso()) {
-        c.fail(c.arg(i), "cannot blend '" + c.arg(i).text + "' (iso " + format_number(kids[i]->iso()) +
-                             ") with '" + c.arg(0).text + "' (iso " + format_number(kids[0]->iso()) +
+        c.fail(c.arg(i), "cannot blend '" + c.arg(i).text + "' (iso " +
+                             format_number(kids[i]->iso()) + ") with '" + c.arg(0).text +
+                             "' (iso " + format_number(kids[0]->iso()) +
                              "): a sum blend needs equal iso values; use union instead");
       }
     }
@@ -298,14 +308,16 @@ CommandResult run_rotate(Call& c) {
   m.translate(center);
   m.rotate(Eigen::AngleAxisd(deg * std::numbers::pi / 180.0, axis));
   m.translate(-center);
-  return rebind(c, make_transform(f, m), "rotated " + format_number(deg) + " degrees about " + format_vec3(axis));
+  return rebind(c, make_transform(f, m),
+                "rotated " + format_number(deg) + " degrees about " + format_vec3(axis));
 }
 
 CommandResult run_scale(Call& c) {
   if (c.count() != 2 && c.count() != 4) c.expect_count(2, 2, "NAME S or NAME SX SY SZ");
   const FieldPtr f = c.object(0, ObjectKind::kShape).field;
   const Vec3 s = c.count() == 2 ? Vec3::Constant(c.positive(1, "scale"))
-                                : Vec3(c.positive(1, "scale x"), c.positive(2, "scale y"), c.positive(3, "scale z"));
+                                : Vec3(c.positive(1, "scale x"), c.positive(2, "scale y"),
+                                       c.positive(3, "scale z"));
   const Vec3 center = c.option_vec3("center", Vec3::Zero());
   Affine3 m = Affine3::Identity();
   m.translate(center);
@@ -389,7 +401,8 @@ CommandResult run_rbf(Call& c) {
       normals.emplace_back(v[3], v[4], v[5]);
     } else {
       throw InputError(path, line_no,
-                       "expected 'x y z value' or 'x y z nx ny nz', got " + std::to_string(v.size()) + " numbers");
+                       "expected 'x y z value' or 'x y z nx ny nz', got " +
+                           std::to_string(v.size()) + " numbers");
     }
   }
   if (!normals.empty()) {
@@ -405,78 +418,179 @@ CommandResult run_rbf(Call& c) {
 
 void add_shape_commands(std::vector<CommandSpec>& out) {
   const std::vector<std::string> prim = kPrimitiveOptions;
-  out.push_back({"sphere", "sphere NAME [RADIUS] [center=X,Y,Z] [kernel=K]",
-                 "A point primitive: distance surface around a point, surface at RADIUS (default 1).",
-                 "sphere s 2 center=0,0,1", {"center", "kernel"}, run_sphere, {"point"}});
-  out.push_back({"line", "line NAME [X0 Y0 Z0 X1 Y1 Z1] [radius=R] [radius_end=R1] [kernel=K]",
-                 "A line-segment primitive (default from 0,0,-1.5 to 0,0,1.5, radius 0.3); the radius "
-                 "may change linearly to radius_end.",
-                 "line arm 0 0 0 2 0 0 radius=0.2", {"radius", "radius_end", "kernel"}, run_line, {"segment"}});
-  out.push_back({"circle", "circle NAME [RADIUS] [thickness=T] [center=X,Y,Z] [normal=X,Y,Z] [kernel=K] [weight=W]",
-                 "A torus: distance surface around a circle of RADIUS (default 1) in the plane normal "
-                 "to `normal` (default z), tube radius `thickness` (default 0.25).",
-                 "circle wheel 0.5 thickness=0.1 normal=0,1,0", with(prim, {"thickness", "normal"}),
-                 run_circle, {"torus"}});
-  out.push_back({"box", "box NAME [SIZE | SX SY SZ] [center=X,Y,Z] [rounding=R] [kernel=K] [weight=W]",
+  out.push_back(
+      {"sphere",
+       "sphere NAME [RADIUS] [center=X,Y,Z] [kernel=K]",
+       "A point primitive: distance surface around a point, surface at RADIUS (default 1).",
+       "sphere s 2 center=0,0,1",
+       {"center", "kernel"},
+       run_sphere,
+       {"point"}});
+  out.push_back(
+      {"line",
+       "line NAME [X0 Y0 Z0 X1 Y1 Z1] [radius=R] [radius_end=R1] [kernel=K]",
+       "A line-segment primitive (default from 0,0,-1.5 to 0,0,1.5, radius 0.3); the radius "
+       "may change linearly to radius_end.",
+       "line arm 0 0 0 2 0 0 radius=0.2",
+       {"radius", "radius_end", "kernel"},
+       run_line,
+       {"segment"}});
+  out.push_back(
+      {"circle",
+       "circle NAME [RADIUS] [thickness=T] [center=X,Y,Z] [normal=X,Y,Z] [kernel=K] [weight=W]",
+       "A torus: distance surface around a circle of RADIUS (default 1) in the plane normal "
+       "to `normal` (default z), tube radius `thickness` (default 0.25).",
+       "circle wheel 0.5 thickness=0.1 normal=0,1,0",
+       with(prim, {"thickness", "normal"}),
+       run_circle,
+       {"torus"}});
+  out.push_back({"box",
+                 "box NAME [SIZE | SX SY SZ] [center=X,Y,Z] [rounding=R] [kernel=K] [weight=W]",
                  "A box of the given full size (default 1) with edges rounded by `rounding` "
                  "(default 5 % of the smallest side).",
-                 "box body 4 1.5 1 rounding=0.1", with(prim, {"rounding"}), run_box, {}});
-  out.push_back({"cylinder", "cylinder NAME [RADIUS HEIGHT] [center=X,Y,Z] [rounding=R] [kernel=K] [weight=W]",
-                 "A solid cylinder along z (default radius 0.5, height 1) centred at `center`, edges "
-                 "rounded by `rounding`.",
-                 "cylinder chimney 0.3 1.2 center=1,0,1", with(prim, {"rounding"}), run_cylinder, {}});
-  out.push_back({"cone", "cone NAME [RADIUS HEIGHT] [top=R] [center=X,Y,Z] [rounding=R] [kernel=K] [weight=W]",
-                 "A solid (truncated) cone along z: RADIUS at the bottom, `top` (default 0) at the top.",
-                 "cone roof 1 0.8 top=0.2", with(prim, {"top", "rounding"}), run_cone, {}});
-  out.push_back({"plane", "plane NAME [NX NY NZ] [point=X,Y,Z] [falloff=F] [kernel=K] [weight=W]",
-                 "The half-space behind a plane (inside is opposite the normal, default z). Unbounded: "
-                 "use it in intersections and differences.",
-                 "plane ground 0 0 1 point=0,0,-0.5", {"point", "falloff", "kernel", "weight"}, run_plane, {}});
-  out.push_back({"skeleton", "skeleton NAME FILE [surface=distance|convolution] [kernel=K]",
-                 "A line skeleton read from a file (.json, .ply, .obj, TreeQSM .txt, SimpleForest .csv), "
-                 "as a distance surface (Wyvill by default) or a Cauchy convolution surface.",
-                 "skeleton tree fork.json surface=convolution", {"surface", "kernel"}, run_skeleton, {}});
-  out.push_back({"mesh_shape", "mesh_shape NAME FILE",
-                 "A closed triangle mesh (.ply, .obj, .off) as a shape: inside where its winding number "
-                 "exceeds 0.5. Use it in CSG, as an obstacle (grow ... avoid=NAME) or to sample.",
-                 "mesh_shape cube data/cube.obj", {}, run_mesh_shape, {"mesh"}});
-  out.push_back({"blend", "blend A B [C ...] OUT", "Sum blend of shapes (Wyvill's BlobTree '+'): smooth joins.",
-                 "blend body wheel car", {}, [](Call& c) { return run_nary(c, "blend"); }, {"sum"}});
-  out.push_back({"union", "union A B [C ...] OUT", "CSG union (max of the fields).", "union a b ab", {},
-                 [](Call& c) { return run_nary(c, "union"); }, {}});
-  out.push_back({"intersect", "intersect A B [C ...] OUT", "CSG intersection (min of the fields).",
-                 "intersect a b both", {}, [](Call& c) { return run_nary(c, "intersection"); },
+                 "box body 4 1.5 1 rounding=0.1",
+                 with(prim, {"rounding"}),
+                 run_box,
+                 {}});
+  out.push_back(
+      {"cylinder",
+       "cylinder NAME [RADIUS HEIGHT] [center=X,Y,Z] [rounding=R] [kernel=K] [weight=W]",
+       "A solid cylinder along z (default radius 0.5, height 1) centred at `center`, edges "
+       "rounded by `rounding`.",
+       "cylinder chimney 0.3 1.2 center=1,0,1",
+       with(prim, {"rounding"}),
+       run_cylinder,
+       {}});
+  out.push_back(
+      {"cone",
+       "cone NAME [RADIUS HEIGHT] [top=R] [center=X,Y,Z] [rounding=R] [kernel=K] [weight=W]",
+       "A solid (truncated) cone along z: RADIUS at the bottom, `top` (default 0) at the top.",
+       "cone roof 1 0.8 top=0.2",
+       with(prim, {"top", "rounding"}),
+       run_cone,
+       {}});
+  out.push_back(
+      {"plane",
+       "plane NAME [NX NY NZ] [point=X,Y,Z] [falloff=F] [kernel=K] [weight=W]",
+       "The half-space behind a plane (inside is opposite the normal, default z). Unbounded: "
+       "use it in intersections and differences.",
+       "plane ground 0 0 1 point=0,0,-0.5",
+       {"point", "falloff", "kernel", "weight"},
+       run_plane,
+       {}});
+  out.push_back(
+      {"skeleton",
+       "skeleton NAME FILE [surface=distance|convolution] [kernel=K]",
+       "A line skeleton read from a file (.json, .ply, .obj, TreeQSM .txt, SimpleForest .csv), "
+       "as a distance surface (Wyvill by default) or a Cauchy convolution surface.",
+       "skeleton tree fork.json surface=convolution",
+       {"surface", "kernel"},
+       run_skeleton,
+       {}});
+  out.push_back(
+      {"mesh_shape",
+       "mesh_shape NAME FILE",
+       "A closed triangle mesh (.ply, .obj, .off) as a shape: inside where its winding number "
+       "exceeds 0.5. Use it in CSG, as an obstacle (grow ... avoid=NAME) or to sample.",
+       "mesh_shape cube data/cube.obj",
+       {},
+       run_mesh_shape,
+       {"mesh"}});
+  out.push_back({"blend",
+                 "blend A B [C ...] OUT",
+                 "Sum blend of shapes (Wyvill's BlobTree '+'): smooth joins.",
+                 "blend body wheel car",
+                 {},
+                 [](Call& c) { return run_nary(c, "blend"); },
+                 {"sum"}});
+  out.push_back({"union",
+                 "union A B [C ...] OUT",
+                 "CSG union (max of the fields).",
+                 "union a b ab",
+                 {},
+                 [](Call& c) { return run_nary(c, "union"); },
+                 {}});
+  out.push_back({"intersect",
+                 "intersect A B [C ...] OUT",
+                 "CSG intersection (min of the fields).",
+                 "intersect a b both",
+                 {},
+                 [](Call& c) { return run_nary(c, "intersection"); },
                  {"intersection"}});
-  out.push_back({"diff", "diff A B OUT", "CSG difference: inside A and not inside B (the thesis's 'diff').",
-                 "diff s1 s2 s3", {}, run_diff, {"difference"}});
-  out.push_back({"copy", "copy SOURCE NEW", "A new name for an object, so that later changes to SOURCE "
-                 "(translate, scale, ...) leave NEW as it was.", "copy wheel wheel2", {}, run_copy, {}});
-  out.push_back({"translate", "translate NAME X Y Z", "Moves a shape (NAME now names the moved shape).",
-                 "translate s 0 0 2", {}, run_translate, {"move"}});
-  out.push_back({"rotate", "rotate NAME AXIS DEGREES [center=X,Y,Z]",
-                 "Rotates a shape about an axis (x, y, z or X,Y,Z) through `center` (default origin).",
-                 "rotate s x 90", {"center"}, run_rotate, {}});
-  out.push_back({"scale", "scale NAME S | NAME SX SY SZ [center=X,Y,Z]",
+  out.push_back({"diff",
+                 "diff A B OUT",
+                 "CSG difference: inside A and not inside B (the thesis's 'diff').",
+                 "diff s1 s2 s3",
+                 {},
+                 run_diff,
+                 {"difference"}});
+  out.push_back({"copy",
+                 "copy SOURCE NEW",
+                 "A new name for an object, so that later changes to SOURCE "
+                 "(translate, scale, ...) leave NEW as it was.",
+                 "copy wheel wheel2",
+                 {},
+                 run_copy,
+                 {}});
+  out.push_back({"translate",
+                 "translate NAME X Y Z",
+                 "Moves a shape (NAME now names the moved shape).",
+                 "translate s 0 0 2",
+                 {},
+                 run_translate,
+                 {"move"}});
+  out.push_back(
+      {"rotate",
+       "rotate NAME AXIS DEGREES [center=X,Y,Z]",
+       "Rotates a shape about an axis (x, y, z or X,Y,Z) through `center` (default origin).",
+       "rotate s x 90",
+       {"center"},
+       run_rotate,
+       {}});
+  out.push_back({"scale",
+                 "scale NAME S | NAME SX SY SZ [center=X,Y,Z]",
                  "Scales a shape, uniformly or per axis, about `center` (default origin).",
-                 "scale s 50 80 50", {"center"}, run_scale, {}});
-  out.push_back({"taper", "taper NAME SCALE_END [axis=x|y|z] [start=T0] [end=T1] [scale_start=S0]",
-                 "Barr's taper: the two other coordinates scale linearly from scale_start (default 1) "
-                 "at `start` to SCALE_END at `end` along `axis` (defaults: z, the shape's extent).",
-                 "taper trunk 0.5", {"axis", "start", "end", "scale_start"}, run_taper, {}});
-  out.push_back({"twist", "twist NAME DEGREES_PER_UNIT [axis=x|y|z] [origin=T]",
-                 "Barr's twist about `axis` (default z): rotation grows by DEGREES_PER_UNIT per unit "
-                 "along the axis from `origin`.",
-                 "twist column 90", {"axis", "origin"}, run_twist, {}});
-  out.push_back({"bend", "bend NAME RATE [min=Y0] [max=Y1] [center=YC]",
+                 "scale s 50 80 50",
+                 {"center"},
+                 run_scale,
+                 {}});
+  out.push_back(
+      {"taper",
+       "taper NAME SCALE_END [axis=x|y|z] [start=T0] [end=T1] [scale_start=S0]",
+       "Barr's taper: the two other coordinates scale linearly from scale_start (default 1) "
+       "at `start` to SCALE_END at `end` along `axis` (defaults: z, the shape's extent).",
+       "taper trunk 0.5",
+       {"axis", "start", "end", "scale_start"},
+       run_taper,
+       {}});
+  out.push_back(
+      {"twist",
+       "twist NAME DEGREES_PER_UNIT [axis=x|y|z] [origin=T]",
+       "Barr's twist about `axis` (default z): rotation grows by DEGREES_PER_UNIT per unit "
+       "along the axis from `origin`.",
+       "twist column 90",
+       {"axis", "origin"},
+       run_twist,
+       {}});
+  out.push_back({"bend",
+                 "bend NAME RATE [min=Y0] [max=Y1] [center=YC]",
                  "Barr's bend of the y axis toward z with curvature RATE (1 / radius) over y in "
                  "[min, max] (default the shape's extent), centred at `center`.",
-                 "bend beam 0.5", {"min", "max", "center"}, run_bend, {}});
-  out.push_back({"rbf", "rbf NAME FILE [offset=D]",
-                 "A variational implicit surface (Turk and O'Brien) interpolating the constraints of "
-                 "FILE: lines 'x y z value' (value > 0 inside, 0 on the surface) or 'x y z nx ny nz' "
-                 "(a surface point with its outward normal; an inside constraint is put `offset` "
-                 "(default 0.05) behind it).",
-                 "rbf blob blob_points.txt", {"offset"}, run_rbf, {"variational"}});
+                 "bend beam 0.5",
+                 {"min", "max", "center"},
+                 run_bend,
+                 {}});
+  out.push_back(
+      {"rbf",
+       "rbf NAME FILE [offset=D]",
+       "A variational implicit surface (Turk and O'Brien) interpolating the constraints of "
+       "FILE: lines 'x y z value' (value > 0 inside, 0 on the surface) or 'x y z nx ny nz' "
+       "(a surface point with its outward normal; an inside constraint is put `offset` "
+       "(default 0.05) behind it).",
+       "rbf blob blob_points.txt",
+       {"offset"},
+       run_rbf,
+       {"variational"}});
 }
 
 }  // namespace ramiform::script

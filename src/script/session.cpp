@@ -54,7 +54,9 @@ std::string substitute(const Token& token, const ScriptSession::Impl& session,
       }
       ++start;
     } else {
-      while (end < t.size() && (std::isalnum(static_cast<unsigned char>(t[end])) != 0 || t[end] == '_')) ++end;
+      while (end < t.size() &&
+             (std::isalnum(static_cast<unsigned char>(t[end])) != 0 || t[end] == '_'))
+        ++end;
     }
     const std::string name = t.substr(start, end - start);
     const auto it = session.params.find(name);
@@ -108,9 +110,12 @@ std::vector<Token> tokenize(std::string_view text, const std::string& file, std:
 
 std::string kind_name(ObjectKind kind) {
   switch (kind) {
-    case ObjectKind::kShape: return "shape";
-    case ObjectKind::kCurve2: return "2-D curve";
-    case ObjectKind::kCurve3: return "3-D path";
+    case ObjectKind::kShape:
+      return "shape";
+    case ObjectKind::kCurve2:
+      return "2-D curve";
+    case ObjectKind::kCurve3:
+      return "3-D path";
   }
   return "object";
 }
@@ -147,14 +152,19 @@ const std::map<std::string, const CommandSpec*>& command_table() {
 
 Call::Call(ScriptSession::Impl& session, const CommandSpec& spec, std::vector<Token> tokens,
            std::string file, std::size_t line)
-    : session_(session), spec_(spec), command_(tokens.front()), file_(std::move(file)), line_(line) {
+    : session_(session),
+      spec_(spec),
+      command_(tokens.front()),
+      file_(std::move(file)),
+      line_(line) {
   for (std::size_t i = 1; i < tokens.size(); ++i) {
     Token token = tokens[i];
     token.text = substitute(token, session, file_, line_);
     const std::size_t eq = token.text.find('=');
     if (eq != std::string::npos && eq > 0) {
       const std::string key = token.text.substr(0, eq);
-      const bool any = std::find(spec.options.begin(), spec.options.end(), "*") != spec.options.end();
+      const bool any =
+          std::find(spec.options.begin(), spec.options.end(), "*") != spec.options.end();
       if (!any && std::find(spec.options.begin(), spec.options.end(), key) == spec.options.end()) {
         fail(token, "unknown option '" + key + "'" + hint(key, spec.options) +
                         (spec.options.empty() ? "; it takes no options"
@@ -176,7 +186,8 @@ void Call::fail(const Token& token, const std::string& problem) const {
 void Call::fail(const std::string& problem) const { fail(command_, problem); }
 
 const Token& Call::arg(std::size_t i) const {
-  if (i >= positional_.size()) fail("missing argument " + std::to_string(i + 1) + "; usage: " + spec_.synopsis);
+  if (i >= positional_.size())
+    fail("missing argument " + std::to_string(i + 1) + "; usage: " + spec_.synopsis);
   return positional_[i];
 }
 
@@ -197,7 +208,9 @@ std::string Call::new_name(std::size_t i) const {
                   t.text[0] != '-' && t.text[0] != '.' &&
                   std::all_of(t.text.begin(), t.text.end(), is_name_char);
   if (!ok) {
-    fail(t, "'" + t.text + "' is not a valid object name (letters, digits, '_', '-', '.'; not starting with a digit)");
+    fail(t, "'" + t.text +
+                "' is not a valid object name (letters, digits, '_', '-', '.'; not starting with a "
+                "digit)");
   }
   return t.text;
 }
@@ -216,7 +229,9 @@ double Call::parse_number(const Token& token, const std::string& what) const {
   return v;
 }
 
-double Call::number(std::size_t i, const std::string& what) const { return parse_number(arg(i), what); }
+double Call::number(std::size_t i, const std::string& what) const {
+  return parse_number(arg(i), what);
+}
 
 double Call::positive(std::size_t i, const std::string& what) const {
   const double v = number(i, what);
@@ -226,7 +241,8 @@ double Call::positive(std::size_t i, const std::string& what) const {
 
 int Call::integer(std::size_t i, const std::string& what) const {
   const double v = number(i, what);
-  if (v != std::floor(v) || std::abs(v) > 1e9) fail(arg(i), what + " must be an integer, got " + arg(i).text);
+  if (v != std::floor(v) || std::abs(v) > 1e9)
+    fail(arg(i), what + " must be an integer, got " + arg(i).text);
   return static_cast<int>(v);
 }
 
@@ -264,7 +280,9 @@ const Object& Call::object_named(const Token& token, ObjectKind kind) const {
   return it->second;
 }
 
-const Object& Call::object(std::size_t i, ObjectKind kind) const { return object_named(arg(i), kind); }
+const Object& Call::object(std::size_t i, ObjectKind kind) const {
+  return object_named(arg(i), kind);
+}
 
 std::string Call::input_path(const Token& token) const {
   fs::path p(token.text);
@@ -275,7 +293,8 @@ std::string Call::input_path(const Token& token) const {
   }
   std::error_code ec;
   if (!fs::exists(p, ec)) fail(token, "cannot read '" + p.string() + "': no such file");
-  if (!fs::is_regular_file(p, ec)) fail(token, "cannot read '" + p.string() + "': not a regular file");
+  if (!fs::is_regular_file(p, ec))
+    fail(token, "cannot read '" + p.string() + "': not a regular file");
   return p.string();
 }
 
@@ -289,8 +308,9 @@ std::string Call::output_path(std::size_t i) {
     const fs::path norm = rel.lexically_normal();
     const bool escapes = rel.is_absolute() || norm.empty() || *norm.begin() == "..";
     if (escapes) {
-      fail(t, "output '" + t.text + "' is outside the output directory; use a path inside --out "
-                                    "or pass --allow-any-path");
+      fail(t, "output '" + t.text +
+                  "' is outside the output directory; use a path inside --out "
+                  "or pass --allow-any-path");
     }
   }
   const fs::path final_path = rel.is_absolute() ? rel : out / rel;
@@ -298,13 +318,14 @@ std::string Call::output_path(std::size_t i) {
   std::error_code ec;
   const fs::path dir = final_path.parent_path().empty() ? fs::path(".") : final_path.parent_path();
   if (!fs::is_directory(dir, ec)) {
-    fail(t, "cannot write '" + final_path.string() + "': directory '" + dir.string() + "' does not exist");
+    fail(t, "cannot write '" + final_path.string() + "': directory '" + dir.string() +
+                "' does not exist");
   }
   for (const Staged& s : session_.staged) {
     if (s.final_path == final_path.string()) return s.staged_path;  // written twice: last wins
   }
-  const fs::path staged =
-      dir / (".rf-staged-" + std::to_string(session_.staged.size()) + "-" + final_path.filename().string());
+  const fs::path staged = dir / (".rf-staged-" + std::to_string(session_.staged.size()) + "-" +
+                                 final_path.filename().string());
   session_.staged.push_back({final_path.string(), staged.string()});
   return staged.string();
 }
@@ -374,10 +395,11 @@ std::string closest_name(const std::string& word, const std::vector<std::string>
     for (std::size_t i = 1; i <= word.size(); ++i) {
       cur[0] = i;
       for (std::size_t j = 1; j <= c.size(); ++j) {
-        const std::size_t sub = prev[j - 1] + (std::tolower(static_cast<unsigned char>(word[i - 1])) ==
-                                                       std::tolower(static_cast<unsigned char>(c[j - 1]))
-                                                   ? 0
-                                                   : 1);
+        const std::size_t sub =
+            prev[j - 1] + (std::tolower(static_cast<unsigned char>(word[i - 1])) ==
+                                   std::tolower(static_cast<unsigned char>(c[j - 1]))
+                               ? 0
+                               : 1);
         cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, sub});
       }
       std::swap(prev, cur);
@@ -390,7 +412,8 @@ std::string closest_name(const std::string& word, const std::vector<std::string>
   return best;
 }
 
-ScriptSession::ScriptSession(ScriptOptions options, Context* ctx) : impl_(std::make_unique<Impl>()) {
+ScriptSession::ScriptSession(ScriptOptions options, Context* ctx)
+    : impl_(std::make_unique<Impl>()) {
   impl_->options = std::move(options);
   impl_->ctx = ctx;
   impl_->input_dir = impl_->options.input_dir.empty() ? "." : impl_->options.input_dir;
@@ -447,9 +470,10 @@ std::vector<CommandResult> ScriptSession::run_text(std::string_view text, const 
   for (const auto& [name, value] : impl_->options.params) {
     if (impl_->declared.count(name) == 0) {
       std::vector<std::string> known(impl_->declared.begin(), impl_->declared.end());
-      throw InputError(file, 0, "--set " + name + "=" + value + ": the script declares no parameter '" +
-                                    name + "'" + script::hint(name, known) +
-                                    (known.empty() ? "" : "; it declares: " + script::join(known, ", ")));
+      throw InputError(file, 0,
+                       "--set " + name + "=" + value + ": the script declares no parameter '" +
+                           name + "'" + script::hint(name, known) +
+                           (known.empty() ? "" : "; it declares: " + script::join(known, ", ")));
     }
   }
   return results;
@@ -458,7 +482,8 @@ std::vector<CommandResult> ScriptSession::run_text(std::string_view text, const 
 std::vector<CommandResult> ScriptSession::run_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::error_code ec;
-  if (!in || std::filesystem::is_directory(path, ec)) throw InputError(path, 0, "cannot read the script");
+  if (!in || std::filesystem::is_directory(path, ec))
+    throw InputError(path, 0, "cannot read the script");
   std::stringstream buffer;
   buffer << in.rdbuf();
   if (impl_->options.input_dir.empty()) {
@@ -473,7 +498,9 @@ std::vector<std::string> ScriptSession::commit() {
   for (const script::Staged& s : impl_->staged) {
     std::error_code ec;
     std::filesystem::rename(s.staged_path, s.final_path, ec);
-    if (ec) throw Failure("cannot move '" + s.staged_path + "' to '" + s.final_path + "': " + ec.message());
+    if (ec)
+      throw Failure("cannot move '" + s.staged_path + "' to '" + s.final_path +
+                    "': " + ec.message());
     done.push_back(s.final_path);
   }
   impl_->staged.clear();

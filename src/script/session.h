@@ -37,11 +37,11 @@ std::string kind_name(ObjectKind kind);
 /// A named object of a script.
 struct Object {
   ObjectKind kind = ObjectKind::kShape;
-  FieldPtr field;                   // kShape
+  FieldPtr field;                    // kShape
   std::optional<Skeleton> skeleton;  // kShape straight from `skeleton` (for method=tets)
-  Curve2 curve2;                    // kCurve2
-  Curve3 curve3;                    // kCurve3
-  std::string summary;              // one line for `info` and `list`
+  Curve2 curve2;                     // kCurve2
+  Curve3 curve3;                     // kCurve3
+  std::string summary;               // one line for `info` and `list`
 };
 
 struct Staged {
@@ -62,7 +62,7 @@ struct ScriptSession::Impl {
   std::vector<script::Staged> staged;
   std::map<std::string, PointSet> point_sets;  // by name (point_set_gen names them after the shape)
   std::string current_points;                  // the point set made or changed last
-  std::string input_dir;  // resolved base of relative input paths
+  std::string input_dir;                       // resolved base of relative input paths
 };
 
 }  // namespace ramiform
@@ -75,9 +75,9 @@ using Handler = std::function<CommandResult(Call&)>;
 /// One command of the language.
 struct CommandSpec {
   std::string name;
-  std::string synopsis;     // "sphere NAME [RADIUS] [center=X,Y,Z] [kernel=K]"
-  std::string description;  // one paragraph
-  std::string example;      // lines of script
+  std::string synopsis;              // "sphere NAME [RADIUS] [center=X,Y,Z] [kernel=K]"
+  std::string description;           // one paragraph
+  std::string example;               // lines of script
   std::vector<std::string> options;  // accepted option keys
   Handler run;
   std::vector<std::string> aliases;

@@ -30,7 +30,8 @@ TEST_F(PipelineCli, SampleThenGrowGivesAPipeModelTree) {
   for (const Vec3& p : pts.positions) EXPECT_LT((p - Vec3(0, 0, 4)).norm(), 2.0);
   const CliRun g = run_cli("grow --points " + path("pts.txt") +
                            " --step 0.25 --influence 1.5 --kill 0.5 --root 0,0,0 --tip-radius 0.03 "
-                           "--pipe-exponent 2 -o " + path("tree.json") + " --stats " + path("stats.json"));
+                           "--pipe-exponent 2 -o " +
+                           path("tree.json") + " --stats " + path("stats.json"));
   ASSERT_EQ(g.code, 0) << g.out;
   const Skeleton tree = read_skeleton(path("tree.json"));
   EXPECT_EQ(tree.edge_count() + 1, tree.node_count());
@@ -48,27 +49,33 @@ TEST_F(PipelineCli, SampleThenGrowGivesAPipeModelTree) {
   }
   EXPECT_EQ(stats["nodes"].get<std::size_t>(), tree.node_count());
   // Same inputs: byte-identical skeleton, on one thread too.
-  ASSERT_EQ(run_cli("grow --points " + path("pts.txt") +
-                    " --step 0.25 --influence 1.5 --kill 0.5 --tip-radius 0.03 --pipe-exponent 2 -o " +
-                    path("tree1.json") + " --threads 1").code,
-            0);
+  ASSERT_EQ(
+      run_cli("grow --points " + path("pts.txt") +
+              " --step 0.25 --influence 1.5 --kill 0.5 --tip-radius 0.03 --pipe-exponent 2 -o " +
+              path("tree1.json") + " --threads 1")
+          .code,
+      0);
   EXPECT_EQ(read_file(path("tree.json")), read_file(path("tree1.json")));
 }
 
 TEST_F(PipelineCli, BadInputsExitTwoWithAMessageAndNoOutput) {
   const std::string pts = write("pts.txt", "0 0 1\n0 0 2\n");
   // Points out of reach: growth stops early, and that is a result (reported), not an error.
-  const CliRun far = run_cli("grow --points " + write("far.txt", "100 0 0\n") + " --step 1 --influence 2 --kill 1 "
-                             "-o " + path("far.json") + " --stats " + path("far_stats.json"));
+  const CliRun far = run_cli("grow --points " + write("far.txt", "100 0 0\n") +
+                             " --step 1 --influence 2 --kill 1 "
+                             "-o " +
+                             path("far.json") + " --stats " + path("far_stats.json"));
   EXPECT_EQ(far.code, 0) << far.out;
   EXPECT_NE(far.out.find("stopped early"), std::string::npos) << far.out;
   const auto far_stats = nlohmann::json::parse(read_file(path("far_stats.json")));
   EXPECT_TRUE(far_stats["stalled"].get<bool>());
   EXPECT_EQ(far_stats["points_reached"].get<int>(), 0);
-  const CliRun bad = run_cli("grow --points " + write("bad.txt", "0 0 1\n0 x 2\n") + " -o " + path("t.json"));
+  const CliRun bad =
+      run_cli("grow --points " + write("bad.txt", "0 0 1\n0 x 2\n") + " -o " + path("t.json"));
   EXPECT_EQ(bad.code, 2) << bad.out;
   EXPECT_NE(bad.out.find("bad.txt:2"), std::string::npos) << bad.out;
-  const CliRun exponent = run_cli("grow --points " + pts + " --pipe-exponent 4 -o " + path("t.json"));
+  const CliRun exponent =
+      run_cli("grow --points " + pts + " --pipe-exponent 4 -o " + path("t.json"));
   EXPECT_EQ(exponent.code, 2) << exponent.out;
   EXPECT_NE(exponent.out.find("exponent"), std::string::npos) << exponent.out;
   const CliRun root = run_cli("grow --points " + pts + " --root 0,0 -o " + path("t.json"));
@@ -78,14 +85,16 @@ TEST_F(PipelineCli, BadInputsExitTwoWithAMessageAndNoOutput) {
   const CliRun dist = run_cli("sample " + script + " s --dist poison -o " + path("p.txt"));
   EXPECT_EQ(dist.code, 2) << dist.out;
   EXPECT_NE(dist.out.find("did you mean 'poisson'"), std::string::npos) << dist.out;
-  const CliRun key = run_cli("sample " + script + " s --dist poisson --props " + write("k.props", "count = 10\nmin_dist = 1\n") +
-                             " -o " + path("p.txt"));
+  const CliRun key =
+      run_cli("sample " + script + " s --dist poisson --props " +
+              write("k.props", "count = 10\nmin_dist = 1\n") + " -o " + path("p.txt"));
   EXPECT_EQ(key.code, 2) << key.out;
   EXPECT_NE(key.out.find("k.props:2"), std::string::npos) << key.out;
   const CliRun shape = run_cli("sample " + script + " t --dist uniform -o " + path("p.txt"));
   EXPECT_EQ(shape.code, 2) << shape.out;
   EXPECT_FALSE(fs::exists(path("p.txt")));
-  const CliRun ls = run_cli("lsystem " + write("l.txt", "axiom: A\nA -> F[+A(]\n") + " -o " + path("l.json"));
+  const CliRun ls =
+      run_cli("lsystem " + write("l.txt", "axiom: A\nA -> F[+A(]\n") + " -o " + path("l.json"));
   EXPECT_EQ(ls.code, 2) << ls.out;
   EXPECT_NE(ls.out.find("l.txt:2:"), std::string::npos) << ls.out;
   EXPECT_FALSE(fs::exists(path("l.json")));

@@ -22,7 +22,8 @@ TEST_F(ScriptCli, RunWritesOutputsIntoOutAndReportsThem) {
   const std::string script = write("scene.rf",
                                    "param r 1\nsphere s1 $r\nline s2\ndiff s1 s2 s3\n"
                                    "save_mesh s3 drilled.ply resolution=48\neval s3 0.7 0 0\n");
-  const CliRun r = run_cli("run " + script + " --out " + path("out") + " --stats " + path("out/stats.json"));
+  const CliRun r =
+      run_cli("run " + script + " --out " + path("out") + " --stats " + path("out/stats.json"));
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("drilled.ply: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("watertight"), std::string::npos) << r.out;
@@ -42,15 +43,19 @@ TEST_F(ScriptCli, SetOverridesAParameter) {
   EXPECT_NE(big.out.find("inside"), std::string::npos) << big.out;
   const CliRun bad = run_cli("run " + script + " --out " + dir_.string() + " --set radius=2");
   EXPECT_EQ(bad.code, 2) << bad.out;
-  EXPECT_NE(bad.out.find("declares no parameter 'radius'; it declares: r"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("declares no parameter 'radius'; it declares: r"), std::string::npos)
+      << bad.out;
 }
 
 TEST_F(ScriptCli, BadScriptExitsTwoWithLocationAndWritesNothing) {
-  const std::string script = write("scene.rf", "sphere s1\nsave_mesh s1 a.ply resolution=16\ndiff s1 s4 s3\n");
+  const std::string script =
+      write("scene.rf", "sphere s1\nsave_mesh s1 a.ply resolution=16\ndiff s1 s4 s3\n");
   const std::size_t before = files_in_dir();
   const CliRun r = run_cli("run " + script + " --out " + dir_.string());
   EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_NE(r.out.find("scene.rf:3:9: diff: unknown shape 's4' (did you mean 's1'?)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("scene.rf:3:9: diff: unknown shape 's4' (did you mean 's1'?)"),
+            std::string::npos)
+      << r.out;
   EXPECT_EQ(files_in_dir(), before);
   EXPECT_EQ(run_cli("run " + path("missing.rf")).code, 2);
   EXPECT_EQ(run_cli("run " + script + " --out " + path("no/such/dir")).code, 2);
@@ -58,11 +63,13 @@ TEST_F(ScriptCli, BadScriptExitsTwoWithLocationAndWritesNothing) {
 }
 
 TEST_F(ScriptCli, ShellReportsEachResultAndGoesOnAfterErrors) {
-  const std::string input = write("in.txt", "sphere s\nsphre t\neval s 0 0 0\nhelp diff\nquit\nsphere never\n");
+  const std::string input =
+      write("in.txt", "sphere s\nsphre t\neval s 0 0 0\nhelp diff\nquit\nsphere never\n");
   const CliRun r = run_cli("shell --out " + dir_.string() + " < " + input);
   EXPECT_EQ(r.code, 2) << r.out;  // one command failed, reading from a pipe
   EXPECT_NE(r.out.find("s: sphere, radius 1"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("error: <shell>:2:1: unknown command 'sphre' (did you mean 'sphere'?)"), std::string::npos)
+  EXPECT_NE(r.out.find("error: <shell>:2:1: unknown command 'sphre' (did you mean 'sphere'?)"),
+            std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("f(0,0,0) = 1 (inside"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("diff A B OUT"), std::string::npos) << r.out;

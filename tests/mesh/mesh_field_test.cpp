@@ -37,8 +37,9 @@ TEST(MeshField, BoundHoldsOnRandomBoxesAndTheGradientPointsInward) {
     const Aabb box(c, c + Vec3::Constant(rng.uniform(0.05, 1.0)));
     const Interval iv = f->bound(box);
     for (int k = 0; k < 20; ++k) {
-      const Vec3 p = box.min() + (box.max() - box.min()).cwiseProduct(
-                                     Vec3(rng.uniform(0, 1), rng.uniform(0, 1), rng.uniform(0, 1)));
+      const Vec3 p = box.min() + (box.max() - box.min())
+                                     .cwiseProduct(Vec3(rng.uniform(0, 1), rng.uniform(0, 1),
+                                                        rng.uniform(0, 1)));
       EXPECT_TRUE(iv.contains(f->value(p))) << p.transpose();
     }
   }

@@ -86,7 +86,8 @@ TEST_P(ExampleScript, RunsAndWritesOnlyWatertightMeshes) {
   std::size_t meshes = 0;
   for (const auto& e : fs::directory_iterator(out)) {
     const std::string ext = e.path().extension().string();
-    ASSERT_NE(e.path().filename().string().rfind(".rf-staged", 0), 0u) << "left staged: " << e.path();
+    ASSERT_NE(e.path().filename().string().rfind(".rf-staged", 0), 0u)
+        << "left staged: " << e.path();
     if (ext == ".json") {
       expect_tree(e.path(), GetParam() != "fork.rf");
       continue;
@@ -118,7 +119,8 @@ TEST_P(ExampleScript, RunsAndWritesOnlyWatertightMeshes) {
 
 INSTANTIATE_TEST_SUITE_P(Examples, ExampleScript, ::testing::ValuesIn([] {
                            std::vector<std::string> names;
-                           for (const fs::path& p : example_scripts()) names.push_back(p.filename().string());
+                           for (const fs::path& p : example_scripts())
+                             names.push_back(p.filename().string());
                            return names;
                          }()),
                          [](const ::testing::TestParamInfo<std::string>& info) {
@@ -155,12 +157,12 @@ TEST(LanguageDoc, EveryExampleBlockRuns) {
       options.input_dir = (kSource / "examples").string();
       ScriptSession session(options);
       // A block that shows an error says so on its first line: "# error: WORDS".
-      const std::string expect_error = block.rfind("# error: ", 0) == 0
-                                           ? block.substr(9, block.find('\n') - 9)
-                                           : std::string();
+      const std::string expect_error =
+          block.rfind("# error: ", 0) == 0 ? block.substr(9, block.find('\n') - 9) : std::string();
       try {
         session.run_text(block, "docs/language.md:" + std::to_string(block_line));
-        EXPECT_TRUE(expect_error.empty()) << "block at line " << block_line << " should fail with: " << expect_error;
+        EXPECT_TRUE(expect_error.empty())
+            << "block at line " << block_line << " should fail with: " << expect_error;
       } catch (const InputError& e) {
         EXPECT_FALSE(expect_error.empty()) << "block at line " << block_line << ": " << e.what();
         if (!expect_error.empty()) {

@@ -40,14 +40,16 @@ double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
 class ScriptTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = temp_dir(std::string("script-") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = temp_dir(std::string("script-") +
+                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
     options_.out_dir = dir_.string();
     options_.input_dir = dir_.string();
   }
   void TearDown() override { fs::remove_all(dir_); }
 
   std::size_t files() const {
-    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
+    return static_cast<std::size_t>(
+        std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
   }
   // The InputError a script raises (fails the test if it runs).
   InputError error_of(const std::string& text) {
@@ -104,10 +106,13 @@ TEST_F(ScriptTest, DrilledSphereMeshIsWatertightWithTheNapkinRingVolume) {
 }
 
 TEST_F(ScriptTest, ThesisCrownListingRunsVerbatim) {
-  std::ofstream(dir_ / "poisson.props") << "# thesis-style properties\ncount = 300\nmin_distance = 7\n";
+  std::ofstream(dir_ / "poisson.props")
+      << "# thesis-style properties\ncount = 300\nmin_distance = 7\n";
   ScriptSession s(options_);
-  s.run_text("sphere s\nscale s 50 80 50\npoint_set_gen s poisson poisson.props\nsave_point_set points.txt\n",
-             "crown.rf");
+  s.run_text(
+      "sphere s\nscale s 50 80 50\npoint_set_gen s poisson poisson.props\nsave_point_set "
+      "points.txt\n",
+      "crown.rf");
   EXPECT_GT(value(s, "s", Vec3(0, 79, 0)), 0.5);
   EXPECT_LT(value(s, "s", Vec3(0, 81, 0)), 0.5);
   s.commit();
@@ -117,7 +122,8 @@ TEST_F(ScriptTest, ThesisCrownListingRunsVerbatim) {
   for (std::size_t i = 0; i < p.size(); ++i) {
     const Vec3& q = p.positions[i];
     // Inside the ellipsoid of semi-axes 50, 80, 50 (the scaled unit sphere).
-    EXPECT_LT(std::pow(q.x() / 50, 2) + std::pow(q.y() / 80, 2) + std::pow(q.z() / 50, 2), 1.0) << i;
+    EXPECT_LT(std::pow(q.x() / 50, 2) + std::pow(q.y() / 80, 2) + std::pow(q.z() / 50, 2), 1.0)
+        << i;
     for (std::size_t j = 0; j < i; ++j) closest = std::min(closest, (q - p.positions[j]).norm());
   }
   EXPECT_GE(closest, 7.0);
@@ -129,7 +135,8 @@ TEST_F(ScriptTest, ThinningGrowthAndSkeletonsThroughTheLanguage) {
       "sphere crown 2 center=0,0,4\nsphere secondary 1 center=1,0,4\n"
       "point_set_gen crown uniform count=800\npoint_set_thin crown secondary 100\n"
       "save_point_set thinned.txt\n"
-      "grow tree from crown step=0.25 influence=1.5 kill=0.5 root=0,0,0\nsave_skeleton tree tree.json\n"
+      "grow tree from crown step=0.25 influence=1.5 kill=0.5 root=0,0,0\nsave_skeleton tree "
+      "tree.json\n"
       "lsystem plant bush-2d iterations=2\nsave_skeleton plant plant.json\n",
       "t.rf");
   s.commit();
@@ -148,7 +155,9 @@ TEST_F(ScriptTest, ThinningGrowthAndSkeletonsThroughTheLanguage) {
     adjacent[e[0]].push_back(e[1]);
     adjacent[e[1]].push_back(e[0]);
   }
-  auto inside = [&](std::uint32_t v) { return (tree.nodes[v].position - Vec3(0, 0, 4)).norm() < 2.0; };
+  auto inside = [&](std::uint32_t v) {
+    return (tree.nodes[v].position - Vec3(0, 0, 4)).norm() < 2.0;
+  };
   std::vector<char> trunk(tree.node_count(), 0);
   for (std::uint32_t v = 0, previous = UINT32_MAX; !inside(v);) {
     trunk[v] = 1;
@@ -162,7 +171,8 @@ TEST_F(ScriptTest, ThinningGrowthAndSkeletonsThroughTheLanguage) {
   }
   std::size_t outside = 0;
   for (std::uint32_t v = 0; v < tree.node_count(); ++v) {
-    if (!trunk[v]) EXPECT_TRUE(inside(v)) << "node " << v << " at " << tree.nodes[v].position.transpose();
+    if (!trunk[v])
+      EXPECT_TRUE(inside(v)) << "node " << v << " at " << tree.nodes[v].position.transpose();
     outside += trunk[v];
   }
   EXPECT_LT(outside, 20u);
@@ -170,10 +180,13 @@ TEST_F(ScriptTest, ThinningGrowthAndSkeletonsThroughTheLanguage) {
   EXPECT_EQ(connected_components(plant).count, 1u);
   EXPECT_EQ(plant.edge_count() + 1, plant.node_count());
   // Errors of the pipeline commands name the line and the problem.
-  EXPECT_NE(std::string(error_of("sphere s\npoint_set_gen s poison\n").what()).find("(did you mean 'poisson'?)"),
+  EXPECT_NE(std::string(error_of("sphere s\npoint_set_gen s poison\n").what())
+                .find("(did you mean 'poisson'?)"),
             std::string::npos);
-  EXPECT_NE(std::string(error_of("sphere s\ngrow t from s\n").what()).find("no point set 's'"), std::string::npos);
-  EXPECT_NE(std::string(error_of("lsystem p bush2d\n").what()).find("did you mean 'bush-2d'"), std::string::npos);
+  EXPECT_NE(std::string(error_of("sphere s\ngrow t from s\n").what()).find("no point set 's'"),
+            std::string::npos);
+  EXPECT_NE(std::string(error_of("lsystem p bush2d\n").what()).find("did you mean 'bush-2d'"),
+            std::string::npos);
   const InputError bad = error_of("sphere s\npoint_set_gen s uniform count=10\ngrow t of s\n");
   EXPECT_EQ(bad.line(), 3u);
   EXPECT_EQ(bad.column(), 8u);
@@ -229,7 +242,8 @@ struct BadLine {
 TEST_F(ScriptTest, ErrorsNameLineColumnCommandAndExpectation) {
   const BadLine cases[] = {
       {"sphre s\n", 1, 1, "unknown command 'sphre' (did you mean 'sphere'?)"},
-      {"sphere s1\nline s2\ndiff s1 s4 s3\n", 3, 9, "diff: unknown shape 's4' (did you mean 's1'?)"},
+      {"sphere s1\nline s2\ndiff s1 s4 s3\n", 3, 9,
+       "diff: unknown shape 's4' (did you mean 's1'?)"},
       {"sphere s x\n", 1, 10, "sphere: expected a number for radius, got 'x'"},
       {"sphere s -1\n", 1, 10, "radius must be > 0"},
       {"sphere s 1 centre=0,0,0\n", 1, 12, "unknown option 'centre' (did you mean 'center'?)"},
@@ -252,8 +266,10 @@ TEST_F(ScriptTest, ErrorsNameLineColumnCommandAndExpectation) {
     EXPECT_EQ(e.file(), "t.rf");
     EXPECT_EQ(e.line(), c.line) << c.script;
     EXPECT_EQ(e.column(), c.column) << c.script << " -> " << e.what();
-    EXPECT_NE(std::string(e.what()).find(c.words), std::string::npos) << c.script << " -> " << e.what();
-    const std::string prefix = "t.rf:" + std::to_string(c.line) + ":" + std::to_string(c.column) + ": ";
+    EXPECT_NE(std::string(e.what()).find(c.words), std::string::npos)
+        << c.script << " -> " << e.what();
+    const std::string prefix =
+        "t.rf:" + std::to_string(c.line) + ":" + std::to_string(c.column) + ": ";
     EXPECT_EQ(std::string(e.what()).rfind(prefix, 0), 0u) << e.what();
   }
 }
@@ -272,11 +288,13 @@ TEST_F(ScriptTest, ErrorsInInputFilesNameTheScriptLineAndTheFileLine) {
 
 TEST_F(ScriptTest, AFailedScriptLeavesNoOutput) {
   const std::string script = (dir_ / "bad.rf").string();
-  std::ofstream(script) << "sphere s\nsave_mesh s a.ply resolution=16\nsave_mesh s b.obj resolution=16\n"
-                           "diff s nothing x\n";
+  std::ofstream(script)
+      << "sphere s\nsave_mesh s a.ply resolution=16\nsave_mesh s b.obj resolution=16\n"
+         "diff s nothing x\n";
   EXPECT_THROW(run_script(script, options_), InputError);
   EXPECT_EQ(files(), 1u);  // only bad.rf
-  std::ofstream(script) << "sphere s\nsave_mesh s a.ply resolution=16\nsave_mesh s b.obj resolution=16\n";
+  std::ofstream(script)
+      << "sphere s\nsave_mesh s a.ply resolution=16\nsave_mesh s b.obj resolution=16\n";
   const auto results = run_script(script, options_);
   EXPECT_EQ(results.size(), 3u);
   EXPECT_TRUE(fs::exists(dir_ / "a.ply"));
@@ -287,7 +305,8 @@ TEST_F(ScriptTest, AFailedScriptLeavesNoOutput) {
 TEST_F(ScriptTest, OutputsMayLeaveTheOutputDirectoryOnlyWhenAllowed) {
   fs::create_directories(dir_ / "out");
   options_.out_dir = (dir_ / "out").string();
-  EXPECT_NE(std::string(error_of("sphere s\nsave_mesh s ../x.ply resolution=8\n").what()).find("--allow-any-path"),
+  EXPECT_NE(std::string(error_of("sphere s\nsave_mesh s ../x.ply resolution=8\n").what())
+                .find("--allow-any-path"),
             std::string::npos);
   options_.allow_any_path = true;
   ScriptSession s(options_);
@@ -298,12 +317,16 @@ TEST_F(ScriptTest, OutputsMayLeaveTheOutputDirectoryOnlyWhenAllowed) {
 
 TEST_F(ScriptTest, HelpListsEveryCommandAndDescribesOne) {
   const auto names = ScriptSession::command_names();
-  for (const char* want : {"sphere", "line", "circle", "box", "cylinder", "cone", "plane", "skeleton",
-                           "blend", "union", "intersect", "diff", "translate", "rotate", "scale",
-                           "bend", "taper", "twist", "curve", "path", "revolve", "sweep", "skin",
-                           "rbf", "save_mesh", "eval", "eval_points", "param", "help", "point_set_gen",
-                           "save_point_set", "point_set_thin", "load_point_set", "point_set_mesh", "grow",
-                           "lsystem", "save_skeleton"}) {
+  for (const char* want : {"sphere",         "line",           "circle",         "box",
+                           "cylinder",       "cone",           "plane",          "skeleton",
+                           "blend",          "union",          "intersect",      "diff",
+                           "translate",      "rotate",         "scale",          "bend",
+                           "taper",          "twist",          "curve",          "path",
+                           "revolve",        "sweep",          "skin",           "rbf",
+                           "save_mesh",      "eval",           "eval_points",    "param",
+                           "help",           "point_set_gen",  "save_point_set", "point_set_thin",
+                           "load_point_set", "point_set_mesh", "grow",           "lsystem",
+                           "save_skeleton"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), want), names.end()) << want;
   }
   EXPECT_NE(ScriptSession::command_help("skin").find("SECTION@S"), std::string::npos);
@@ -315,8 +338,10 @@ TEST_F(ScriptTest, HelpListsEveryCommandAndDescribesOne) {
 TEST_F(ScriptTest, TokenizerKeepsQuotedPathsAndStripsComments) {
   fs::create_directories(dir_ / "with space");
   ScriptSession s(options_);
-  s.run_text("# a comment line\n\n  sphere s   # trailing comment\nsave_mesh s \"with space/s.off\" resolution=8\n",
-             "t.rf");
+  s.run_text(
+      "# a comment line\n\n  sphere s   # trailing comment\nsave_mesh s \"with space/s.off\" "
+      "resolution=8\n",
+      "t.rf");
   s.commit();
   EXPECT_TRUE(fs::exists(dir_ / "with space" / "s.off"));
 }
