@@ -622,7 +622,8 @@ void extract_chunk(const Field& field, const std::vector<Vec3>& pts, const std::
   }
   // Marching tetrahedra per live tetrahedron, with its crossing edges made unique locally.
   std::vector<std::uint64_t> keys;
-  std::vector<Polygon> scratch;
+  std::vector<std::uint32_t> order;
+  std::vector<std::uint32_t> rank;
   for (std::size_t k = 0; k + 1 < batch_begin.size(); ++k) {
     const std::size_t base = batch_begin[k];
     const std::size_t first_leaf = k * leaves_per_tet;
@@ -641,34 +642,37 @@ void extract_chunk(const Field& field, const std::vector<Vec3>& pts, const std::
       const int in = (f[0] > iso) + (f[1] > iso) + (f[2] > iso) + (f[3] > iso);
       return in > 0 && in < 4;
     };
+    // One march: polygons first refer to their edges by position in `keys`; the sorted unique
+    // keys then become this tetrahedron's records and the polygons are renumbered to them.
     keys.clear();
+    const std::size_t first_polygon = out.polygons.size();
     auto collect = [&](std::uint32_t in, std::uint32_t ou) {
       keys.push_back((std::uint64_t{in} << 32U) | ou);
-      return 0U;
+      return static_cast<std::uint32_t>(keys.size() - 1);
     };
     for (std::size_t l = first_leaf; l < first_leaf + leaves_per_tet; ++l) {
       const auto f = leaf_values(l);
-      if (!mixed(f)) continue;
-      scratch.clear();
-      march_leaf(leaf_points(l), flip, f, leaf_ids[l], iso, collect, scratch);
+      if (mixed(f)) march_leaf(leaf_points(l), flip, f, leaf_ids[l], iso, collect, out.polygons);
     }
     if (keys.empty()) continue;
-    std::sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-    const auto first = static_cast<std::uint32_t>(out.records.size());
-    for (const std::uint64_t key : keys) {
-      const Vec3& a = batch[base + (key >> 32U)];
-      const Vec3& b = batch[base + (key & 0xffffffffU)];
-      out.records.push_back({{a.x(), a.y(), a.z(), b.x(), b.y(), b.z()},
-                             values[base + (key >> 32U)], values[base + (key & 0xffffffffU)]});
+    order.resize(keys.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+    rank.resize(keys.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      const std::uint64_t key = keys[order[i]];
+      if (i == 0 || key != keys[order[i - 1]]) {
+        const Vec3& a = batch[base + (key >> 32U)];
+        const Vec3& b = batch[base + (key & 0xffffffffU)];
+        out.records.push_back({{a.x(), a.y(), a.z(), b.x(), b.y(), b.z()}, values[base + (key >> 32U)],
+                               values[base + (key & 0xffffffffU)]});
+      }
+      rank[order[i]] = static_cast<std::uint32_t>(out.records.size() - 1);
     }
-    auto slot = [&](std::uint32_t in, std::uint32_t ou) {
-      const std::uint64_t key = (std::uint64_t{in} << 32U) | ou;
-      return first + static_cast<std::uint32_t>(std::lower_bound(keys.begin(), keys.end(), key) - keys.begin());
-    };
-    for (std::size_t l = first_leaf; l < first_leaf + leaves_per_tet; ++l) {
-      const auto f = leaf_values(l);
-      if (mixed(f)) march_leaf(leaf_points(l), flip, f, leaf_ids[l], iso, slot, out.polygons);
+    for (std::size_t q = first_polygon; q < out.polygons.size(); ++q) {
+      Polygon& poly = out.polygons[q];
+      const int corners = poly.quad ? 4 : 3;
+      for (int c = 0; c < corners; ++c) poly.record[c] = rank[poly.record[c]];
     }
   }
 }
