@@ -76,8 +76,8 @@ void report(benchmark::State& state, const SampleStats& st) {
 void BM_NearSurfacePoisson(benchmark::State& state) {
   const int variant = static_cast<int>(state.range(0));
   NearSurfaceOptions o;
-  o.method = variant == 6 ? NearSurfaceOptions::Method::kProject
-                          : NearSurfaceOptions::Method::kReject;
+  o.method =
+      variant == 6 ? NearSurfaceOptions::Method::kProject : NearSurfaceOptions::Method::kReject;
   o.count = 1000;
   o.epsilon = 0.01;  // f in (0.40, 0.41)
   o.min_distance = 0.25;

@@ -144,17 +144,16 @@ struct IndexBox {
 
 /// Recursively classifies index boxes of `grid` against `target` by field.bound(): calls
 /// `emit(IndexBox, CellClass)` for every non-empty leaf (a full box at any level, or a single
-/// partial voxel). Top-level blocks run in parallel; each block's emits are collected in order,
-/// so the result does not depend on the thread count.
+/// partial voxel). Top-level blocks of `top` voxels a side run in parallel; each block's emits
+/// are collected in order, so the result does not depend on the thread count.
 template <class Leaf>
 std::vector<std::vector<Leaf>> descend(const Field& field, const VoxelGrid& grid,
                                        const Target& target,
                                        const std::function<void(const IndexBox&, CellClass,
                                                                 std::vector<Leaf>&)>& emit,
                                        const Context* ctx, std::int64_t top = 8) {
-  const std::int64_t kTop = top;  // voxels per top-level block side
   std::array<std::int64_t, 3> blocks{};
-  for (int a = 0; a < 3; ++a) blocks[a] = (grid.n[a] + kTop - 1) / kTop;
+  for (int a = 0; a < 3; ++a) blocks[a] = (grid.n[a] + top - 1) / top;
   const auto count = static_cast<std::size_t>(blocks[0] * blocks[1] * blocks[2]);
   std::vector<std::vector<Leaf>> out(count);
   std::function<void(const IndexBox&, std::vector<Leaf>&)> rec = [&](const IndexBox& b,
@@ -190,9 +189,9 @@ std::vector<std::vector<Leaf>> descend(const Field& field, const VoxelGrid& grid
         const auto bx = static_cast<std::int64_t>(t) % blocks[0];
         const auto by = (static_cast<std::int64_t>(t) / blocks[0]) % blocks[1];
         const auto bz = static_cast<std::int64_t>(t) / (blocks[0] * blocks[1]);
-        IndexBox b{{bx * kTop, by * kTop, bz * kTop},
-                   {std::min(grid.n[0], (bx + 1) * kTop), std::min(grid.n[1], (by + 1) * kTop),
-                    std::min(grid.n[2], (bz + 1) * kTop)}};
+        IndexBox b{{bx * top, by * top, bz * top},
+                   {std::min(grid.n[0], (bx + 1) * top), std::min(grid.n[1], (by + 1) * top),
+                    std::min(grid.n[2], (bz + 1) * top)}};
         rec(b, out[t]);
       },
       ctx);
@@ -631,9 +630,9 @@ constexpr double kProjectCells = 0.2;
 constexpr int kProjectSteps = 2;
 
 struct ProjectSpec {
-  Target band;           ///< the band (iso - epsilon, iso)
-  double width = 0.0;    ///< W: the wider band is |f - c| < W / 2, c the band's centre
-  double max_step = 0.0; ///< longest Newton step (model units)
+  Target band;            ///< the band (iso - epsilon, iso)
+  double width = 0.0;     ///< W: the wider band is |f - c| < W / 2, c the band's centre
+  double max_step = 0.0;  ///< longest Newton step (model units)
   double min_distance = 0.0;
   std::size_t count = 0;
   std::size_t max_attempts = 0;
@@ -645,8 +644,8 @@ struct ProjectSpec {
 /// the distance from c to the smallest and to the largest pilot value (a wider band reaching a
 /// flat value, such as the 0 outside compact-support primitives, would hold whole regions), and
 /// at least epsilon (epsilon when no pilot point qualifies: then projection is rejection).
-double automatic_project_width(const Field& field, const Aabb& box, const Target& band,
-                               double cell, std::uint64_t seed, Context* ctx) {
+double automatic_project_width(const Field& field, const Aabb& box, const Target& band, double cell,
+                               std::uint64_t seed, Context* ctx) {
   const double epsilon = band.hi - band.lo;
   const Region pilot_region(field, box, band, kProjectPilotRegion, ctx);
   if (pilot_region.is_empty()) return epsilon;
@@ -684,16 +683,16 @@ double automatic_project_width(const Field& field, const Aabb& box, const Target
   return std::isfinite(w) ? std::max(epsilon, w) : epsilon;
 }
 
-/// One Newton step from p (value f, gradient g) to the value t: false when the gradient is zero
-/// or not finite, the step is longer than max_step, or it leaves the box.
 /// The wider band |f - c| < W / 2 around the band's centre c.
 Target wide_band(const Target& band, double width) {
   const double centre = 0.5 * (band.lo + band.hi);
   return Target{centre - 0.5 * width, centre + 0.5 * width};
 }
 
-bool newton_step(const Vec3& p, double f, const Vec3& g, double t, double max_step,
-                 const Aabb& box, Vec3& out) {
+/// One Newton step from p (value f, gradient g) to the value t: false when the gradient is zero
+/// or not finite, the step is longer than max_step, or it leaves the box.
+bool newton_step(const Vec3& p, double f, const Vec3& g, double t, double max_step, const Aabb& box,
+                 Vec3& out) {
   const double g2 = g.squaredNorm();
   if (!(g2 > 0.0) || !std::isfinite(g2)) return false;
   const Vec3 step = ((t - f) / g2) * g;
@@ -720,8 +719,7 @@ void evaluate_parallel(const Field& field, const std::vector<Vec3>& points,
 }
 
 PointSet run_project(const Field& field, const Region& region, const Aabb& box,
-                     const ProjectSpec& spec, std::uint64_t seed, Context* ctx,
-                     SampleStats& st) {
+                     const ProjectSpec& spec, std::uint64_t seed, Context* ctx, SampleStats& st) {
   PointSet out;
   if (spec.count == 0) return out;
   if (region.is_empty()) {
@@ -807,7 +805,6 @@ PointSet run_project(const Field& field, const Region& region, const Aabb& box,
   }
   return out;
 }
-
 
 // ---------------------------------------------------------------------------------------------
 // Lane and Prusinkiewicz: a voxel pdf in a sum tree, deformed by a kernel after each point.

@@ -340,8 +340,7 @@ TEST(SampleNearSurface, ProjectionKeepsBandCountAndMinimumDistance) {
   const FieldPtr f = fork();
   for (const double width : {0.0, 0.05, 0.2}) {
     for (const double r : {0.0, 0.25}) {
-      SCOPED_TRACE("project_width " + std::to_string(width) + " min_distance " +
-                   std::to_string(r));
+      SCOPED_TRACE("project_width " + std::to_string(width) + " min_distance " + std::to_string(r));
       NearSurfaceOptions o;
       o.count = 500;
       o.epsilon = 0.005;
@@ -406,7 +405,7 @@ TEST(SampleNearSurface, ProjectionIsUniformOverTheSphere) {
   for (const double c : slab) chi_slab += (c - 800.0) * (c - 800.0) / 800.0;
   EXPECT_LT(chi_oct, 30.0);   // 7 degrees of freedom: p < 1e-4 beyond 27.9
   EXPECT_LT(chi_slab, 35.0);  // 9 degrees of freedom: p < 1e-4 beyond 33.7
-  EXPECT_GT(rmin, 0.99);  // the band around r = 1 is a few thousandths thick
+  EXPECT_GT(rmin, 0.99);      // the band around r = 1 is a few thousandths thick
   EXPECT_LT(rmax, 1.01);
 }
 

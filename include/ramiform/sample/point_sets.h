@@ -151,9 +151,9 @@ struct NearSurfaceOptions {
     /// value is in the band. Exactly uniform in the band; slow when the band is thin.
     kReject,
   };
-  std::size_t count = 1000;  ///< number of points (>= 0)
-  double epsilon = 0.01;     ///< band width in field units (> 0)
-  double min_distance = 0.0;  ///< Poisson-disk minimum distance (>= 0; 0 = none)
+  std::size_t count = 1000;          ///< number of points (>= 0)
+  double epsilon = 0.01;             ///< band width in field units (> 0)
+  double min_distance = 0.0;         ///< Poisson-disk minimum distance (>= 0; 0 = none)
   Method method = Method::kProject;  ///< projection (default) or rejection, see Method
   /// kProject: width W of the wider band in field units (0 = automatic, else >= epsilon).
   /// Automatic: 0.2 sampling-cell edges (box longest side / 128) times the median gradient
