@@ -28,7 +28,9 @@ struct DemoArgs {
 int run_demo(const DemoArgs& args) {
   RunScope scope(args.common);
   namespace fs = std::filesystem;
-  fs::create_directories(args.out_dir);
+  std::error_code ec;
+  fs::create_directories(args.out_dir, ec);
+  if (ec) throw Failure("cannot create the output directory '" + args.out_dir + "': " + ec.message());
   ScriptOptions options;
   options.out_dir = args.out_dir;
   options.seed = args.seed;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -25,6 +26,25 @@ bool is_name_char(char c) {
 std::string join(const std::vector<std::string>& words, const std::string& sep) {
   std::string out;
   for (std::size_t i = 0; i < words.size(); ++i) out += (i > 0 ? sep : "") + words[i];
+  return out;
+}
+
+// A token as shown in messages: control bytes escaped, at most 48 characters.
+std::string shown(const std::string& text) {
+  std::string out;
+  for (unsigned char ch : text) {
+    if (out.size() >= 48) {
+      out += "...";
+      break;
+    }
+    if (ch < 0x20 || ch == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", ch);
+      out += buf;
+    } else {
+      out += static_cast<char>(ch);
+    }
+  }
   return out;
 }
 
@@ -223,9 +243,9 @@ double Call::parse_number(const Token& token, const std::string& what) const {
   if (!s.empty() && *begin == '+') ++begin;
   const auto [ptr, ec] = std::from_chars(begin, end, v);
   if (s.empty() || ec != std::errc() || ptr != end) {
-    fail(token, "expected a number for " + what + ", got '" + s + "'");
+    fail(token, "expected a number for " + what + ", got '" + shown(s) + "'");
   }
-  if (!std::isfinite(v)) fail(token, what + " must be finite, got '" + s + "'");
+  if (!std::isfinite(v)) fail(token, what + " must be finite, got '" + shown(s) + "'");
   return v;
 }
 
@@ -270,7 +290,7 @@ const Object& Call::object_named(const Token& token, ObjectKind kind) const {
     for (const auto& [name, obj] : session_.objects) {
       if (obj.kind == kind) known.push_back(name);
     }
-    fail(token, "unknown " + kind_name(kind) + " '" + token.text + "'" + hint(token.text, known) +
+    fail(token, "unknown " + kind_name(kind) + " '" + shown(token.text) + "'" + hint(token.text, known) +
                     (known.empty() ? "; none is defined yet" : ""));
   }
   if (it->second.kind != kind) {
@@ -433,7 +453,7 @@ CommandResult ScriptSession::execute_line(std::string_view text, const std::stri
   const auto it = table.find(tokens.front().text);
   if (it == table.end()) {
     throw InputError(file, line, tokens.front().column,
-                     "unknown command '" + tokens.front().text + "'" +
+                     "unknown command '" + script::shown(tokens.front().text) + "'" +
                          script::hint(tokens.front().text, command_names()) +
                          "; 'help' lists the commands");
   }
