@@ -2,6 +2,9 @@
 // Copyright (c) 2026 the ramiform authors
 #include "ramiform/mesh/mesh_field.h"
 
+#include <algorithm>
+#include <functional>
+#include <nanoflann.hpp>
 #include <string>
 
 #include "ramiform/core/errors.h"
@@ -14,14 +17,32 @@ namespace {
 class MeshField final : public Field {
  public:
   MeshField(const TriMesh& mesh, std::size_t triangles)
-      : Field(0.5), winding_(mesh), triangles_(triangles) {
+      : Field(0.5), winding_(mesh), triangles_(triangles), centroids_(mesh.triangles.size(), 3) {
     for (const Vec3& p : mesh.positions) box_.extend(p);
     step_ = 1e-3 * box_.diagonal().norm();
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const auto& tri = mesh.triangles[t];
+      const Vec3 c = (mesh.positions[tri[0]] + mesh.positions[tri[1]] + mesh.positions[tri[2]]) / 3;
+      centroids_.row(static_cast<Eigen::Index>(t)) = c.transpose();
+      for (std::uint32_t v : tri) reach_ = std::max(reach_, (mesh.positions[v] - c).norm());
+    }
+    tree_ = std::make_unique<Tree>(3, std::cref(centroids_), 16);
   }
 
   Interval bound(const Aabb& box) const override {
     // Outside a closed mesh's box the winding number is 0 (up to the fast evaluation's error).
     if (box.intersection(box_).isEmpty()) return {-0.05, 0.05};
+    // A box the surface does not reach has one winding number throughout: every surface point
+    // lies within `reach_` of a triangle centroid, so the surface is at least
+    // |centre - nearest centroid| - reach_ from the box's centre.
+    const Vec3 centre = box.center();
+    Eigen::Index nearest = 0;
+    double squared = 0;
+    tree_->index->knnSearch(centre.data(), 1, &nearest, &squared);
+    if (std::sqrt(squared) - reach_ > 0.5 * box.diagonal().norm()) {
+      const double w = winding_(centre);
+      return {w - 0.05, w + 0.05};
+    }
     return {-0.05, 1.05};
   }
 
@@ -55,8 +76,14 @@ class MeshField final : public Field {
   }
 
  private:
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  using Tree = nanoflann::KDTreeEigenMatrixAdaptor<Matrix, 3, nanoflann::metric_L2_Simple>;
+
   WindingNumber winding_;
   std::size_t triangles_;
+  Matrix centroids_;
+  std::unique_ptr<Tree> tree_;
+  double reach_ = 0;  // largest distance of a triangle's corner from its centroid
   Aabb box_;
   double step_ = 0;
 };

@@ -10,8 +10,11 @@
 ///
 /// The field is a step function: its gradient is a central difference with a step of
 /// 1e-3 of the mesh's bounding-box diagonal (non-zero only within that distance of the surface).
-/// bound(box) is [-0.05, 0.05] for boxes that miss the mesh's bounding box and [-0.05, 1.05]
-/// otherwise (the fast winding number's error stays below 0.01 on closed meshes).
+/// bound(box): a box the surface cannot reach (the distance from its centre to the nearest
+/// triangle centroid, less the largest centroid-to-corner distance, exceeds its half diagonal;
+/// a kd-tree over the centroids answers it) has one winding number w throughout, so the bound
+/// is w(centre) +- 0.05; boxes outside the mesh's bounding box get [-0.05, 0.05]; others
+/// [-0.05, 1.05]. The fast winding number's error stays below 0.01 on closed meshes.
 
 #include "ramiform/field/field.h"
 #include "ramiform/mesh/trimesh.h"
