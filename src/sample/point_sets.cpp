@@ -31,6 +31,23 @@ constexpr std::size_t kEvalGrain = 256;
 constexpr int kRegionInside = 32;
 constexpr int kRegionBand = 128;
 
+// Values (and, when `gradients` is given, gradients) of `points`, evaluated in parallel chunks.
+void evaluate_parallel(const Field& field, const std::vector<Vec3>& points,
+                       std::vector<double>& values, std::vector<Vec3>* gradients,
+                       const Context* ctx) {
+  values.resize(points.size());
+  if (gradients != nullptr) gradients->resize(points.size());
+  parallel::for_chunks(
+      points.size(), kEvalGrain,
+      [&](std::size_t b, std::size_t e) {
+        field.evaluate(std::span<const Vec3>(points.data() + b, e - b),
+                       std::span<double>(values.data() + b, e - b),
+                       gradients != nullptr ? std::span<Vec3>(gradients->data() + b, e - b)
+                                            : std::span<Vec3>());
+      },
+      ctx);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Target sets {lo < f < hi} and their classification by a conservative bound.
 
@@ -100,8 +117,7 @@ void check_box(const Aabb& box, const std::string& what) {
     throw InvalidArgument(what + ": the sampling box is unbounded (" + num(box.min().x()) + ", " +
                           num(box.min().y()) + ", " + num(box.min().z()) + ") - (" +
                           num(box.max().x()) + ", " + num(box.max().y()) + ", " +
-                          num(box.max().z()) +
-                          "); intersect the field with a bounded shape first");
+                          num(box.max().z()) + "); intersect the field with a bounded shape first");
   }
 }
 
@@ -120,9 +136,7 @@ struct VoxelGrid {
       n[a] = std::max<std::int64_t>(1, static_cast<std::int64_t>(std::ceil(size[a] / h - 1e-9)));
     }
   }
-  [[nodiscard]] std::size_t size() const {
-    return static_cast<std::size_t>(n[0] * n[1] * n[2]);
-  }
+  [[nodiscard]] std::size_t size() const { return static_cast<std::size_t>(n[0] * n[1] * n[2]); }
   [[nodiscard]] Aabb box(std::int64_t i0, std::int64_t j0, std::int64_t k0, std::int64_t i1,
                          std::int64_t j1, std::int64_t k1) const {
     return Aabb(origin + h * Vec3(double(i0), double(j0), double(k0)),
@@ -147,11 +161,10 @@ struct IndexBox {
 /// partial voxel). Top-level blocks of `top` voxels a side run in parallel; each block's emits
 /// are collected in order, so the result does not depend on the thread count.
 template <class Leaf>
-std::vector<std::vector<Leaf>> descend(const Field& field, const VoxelGrid& grid,
-                                       const Target& target,
-                                       const std::function<void(const IndexBox&, CellClass,
-                                                                std::vector<Leaf>&)>& emit,
-                                       const Context* ctx, std::int64_t top = 8) {
+std::vector<std::vector<Leaf>> descend(
+    const Field& field, const VoxelGrid& grid, const Target& target,
+    const std::function<void(const IndexBox&, CellClass, std::vector<Leaf>&)>& emit,
+    const Context* ctx, std::int64_t top = 8) {
   std::array<std::int64_t, 3> blocks{};
   for (int a = 0; a < 3; ++a) blocks[a] = (grid.n[a] + top - 1) / top;
   const auto count = static_cast<std::size_t>(blocks[0] * blocks[1] * blocks[2]);
@@ -175,8 +188,7 @@ std::vector<std::vector<Leaf>> descend(const Field& field, const VoxelGrid& grid
         for (int x = 0; x < 2; ++x) {
           IndexBox child{{cuts[0][x], cuts[1][y], cuts[2][z]},
                          {cuts[0][x + 1], cuts[1][y + 1], cuts[2][z + 1]}};
-          if (child.lo[0] < child.hi[0] && child.lo[1] < child.hi[1] &&
-              child.lo[2] < child.hi[2]) {
+          if (child.lo[0] < child.hi[0] && child.lo[1] < child.hi[1] && child.lo[2] < child.hi[2]) {
             rec(child, o);
           }
         }
@@ -277,8 +289,8 @@ class PointGrid {
     if (!active_) return false;
     const std::int64_t ci = grid_.coord(p.x(), 0), cj = grid_.coord(p.y(), 1),
                        ck = grid_.coord(p.z(), 2);
-    for (std::int64_t k = std::max<std::int64_t>(0, ck - 1);
-         k <= std::min(grid_.n[2] - 1, ck + 1); ++k) {
+    for (std::int64_t k = std::max<std::int64_t>(0, ck - 1); k <= std::min(grid_.n[2] - 1, ck + 1);
+         ++k) {
       for (std::int64_t j = std::max<std::int64_t>(0, cj - 1);
            j <= std::min(grid_.n[1] - 1, cj + 1); ++j) {
         for (std::int64_t i = std::max<std::int64_t>(0, ci - 1);
@@ -366,8 +378,8 @@ class FieldCache {
       cubes_[c].full = leaves[c].full;
       if (leaves[c].full) continue;
       const std::size_t i = key % static_cast<std::size_t>(grid_.n[0]);
-      const std::size_t j = (key / static_cast<std::size_t>(grid_.n[0])) %
-                            static_cast<std::size_t>(grid_.n[1]);
+      const std::size_t j =
+          (key / static_cast<std::size_t>(grid_.n[0])) % static_cast<std::size_t>(grid_.n[1]);
       const std::size_t k = key / static_cast<std::size_t>(grid_.n[0] * grid_.n[1]);
       for (int v = 0; v < 8; ++v) {
         const std::size_t ci = i + (v & 1), cj = j + ((v >> 1) & 1), ck = k + ((v >> 2) & 1);
@@ -381,14 +393,8 @@ class FieldCache {
         slots[c][static_cast<std::size_t>(v)] = it->second;
       }
     }
-    std::vector<double> corner_values(corner_points.size());
-    parallel::for_chunks(
-        corner_points.size(), kEvalGrain,
-        [&](std::size_t b, std::size_t e) {
-          field.evaluate(std::span<const Vec3>(corner_points.data() + b, e - b),
-                         std::span<double>(corner_values.data() + b, e - b));
-        },
-        ctx);
+    std::vector<double> corner_values;
+    evaluate_parallel(field, corner_points, corner_values, nullptr, ctx);
     for (std::size_t c = 0; c < cubes_.size(); ++c) {
       if (cubes_[c].full) continue;
       double lo = kInf, hi = -kInf;
@@ -398,8 +404,8 @@ class FieldCache {
         lo = std::min(lo, value);
         hi = std::max(hi, value);
       }
-      cubes_[c].slack = tolerance_ > 0.0 ? tolerance_
-                                         : std::max(target_.hi - target_.lo, 0.25 * (hi - lo));
+      cubes_[c].slack =
+          tolerance_ > 0.0 ? tolerance_ : std::max(target_.hi - target_.lo, 0.25 * (hi - lo));
     }
   }
 
@@ -484,17 +490,42 @@ struct DartSpec {
   std::uint64_t stream = 0;  ///< sub-stream index of the candidate blocks
 };
 
-PointSet run_dart(const Field& field, const Region& region, const Aabb& box,
-                  const DartSpec& spec, std::uint64_t seed, Context* ctx, SampleStats& st) {
+// The candidate-block loop shared by dart throwing and projection: block b draws its candidates
+// from Rng(seed).split(stream).split(b), so the points never depend on the thread count.
+// `block_fn(rng, n, near, out)` handles n candidates, appends the accepted points to `out` (and
+// `near`) and returns true to stop; the loop also stops when the attempt budget is spent
+// (saturated). An empty region saturates at once.
+template <class BlockFn>
+PointSet run_blocks(const Region& region, const Aabb& box, double min_distance, std::size_t count,
+                    std::size_t max_attempts, std::uint64_t seed, std::uint64_t stream,
+                    Context* ctx, SampleStats& st, BlockFn&& block_fn) {
   PointSet out;
-  if (spec.count == 0) return out;
+  if (count == 0) return out;
   if (region.is_empty()) {
     st.saturated = true;
     return out;
   }
-  const Rng base = Rng(seed).split(spec.stream);
-  PointGrid near(box, spec.min_distance);
-  out.positions.reserve(std::min<std::size_t>(spec.count, 1 << 20));
+  const Rng base = Rng(seed).split(stream);
+  PointGrid near(box, min_distance);
+  out.positions.reserve(std::min<std::size_t>(count, 1 << 20));
+  for (std::uint64_t block = 0;; ++block) {
+    check_cancel(ctx);
+    if (st.attempts >= max_attempts) {
+      st.saturated = true;
+      break;
+    }
+    const std::size_t n = std::min(kBlock, max_attempts - st.attempts);
+    Rng rng = base.split(block);
+    st.attempts += n;
+    const bool stop = block_fn(rng, n, near, out);
+    if (ctx != nullptr) ctx->report("sample", double(out.positions.size()) / double(count));
+    if (stop) break;
+  }
+  return out;
+}
+
+PointSet run_dart(const Field& field, const Region& region, const Aabb& box, const DartSpec& spec,
+                  std::uint64_t seed, Context* ctx, SampleStats& st) {
   std::vector<Vec3> cand(kBlock);
   std::vector<double> coin(kBlock);
   std::vector<std::uint8_t> state(kBlock);  // 0 reject, 1 evaluate, 2 accept (no evaluation)
@@ -505,14 +536,7 @@ PointSet run_dart(const Field& field, const Region& region, const Aabb& box,
   std::vector<std::uint32_t> eval_index;
   std::size_t failures = 0;
   const bool needs_value = static_cast<bool>(spec.density);
-  for (std::uint64_t block = 0;; ++block) {
-    check_cancel(ctx);
-    if (st.attempts >= spec.max_attempts) {
-      st.saturated = true;
-      break;
-    }
-    const std::size_t n = std::min(kBlock, spec.max_attempts - st.attempts);
-    Rng rng = base.split(block);
+  auto block_fn = [&](Rng& rng, std::size_t n, PointGrid& near, PointSet& out) {
     eval_points.clear();
     eval_index.clear();
     for (std::size_t i = 0; i < n; ++i) {
@@ -525,9 +549,14 @@ PointSet run_dart(const Field& field, const Region& region, const Aabb& box,
       state[i] = full ? 2 : 1;
       if (too_close[i] == 0 && state[i] == 1 && spec.cache != nullptr) {
         switch (spec.cache->classify(cand[i])) {
-          case FieldCache::Verdict::kReject: state[i] = 0; break;
-          case FieldCache::Verdict::kAccept: state[i] = 2; break;
-          case FieldCache::Verdict::kEvaluate: break;
+          case FieldCache::Verdict::kReject:
+            state[i] = 0;
+            break;
+          case FieldCache::Verdict::kAccept:
+            state[i] = 2;
+            break;
+          case FieldCache::Verdict::kEvaluate:
+            break;
         }
       }
       if (too_close[i] == 0 && (state[i] == 1 || (state[i] == 2 && needs_value))) {
@@ -535,15 +564,7 @@ PointSet run_dart(const Field& field, const Region& region, const Aabb& box,
         eval_points.push_back(cand[i]);
       }
     }
-    st.attempts += n;
-    eval_values.resize(eval_points.size());
-    parallel::for_chunks(
-        eval_points.size(), kEvalGrain,
-        [&](std::size_t b, std::size_t e) {
-          field.evaluate(std::span<const Vec3>(eval_points.data() + b, e - b),
-                         std::span<double>(eval_values.data() + b, e - b));
-        },
-        ctx);
+    evaluate_parallel(field, eval_points, eval_values, nullptr, ctx);
     for (std::size_t e = 0; e < eval_index.size(); ++e) value[eval_index[e]] = eval_values[e];
     bool stop = false;
     for (std::size_t i = 0; i < n && !stop; ++i) {
@@ -569,12 +590,10 @@ PointSet run_dart(const Field& field, const Region& region, const Aabb& box,
       out.positions.push_back(cand[i]);
       if (out.positions.size() == spec.count) stop = true;
     }
-    if (ctx != nullptr) {
-      ctx->report("sample", double(out.positions.size()) / double(spec.count));
-    }
-    if (stop) break;
-  }
-  return out;
+    return stop;
+  };
+  return run_blocks(region, box, spec.min_distance, spec.count, spec.max_attempts, seed,
+                    spec.stream, ctx, st, block_fn);
 }
 
 /// Inside volume estimated from the region and a pilot batch of candidates.
@@ -594,14 +613,8 @@ double estimate_volume(const Field& field, const Region& region, const Target& t
       pts.push_back(p);
     }
   }
-  std::vector<double> values(pts.size());
-  parallel::for_chunks(
-      pts.size(), kEvalGrain,
-      [&](std::size_t b, std::size_t e) {
-        field.evaluate(std::span<const Vec3>(pts.data() + b, e - b),
-                       std::span<double>(values.data() + b, e - b));
-      },
-      ctx);
+  std::vector<double> values;
+  evaluate_parallel(field, pts, values, nullptr, ctx);
   std::size_t in = full_count;
   for (const double v : values) in += target.contains(v) ? 1 : 0;
   return region.volume() * double(in) / double(kPilot);
@@ -655,16 +668,9 @@ double automatic_project_width(const Field& field, const Aabb& box, const Target
     bool full = false;
     p = pilot_region.draw(rng, full);
   }
-  std::vector<double> values(pts.size());
-  std::vector<Vec3> gradients(pts.size());
-  parallel::for_chunks(
-      pts.size(), kEvalGrain,
-      [&](std::size_t b, std::size_t e) {
-        field.evaluate(std::span<const Vec3>(pts.data() + b, e - b),
-                       std::span<double>(values.data() + b, e - b),
-                       std::span<Vec3>(gradients.data() + b, e - b));
-      },
-      ctx);
+  std::vector<double> values;
+  std::vector<Vec3> gradients;
+  evaluate_parallel(field, pts, values, &gradients, ctx);
   const double centre = 0.5 * (band.lo + band.hi);
   std::vector<double> norms;
   double lowest = kInf, highest = -kInf;
@@ -702,33 +708,8 @@ bool newton_step(const Vec3& p, double f, const Vec3& g, double t, double max_st
   return box.contains(out);
 }
 
-void evaluate_parallel(const Field& field, const std::vector<Vec3>& points,
-                       std::vector<double>& values, std::vector<Vec3>* gradients,
-                       const Context* ctx) {
-  values.resize(points.size());
-  if (gradients != nullptr) gradients->resize(points.size());
-  parallel::for_chunks(
-      points.size(), kEvalGrain,
-      [&](std::size_t b, std::size_t e) {
-        field.evaluate(std::span<const Vec3>(points.data() + b, e - b),
-                       std::span<double>(values.data() + b, e - b),
-                       gradients != nullptr ? std::span<Vec3>(gradients->data() + b, e - b)
-                                            : std::span<Vec3>());
-      },
-      ctx);
-}
-
 PointSet run_project(const Field& field, const Region& region, const Aabb& box,
                      const ProjectSpec& spec, std::uint64_t seed, Context* ctx, SampleStats& st) {
-  PointSet out;
-  if (spec.count == 0) return out;
-  if (region.is_empty()) {
-    st.saturated = true;
-    return out;
-  }
-  const Rng base = Rng(seed).split(spec.stream);
-  PointGrid near(box, spec.min_distance);
-  out.positions.reserve(std::min<std::size_t>(spec.count, 1 << 20));
   const double centre = 0.5 * (spec.band.lo + spec.band.hi);
   const Target wide = wide_band(spec.band, spec.width);
   const double squeeze = (spec.band.hi - spec.band.lo) / spec.width;  // epsilon / W <= 1
@@ -740,19 +721,11 @@ PointSet run_project(const Field& field, const Region& region, const Aabb& box,
   std::vector<double> values;
   std::vector<Vec3> gradients;
   std::vector<std::uint32_t> index;
-  for (std::uint64_t block = 0;; ++block) {
-    check_cancel(ctx);
-    if (st.attempts >= spec.max_attempts) {
-      st.saturated = true;
-      break;
-    }
-    const std::size_t n = std::min(kBlock, spec.max_attempts - st.attempts);
-    Rng rng = base.split(block);
+  auto block_fn = [&](Rng& rng, std::size_t n, PointGrid& near, PointSet& out) {
     for (std::size_t i = 0; i < n; ++i) {
       bool full = false;  // the wider band is not the target: every candidate is evaluated
       cand[i] = region.draw(rng, full);
     }
-    st.attempts += n;
     std::fill(found.begin(), found.begin() + static_cast<std::ptrdiff_t>(n), 0);
     // Step 0 evaluates the candidates; step k the points after k Newton steps. Gradients are
     // needed for every step but the last (they cost little next to the values).
@@ -798,12 +771,10 @@ PointSet run_project(const Field& field, const Region& region, const Aabb& box,
       out.positions.push_back(result[i]);
       if (out.positions.size() == spec.count) stop = true;
     }
-    if (ctx != nullptr) {
-      ctx->report("sample", double(out.positions.size()) / double(spec.count));
-    }
-    if (stop) break;
-  }
-  return out;
+    return stop;
+  };
+  return run_blocks(region, box, spec.min_distance, spec.count, spec.max_attempts, seed,
+                    spec.stream, ctx, st, block_fn);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -935,9 +906,9 @@ PointSet run_lane(const Field& field, const Aabb& box, const LaneSpec& spec, std
     const std::int64_t vi = static_cast<std::int64_t>(v) % grid.n[0];
     const std::int64_t vj = (static_cast<std::int64_t>(v) / grid.n[0]) % grid.n[1];
     const std::int64_t vk = static_cast<std::int64_t>(v) / (grid.n[0] * grid.n[1]);
-    const Vec3 p = grid.origin + grid.h * Vec3(double(vi) + rng.uniform(),
-                                               double(vj) + rng.uniform(),
-                                               double(vk) + rng.uniform());
+    const Vec3 p =
+        grid.origin + grid.h * Vec3(double(vi) + rng.uniform(), double(vj) + rng.uniform(),
+                                    double(vk) + rng.uniform());
     if (near.has_near(p)) continue;
     if (cls[v] != static_cast<std::uint8_t>(CellClass::kFull)) {
       bool evaluate = true;
@@ -956,15 +927,15 @@ PointSet run_lane(const Field& field, const Aabb& box, const LaneSpec& spec, std
                        ck = grid.coord(p.z(), 2);
     for (std::int64_t k = std::max<std::int64_t>(0, ck - r); k <= std::min(grid.n[2] - 1, ck + r);
          ++k) {
-      for (std::int64_t j = std::max<std::int64_t>(0, cj - r);
-           j <= std::min(grid.n[1] - 1, cj + r); ++j) {
+      for (std::int64_t j = std::max<std::int64_t>(0, cj - r); j <= std::min(grid.n[1] - 1, cj + r);
+           ++j) {
         for (std::int64_t i = std::max<std::int64_t>(0, ci - r);
              i <= std::min(grid.n[0] - 1, ci + r); ++i) {
           const std::size_t w = grid.index(i, j, k);
           const double old = tree.get(w);
           if (old == 0.0) continue;
-          const Vec3 c = grid.origin + grid.h * Vec3(double(i) + 0.5, double(j) + 0.5,
-                                                     double(k) + 0.5);
+          const Vec3 c =
+              grid.origin + grid.h * Vec3(double(i) + 0.5, double(j) + 0.5, double(k) + 0.5);
           const double d = (c - p).norm();
           if (d >= reach) continue;
           const double f = spec.kernel.factor(d);
@@ -1025,8 +996,7 @@ Check check(const FieldDensityOptions& o, double iso) {
 }
 Check check(const BoundaryOptions& o) {
   if (auto e = check_nonneg("width", o.width)) return e;
-  if (!std::isfinite(o.interior_density) || o.interior_density < 0.0 ||
-      o.interior_density > 1.0) {
+  if (!std::isfinite(o.interior_density) || o.interior_density < 0.0 || o.interior_density > 1.0) {
     return OptionError{"interior_density", "must be in [0, 1]"};
   }
   if (auto e = check_nonneg("min_distance", o.min_distance)) return e;
@@ -1108,7 +1078,10 @@ LaneKernel LaneKernel::disk(double radius) {
 
 LaneKernel LaneKernel::ring(double zero_radius, double ring_radius, double factor) {
   LaneKernel k;
-  k.table = {{0.0, 0.0}, {zero_radius, 0.0}, {zero_radius, factor}, {ring_radius, factor},
+  k.table = {{0.0, 0.0},
+             {zero_radius, 0.0},
+             {zero_radius, factor},
+             {ring_radius, factor},
              {ring_radius, 1.0}};
   k.validate();
   return k;
@@ -1166,8 +1139,8 @@ LaneKernel LaneKernel::parse(const std::string& text) {
 void LaneKernel::validate() const {
   for (std::size_t i = 0; i < table.size(); ++i) {
     const auto [d, f] = table[i];
-    const std::string where = "kernel pair " + std::to_string(i) + " (" + num(d) + ", " +
-                              num(f) + ")";
+    const std::string where =
+        "kernel pair " + std::to_string(i) + " (" + num(d) + ", " + num(f) + ")";
     if (!std::isfinite(d) || !std::isfinite(f)) throw InvalidArgument(where + ": not finite");
     if (f < 0.0) throw InvalidArgument(where + ": factor must be >= 0");
     if (i == 0 && d != 0.0) throw InvalidArgument(where + ": the first distance must be 0");
@@ -1221,8 +1194,8 @@ PointSet sample_uniform(const Field& field, const UniformOptions& options, std::
   return out;
 }
 
-PointSet sample_stratified(const Field& field, const StratifiedOptions& options,
-                           std::uint64_t seed, Context* ctx, SampleStats* stats) {
+PointSet sample_stratified(const Field& field, const StratifiedOptions& options, std::uint64_t seed,
+                           Context* ctx, SampleStats* stats) {
   StatsScope scope(&field, stats);
   PointSet out;
   const Aabb box = field.bounds();
@@ -1308,8 +1281,7 @@ PointSet sample_poisson(const Field& field, const PoissonOptions& options, std::
   const Region region(field, box, target, kRegionInside, ctx);
   double r = options.min_distance;
   if (r == 0.0 && options.count > 0) {
-    r = 0.75 * std::cbrt(estimate_volume(field, region, target, seed, ctx) /
-                         double(options.count));
+    r = 0.75 * std::cbrt(estimate_volume(field, region, target, seed, ctx) / double(options.count));
   }
   DartSpec spec;
   spec.target = target;
@@ -1415,8 +1387,7 @@ PointSet sample_near_surface(const Field& field, const NearSurfaceOptions& optio
       spec.min_distance = options.min_distance;
       spec.count = options.count;
       spec.max_attempts = attempt_budget(options.max_attempts, options.count);
-      const Region region(field, box, wide_band(target, spec.width), kRegionBand, ctx,
-                          kProjectTop);
+      const Region region(field, box, wide_band(target, spec.width), kRegionBand, ctx, kProjectTop);
       out = run_project(field, region, box, spec, seed, ctx, scope.stats);
     }
   } else if (options.use_lane_grid) {
@@ -1443,13 +1414,12 @@ PointSet sample_near_surface(const Field& field, const NearSurfaceOptions& optio
   return out;
 }
 
-PointSet sample_near_mesh(const TriMesh& mesh, const NearMeshOptions& options,
-                          std::uint64_t seed) {
+PointSet sample_near_mesh(const TriMesh& mesh, const NearMeshOptions& options, std::uint64_t seed) {
   require(std::isfinite(options.min_offset) && std::isfinite(options.max_offset),
           "sample_near_mesh: min_offset and max_offset must be finite");
-  require(options.min_offset <= options.max_offset,
-          "sample_near_mesh: min_offset " + num(options.min_offset) + " > max_offset " +
-              num(options.max_offset));
+  require(options.min_offset <= options.max_offset, "sample_near_mesh: min_offset " +
+                                                        num(options.min_offset) + " > max_offset " +
+                                                        num(options.max_offset));
   const std::size_t nv = mesh.positions.size();
   const bool own_normals = mesh.normals.size() == nv && nv > 0;
   std::vector<double> cdf;
@@ -1558,8 +1528,9 @@ std::vector<std::string> distribution_keys(const std::string& name) {
     return {"count", "width", "interior_density", "min_distance", "max_attempts"};
   }
   if (name == "near_surface") {
-    return {"count", "epsilon", "min_distance", "method", "project_width", "cache",
-            "cache_cell", "cache_tolerance", "lane_grid", "grid", "prune", "max_attempts"};
+    return {"count",         "epsilon", "min_distance", "method",
+            "project_width", "cache",   "cache_cell",   "cache_tolerance",
+            "lane_grid",     "grid",    "prune",        "max_attempts"};
   }
   const std::string hint = closest_key(name, distribution_names());
   std::string msg = "unknown distribution '" + name + "'";
