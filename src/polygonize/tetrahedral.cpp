@@ -3,7 +3,7 @@
 //
 // Skeleton-bounded tetrahedral polygonization after Zhu, Guo & Jin 2013 (`003` §3–5); the
 // header describes the steps. Differences from the paper, and why:
-// - Delaunay tetrahedralization of the bounding point set (Qhull) replaces TetGen (GPL); the
+// - Delaunay tetrahedralization of the bounding point set (delaunay.h) replaces TetGen (GPL); the
 //   region is the set of Delaunay tetrahedra near the skeleton instead of a meshed polyhedron.
 // - Holes are detected and closed (step 5) instead of hoped away with auxiliary points only.
 // - Subdivision skips region tetrahedra whose field bound excludes the iso value.
@@ -23,6 +23,7 @@
 #include <string>
 
 #include "field/bvh.h"
+#include "polygonize/delaunay.h"
 #include "polygonize/edge_roots.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
@@ -31,9 +32,6 @@
 #include "ramiform/mesh/cleanup.h"
 #include "ramiform/mesh/winding.h"
 
-extern "C" {
-#include <libqhull_r/qhull_ra.h>
-}
 
 namespace ramiform {
 namespace {
@@ -77,6 +75,7 @@ void frame(const Vec3& d, Vec3& e1, Vec3& e2) {
 struct PointSetBuilder {
   std::vector<Vec3> points;
   std::vector<double> sizes;  // per point, the local cross-section half size
+  std::vector<std::uint32_t> node_points;  // per skeleton node, its own point
 
   void add(const Vec3& p, double half) {
     points.push_back(p);
@@ -147,6 +146,7 @@ PointSetBuilder bounding_points(const Skeleton& s, const TetrahedralOptions& o) 
   for (std::uint32_t i = 0; i < n; ++i) {
     // Every node is a point of the set: the lattice then samples the inside on the skeleton
     // itself, so even at level 0 or 1 no branch can fall between lattice points.
+    pb.node_points.push_back(static_cast<std::uint32_t>(pb.points.size()));
     pb.add(s.nodes[i].position, half_scale * s.nodes[i].radius);
     if (section[i] == 0) continue;
     const Vec3& p = s.nodes[i].position;
@@ -208,88 +208,6 @@ PointSetBuilder bounding_points(const Skeleton& s, const TetrahedralOptions& o) 
 }
 
 // ---------------------------------------------------------------------------------------------
-// Step 2: Delaunay tetrahedralization through Qhull (reentrant API).
-std::vector<Tet> delaunay(const std::vector<Vec3>& points) {
-  // Centred coordinates: Qhull's precision tolerances scale with the largest coordinate, and
-  // scanned trees come in georeferenced coordinates far from the origin.
-  Aabb box;
-  for (const auto& p : points) box.extend(p);
-  const Vec3 center = box.center();
-  std::vector<coordT> coords(points.size() * 3);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    for (int k = 0; k < 3; ++k) coords[3 * i + k] = points[i][k] - center[k];
-  }
-  char* message = nullptr;
-  std::size_t message_size = 0;
-  FILE* err = open_memstream(&message, &message_size);
-  qhT qh_storage;
-  qhT* qh = &qh_storage;
-  qh_zero(qh, err);
-  char flags[] = "qhull d Qbb Qt";
-  const int code = qh_new_qhull(qh, 3, static_cast<int>(points.size()), coords.data(), False, flags,
-                                nullptr, err);
-  std::vector<Tet> tets;
-  if (code == 0) {
-    facetT* facet = nullptr;
-    vertexT* vertex = nullptr;
-    vertexT** vertexp = nullptr;
-    FORALLfacets {
-      if (facet->upperdelaunay) continue;
-      Tet t{};
-      int k = 0;
-      FOREACHvertex_(facet->vertices) {
-        if (k < 4) t[k] = static_cast<std::uint32_t>(qh_pointid(qh, vertex->point));
-        ++k;
-      }
-      if (k == 4) tets.push_back(t);
-    }
-  }
-  qh_freeqhull(qh, !qh_ALL);
-  int curlong = 0, totlong = 0;
-  qh_memfreeshort(qh, &curlong, &totlong);
-  std::fclose(err);
-  std::string text = message != nullptr ? std::string(message, message_size) : std::string();
-  std::free(message);
-  if (code != 0) throw Failure("tetrahedralization failed (qhull code " + std::to_string(code) + "): " + text.substr(0, 400));
-  // Qhull's facet order depends on its internals only (no threads); sort for a canonical order.
-  for (auto& t : tets) std::sort(t.begin(), t.end());
-  std::sort(tets.begin(), tets.end());
-  return tets;
-}
-
-// Face adjacency: neighbor[4 * t + k] is the tetrahedron across the face opposite vertex k.
-std::vector<std::uint32_t> face_neighbors(const std::vector<Tet>& tets) {
-  struct Face {
-    std::array<std::uint32_t, 3> v;
-    std::uint32_t slot;  // 4 * tet + k
-    bool operator<(const Face& o) const { return v < o.v || (v == o.v && slot < o.slot); }
-  };
-  std::vector<Face> faces;
-  faces.reserve(tets.size() * 4);
-  for (std::uint32_t t = 0; t < tets.size(); ++t) {
-    for (int k = 0; k < 4; ++k) {
-      Face f;
-      int m = 0;
-      for (int j = 0; j < 4; ++j) {
-        if (j != k) f.v[m++] = tets[t][j];
-      }
-      std::sort(f.v.begin(), f.v.end());
-      f.slot = 4 * t + static_cast<std::uint32_t>(k);
-      faces.push_back(f);
-    }
-  }
-  tbb::parallel_sort(faces.begin(), faces.end());
-  std::vector<std::uint32_t> neighbor(tets.size() * 4, kNone);
-  for (std::size_t i = 0; i + 1 < faces.size(); ++i) {
-    if (faces[i].v == faces[i + 1].v) {
-      neighbor[faces[i].slot] = faces[i + 1].slot / 4;
-      neighbor[faces[i + 1].slot] = faces[i].slot / 4;
-      ++i;
-    }
-  }
-  return neighbor;
-}
-
 Aabb box_of(const Vec3& a, const Vec3& b, const Vec3& c) {
   Aabb box;
   box.extend(a);
@@ -314,6 +232,8 @@ double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b, double& t) 
 // Step 3 (first half): tetrahedra near the skeleton, and those holding a node.
 std::vector<char> initial_region(const Skeleton& s, const std::vector<Vec3>& pts,
                                  const std::vector<Tet>& tets, std::size_t real_points,
+                                 const std::vector<std::uint32_t>& neighbor,
+                                 const std::vector<std::uint32_t>& node_points,
                                  const TetrahedralOptions& o, const Context* ctx) {
   const double reach = 0.5 * o.section_scale * std::sqrt(2.0) * 1.05;
   std::vector<Aabb> capsules;
@@ -360,25 +280,36 @@ std::vector<char> initial_region(const Skeleton& s, const std::vector<Vec3>& pts
         }
       },
       ctx);
-  // Every node must lie in a kept tetrahedron.
-  std::vector<Aabb> tet_boxes(tets.size());
-  for (std::size_t t = 0; t < tets.size(); ++t) {
-    tet_boxes[t] = box_of(TetPoints{pts[tets[t][0]], pts[tets[t][1]], pts[tets[t][2]], pts[tets[t][3]]});
+  // Every node must lie in a kept tetrahedron. Its own point (jittered by a thousandth of the
+  // section) is a corner of the tetrahedra around it: keep those, and walk from one of them to
+  // the tetrahedron holding the node's exact position (a visibility walk over face neighbours).
+  std::vector<std::uint32_t> incident(pts.size(), kNone);
+  for (std::uint32_t t = 0; t < tets.size(); ++t) {
+    for (const std::uint32_t v : tets[t]) incident[v] = t;
   }
-  const detail::BoxBvh tet_bvh(std::move(tet_boxes));
-  std::vector<std::uint32_t> ids;
-  for (const auto& node : s.nodes) {
-    ids.clear();
-    tet_bvh.query(Aabb(node.position, node.position), ids);
-    for (const std::uint32_t t : ids) {
-      const Vec3 a = pts[tets[t][0]];
-      Mat3 m;
-      m.col(0) = pts[tets[t][1]] - a;
-      m.col(1) = pts[tets[t][2]] - a;
-      m.col(2) = pts[tets[t][3]] - a;
-      const Vec3 l = m.colPivHouseholderQr().solve(node.position - a);
-      const double eps = 1e-9;
-      if (l.minCoeff() >= -eps && l.sum() <= 1 + eps) keep[t] = 1;
+  std::vector<char> is_node(pts.size(), 0);
+  for (const std::uint32_t i : node_points) is_node[i] = 1;
+  for (std::size_t t = 0; t < tets.size(); ++t) {
+    for (const std::uint32_t v : tets[t]) {
+      if (is_node[v] != 0) keep[t] = 1;
+    }
+  }
+  for (std::size_t i = 0; i < node_points.size(); ++i) {
+    std::uint32_t t = incident[node_points[i]];
+    const Vec3& x = s.nodes[i].position;
+    for (std::size_t step = 0; t != kNone && step < tets.size(); ++step) {
+      int beyond = -1;  // a face with the node strictly on its far side
+      for (int k = 0; k < 4 && beyond < 0; ++k) {
+        TetPoints c{pts[tets[t][0]], pts[tets[t][1]], pts[tets[t][2]], pts[tets[t][3]]};
+        const int inner = detail::orient3d(c[0], c[1], c[2], c[3]);
+        c[k] = x;
+        if (detail::orient3d(c[0], c[1], c[2], c[3]) == -inner) beyond = k;
+      }
+      if (beyond < 0) {
+        keep[t] = 1;
+        break;
+      }
+      t = neighbor[4 * t + static_cast<std::size_t>(beyond)];
     }
   }
   return keep;
@@ -821,14 +752,20 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
   check_cancel(ctx);
 
   // 2. Delaunay tetrahedralization and face adjacency.
-  const std::vector<Tet> tets = delaunay(pts);
-  const std::vector<std::uint32_t> neighbor = face_neighbors(tets);
+  detail::DelaunayResult delaunay = detail::delaunay_tetrahedralize(pts);
+  if (delaunay.duplicate_points > 0) {
+    // The jitter makes every point distinct; equal points mean a skeleton the checks missed.
+    throw Failure("tetrahedral polygonizer: " + std::to_string(delaunay.duplicate_points) +
+                  " bounding points coincide");
+  }
+  const std::vector<Tet> tets = std::move(delaunay.tets);
+  const std::vector<std::uint32_t> neighbor = std::move(delaunay.neighbors);
   st.delaunay_tets = tets.size();
   st.seconds_tetrahedralize = seconds_since(clock);
   check_cancel(ctx);
 
   // 3. Region and hole closing.
-  std::vector<char> keep = initial_region(skeleton, pts, tets, real_points, options, ctx);
+  std::vector<char> keep = initial_region(skeleton, pts, tets, real_points, neighbor, builder.node_points, options, ctx);
   st.region_tets = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), 1));
   std::vector<std::uint32_t> list;
   for (std::uint32_t t = 0; t < tets.size(); ++t) {

@@ -242,8 +242,8 @@ TEST(Tetrahedral, DisjointSkeletonComponentsGiveDisjointMeshComponents) {
 // --- coordinates, determinism, levels ------------------------------------------------------
 
 TEST(Tetrahedral, GeoreferencedMillimetreForkIsClosedAndOriented) {
-  // A fork of 4 mm trunk radius, 5000 km from the origin (UTM-like coordinates): Qhull and the
-  // orientation of the tetrahedra once failed this far out.
+  // A fork of 4 mm trunk radius, 5000 km from the origin (UTM-like coordinates): the Delaunay
+  // tetrahedralization (then Qhull) and the orientation of the tetrahedra once failed this far out.
   const Skeleton local = test::y_fork(0.004);
   const Skeleton far = translated(local, Vec3(5e5, 5e6, 300));
   const FieldPtr local_field = make_skeleton_field(local);

@@ -9,10 +9,10 @@
 ///    `section_scale` x radius at forks, tips and every `station_spacing` radii along chains
 ///    (with its centre); a second square and a cap point beyond every tip; the auxiliary points
 ///    of §5 on both sides of the plane of every pair of branches at a fork.
-/// 2. The points (plus a far bounding box) get a Delaunay tetrahedralization (Qhull, permissive
-///    licence; TetGen and CGAL are GPL/AGPL and not used). The region is the set of tetrahedra
-///    whose centroid lies within the cross-sections' reach of the skeleton, plus those holding a
-///    skeleton node. A Delaunay tetrahedralization is conforming, and so is every subset of it.
+/// 2. The points (plus a far bounding box) get a Delaunay tetrahedralization (ramiform's own
+///    Bowyer-Watson with exact predicates, src/polygonize/delaunay.h; TetGen and CGAL are
+///    GPL/AGPL and not used). The region is the set of tetrahedra whose centroid lies within the
+///    cross-sections' reach of the skeleton, plus those with a skeleton node's point as a corner. A Delaunay tetrahedralization is conforming, and so is every subset of it.
 /// 3. Every region tetrahedron is split 1:8 `levels` times exactly as Figure 4 (corner
 ///    tetrahedra plus the octahedron split along its shortest diagonal), over integer barycentric
 ///    coordinates, so that neighbours compute bit-identical points on their shared faces. A
