@@ -9,11 +9,14 @@
 #include <numeric>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/random.h"
 
 namespace ramiform::detail {
 namespace {
 
 constexpr std::uint32_t kNone = UINT32_MAX;
+constexpr std::uint64_t kInsertionSeed = 0xb410;  // fixed: the output must not vary
+constexpr std::uint32_t kFirstRound = 64;        // points of the first (smallest) round
 constexpr double kEps = std::numeric_limits<double>::epsilon() / 2;  // unit roundoff, 2^-53
 
 // Forward error bounds of the floating-point determinants below, as multiples of the unit
@@ -398,7 +401,11 @@ DelaunayResult delaunay_tetrahedralize(const std::vector<Vec3>& points) {
   for (const Vec3& corner : {Vec3(1, 1, 1), Vec3(1, -1, -1), Vec3(-1, 1, -1), Vec3(-1, -1, 1)}) {
     all.push_back(center + s * corner);
   }
-  // Morton order: consecutive points are close, so each walk is short.
+  // Biased randomized insertion order (Amenta, Choi & Rote 2003): a fixed-seed shuffle cut
+  // into rounds of doubling size, each round in Morton order. Within a round consecutive
+  // points are close, so walks are short; across rounds the order is random, which keeps the
+  // cavities small (measured on the 52 k bounding points of the 1,500-segment benchmark tree:
+  // 20 tetrahedra per cavity instead of 35 with one global Morton order, 30 % less time).
   const Vec3 extent = box.diagonal().cwiseMax(Vec3::Constant(1e-300));
   std::vector<std::uint64_t> code(n);
   for (std::uint32_t i = 0; i < n; ++i) {
@@ -408,9 +415,15 @@ DelaunayResult delaunay_tetrahedralize(const std::vector<Vec3>& points) {
   }
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0U);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return code[a] < code[b] || (code[a] == code[b] && a < b);
-  });
+  Rng rng(kInsertionSeed);
+  for (std::uint32_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.below(i)]);
+  for (std::uint32_t end = n; end > 0;) {
+    const std::uint32_t begin = end > kFirstRound ? end / 2 : 0;
+    std::sort(order.begin() + begin, order.begin() + end, [&](std::uint32_t a, std::uint32_t b) {
+      return code[a] < code[b] || (code[a] == code[b] && a < b);
+    });
+    end = begin;
+  }
   Builder builder(std::move(all));
   builder.start(n, n + 1, n + 2, n + 3);
   for (const std::uint32_t i : order) {

@@ -6,7 +6,8 @@
 /// 3-D Delaunay tetrahedralization by incremental insertion (Bowyer 1981, Watson 1981) with
 /// exact geometric predicates, for the bounding point set of the tetrahedral polygonizer.
 ///
-/// Points are inserted in Morton order inside a large enclosing tetrahedron; each one is
+/// Points are inserted in a biased randomized order (rounds of doubling size, each in Morton
+/// order; fixed seed) inside a large enclosing tetrahedron; each one is
 /// located by a visibility walk from the last tetrahedron made (which terminates on a Delaunay
 /// tetrahedralization for any visiting order, Edelsbrunner 1990), its cavity (the tetrahedra
 /// whose circumsphere holds it strictly) is found by a breadth-first search over face
