@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -18,6 +19,15 @@ namespace {
 
 using Tri = std::array<std::uint32_t, 3>;
 constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr std::uint32_t kNone = UINT32_MAX;  // end of a corner chain
+// Chunk of the parallel scans over triangles and vertices.
+constexpr std::size_t kGrain = 16384;
+// Blocks of the first parallel round are runs of 2^kBlockBits vertex indices. Polygonizers
+// emit triangles cell by cell and number vertices by first use, so such a block is a compact
+// piece of surface and most needles lie inside one.
+constexpr int kBlockBits = 13;
+// The second round's blocks are the cells of a grid with this many cells along each axis.
+constexpr std::size_t kGridCells = 16;
 
 // The sine of the smallest corner angle of the triangle a, b, c (the corner opposite the
 // shortest edge, at most 60 degrees, where the sine is increasing: a cheap stand-in for the
@@ -32,180 +42,279 @@ double min_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c) {
   return cross / std::sqrt(lbc * lca);                                // at c
 }
 
-struct Candidate {
-  double length;
-  std::uint32_t u, v;
-  std::uint32_t tri;
-  bool collapsible;
-};
-
+// Collapses and flips, in blocks that run in parallel. An operation on the needle edge u-v
+// reads and writes only the triangles around u and v and the corner chains of u, v and their
+// neighbours (every vertex of those triangles), and no vertex moves. So operations whose
+// vertices all belong to one block never meet those of another block: a block works through
+// its needles alone, and a needle that reaches a vertex of another block is left for the next
+// round, which splits the mesh differently; the last round is one serial block. Which
+// operations run and in which order depends on the mesh only, never on the threads.
 class Collapser {
  public:
-  Collapser(TriMesh& mesh, const NeedleCleanupOptions& o)
+  Collapser(TriMesh& mesh, const NeedleCleanupOptions& o, const Context* ctx)
       : mesh_(mesh),
+        ctx_(ctx),
         alive_(mesh.triangles.size(), 1),
-        removed_(mesh.positions.size(), 0),
-        offset_(mesh.positions.size() + 1, 0),
-        extra_(mesh.positions.size()),
-        mark_(mesh.positions.size(), 0),
-        moved_(mesh.positions.size(), 0),
+        head_(mesh.positions.size(), kNone),
+        next_(std::make_unique_for_overwrite<std::uint32_t[]>(3 * mesh.triangles.size())),
         touched_(mesh.positions.size(), 0),
         min_angle_(std::sin(o.min_angle_deg * kDeg)),
         max_edge_ratio_(o.max_edge_ratio),
         cos_turn_(std::cos(o.max_normal_turn_deg * kDeg)) {
-    // Vertex -> triangles as one compressed table; triangles that gain a vertex later are
-    // listed in extra_ (empty for almost every vertex).
-    for (const auto& t : mesh.triangles) {
-      for (const std::uint32_t v : t) ++offset_[v + 1];
+    Vec3 high = Vec3::Constant(-INFINITY);
+    for (const Vec3& p : mesh.positions) {
+      low_ = low_.cwiseMin(p);
+      high = high.cwiseMax(p);
     }
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v) offset_[v + 1] += offset_[v];
-    list_.resize(offset_.back());
-    std::vector<std::uint32_t> fill(offset_.begin(), offset_.end() - 1);
-    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
-      for (const std::uint32_t v : mesh.triangles[t]) list_[fill[v]++] = t;
+    for (int i = 0; i < 3; ++i) {
+      cell_scale_[i] =
+          high[i] > low_[i] ? static_cast<double>(kGridCells) / (high[i] - low_[i]) : 0;
+    }
+    // The chains are built serially, but their memory is first touched in parallel: on big
+    // meshes the page faults of a fresh array cost more than the build.
+    parallel::for_chunks(
+        3 * mesh.triangles.size(), kGrain,
+        [&](std::size_t b, std::size_t e) { std::fill(next_.get() + b, next_.get() + e, kNone); },
+        ctx);
+    // Corner c = 3 t + k (vertex k of triangle t) is chained to the next corner of the same
+    // vertex; going backwards leaves every chain ascending.
+    for (std::size_t t = mesh.triangles.size(); t-- > 0;) {
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const std::uint32_t v = mesh.triangles[t][k];
+        const auto c = static_cast<std::uint32_t>(3 * t + k);
+        next_[c] = head_[v];
+        head_[v] = c;
+      }
     }
   }
 
-  // One sweep over the needles' shortest edges; returns the number of collapses.
-  // One sweep over the needles' shortest edges; returns the number of changes. After the first
-  // sweep only needles next to a change of the previous sweep are looked at: the others were
-  // already refused and nothing around them moved.
+  // One sweep over the needles; returns the number of changes. After the first sweep only
+  // needles next to a change of the previous sweep are looked at: the others were already
+  // refused and nothing around them moved.
   std::size_t sweep(bool first) {
-    constexpr std::size_t kGrain = 16384;
     const std::size_t n = mesh_.triangles.size();
-    std::vector<std::vector<Candidate>> parts((n + kGrain - 1) / kGrain);
-    parallel::for_chunks(n, kGrain, [&](std::size_t b, std::size_t e) {
-      auto& out = parts[b / kGrain];
-      for (auto t = static_cast<std::uint32_t>(b); t < e; ++t) {
-        if (alive_[t] == 0) continue;
-        const Tri& f = mesh_.triangles[t];
-        if (!first && touched_[f[0]] == 0 && touched_[f[1]] == 0 && touched_[f[2]] == 0) continue;
-        if (angle_of(f) >= min_angle_) continue;
-        int best = 0;
-        double best_len = INFINITY, longest = 0;
-        for (int k = 0; k < 3; ++k) {
-          const double len = (pos(f[k]) - pos(f[(k + 1) % 3])).norm();
-          if (len < best_len) best_len = len, best = k;
-          longest = std::max(longest, len);
-        }
-        const std::uint32_t a = f[best], c = f[(best + 1) % 3];
-        // A needle proper has one short edge: that one may collapse. A cap's shortest edge is
-        // not short (its other two edges are), and collapsing it would move the surface: it
-        // only gets its longest edge flipped.
-        const bool short_edge = best_len < max_edge_ratio_ * longest;
-        out.push_back({best_len, std::min(a, c), std::max(a, c), t, short_edge});
-      }
-    });
-    // Candidates in triangle order: polygonizers emit triangles cell by cell, so this order
-    // walks the mesh in space and keeps its arrays in cache (shortest-first order jumps
-    // across the whole mesh and made the pass several times slower). Both triangles of an
-    // edge may propose it; the second try finds it gone or refused again.
-    std::vector<Candidate> candidates;
-    for (auto& p : parts) candidates.insert(candidates.end(), p.begin(), p.end());
+    std::vector<std::vector<std::uint32_t>> parts((n + kGrain - 1) / kGrain);
+    parallel::for_chunks(
+        n, kGrain,
+        [&](std::size_t b, std::size_t e) {
+          auto& out = parts[b / kGrain];
+          for (auto t = static_cast<std::uint32_t>(b); t < e; ++t) {
+            if (alive_[t] == 0) continue;
+            const Tri& f = mesh_.triangles[t];
+            if (!first && touched_[f[0]] == 0 && touched_[f[1]] == 0 && touched_[f[2]] == 0) {
+              continue;
+            }
+            if (angle_of(f) < min_angle_) out.push_back(t);
+          }
+        },
+        ctx_);
     std::fill(touched_.begin(), touched_.end(), 0);
+    std::vector<std::uint32_t> needles;
+    for (const auto& p : parts) needles.insert(needles.end(), p.begin(), p.end());
     std::size_t done = 0;
-    for (const Candidate& c : candidates) {
-      if (removed_[c.u] != 0 || removed_[c.v] != 0) continue;
-      if (c.collapsible && try_collapse(c.u, c.v)) {
-        ++done;
-      } else if (alive_[c.tri] != 0 && try_flip(c.tri)) {
-        ++done;
-        ++flipped_edges;
-      }
+    for (const Split split : {Split::kIndex, Split::kSpace, Split::kNone}) {
+      needles = run(needles, split, done);
     }
     return done;
   }
 
-  // Drops dead triangles and unused vertices, keeping the order of the rest.
+  // Drops dead triangles and unused vertices, keeping the order of the rest. In place and
+  // serially: fresh memory for copies costs more than the pass itself.
   void compact() {
-    std::vector<Tri> tris;
-    tris.reserve(mesh_.triangles.size());
+    // A vertex is used exactly when its corner chain is not empty; its new index replaces the
+    // chain head, which is not needed any more.
+    std::vector<std::uint32_t>& remap = head_;
+    const bool with_normals = mesh_.normals.size() == mesh_.positions.size();
+    std::uint32_t kept = 0;
+    for (std::uint32_t v = 0; v < remap.size(); ++v) {
+      if (remap[v] == kNone) continue;
+      mesh_.positions[kept] = mesh_.positions[v];
+      if (with_normals) mesh_.normals[kept] = mesh_.normals[v];
+      remap[v] = kept++;
+    }
+    mesh_.positions.resize(kept);
+    if (with_normals) mesh_.normals.resize(kept);
+    std::size_t alive = 0;
     for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
-      if (alive_[t] != 0) tris.push_back(mesh_.triangles[t]);
+      if (alive_[t] == 0) continue;
+      const Tri& f = mesh_.triangles[t];
+      mesh_.triangles[alive++] = {remap[f[0]], remap[f[1]], remap[f[2]]};
     }
-    std::vector<std::uint32_t> remap(mesh_.positions.size(), UINT32_MAX);
-    for (const auto& t : tris) {
-      for (const std::uint32_t v : t) remap[v] = 0;
-    }
-    std::vector<Vec3> positions;
-    for (std::size_t v = 0; v < mesh_.positions.size(); ++v) {
-      if (remap[v] == 0) {
-        remap[v] = static_cast<std::uint32_t>(positions.size());
-        positions.push_back(mesh_.positions[v]);
-      }
-    }
-    for (auto& t : tris) {
-      for (auto& v : t) v = remap[v];
-    }
-    mesh_.positions = std::move(positions);
-    mesh_.triangles = std::move(tris);
+    mesh_.triangles.resize(alive);
   }
 
   std::size_t removed_triangles = 0;
   std::size_t flipped_edges = 0;
 
  private:
+  // How a round splits the mesh into blocks: by vertex index (runs of 2^kBlockBits indices),
+  // by space (cells of a kGridCells^3 grid over the bounding box, so that the needles next to
+  // index blocks' borders mostly lie inside a cell), or not at all (one serial block).
+  enum class Split { kIndex, kSpace, kNone };
+
+  // One block of a round: what it did, the needles it left for the next round, and scratch
+  // lists reused from needle to needle.
+  struct Block {
+    Split split = Split::kNone;
+    std::size_t id = 0;
+    std::size_t changes = 0, flips = 0, removed = 0;
+    std::vector<std::uint32_t> deferred;
+    std::vector<std::uint32_t> around_u, around_v, neighbours_u, neighbours_v;
+  };
+
+  std::size_t blocks(Split split) const {
+    switch (split) {
+      case Split::kIndex:
+        return (mesh_.positions.size() >> kBlockBits) + 1;
+      case Split::kSpace:
+        return kGridCells * kGridCells * kGridCells;
+      case Split::kNone:
+        break;
+    }
+    return 1;
+  }
+
+  std::size_t block_of(std::uint32_t v, Split split) const {
+    switch (split) {
+      case Split::kIndex:
+        return v >> kBlockBits;
+      case Split::kSpace: {
+        std::size_t cell = 0;  // x varies fastest
+        for (int i = 2; i >= 0; --i) {
+          const double x = (pos(v)[i] - low_[i]) * cell_scale_[i];
+          cell = kGridCells * cell +
+                 std::min(kGridCells - 1, static_cast<std::size_t>(std::max(0.0, x)));
+        }
+        return cell;
+      }
+      case Split::kNone:
+        break;
+    }
+    return 0;
+  }
+
   const Vec3& pos(std::uint32_t v) const { return mesh_.positions[v]; }
   double angle_of(const Tri& f) const { return min_angle_sine(pos(f[0]), pos(f[1]), pos(f[2])); }
-
-  // Alive triangles around v, ascending. The result lives until the next call but one. Once a
-  // vertex has gained triangles, its whole list moves to extra_ and is pruned on every visit,
-  // so lists stay as short as the vertex's current fan.
-  const std::vector<std::uint32_t>& around(std::uint32_t v) {
-    auto& out = scratch_[flip_ ^= 1];
-    out.clear();
-    auto take = [&](std::uint32_t t) {
-      if (alive_[t] != 0 && has(mesh_.triangles[t], v)) out.push_back(t);
-    };
-    if (moved_[v] == 0) {
-      for (std::uint32_t k = offset_[v]; k < offset_[v + 1]; ++k) take(list_[k]);
-    }
-    for (const std::uint32_t t : extra_[v]) take(t);
-    if (moved_[v] != 0 || !extra_[v].empty()) {
-      std::sort(out.begin(), out.end());
-      out.erase(std::unique(out.begin(), out.end()), out.end());
-      extra_[v].assign(out.begin(), out.end());
-      moved_[v] = 1;
-    }
-    return out;
-  }
-
   static bool has(const Tri& f, std::uint32_t v) { return f[0] == v || f[1] == v || f[2] == v; }
+  bool owns(const Block& blk, std::uint32_t v) const { return block_of(v, blk.split) == blk.id; }
 
-  // Number of distinct vertices adjacent to both u and v (stamped marks, no allocation).
-  std::size_t common_neighbours(std::uint32_t u, std::uint32_t v) {
-    stamp_ += 2;
-    const std::uint32_t of_u = stamp_, counted = stamp_ + 1;
-    for (const std::uint32_t t : around(u)) {
-      for (const std::uint32_t w : mesh_.triangles[t]) {
-        if (w != u) mark_[w] = of_u;
-      }
+  // Visits `needles` block by block, the blocks in parallel, each in the order given (triangle
+  // order at first: polygonizers emit triangles cell by cell, so this order walks the block in
+  // space and keeps its arrays in cache; shortest-first order jumps around and made the pass
+  // several times slower). Adds the changes to `done`; returns the needles left over, block by
+  // block. A needle's block is that of its first vertex, read before the blocks start: the
+  // triangle keeps a vertex of that block, so no other block changes it.
+  std::vector<std::uint32_t> run(const std::vector<std::uint32_t>& needles, Split split,
+                                 std::size_t& done) {
+    if (needles.empty()) return {};
+    const std::size_t n_blocks = blocks(split);
+    std::vector<std::size_t> start(n_blocks + 1, 0);
+    for (const std::uint32_t t : needles) ++start[block_of(mesh_.triangles[t][0], split) + 1];
+    for (std::size_t b = 0; b < n_blocks; ++b) start[b + 1] += start[b];
+    std::vector<std::uint32_t> order(needles.size());
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (const std::uint32_t t : needles) order[fill[block_of(mesh_.triangles[t][0], split)]++] = t;
+    std::vector<Block> results(n_blocks);
+    parallel::for_chunks(
+        n_blocks, 1,
+        [&](std::size_t b, std::size_t) {
+          Block& r = results[b];
+          r.split = split;
+          r.id = b;
+          for (std::size_t i = start[b]; i < start[b + 1]; ++i) {
+            if (!visit(order[i], r)) r.deferred.push_back(order[i]);
+          }
+        },
+        ctx_);
+    std::vector<std::uint32_t> left;
+    for (const Block& r : results) {
+      done += r.changes;
+      flipped_edges += r.flips;
+      removed_triangles += r.removed;
+      left.insert(left.end(), r.deferred.begin(), r.deferred.end());
     }
-    std::size_t common = 0;
-    for (const std::uint32_t t : around(v)) {
-      for (const std::uint32_t w : mesh_.triangles[t]) {
-        if (w != v && mark_[w] == of_u) {
-          mark_[w] = counted;
-          ++common;
+    return left;
+  }
+
+  // Collects the triangles around v and its distinct neighbours; false when v or one of them
+  // belongs to another block (then nothing around v may be read).
+  bool gather(std::uint32_t v, const Block& blk, std::vector<std::uint32_t>& around,
+              std::vector<std::uint32_t>& neighbours) const {
+    around.clear();
+    neighbours.clear();
+    if (!owns(blk, v)) return false;
+    for (std::uint32_t c = head_[v]; c != kNone; c = next_[c]) {
+      around.push_back(c / 3);
+      for (const std::uint32_t w : mesh_.triangles[c / 3]) {
+        if (w == v || std::find(neighbours.begin(), neighbours.end(), w) != neighbours.end()) {
+          continue;
         }
+        if (!owns(blk, w)) return false;
+        neighbours.push_back(w);
       }
     }
-    return common;
+    return true;
   }
 
-  bool adjacent(std::uint32_t c, std::uint32_t d) {
-    for (const std::uint32_t t : around(c)) {
-      if (has(mesh_.triangles[t], d)) return true;
+  std::size_t valence(std::uint32_t v) const {  // triangles around v
+    std::size_t n = 0;
+    for (std::uint32_t c = head_[v]; c != kNone; c = next_[c]) ++n;
+    return n;
+  }
+
+  void link(std::uint32_t c) {
+    const std::uint32_t v = mesh_.triangles[c / 3][c % 3];
+    next_[c] = head_[v];
+    head_[v] = c;
+  }
+
+  void unlink(std::uint32_t c) {
+    std::uint32_t* p = &head_[mesh_.triangles[c / 3][c % 3]];
+    while (*p != c) p = &next_[*p];
+    *p = next_[c];
+  }
+
+  // Tries the needle t; false when its neighbourhood reaches another block (t waits for the
+  // serial round). The needle is looked at afresh: operations since the sweep began may have
+  // changed or removed it.
+  bool visit(std::uint32_t t, Block& blk) {
+    if (alive_[t] == 0) return true;
+    const Tri f = mesh_.triangles[t];
+    if (angle_of(f) >= min_angle_) return true;
+    int best = 0;
+    double best_len = INFINITY, longest = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double len = (pos(f[k]) - pos(f[(k + 1) % 3])).norm();
+      if (len < best_len) best_len = len, best = k;
+      longest = std::max(longest, len);
     }
-    return false;
+    const std::uint32_t u = f[best], v = f[(best + 1) % 3];
+    // Every triangle a collapse of u-v or a flip of t's longest edge reads or changes is
+    // around u or v (the flipped edge has u or v as an end), so all their vertices must be
+    // this block's.
+    if (!gather(u, blk, blk.around_u, blk.neighbours_u) ||
+        !gather(v, blk, blk.around_v, blk.neighbours_v)) {
+      return false;
+    }
+    // A needle proper has one short edge: that one may collapse. A cap's shortest edge is
+    // not short (its other two edges are), and collapsing it would move the surface: it only
+    // gets its longest edge flipped.
+    if (best_len < max_edge_ratio_ * longest && try_collapse(u, v, blk)) {
+      ++blk.changes;
+    } else if (try_flip(t)) {
+      ++blk.changes;
+      ++blk.flips;
+    }
+    return true;
   }
 
-  // Quality of removing x into y (y keeps its position): the smallest angle of the changed
-  // triangles, or -1 when the collapse is not allowed.
-  double evaluate(std::uint32_t x, std::uint32_t y, const std::vector<std::uint32_t>& shared) {
+  // Quality of removing x into y (y keeps its position), over the triangles around x: the
+  // smallest angle of the changed triangles, or -1 when the collapse is not allowed.
+  double evaluate(std::uint32_t x, std::uint32_t y, const std::vector<std::uint32_t>& around_x,
+                  const std::array<std::uint32_t, 2>& shared) const {
     double worst_new = INFINITY;
-    for (const std::uint32_t t : around(x)) {
-      if (std::find(shared.begin(), shared.end(), t) != shared.end()) continue;
+    for (const std::uint32_t t : around_x) {
+      if (t == shared[0] || t == shared[1]) continue;
       const Tri& f = mesh_.triangles[t];
       std::array<Vec3, 3> p{pos(f[0]), pos(f[1]), pos(f[2])};
       const Vec3 n0 = (p[1] - p[0]).cross(p[2] - p[0]);
@@ -221,15 +330,18 @@ class Collapser {
     return worst_new;
   }
 
-  bool try_collapse(std::uint32_t u, std::uint32_t v) {
-    std::vector<std::uint32_t> shared;
-    for (const std::uint32_t t : around(u)) {
-      if (has(mesh_.triangles[t], v)) shared.push_back(t);
+  bool try_collapse(std::uint32_t u, std::uint32_t v, Block& blk) {
+    std::array<std::uint32_t, 2> shared{};
+    std::size_t n_shared = 0;
+    for (const std::uint32_t t : blk.around_u) {
+      if (!has(mesh_.triangles[t], v)) continue;
+      if (n_shared == 2) return false;
+      shared[n_shared++] = t;
     }
-    if (shared.size() != 2) return false;
+    if (n_shared != 2) return false;
     // The edge must still belong to a needle.
-    double worst_old = INFINITY;
-    for (const std::uint32_t t : shared) worst_old = std::min(worst_old, angle_of(mesh_.triangles[t]));
+    const double worst_old =
+        std::min(angle_of(mesh_.triangles[shared[0]]), angle_of(mesh_.triangles[shared[1]]));
     if (worst_old >= min_angle_) return false;
     // Link condition: the common neighbours are exactly the two opposite vertices, each of
     // which keeps at least three neighbours.
@@ -240,29 +352,41 @@ class Collapser {
       }
     }
     if (opposite[0] == opposite[1]) return false;
-    if (common_neighbours(u, v) != 2) return false;
+    std::size_t common = 0;
+    for (const std::uint32_t w : blk.neighbours_v) {
+      common +=
+          static_cast<std::size_t>(std::count(blk.neighbours_u.begin(), blk.neighbours_u.end(), w));
+    }
+    if (common != 2) return false;
     for (const std::uint32_t o : opposite) {
-      if (around(o).size() <= 3) return false;  // on a closed manifold: valence = triangles
+      if (valence(o) <= 3) return false;  // on a closed manifold: valence = triangles
     }
     // Keep whichever end point gives the better triangles; they must all beat the needle.
-    const double keep_v = evaluate(u, v, shared);
-    const double keep_u = evaluate(v, u, shared);
+    const double keep_v = evaluate(u, v, blk.around_u, shared);
+    const double keep_u = evaluate(v, u, blk.around_v, shared);
     const bool into_v = keep_v >= keep_u;
     const double best = std::max(keep_v, keep_u);
     if (!(best > worst_old)) return false;
     const std::uint32_t x = into_v ? u : v;  // removed
     const std::uint32_t y = into_v ? v : u;  // kept
-    for (const std::uint32_t t : shared) alive_[t] = 0;
-    removed_triangles += 2;
-    for (const std::uint32_t t : around(x)) {
-      for (auto& w : mesh_.triangles[t]) {
-        if (w == x) w = y;
-      }
-      extra_[y].push_back(t);
+    for (const std::uint32_t t : shared) {
+      alive_[t] = 0;
+      for (std::uint32_t k = 0; k < 3; ++k) unlink(3 * t + k);
     }
-    removed_[x] = 1;
-    for (const std::uint32_t t : around(y)) {
-      for (const std::uint32_t w : mesh_.triangles[t]) touched_[w] = 1;
+    blk.removed += 2;
+    // x's corners become y's: relabel them and put x's chain in front of y's.
+    std::uint32_t last = kNone;
+    for (std::uint32_t c = head_[x]; c != kNone; c = next_[c]) {
+      mesh_.triangles[c / 3][c % 3] = y;
+      last = c;
+    }
+    if (last != kNone) {
+      next_[last] = head_[y];
+      head_[y] = head_[x];
+      head_[x] = kNone;
+    }
+    for (std::uint32_t c = head_[y]; c != kNone; c = next_[c]) {
+      for (const std::uint32_t w : mesh_.triangles[c / 3]) touched_[w] = 1;
     }
     return true;
   }
@@ -279,84 +403,163 @@ class Collapser {
       if (len > longest) longest = len, k = i;
     }
     const std::uint32_t a = f1[k], b = f1[(k + 1) % 3], c = f1[(k + 2) % 3];
-    std::uint32_t t2 = UINT32_MAX;
-    for (const std::uint32_t t : around(a)) {
+    std::uint32_t t2 = kNone;
+    for (std::uint32_t corner = head_[a]; corner != kNone; corner = next_[corner]) {
+      const std::uint32_t t = corner / 3;
       const Tri& f = mesh_.triangles[t];
-      for (int i = 0; i < 3; ++i) {
-        if (t != t1 && f[i] == b && f[(i + 1) % 3] == a) t2 = t;
-      }
+      if (t != t1 && f[(corner + 2) % 3] == b) t2 = t;  // the directed edge b -> a
     }
-    if (t2 == UINT32_MAX) return false;
-    const Tri& f2 = mesh_.triangles[t2];
+    if (t2 == kNone) return false;
+    const Tri f2 = mesh_.triangles[t2];
     std::uint32_t d = f2[0];
     for (const std::uint32_t w : f2) {
       if (w != a && w != b) d = w;
     }
     if (d == c) return false;
-    if (adjacent(c, d)) return false;  // edge c-d exists
+    for (std::uint32_t corner = head_[c]; corner != kNone; corner = next_[corner]) {
+      if (has(mesh_.triangles[corner / 3], d)) return false;  // edge c-d exists
+    }
     const Tri g1{a, d, c}, g2{d, b, c};
     const double old_worst = std::min(angle_of(f1), angle_of(f2));
     const double new_worst = std::min(angle_of(g1), angle_of(g2));
     if (!(new_worst > old_worst)) return false;
-    auto normal = [&](const Tri& f) { return Vec3((pos(f[1]) - pos(f[0])).cross(pos(f[2]) - pos(f[0]))); };
+    auto normal = [&](const Tri& f) {
+      return Vec3((pos(f[1]) - pos(f[0])).cross(pos(f[2]) - pos(f[0])));
+    };
     const Vec3 n_old = normal(f1).normalized() + normal(f2).normalized();
     for (const Tri& g : {g1, g2}) {
       const Vec3 n = normal(g);
       if (!(n.dot(n_old) > cos_turn_ * n.norm() * n_old.norm())) return false;
     }
+    for (const std::uint32_t t : {t1, t2}) {
+      for (std::uint32_t i = 0; i < 3; ++i) unlink(3 * t + i);
+    }
     mesh_.triangles[t1] = g1;
     mesh_.triangles[t2] = g2;
-    extra_[c].push_back(t2);  // a and b lose a triangle: around() filters it out
-    extra_[d].push_back(t1);
+    for (const std::uint32_t t : {t1, t2}) {
+      for (std::uint32_t i = 0; i < 3; ++i) link(3 * t + i);
+    }
     touched_[a] = touched_[b] = touched_[c] = touched_[d] = 1;
     return true;
   }
 
   TriMesh& mesh_;
+  const Context* ctx_;
   std::vector<char> alive_;
-  std::vector<char> removed_;
-  std::vector<std::uint32_t> offset_, list_;
-  std::vector<std::vector<std::uint32_t>> extra_;
-  std::array<std::vector<std::uint32_t>, 2> scratch_;
-  unsigned flip_ = 0;
-  std::vector<std::uint32_t> mark_;
-  std::vector<char> moved_;
+  // Corner chains: head_[v] is v's first corner, next_[c] the next corner of the same vertex
+  // (kNone ends a chain); they list exactly the alive triangles around each vertex.
+  std::vector<std::uint32_t> head_;
+  std::unique_ptr<std::uint32_t[]> next_;
   std::vector<char> touched_;  // vertices next to a change of the current sweep
-  std::uint32_t stamp_ = 0;
-  double min_angle_;  // as a sine, see min_angle_sine()
+  double min_angle_;           // as a sine, see min_angle_sine()
   double max_edge_ratio_;
   double cos_turn_;
+  Vec3 low_ = Vec3::Constant(INFINITY);  // the grid of Split::kSpace: its low corner
+  Vec3 cell_scale_ = Vec3::Zero();       // and cells per unit length along each axis
 };
+
+// Angle statistics without an atan2 per corner: the angles are ranked by a pseudo-angle (a
+// monotone function of the angle computed from its sine and cosine scaled alike), counted in
+// buckets of it, and only the corners in the buckets around the median get their exact angle.
+constexpr std::size_t kAngleBuckets = 4096;
+constexpr std::size_t kAngleGrain = 65536;  // triangles per histogram
+
+// 0 at 0 degrees, 1 at 90, 2 at 180; s >= 0. Matches atan2(s, c) at the ends, -0 included.
+double pseudo_angle(double s, double c) {
+  const double sum = s + std::abs(c);
+  if (!(sum > 0)) return std::signbit(c) ? 2.0 : 0.0;
+  return std::signbit(c) ? 2.0 - s / sum : s / sum;
+}
+
+std::size_t angle_bucket(double pseudo) {
+  return std::min(kAngleBuckets - 1, static_cast<std::size_t>(pseudo * (0.5 * kAngleBuckets)));
+}
+
+// Calls fn(s, c) for the three corners of triangle i, with the angle's sine and cosine times
+// the same factor, so that atan2(s, c) is the angle.
+template <class Fn>
+void for_corners(const TriMesh& mesh, std::size_t i, Fn&& fn) {
+  const auto& t = mesh.triangles[i];
+  const Vec3& a = mesh.positions[t[0]];
+  const Vec3& p = mesh.positions[t[1]];
+  const Vec3& c = mesh.positions[t[2]];
+  const Vec3 ab = p - a, bc = c - p, ca = a - c;
+  const double cross = ab.cross(-ca).norm();
+  fn(cross, ab.dot(-ca));
+  fn(cross, bc.dot(-ab));
+  fn(cross, ca.dot(-bc));
+}
 
 }  // namespace
 
-AngleSummary angle_summary(const TriMesh& mesh) {
+AngleSummary angle_summary(const TriMesh& mesh, const Context* ctx) {
   AngleSummary s;
-  if (mesh.triangles.empty()) return s;
-  std::vector<double> angles(3 * mesh.triangles.size());
-  parallel::for_chunks(mesh.triangles.size(), 16384, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      const auto& t = mesh.triangles[i];
-      const Vec3& a = mesh.positions[t[0]];
-      const Vec3& p = mesh.positions[t[1]];
-      const Vec3& c = mesh.positions[t[2]];
-      const Vec3 ab = p - a, bc = c - p, ca = a - c;
-      const double cross = ab.cross(-ca).norm();
-      angles[3 * i] = std::atan2(cross, ab.dot(-ca)) / kDeg;
-      angles[3 * i + 1] = std::atan2(cross, bc.dot(-ab)) / kDeg;
-      angles[3 * i + 2] = std::atan2(cross, ca.dot(-bc)) / kDeg;
-    }
-  });
-  s.min_deg = *std::min_element(angles.begin(), angles.end());
-  // The median as check_mesh() reports it: the mean of the two middle values for an even count.
-  auto mid = angles.begin() + static_cast<std::ptrdiff_t>(angles.size() / 2);
+  const std::size_t nt = mesh.triangles.size();
+  if (nt == 0) return s;
+  struct Part {
+    std::vector<std::uint32_t> count;
+    double min_pseudo = INFINITY;
+    double min_deg = 0;
+  };
+  std::vector<Part> parts((nt + kAngleGrain - 1) / kAngleGrain);
+  parallel::for_chunks(
+      nt, kAngleGrain,
+      [&](std::size_t b, std::size_t e) {
+        Part& part = parts[b / kAngleGrain];
+        part.count.assign(kAngleBuckets, 0);
+        for (std::size_t i = b; i < e; ++i) {
+          for_corners(mesh, i, [&](double sine, double cosine) {
+            const double q = pseudo_angle(sine, cosine);
+            ++part.count[angle_bucket(q)];
+            if (q < part.min_pseudo) {
+              part.min_pseudo = q;
+              part.min_deg = std::atan2(sine, cosine) / kDeg;
+            }
+          });
+        }
+      },
+      ctx);
+  std::vector<std::size_t> count(kAngleBuckets, 0);
+  double min_pseudo = INFINITY;
+  for (const Part& part : parts) {
+    for (std::size_t k = 0; k < kAngleBuckets; ++k) count[k] += part.count[k];
+    if (part.min_pseudo < min_pseudo) min_pseudo = part.min_pseudo, s.min_deg = part.min_deg;
+  }
+  // The median as check_mesh() reports it: the mean of the two middle values for an even
+  // count. The exact angles of the buckets holding them and of one bucket either side (the
+  // pseudo-angle and atan2 may round apart at a bucket's edge) settle it.
+  const std::size_t n = 3 * nt;
+  const std::size_t upper = n / 2, lower = n % 2 == 0 ? upper - 1 : upper;
+  std::size_t first = 0, below = 0;
+  while (below + count[first] <= lower) below += count[first++];
+  std::size_t last = first, through = below;
+  while (through + count[last] <= upper) through += count[last++];
+  if (first > 0) below -= count[--first];
+  last = std::min(last + 1, kAngleBuckets - 1);
+  std::vector<std::vector<double>> window(parts.size());
+  parallel::for_chunks(
+      nt, kAngleGrain,
+      [&](std::size_t b, std::size_t e) {
+        auto& out = window[b / kAngleGrain];
+        for (std::size_t i = b; i < e; ++i) {
+          for_corners(mesh, i, [&](double sine, double cosine) {
+            const std::size_t k = angle_bucket(pseudo_angle(sine, cosine));
+            if (k >= first && k <= last) out.push_back(std::atan2(sine, cosine) / kDeg);
+          });
+        }
+      },
+      ctx);
+  std::vector<double> angles;
+  for (const auto& w : window) angles.insert(angles.end(), w.begin(), w.end());
+  auto mid = angles.begin() + static_cast<std::ptrdiff_t>(upper - below);
   std::nth_element(angles.begin(), mid, angles.end());
   s.median_deg = *mid;
-  if (angles.size() % 2 == 0) s.median_deg = 0.5 * (s.median_deg + *std::max_element(angles.begin(), mid));
+  if (lower != upper) s.median_deg = 0.5 * (s.median_deg + *std::max_element(angles.begin(), mid));
   return s;
 }
 
-void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& o, NeedleCleanupStats* stats) {
+void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& o, NeedleCleanupStats* stats,
+                   const Context* ctx) {
   if (!(o.min_angle_deg > 0 && o.min_angle_deg < 60)) {
     throw InvalidArgument("NeedleCleanupOptions.min_angle_deg must be in (0, 60), got " +
                           std::to_string(o.min_angle_deg));
@@ -370,11 +573,14 @@ void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& o, NeedleCleanupSt
     throw InvalidArgument("NeedleCleanupOptions.max_edge_ratio must be in (0, 1), got " +
                           std::to_string(o.max_edge_ratio));
   }
+  check_cancel(ctx);
+  // Only the thread count is passed on: a cancellation half way would leave a broken mesh.
+  const Context threads(ctx != nullptr ? ctx->threads() : 0);
   NeedleCleanupStats st;
-  const AngleSummary before = angle_summary(mesh);
+  const AngleSummary before = angle_summary(mesh, &threads);
   st.min_angle_before = before.min_deg;
   st.median_angle_before = before.median_deg;
-  Collapser c(mesh, o);
+  Collapser c(mesh, o, &threads);
   for (int pass = 0; pass < o.passes; ++pass) {
     const std::size_t n = c.sweep(pass == 0);
     st.collapsed_edges += n;
@@ -384,7 +590,7 @@ void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& o, NeedleCleanupSt
   st.flipped_edges = c.flipped_edges;
   c.compact();
   if (o.measure_after) {
-    const AngleSummary after = angle_summary(mesh);
+    const AngleSummary after = angle_summary(mesh, &threads);
     st.min_angle_after = after.min_deg;
     st.median_angle_after = after.median_deg;
   }

@@ -10,8 +10,10 @@
 #include <algorithm>
 #include <set>
 #include <tuple>
+#include <vector>
 
 #include "mesh/test_meshes.h"
+#include "ramiform/core/context.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/mesh/cleanup.h"
@@ -34,6 +36,24 @@ TriMesh with_needles(TriMesh m, double eps, std::size_t stride) {
     m.triangles.push_back({c, a, v});
   }
   return m;
+}
+
+// Numbers the vertices by first use, as the polygonizers do: consecutive vertex indices are
+// then a compact piece of surface, which is what clean_needles() splits into parallel blocks.
+TriMesh renumbered_by_first_use(const TriMesh& m) {
+  std::vector<std::uint32_t> remap(m.positions.size(), UINT32_MAX);
+  TriMesh out;
+  for (auto t : m.triangles) {
+    for (auto& v : t) {
+      if (remap[v] == UINT32_MAX) {
+        remap[v] = static_cast<std::uint32_t>(out.positions.size());
+        out.positions.push_back(m.positions[v]);
+      }
+      v = remap[v];
+    }
+    out.triangles.push_back(t);
+  }
+  return out;
 }
 
 std::set<std::tuple<double, double, double>> position_set(const TriMesh& m) {
@@ -83,6 +103,75 @@ TEST(NeedleCleanup, IsDeterministicAndLeavesGoodMeshesAlone) {
   TriMesh tet = with_needles(test::tetrahedron(), 1e-3, 4);
   clean_needles(tet);
   test::expect_closed_surface(tet, 1, 2);
+}
+
+TEST(NeedleCleanup, SameResultOnAnyThreadCount) {
+  // Some 60k vertices: several blocks of the parallel pass, with needles inside blocks and on
+  // their borders (left to the serial pass). Both a sphere and a torus, in one mesh.
+  const TriMesh needles = renumbered_by_first_use(
+      test::merged(with_needles(test::icosphere(6), 1e-4, 2),
+                   with_needles(test::torus(4.0, 1.0, 120, 40), 1e-3, 3)));
+  ASSERT_GT(needles.vertex_count(), 50000U);
+  test::expect_closed_surface(needles, 2, 2);
+  TriMesh reference = needles;
+  NeedleCleanupStats ref_st;
+  const Context serial(1);
+  clean_needles(reference, {}, &ref_st, &serial);
+  test::expect_closed_surface(reference, 2, 2);
+  EXPECT_GT(ref_st.collapsed_edges, 0U);
+  EXPECT_LT(ref_st.min_angle_before, 0.1);
+  EXPECT_GT(ref_st.min_angle_after, 10.0) << "every planted needle is removable";
+  for (const int threads : {2, 3, 8, 0}) {
+    SCOPED_TRACE(testing::Message() << "threads " << threads);
+    TriMesh m = needles;
+    NeedleCleanupStats st;
+    const Context ctx(threads);
+    clean_needles(m, {}, &st, &ctx);
+    EXPECT_EQ(m.positions, reference.positions);
+    EXPECT_EQ(m.triangles, reference.triangles);
+    EXPECT_EQ(st.collapsed_edges, ref_st.collapsed_edges);
+    EXPECT_EQ(st.flipped_edges, ref_st.flipped_edges);
+    EXPECT_EQ(st.removed_triangles, ref_st.removed_triangles);
+    EXPECT_EQ(st.min_angle_after, ref_st.min_angle_after);
+    EXPECT_EQ(st.median_angle_after, ref_st.median_angle_after);
+  }
+}
+
+TEST(NeedleCleanup, AngleSummaryMatchesCheckMesh) {
+  // Odd and even corner counts (the median of an even count is the mean of the middle two),
+  // needles, and a regular mesh with many equal angles.
+  for (const TriMesh& m : {with_needles(test::icosphere(4), 1e-5, 3), test::torus(2.0, 0.6, 41, 17),
+                           test::torus(2.0, 0.6, 40, 16), test::unit_cube()}) {
+    const MeshReport r = check_mesh(m);
+    const AngleSummary s = angle_summary(m);
+    const Context serial(1);
+    const AngleSummary one = angle_summary(m, &serial);
+    EXPECT_NEAR(s.min_deg, r.min_angle_deg, 1e-12 * std::max(1.0, r.min_angle_deg));
+    EXPECT_NEAR(s.median_deg, r.median_angle_deg, 1e-12 * r.median_angle_deg);
+    EXPECT_EQ(one.min_deg, s.min_deg);
+    EXPECT_EQ(one.median_deg, s.median_deg);
+  }
+  EXPECT_EQ(angle_summary(TriMesh{}).median_deg, 0.0);
+}
+
+TEST(NeedleCleanup, NormalsFollowTheirVertices) {
+  TriMesh m = with_needles(test::icosphere(3), 1e-4, 2);
+  for (const Vec3& p : m.positions) m.normals.push_back(p.normalized());
+  clean_needles(m);
+  ASSERT_EQ(m.normals.size(), m.positions.size());
+  for (std::size_t v = 0; v < m.positions.size(); ++v) {
+    EXPECT_EQ(m.normals[v], m.positions[v].normalized()) << "vertex " << v;
+  }
+}
+
+TEST(NeedleCleanup, CancelledContextThrowsBeforeChanging) {
+  const TriMesh needles = with_needles(test::icosphere(2), 1e-4, 2);
+  TriMesh m = needles;
+  Context ctx;
+  ctx.cancel();
+  EXPECT_THROW(clean_needles(m, {}, nullptr, &ctx), Cancelled);
+  EXPECT_EQ(m.positions, needles.positions);
+  EXPECT_EQ(m.triangles, needles.triangles);
 }
 
 TEST(NeedleCleanup, BadOptionsThrow) {

@@ -6,8 +6,8 @@
 /// Needle cleanup for polygonizer output. Marching tetrahedra (and marching cubes) make long,
 /// narrow triangles wherever the surface passes close to a grid corner: the vertices on the
 /// edges around that corner crowd together (Zhu, Guo & Jin, `003` §6, name this their method's
-/// weakness). clean_needles() collapses the short edges of such triangles, one at a time and
-/// only where the collapse keeps the mesh a closed, consistently oriented 2-manifold:
+/// weakness). clean_needles() collapses the short edges of such triangles, each collapse on its
+/// own and only where it keeps the mesh a closed, consistently oriented 2-manifold:
 /// - link condition: the end points share exactly the two vertices opposite the edge, and
 ///   neither of those is left with fewer than three neighbours;
 /// - no fold: no surviving triangle turns its normal by more than `max_normal_turn_deg` or
@@ -16,11 +16,19 @@
 /// A needle whose short edge may not collapse (a cap, with one angle near 180 degrees) has its
 /// longest edge flipped instead when that improves the smallest angle of the two triangles.
 /// The kept end point stays where it was (a vertex already on the surface), so the surface is
-/// not moved off the iso-surface. Candidates are visited in triangle order (polygonizers emit
-/// triangles cell by cell, so this walks the mesh in space), and the result is deterministic.
+/// not moved off the iso-surface.
+///
+/// Each sweep runs in rounds of blocks. The first round's blocks are runs of consecutive vertex
+/// indices (polygonizers emit triangles cell by cell and number vertices by first use, so such a
+/// run is a compact piece of surface), the second round's the cells of a coarse grid, and the
+/// last round is the whole mesh. The blocks of a round run in parallel, each visiting its
+/// needles in triangle order and taking only those whose end points and their neighbours all
+/// lie in the block (such collapses and flips touch nothing outside it); the rest wait for the
+/// next round. The result depends only on the mesh and the options, never on the thread count.
 
 #include <cstddef>
 
+#include "ramiform/core/context.h"
 #include "ramiform/mesh/trimesh.h"
 
 namespace ramiform {
@@ -35,8 +43,8 @@ struct NeedleCleanupOptions {
   /// (in (0, 1)); other needles (caps) can only have their longest edge flipped.
   double max_edge_ratio = 0.35;
   int passes = 3;  ///< sweeps over the candidates (>= 1); later sweeps catch new needles
-  /// Also measure the angles afterwards (stats min/median_angle_after; costs a pass of atan2
-  /// over the whole mesh, which callers that check the mesh anyway can skip).
+  /// Also measure the angles afterwards (stats min/median_angle_after; costs two passes over
+  /// the whole mesh, which callers that check the mesh anyway can skip).
   bool measure_after = true;
 };
 
@@ -49,15 +57,17 @@ struct NeedleCleanupStats {
   double min_angle_after = 0, median_angle_after = 0;    ///< degrees (if measure_after)
 };
 
-/// Smallest and median corner angle of a mesh, degrees (0, 0 for an empty mesh).
+/// Smallest and median corner angle of a mesh, degrees (0, 0 for an empty mesh). The median is
+/// check_mesh()'s: the mean of the two middle angles for an even count.
 struct AngleSummary {
   double min_deg = 0, median_deg = 0;
 };
-[[nodiscard]] AngleSummary angle_summary(const TriMesh& mesh);
+[[nodiscard]] AngleSummary angle_summary(const TriMesh& mesh, const Context* ctx = nullptr);
 
 /// Collapses needle edges of `mesh` in place (see the file comment); unused vertices are
-/// removed and the rest keep their relative order.
+/// removed and the rest keep their relative order (with their normals, if the mesh has them).
+/// `ctx` gives the thread count; cancellation is checked only before the mesh is changed.
 void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& options = {},
-                   NeedleCleanupStats* stats = nullptr);
+                   NeedleCleanupStats* stats = nullptr, const Context* ctx = nullptr);
 
 }  // namespace ramiform
