@@ -3,11 +3,16 @@
 //
 // Marching cubes: cells per second on a 200-segment branching tree (Cauchy convolution surface) at
 // growing resolutions, with bound-based block skipping (the default); the tetrahedral
-// polygonizer: triangles per second on 200- and 1000-segment trees at levels 2 and 3.
+// polygonizer: triangles per second on 200- and 1000-segment trees at levels 2 and 3; its
+// Delaunay tetrahedralization: points per second on uniform random points.
 // bench/compare_polygonizers.sh compares the two methods on bigger and real trees.
 
 #include <benchmark/benchmark.h>
 
+#include <vector>
+
+#include "polygonize/delaunay.h"
+#include "ramiform/core/random.h"
 #include "ramiform/field/skeleton_field.h"
 #include "ramiform/polygonize/marching_cubes.h"
 #include "ramiform/polygonize/tetrahedral.h"
@@ -53,8 +58,21 @@ void BM_Tetrahedral(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(triangles);
 }
 
+// The Delaunay tetrahedralization (Bowyer-Watson, exact predicates) of N uniform random points
+// in the unit cube.
+void BM_Delaunay(benchmark::State& state) {
+  Rng rng(1);
+  std::vector<Vec3> points(static_cast<std::size_t>(state.range(0)));
+  for (auto& p : points) p = Vec3(rng.uniform(), rng.uniform(), rng.uniform());
+  std::size_t tets = 0;
+  for (auto _ : state) tets = detail::delaunay_tetrahedralize(points).tets.size();
+  state.SetItemsProcessed(state.iterations() * state.range(0));
+  state.counters["tets"] = static_cast<double>(tets);
+}
+
 }  // namespace
 
+BENCHMARK(BM_Delaunay)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Tetrahedral)->ArgsProduct({{200, 1000}, {2, 3}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MarchingCubes)->Arg(64)->Arg(128)->Arg(256)->Arg(512)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/mesh_indices.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/core/tolerances.h"
@@ -60,7 +61,9 @@ class Collapser {
         touched_(mesh.positions.size(), 0),
         min_angle_(std::sin(o.min_angle_deg * kDeg)),
         max_edge_ratio_(o.max_edge_ratio),
-        cos_turn_(std::cos(o.max_normal_turn_deg * kDeg)) {
+        cos_turn_(std::cos(o.max_normal_turn_deg * kDeg)),
+        keep_(o.keep_sides.begin(), o.keep_sides.end()) {
+    std::sort(keep_.begin(), keep_.end(), [](const Vec3& a, const Vec3& b) { return a.x() < b.x(); });
     Vec3 high = Vec3::Constant(-INFINITY);
     for (const Vec3& p : mesh.positions) {
       low_ = low_.cwiseMin(p);
@@ -160,6 +163,7 @@ class Collapser {
     std::size_t changes = 0, flips = 0, removed = 0;
     std::vector<std::uint32_t> deferred;
     std::vector<std::uint32_t> around_u, around_v, neighbours_u, neighbours_v;
+    std::vector<Tri> before, after;  // scratch of the keep_sides test
   };
 
   std::size_t blocks(Split split) const {
@@ -330,6 +334,33 @@ class Collapser {
     return worst_new;
   }
 
+  // Whether replacing the triangles `before` by `after` (same boundary) would move a keep_sides
+  // point across the surface: its winding number with respect to the closed surface `before`
+  // plus `after` reversed is +-1 (Jacobson et al. 2013 solid angles) instead of 0. Only points
+  // in the box of `before`'s corners can be swept.
+  template <class Before, class After>
+  bool sweeps_kept_point(const Before& before, const After& after) const {
+    if (keep_.empty()) return false;
+    Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+    for (const Tri& f : before) {
+      for (const std::uint32_t w : f) {
+        lo = lo.cwiseMin(pos(w));
+        hi = hi.cwiseMax(pos(w));
+      }
+    }
+    auto first = std::lower_bound(keep_.begin(), keep_.end(), lo.x(),
+                                  [](const Vec3& p, double x) { return p.x() < x; });
+    for (auto it = first; it != keep_.end() && it->x() <= hi.x(); ++it) {
+      const Vec3& p = *it;
+      if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
+      double w = 0;
+      for (const Tri& f : before) w += detail::solid_angle_fraction(pos(f[0]) - p, pos(f[1]) - p, pos(f[2]) - p);
+      for (const Tri& f : after) w -= detail::solid_angle_fraction(pos(f[0]) - p, pos(f[1]) - p, pos(f[2]) - p);
+      if (std::abs(w) > 0.5) return true;
+    }
+    return false;
+  }
+
   bool try_collapse(std::uint32_t u, std::uint32_t v, Block& blk) {
     std::array<std::uint32_t, 2> shared{};
     std::size_t n_shared = 0;
@@ -369,6 +400,20 @@ class Collapser {
     if (!(best > worst_old)) return false;
     const std::uint32_t x = into_v ? u : v;  // removed
     const std::uint32_t y = into_v ? v : u;  // kept
+    if (!keep_.empty()) {
+      std::vector<Tri>& before = blk.before;
+      std::vector<Tri>& after = blk.after;
+      before.clear();
+      after.clear();
+      for (const std::uint32_t t : into_v ? blk.around_u : blk.around_v) {
+        before.push_back(mesh_.triangles[t]);
+        if (t == shared[0] || t == shared[1]) continue;
+        Tri g = mesh_.triangles[t];
+        for (auto& w : g) w = w == x ? y : w;
+        after.push_back(g);
+      }
+      if (sweeps_kept_point(before, after)) return false;
+    }
     for (const std::uint32_t t : shared) {
       alive_[t] = 0;
       for (std::uint32_t k = 0; k < 3; ++k) unlink(3 * t + k);
@@ -423,6 +468,7 @@ class Collapser {
     const double old_worst = std::min(angle_of(f1), angle_of(f2));
     const double new_worst = std::min(angle_of(g1), angle_of(g2));
     if (!(new_worst > old_worst)) return false;
+    if (sweeps_kept_point(std::array<Tri, 2>{f1, f2}, std::array<Tri, 2>{g1, g2})) return false;
     auto normal = [&](const Tri& f) {
       return Vec3((pos(f[1]) - pos(f[0])).cross(pos(f[2]) - pos(f[0])));
     };
@@ -456,6 +502,7 @@ class Collapser {
   double cos_turn_;
   Vec3 low_ = Vec3::Constant(INFINITY);  // the grid of Split::kSpace: its low corner
   Vec3 cell_scale_ = Vec3::Zero();       // and cells per unit length along each axis
+  std::vector<Vec3> keep_;               // options.keep_sides, sorted by x
 };
 
 // Angle statistics without an atan2 per corner: the angles are ranked by a pseudo-angle (a

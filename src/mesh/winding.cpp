@@ -16,18 +16,7 @@ namespace ramiform {
 namespace {
 
 constexpr double kInv4Pi = 0.25 / std::numbers::pi;
-
-/// Signed solid angle of triangle (a, b, c) seen from the origin, over 4 pi (van Oosterom and
-/// Strackee 1983): positive when the triangle is counter-clockwise seen from the origin's side
-/// opposite its normal, i.e. the origin is behind it.
-inline double solid_angle_fraction(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const double la = a.norm();
-  const double lb = b.norm();
-  const double lc = c.norm();
-  const double num = a.dot(b.cross(c));
-  const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-  return 2.0 * std::atan2(num, den) * kInv4Pi;
-}
+using detail::solid_angle_fraction;
 
 }  // namespace
 

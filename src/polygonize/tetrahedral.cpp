@@ -1105,7 +1105,13 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
     NeedleCleanupStats cs;
     NeedleCleanupOptions co;
     co.measure_after = false;  // the caller's mesh check measures the result
-    clean_needles(mesh, co, &cs);
+    // No collapse or flip may move a skeleton node out of the mesh (coarse levels make thin
+    // tubes of few triangles, where a collapse can cut across the axis).
+    std::vector<Vec3> nodes;
+    nodes.reserve(skeleton.nodes.size());
+    for (const auto& n : skeleton.nodes) nodes.push_back(n.position);
+    co.keep_sides = nodes;
+    clean_needles(mesh, co, &cs, ctx);
     st.collapsed_edges = cs.collapsed_edges;
     st.min_angle_before = cs.min_angle_before;
     st.median_angle_before = cs.median_angle_before;

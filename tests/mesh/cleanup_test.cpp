@@ -17,6 +17,7 @@
 #include "ramiform/core/errors.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/mesh/cleanup.h"
+#include "ramiform/mesh/winding.h"
 #include "support/mesh_checkers.h"
 
 namespace ramiform {
@@ -185,6 +186,47 @@ TEST(NeedleCleanup, BadOptionsThrow) {
     set(o);
     EXPECT_THROW(clean_needles(m, o), InvalidArgument);
   }
+}
+
+// Needles on small bumps: every 4th triangle of a sphere gets a split point near its first
+// corner lifted outward by h, so the split is a flat tent and collapsing the needle's short edge
+// removes it. A point inside each tent is inside the mesh before the cleanup; as keep_sides it
+// must still be inside after, and without keep_sides most of them fall out (the test can fail).
+TEST(NeedleCleanup, KeepSidesPointsStayInside) {
+  TriMesh m = test::icosphere(3);
+  std::vector<Vec3> inside_tents;
+  const std::size_t n = m.triangles.size();
+  const double eps = 1e-3;
+  for (std::size_t t = 0; t < n; t += 4) {
+    const auto [a, b, c] = m.triangles[t];
+    const Vec3 pa = m.positions[a], pb = m.positions[b], pc = m.positions[c];
+    const Vec3 normal = (pb - pa).cross(pc - pa).normalized();
+    const Vec3 base = (1 - 2 * eps) * pa + eps * pb + eps * pc;
+    const Vec3 tip = base + 1e-3 * (pb - pa).norm() * normal;
+    const auto v = static_cast<std::uint32_t>(m.positions.size());
+    m.positions.push_back(tip);
+    m.triangles[t] = {a, b, v};
+    m.triangles.push_back({b, c, v});
+    m.triangles.push_back({c, a, v});
+    inside_tents.push_back(0.5 * (base + tip));
+  }
+  test::expect_closed_surface(m, 1, 2);
+  for (const char in : points_inside(m, inside_tents)) ASSERT_EQ(in, 1);
+
+  TriMesh guarded = m;
+  NeedleCleanupOptions o;
+  o.keep_sides = inside_tents;
+  NeedleCleanupStats st;
+  clean_needles(guarded, o, &st);
+  test::expect_closed_surface(guarded, 1, 2);
+  const std::vector<char> kept = points_inside(guarded, inside_tents);
+  EXPECT_EQ(std::count(kept.begin(), kept.end(), 1), static_cast<long>(inside_tents.size()));
+
+  TriMesh free = m;
+  clean_needles(free);
+  test::expect_closed_surface(free, 1, 2);
+  const std::vector<char> lost = points_inside(free, inside_tents);
+  EXPECT_GT(std::count(lost.begin(), lost.end(), 0), static_cast<long>(inside_tents.size() / 2));
 }
 
 }  // namespace

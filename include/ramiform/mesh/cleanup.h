@@ -27,6 +27,7 @@
 /// next round. The result depends only on the mesh and the options, never on the thread count.
 
 #include <cstddef>
+#include <span>
 
 #include "ramiform/core/context.h"
 #include "ramiform/mesh/trimesh.h"
@@ -46,6 +47,11 @@ struct NeedleCleanupOptions {
   /// Also measure the angles afterwards (stats min/median_angle_after; costs two passes over
   /// the whole mesh, which callers that check the mesh anyway can skip).
   bool measure_after = true;
+  /// Points that must stay on their side of the surface (the tetrahedral polygonizer passes the
+  /// skeleton's nodes). A change is refused when one of them lies in the region swept between
+  /// the old and the new triangles: the closed surface they form together has a winding
+  /// number of +-1 there, and the mesh's winding number at the point would change by it.
+  std::span<const Vec3> keep_sides;
 };
 
 /// What clean_needles() did, with the angle quality before and after.
