@@ -8,6 +8,8 @@
 #include <limits>
 #include <numeric>
 
+#include <tbb/parallel_sort.h>
+
 #include "ramiform/core/errors.h"
 #include "ramiform/core/random.h"
 
@@ -151,6 +153,13 @@ class Builder {
 
   // The enclosing tetrahedron's corners are the last four points.
   void start(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+    // A Delaunay tetrahedralization of n points in general position has about 6.7 n
+    // tetrahedra; reserving them avoids regrowing (and page-faulting) the arrays.
+    const std::size_t expected = 7 * p_.size() + 64;
+    v_.reserve(expected);
+    n_.reserve(expected);
+    cavity_stamp_.reserve(expected);
+    outside_stamp_.reserve(expected);
     Tet t{a, b, c, d};
     if (orient3d(p_[a], p_[b], p_[c], p_[d]) < 0) std::swap(t[0], t[1]);
     v_.push_back(t);
@@ -259,7 +268,7 @@ class Builder {
       for (int k = 0; k < 4; ++k) sorted[t][k] = v_[t][c[k]];
       kept.push_back(t);
     }
-    std::sort(kept.begin(), kept.end(), [&](std::uint32_t a, std::uint32_t b) { return sorted[a] < sorted[b]; });
+    tbb::parallel_sort(kept.begin(), kept.end(), [&](std::uint32_t a, std::uint32_t b) { return sorted[a] < sorted[b]; });
     std::vector<std::uint32_t> renumber(v_.size(), kNone);
     for (std::uint32_t q = 0; q < kept.size(); ++q) renumber[kept[q]] = q;
     out.tets.resize(kept.size());

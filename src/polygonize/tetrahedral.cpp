@@ -9,6 +9,8 @@
 // - Subdivision skips region tetrahedra whose field bound excludes the iso value.
 // - The skeleton's own points join the bounding set, so that the lattice samples the inside
 //   even at levels 0 and 1.
+// - The field is evaluated once per distinct lattice point (the paper evaluates per region
+//   tetrahedron), and the needle cleanup the paper lacks keeps every skeleton node inside.
 
 #include "ramiform/polygonize/tetrahedral.h"
 

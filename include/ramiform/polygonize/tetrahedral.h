@@ -12,22 +12,25 @@
 /// 2. The points (plus a far bounding box) get a Delaunay tetrahedralization (ramiform's own
 ///    Bowyer-Watson with exact predicates, src/polygonize/delaunay.h; TetGen and CGAL are
 ///    GPL/AGPL and not used). The region is the set of tetrahedra whose centroid lies within the
-///    cross-sections' reach of the skeleton, plus those with a skeleton node's point as a corner. A Delaunay tetrahedralization is conforming, and so is every subset of it.
+///    cross-sections' reach of the skeleton, plus those with a skeleton node's point as a
+///    corner and the one holding each node. A Delaunay tetrahedralization is conforming, and so
+///    is every subset of it.
 /// 3. Every region tetrahedron is split 1:8 `levels` times exactly as Figure 4 (corner
 ///    tetrahedra plus the octahedron split along its shortest diagonal), over integer barycentric
 ///    coordinates, so that neighbours compute bit-identical points on their shared faces. A
 ///    region tetrahedron whose field bound excludes the iso value is skipped whole (levels >= 4;
 ///    below, the bound costs more than the lattice it could save).
-/// 4. Per chunk of region tetrahedra (the paper's data-parallel kernels, here tasks on CPU
-///    threads): the field at the lattice points in one batch, marching tetrahedra per leaf,
-///    crossing edges keyed by their exact end points; then one global dedupe, vertices placed by
-///    root finding along their edge, quads split along the shorter diagonal.
+/// 4. The field once per distinct lattice point (neighbours share the points on their common
+///    corners, edges and faces; one parallel batch per round). Per chunk of region tetrahedra
+///    (the paper's data-parallel kernels, here tasks on CPU threads): marching tetrahedra per
+///    leaf, crossing edges keyed by the global ids of their end points; then one global dedupe,
+///    vertices placed by root finding along their edge, quads split along the shorter diagonal.
 /// 5. Holes are verified, not hoped away: a region-boundary face with an inside lattice point
 ///    gets the tetrahedron behind it added and extracted, round after round, until no boundary
 ///    face has one; the mesh is then closed by construction (`holes_left` reports the growth
 ///    limit or the far box being reached).
-/// 6. Needle cleanup (mesh/cleanup.h) and removal of small components that enclose no skeleton
-///    node.
+/// 6. Needle cleanup (mesh/cleanup.h; no change may move a skeleton node across the surface)
+///    and removal of small components that enclose no skeleton node.
 ///
 /// The result is watertight, consistently oriented (orientation is decided in barycentric
 /// space, so slivers cannot flip it) and 2-manifold; every step is deterministic, so equal
