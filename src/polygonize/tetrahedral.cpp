@@ -594,6 +594,7 @@ class Lattice {
   [[nodiscard]] const Vec3& position(std::uint32_t id) const { return positions_[id]; }
   [[nodiscard]] double value(std::uint32_t id) const { return values_[id]; }
   [[nodiscard]] std::size_t slots() const { return slot_tet_.size(); }
+  [[nodiscard]] std::size_t size() const { return values_.size(); }
   [[nodiscard]] std::size_t evaluated() const { return evaluated_; }
 
  private:
@@ -1046,28 +1047,38 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
   }
   st.seconds_subdivide = seconds_since(clock);
 
-  // Unique crossing edges: sort the records (pairs of global lattice ids), one mesh vertex per
-  // distinct pair.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> order(records.size());
-  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = {records[i], i};
-  records = {};
-  tbb::parallel_sort(order.begin(), order.end());
-  std::vector<std::uint32_t> vertex_of(order.size());
+  // Unique crossing edges, one mesh vertex per distinct pair of global lattice ids, numbered in
+  // (inside id, outside id) order: the records are bucketed by their inside id (a counting
+  // sort, linear in the records), then each small bucket is ordered by the outside id.
+  std::vector<std::uint32_t> bucket_start(lattice.size() + 1, 0);
+  for (const std::uint64_t r : records) ++bucket_start[(r >> 32U) + 1];
+  for (std::size_t i = 1; i < bucket_start.size(); ++i) bucket_start[i] += bucket_start[i - 1];
+  std::vector<std::uint32_t> by_inside(records.size());
+  {
+    std::vector<std::uint32_t> cursor(bucket_start.begin(), bucket_start.end() - 1);
+    for (std::uint32_t i = 0; i < records.size(); ++i) by_inside[cursor[records[i] >> 32U]++] = i;
+  }
+  std::vector<std::uint32_t> vertex_of(records.size());
   std::vector<Vec3> ea, eb;
   std::vector<double> fa, fb;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const std::uint64_t key = order[k].first;
-    if (k == 0 || order[k - 1].first != key) {
-      const auto in = static_cast<std::uint32_t>(key >> 32U);
-      const auto out = static_cast<std::uint32_t>(key & 0xffffffffU);
-      ea.push_back(lattice.position(in));
-      eb.push_back(lattice.position(out));
-      fa.push_back(lattice.value(in));
-      fb.push_back(lattice.value(out));
+  for (std::size_t in = 0; in + 1 < bucket_start.size(); ++in) {
+    const auto first = by_inside.begin() + bucket_start[in];
+    const auto last = by_inside.begin() + bucket_start[in + 1];
+    if (first == last) continue;
+    std::sort(first, last, [&](std::uint32_t x, std::uint32_t y) { return records[x] < records[y] || (records[x] == records[y] && x < y); });
+    for (auto it = first; it != last; ++it) {
+      if (it == first || records[*it] != records[*(it - 1)]) {
+        const auto out = static_cast<std::uint32_t>(records[*it] & 0xffffffffU);
+        ea.push_back(lattice.position(static_cast<std::uint32_t>(in)));
+        eb.push_back(lattice.position(out));
+        fa.push_back(lattice.value(static_cast<std::uint32_t>(in)));
+        fb.push_back(lattice.value(out));
+      }
+      vertex_of[*it] = static_cast<std::uint32_t>(ea.size() - 1);
     }
-    vertex_of[order[k].second] = static_cast<std::uint32_t>(ea.size() - 1);
   }
-  order = {};
+  records = {};
+  by_inside = {};
   TriMesh mesh;
   mesh.positions = detail::find_edge_roots(field, ea, eb, std::move(fa), std::move(fb),
                                            options.root_steps, st.root_evaluations);
