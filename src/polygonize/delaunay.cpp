@@ -143,7 +143,7 @@ std::array<Expansion, 3> minus_exact(const Vec3& a, const Vec3& b) {
 int sign_of(double x) { return (x > 0) - (x < 0); }
 
 // ---------------------------------------------------------------------------------------------
-// The incremental construction. Tetrahedra are positively oriented; n_[t][k] is the tetrahedron
+// The incremental construction. Tetrahedra are positively oriented; t_[t].n[k] is the tetrahedron
 // across the face opposite corner k (kNone outside the enclosing tetrahedron).
 using Tet = std::array<std::uint32_t, 4>;
 
@@ -156,46 +156,40 @@ class Builder {
     // A Delaunay tetrahedralization of n points in general position has about 6.7 n
     // tetrahedra; reserving them avoids regrowing (and page-faulting) the arrays.
     const std::size_t expected = 7 * p_.size() + 64;
-    v_.reserve(expected);
-    n_.reserve(expected);
-    cavity_stamp_.reserve(expected);
-    outside_stamp_.reserve(expected);
+    t_.reserve(expected);
     Tet t{a, b, c, d};
     if (orient3d(p_[a], p_[b], p_[c], p_[d]) < 0) std::swap(t[0], t[1]);
-    v_.push_back(t);
-    n_.push_back({kNone, kNone, kNone, kNone});
-    cavity_stamp_.push_back(0);
-    outside_stamp_.push_back(0);
+    t_.push_back({t, {kNone, kNone, kNone, kNone}, 0});
   }
 
   // Inserts point i; false when it equals a vertex already there.
   bool insert(std::uint32_t i) {
     const Vec3& p = p_[i];
     const std::uint32_t t = locate(p);
-    for (const std::uint32_t c : v_[t]) {
+    for (const std::uint32_t c : t_[t].v) {
       if (p_[c] == p) return false;
     }
     ++stamp_;
     cavity_.assign(1, t);
-    cavity_stamp_[t] = stamp_;
+    t_[t].mark = in_cavity();
     boundary_.clear();
     for (std::size_t q = 0; q < cavity_.size(); ++q) {
       const std::uint32_t c = cavity_[q];
       for (int k = 0; k < 4; ++k) {
-        const std::uint32_t nb = n_[c][k];
-        if (nb != kNone && cavity_stamp_[nb] == stamp_) continue;
-        if (nb != kNone && outside_stamp_[nb] != stamp_) {
+        const std::uint32_t nb = t_[c].n[k];
+        if (nb != kNone && t_[nb].mark == in_cavity()) continue;
+        if (nb != kNone && t_[nb].mark != outside_cavity()) {
           if (in_sphere(nb, p)) {
-            cavity_stamp_[nb] = stamp_;
+            t_[nb].mark = in_cavity();
             cavity_.push_back(nb);
             continue;
           }
-          outside_stamp_[nb] = stamp_;
+          t_[nb].mark = outside_cavity();
         }
         int back = -1;  // the face of nb that faces c
         if (nb != kNone) {
           for (int j = 0; j < 4; ++j) {
-            if (n_[nb][j] == c) back = j;
+            if (t_[nb].n[j] == c) back = j;
           }
         }
         boundary_.push_back({c, k, nb, back});
@@ -205,7 +199,7 @@ class Builder {
     // cavity tetrahedron) gets p in place of that corner, which keeps the orientation.
     fresh_.clear();
     for (const Face& f : boundary_) {
-      Tet tv = v_[f.tet];
+      Tet tv = t_[f.tet].v;
       tv[f.k] = i;
       fresh_.push_back(tv);
     }
@@ -220,10 +214,10 @@ class Builder {
     for (std::size_t q = 0; q < boundary_.size(); ++q) {
       const Face& f = boundary_[q];
       const std::uint32_t s = allocate();
-      v_[s] = fresh_[q];
-      n_[s] = {kNone, kNone, kNone, kNone};
-      n_[s][f.k] = f.nb;
-      if (f.nb != kNone) n_[f.nb][f.back] = s;
+      t_[s].v = fresh_[q];
+      t_[s].n = {kNone, kNone, kNone, kNone};
+      t_[s].n[f.k] = f.nb;
+      if (f.nb != kNone) t_[f.nb].n[f.back] = s;
       for (int j = 0; j < 4; ++j) {
         if (j == f.k) continue;
         std::uint32_t e[2];  // the face opposite j: p and the corners other than j and k
@@ -236,8 +230,8 @@ class Builder {
         while (table_[h].stamp == stamp_ && table_[h].key != key) h = (h + 1) & mask;
         Slot& slot = table_[h];
         if (slot.stamp == stamp_) {
-          n_[s][j] = slot.tet;
-          n_[slot.tet][slot.face] = s;
+          t_[s].n[j] = slot.tet;
+          t_[slot.tet].n[slot.face] = s;
           ++matched;
         } else {
           slot = {key, stamp_, s, j};
@@ -254,22 +248,22 @@ class Builder {
   // The live tetrahedra whose corners are all below `limit`, in the result's canonical form
   // (corners ascending, list sorted), with their face neighbours renumbered to match.
   void finish(std::uint32_t limit, DelaunayResult& out) const {
-    std::vector<char> dead(v_.size(), 0);
+    std::vector<char> dead(t_.size(), 0);
     for (const std::uint32_t f : free_) dead[f] = 1;
-    std::vector<Tet> sorted(v_.size());
-    std::vector<std::array<std::uint8_t, 4>> corner(v_.size());  // sorted position -> corner
+    std::vector<Tet> sorted(t_.size());
+    std::vector<std::array<std::uint8_t, 4>> corner(t_.size());  // sorted position -> corner
     std::vector<std::uint32_t> kept;
-    for (std::uint32_t t = 0; t < v_.size(); ++t) {
+    for (std::uint32_t t = 0; t < t_.size(); ++t) {
       if (dead[t] != 0) continue;
       std::array<std::uint8_t, 4> c{0, 1, 2, 3};
-      std::sort(c.begin(), c.end(), [&](std::uint8_t a, std::uint8_t b) { return v_[t][a] < v_[t][b]; });
-      if (v_[t][c[3]] >= limit) continue;
+      std::sort(c.begin(), c.end(), [&](std::uint8_t a, std::uint8_t b) { return t_[t].v[a] < t_[t].v[b]; });
+      if (t_[t].v[c[3]] >= limit) continue;
       corner[t] = c;
-      for (int k = 0; k < 4; ++k) sorted[t][k] = v_[t][c[k]];
+      for (int k = 0; k < 4; ++k) sorted[t][k] = t_[t].v[c[k]];
       kept.push_back(t);
     }
     tbb::parallel_sort(kept.begin(), kept.end(), [&](std::uint32_t a, std::uint32_t b) { return sorted[a] < sorted[b]; });
-    std::vector<std::uint32_t> renumber(v_.size(), kNone);
+    std::vector<std::uint32_t> renumber(t_.size(), kNone);
     for (std::uint32_t q = 0; q < kept.size(); ++q) renumber[kept[q]] = q;
     out.tets.resize(kept.size());
     out.neighbors.resize(4 * kept.size());
@@ -277,7 +271,7 @@ class Builder {
       const std::uint32_t t = kept[q];
       out.tets[q] = sorted[t];
       for (int k = 0; k < 4; ++k) {
-        const std::uint32_t nb = n_[t][corner[t][k]];
+        const std::uint32_t nb = t_[t].n[corner[t][k]];
         out.neighbors[4 * q + k] = nb == kNone ? kNone : renumber[nb];
       }
     }
@@ -303,15 +297,12 @@ class Builder {
       free_.pop_back();
       return s;
     }
-    v_.emplace_back();
-    n_.emplace_back();
-    cavity_stamp_.push_back(0);
-    outside_stamp_.push_back(0);
-    return static_cast<std::uint32_t>(v_.size() - 1);
+    t_.emplace_back();
+    return static_cast<std::uint32_t>(t_.size() - 1);
   }
 
   [[nodiscard]] bool in_sphere(std::uint32_t t, const Vec3& p) const {
-    const Tet& c = v_[t];
+    const Tet& c = t_[t].v;
     return insphere(p_[c[0]], p_[c[1]], p_[c[2]], p_[c[3]], p) > 0;
   }
 
@@ -325,9 +316,9 @@ class Builder {
       ++rotation_;
       for (int j = 0; j < 4 && !moved; ++j) {
         const int k = static_cast<int>((rotation_ + static_cast<unsigned>(j)) & 3U);
-        const std::uint32_t nb = n_[t][k];
+        const std::uint32_t nb = t_[t].n[k];
         if (nb == prev || nb == kNone) continue;
-        std::array<const Vec3*, 4> q{&p_[v_[t][0]], &p_[v_[t][1]], &p_[v_[t][2]], &p_[v_[t][3]]};
+        std::array<const Vec3*, 4> q{&p_[t_[t].v[0]], &p_[t_[t].v[1]], &p_[t_[t].v[2]], &p_[t_[t].v[3]]};
         q[k] = &p;
         if (orient3d(*q[0], *q[1], *q[2], *q[3]) < 0) {
           prev = t;
@@ -340,8 +331,18 @@ class Builder {
   }
 
   std::vector<Vec3> p_;
-  std::vector<Tet> v_, n_;
-  std::vector<std::uint32_t> cavity_stamp_, outside_stamp_, free_;
+  // Per tetrahedron: corners, face neighbours (n[k] across the face opposite corner k, kNone
+  // outside the enclosing tetrahedron) and the cavity search's mark, together in memory: the
+  // search visits them in no spatial order, so one cache line per tetrahedron matters.
+  struct Cell {
+    Tet v{};
+    Tet n{};
+    std::uint32_t mark = 0;  // 2 stamp: in the current cavity; 2 stamp + 1: tested, outside
+  };
+  [[nodiscard]] std::uint32_t in_cavity() const { return 2 * stamp_; }
+  [[nodiscard]] std::uint32_t outside_cavity() const { return 2 * stamp_ + 1; }
+  std::vector<Cell> t_;
+  std::vector<std::uint32_t> free_;
   std::uint32_t last_ = 0, stamp_ = 0;
   unsigned rotation_ = 0;
   std::vector<std::uint32_t> cavity_;
