@@ -7,6 +7,7 @@
 #include <limits>
 #include <utility>
 
+#include "ramiform/core/parallel.h"
 #include "ramiform/core/tolerances.h"
 
 namespace ramiform::detail {
@@ -15,6 +16,7 @@ namespace {
 // Field values below this fraction of iso count as this fraction in the transforms below (a
 // finite, very negative g: only its sign matters there).
 constexpr double kFloor = 1e-300;
+constexpr std::size_t kGrain = 8192;  // edges per parallel task
 
 double damping(double g_new, double g_old) {
   const double m = 1 - g_new / g_old;
@@ -70,14 +72,15 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
   std::vector<char> transformed(n, 0);
   auto g_of = [&](std::size_t e, double f) {
     if (transformed[e] == 0) return f - iso;
-    return 1.0 - std::pow(std::max(f, kFloor * iso) / iso, -2.0 / 3.0);
+    const double c = std::cbrt(std::max(f, kFloor * iso) / iso);
+    return 1.0 - 1.0 / (c * c);
   };
   std::vector<double> ta(n, 0.0), tb(n, 1.0), t(n, 0.0);
-  for (std::size_t e = 0; e < n; ++e) {
+  parallel::for_each(n, kGrain, [&](std::size_t e) {
     transformed[e] = use_transform && fa[e] > 0 && fb[e] > 0 ? 1 : 0;
     fa[e] = g_of(e, fa[e]);
     fb[e] = g_of(e, fb[e]);
-  }
+  });
   // Undamped values at the bracket's ends, and the point replaced last (NaN: none yet).
   std::vector<double> ga(fa), gb(fb);
   std::vector<double> tc(n, 0.0), gc(n, std::numeric_limits<double>::quiet_NaN());
@@ -104,30 +107,36 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
   for (std::size_t e = 0; e < n; ++e) active[e] = static_cast<std::uint32_t>(e);
   std::vector<Vec3> points;
   std::vector<double> values;
+  // Every round: drop the converged edges, propose a point per edge, evaluate them in one
+  // batch, update each bracket; the per-edge work runs in parallel (it is independent per edge
+  // and as costly as the evaluations' bookkeeping), the compactions serially.
+  std::vector<char> done(n, 0);
   for (int step = 0; step < steps && !active.empty(); ++step) {
-    points.clear();
     std::size_t keep = 0;
     for (const std::uint32_t e : active) {
-      if (tb[e] - ta[e] <= tol::kRootFinding) continue;  // converged
+      if (tb[e] - ta[e] > tol::kRootFinding) active[keep++] = e;
+    }
+    active.resize(keep);
+    if (active.empty()) break;
+    points.resize(active.size());
+    parallel::for_each(active.size(), kGrain, [&](std::size_t q) {
+      const std::uint32_t e = active[q];
       double s = propose(e, step);
       // Safeguard: a step that hugs an end of the bracket becomes a bisection step.
       if (!(s > ta[e] && s < tb[e])) s = 0.5 * (ta[e] + tb[e]);
       t[e] = s;
-      points.push_back(a[e] + s * d[e]);
-      active[keep++] = e;
-    }
-    active.resize(keep);
-    if (points.empty()) break;
+      points[q] = a[e] + s * d[e];
+    });
     values.resize(points.size());
     field.evaluate(points, values);
     evaluations += points.size();
-    keep = 0;
-    for (std::size_t q = 0; q < active.size(); ++q) {
+    parallel::for_each(active.size(), kGrain, [&](std::size_t q) {
       const std::uint32_t e = active[q];
       if (std::isnan(values[q]) || std::abs(values[q] - iso) <= tol::kRootValue * std::abs(iso)) {
         ta[e] = tb[e] = t[e];  // on the surface
         fa[e] = fb[e] = 0.0;
-        continue;
+        done[e] = 1;
+        return;
       }
       const double g = g_of(e, values[q]);
       if ((g > 0.0) == (fa[e] > 0.0)) {
@@ -145,15 +154,18 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
         fb[e] = gb[e] = g;
         last_side[e] = 1;
       }
-      active[keep++] = e;
+    });
+    keep = 0;
+    for (const std::uint32_t e : active) {
+      if (done[e] == 0) active[keep++] = e;
     }
     active.resize(keep);
   }
   std::vector<Vec3> out(n);
-  for (std::size_t e = 0; e < n; ++e) {
+  parallel::for_each(n, kGrain, [&](std::size_t e) {
     const double s = ta[e] == tb[e] ? ta[e] : secant(e);
     out[e] = a[e] + s * d[e];
-  }
+  });
   return out;
 }
 
