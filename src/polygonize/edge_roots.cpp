@@ -70,16 +70,19 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
   // with Anderson-Björck on log f alone, 6.2 with Illinois on f - iso.
   const bool use_transform = steps > 0 && iso > 0;
   std::vector<char> transformed(n, 0);
+  std::vector<double> ta(n, 0.0), tb(n, 1.0), t(n, 0.0);
   auto g_of = [&](std::size_t e, double f) {
     if (transformed[e] == 0) return f - iso;
     const double c = std::cbrt(std::max(f, kFloor * iso) / iso);
     return 1.0 - 1.0 / (c * c);
   };
-  std::vector<double> ta(n, 0.0), tb(n, 1.0), t(n, 0.0);
   parallel::for_each(n, kGrain, [&](std::size_t e) {
     transformed[e] = use_transform && fa[e] > 0 && fb[e] > 0 ? 1 : 0;
     fa[e] = g_of(e, fa[e]);
     fb[e] = g_of(e, fb[e]);
+    // An end exactly on the surface is the root (the sign test below needs g != 0 at a).
+    if (fa[e] == 0) tb[e] = 0.0;
+    if (fb[e] == 0) ta[e] = 1.0;
   });
   // Undamped values at the bracket's ends, and the point replaced last (NaN: none yet).
   std::vector<double> ga(fa), gb(fb);
