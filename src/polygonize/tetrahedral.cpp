@@ -591,6 +591,16 @@ class Lattice {
     return inner_first_[slot] + inner_rank_[(w[1] * side_ + w[2]) * side_ + w[3]];
   }
 
+  // Whether every lattice point of the tetrahedron t in slot `slot` lies on one side of the
+  // iso value (`inside` says which): then no leaf of it holds a piece of the surface.
+  [[nodiscard]] bool one_sided(std::size_t slot, const Tet& t, double iso, bool& inside) const {
+    inside = values_[id(slot, t, all_bary_[0])] > iso;
+    for (const Bary& w : all_bary_) {
+      if ((values_[id(slot, t, w)] > iso) != inside) return false;
+    }
+    return true;
+  }
+
   [[nodiscard]] const Vec3& position(std::uint32_t id) const { return positions_[id]; }
   [[nodiscard]] double value(std::uint32_t id) const { return values_[id]; }
   [[nodiscard]] std::size_t slots() const { return slot_tet_.size(); }
@@ -628,6 +638,14 @@ class Lattice {
         }
       }
     }
+    for (int a = 0; a <= m_; ++a) {
+      for (int b = 0; a + b <= m_; ++b) {
+        for (int c = 0; a + b + c <= m_; ++c) {
+          all_bary_.push_back({static_cast<std::uint8_t>(m_ - a - b - c), static_cast<std::uint8_t>(a),
+                               static_cast<std::uint8_t>(b), static_cast<std::uint8_t>(c)});
+        }
+      }
+    }
     inner_rank_.assign(side_ * side_ * side_, 0);
     for (int a = 1; a < m_; ++a) {
       for (int b = 1; a + b < m_; ++b) {
@@ -649,6 +667,7 @@ class Lattice {
   std::array<std::vector<Bary>, 4> face_bary_;
   std::vector<std::uint32_t> face_rank_, inner_rank_;
   std::vector<Bary> inner_bary_;
+  std::vector<Bary> all_bary_;  // every lattice point of a tetrahedron
   std::vector<std::uint32_t> vertex_;     // per point id, its corner's global id
   std::vector<std::uint32_t> slot_of_;    // per tetrahedron, its slot if extracted
   std::vector<std::uint32_t> slot_tet_;   // per slot, its tetrahedron
@@ -732,6 +751,12 @@ void extract_chunk(const Field& field, const std::vector<Vec3>& pts, const std::
       continue;
     }
     const Tet& t = tets[region[r]];
+    // A tetrahedron whose lattice points all lie on one side holds no surface: only its faces'
+    // inside flags matter (all or none), and its leaves need not be built.
+    if (bool inside = false; lattice.one_sided(first_slot + r, t, iso, inside)) {
+      if (inside) out.face_inside[r - begin] = 0xF;
+      continue;
+    }
     const TetPoints c{pts[t[0]], pts[t[1]], pts[t[2]], pts[t[3]]};
     live_slot.push_back(r - begin);
     live_flip.push_back((c[1] - c[0]).cross(c[2] - c[0]).dot(c[3] - c[0]) < 0 ? 1 : 0);

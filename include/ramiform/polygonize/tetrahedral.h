@@ -69,7 +69,8 @@ struct TetrahedralStats {
   int growth_rounds = 0;              ///< rounds of hole fixing
   bool holes_left = false;            ///< true when hole fixing hit max_growth_rounds or the hull
   std::size_t skipped_tets = 0;       ///< region tetrahedra whose bound excludes the surface
-  std::size_t leaf_tets = 0;          ///< leaf tetrahedra marched (8^levels per live one)
+  std::size_t leaf_tets = 0;          ///< leaf tetrahedra marched (8^levels per region tetrahedron
+                                      ///< with lattice points on both sides)
   std::size_t vertices_evaluated = 0; ///< distinct lattice points evaluated (each once)
   std::size_t crossing_edges = 0;     ///< mesh vertices
   std::uint64_t root_evaluations = 0; ///< evaluations spent placing vertices
