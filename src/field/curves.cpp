@@ -277,31 +277,23 @@ void validate(const Curve2& curve) {
 }
 void validate(const Curve3& curve) { validate_points<Vec3>(curve.kind, curve.points, false, "3-D curve"); }
 
-Vec3 curve_point(const Curve3& curve, double t) {
+namespace {
+
+// A checked evaluation of a curve (or of its derivative of `order`) at t.
+template <class Curve>
+auto checked_eval(const Curve& curve, double t, int order) {
   validate(curve);
   check_t(t);
-  return eval_of(curve).eval(t, 0);
+  return eval_of(curve).eval(t, order);
 }
-Vec2 curve_point(const Curve2& curve, double t) {
-  validate(curve);
-  check_t(t);
-  return eval_of(curve).eval(t, 0);
-}
-Vec3 curve_derivative(const Curve3& curve, double t) {
-  validate(curve);
-  check_t(t);
-  return eval_of(curve).eval(t, 1);
-}
-Vec2 curve_derivative(const Curve2& curve, double t) {
-  validate(curve);
-  check_t(t);
-  return eval_of(curve).eval(t, 1);
-}
-Vec3 curve_second_derivative(const Curve3& curve, double t) {
-  validate(curve);
-  check_t(t);
-  return eval_of(curve).eval(t, 2);
-}
+
+}  // namespace
+
+Vec3 curve_point(const Curve3& curve, double t) { return checked_eval(curve, t, 0); }
+Vec2 curve_point(const Curve2& curve, double t) { return checked_eval(curve, t, 0); }
+Vec3 curve_derivative(const Curve3& curve, double t) { return checked_eval(curve, t, 1); }
+Vec2 curve_derivative(const Curve2& curve, double t) { return checked_eval(curve, t, 1); }
+Vec3 curve_second_derivative(const Curve3& curve, double t) { return checked_eval(curve, t, 2); }
 
 FlattenedCurve3 flatten_with_parameters(const Curve3& curve, double tolerance) {
   validate(curve);

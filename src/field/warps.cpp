@@ -516,27 +516,26 @@ Vec3 taper_inverse(const Vec3& p, const TaperOptions& options) {
   return q;
 }
 
-Vec3 twist_forward(const Vec3& p, const TwistOptions& options) {
+namespace {
+
+// The twist's rotation about its axis at p's height, by the angle times `sign` (+1: the
+// forward map, -1: its inverse).
+Vec3 twist_by(const Vec3& p, const TwistOptions& options, double sign) {
   if (options.rate == 0) return p;
   const int t = options.axis, u = (t + 1) % 3, v = (t + 2) % 3;
   const double theta = options.rate * (p[t] - options.origin);
-  const double c = std::cos(theta), s = std::sin(theta);
+  const double c = std::cos(theta), s = sign * std::sin(theta);
   Vec3 q = p;
   q[u] = c * p[u] - s * p[v];
   q[v] = s * p[u] + c * p[v];
   return q;
 }
 
-Vec3 twist_inverse(const Vec3& p, const TwistOptions& options) {
-  if (options.rate == 0) return p;
-  const int t = options.axis, u = (t + 1) % 3, v = (t + 2) % 3;
-  const double theta = options.rate * (p[t] - options.origin);
-  const double c = std::cos(theta), s = std::sin(theta);
-  Vec3 q = p;
-  q[u] = c * p[u] + s * p[v];
-  q[v] = -s * p[u] + c * p[v];
-  return q;
-}
+}  // namespace
+
+Vec3 twist_forward(const Vec3& p, const TwistOptions& options) { return twist_by(p, options, 1.0); }
+
+Vec3 twist_inverse(const Vec3& p, const TwistOptions& options) { return twist_by(p, options, -1.0); }
 
 Vec3 bend_forward(const Vec3& p, const BendOptions& options) {
   if (options.rate == 0) return p;
