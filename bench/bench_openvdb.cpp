@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
 //
-// ramiform_bench_openvdb SKELETON VOXEL [HALF_WIDTH=3] [--out MESH]
+// ramiform_bench_openvdb SKELETON VOXEL [HALF_WIDTH=3] [--out MESH] [--tets LEVELS]
 //
 // The OpenVDB pipeline people use instead of ramiform, measured and checked the way we check our
 // own meshes: the union of the skeleton's round cones (each edge the convex hull of its two node
@@ -28,6 +28,13 @@
 // the mesh stage sees the same input; only the level_set seconds measure our rasterizer instead of
 // OpenVDB's scanline one. The JSON field "level_set_method" says which one ran.
 //
+// With --tets LEVELS, ramiform's tetrahedral polygonizer (default options, convolution surface,
+// as `ramiform mesh SKELETON --levels LEVELS`) runs on the skeleton instead, under the same
+// protocol and with the same checks (VOXEL is then ignored). Run each pipeline in its own process:
+// "first_total" is then a cold run, which on a VM can be twice the warm "total" (first-touch
+// page faults measured at 0.35 GB/s on the benchmark machine; a later run reuses the freed
+// pages). Both run with the allocator settings of the `ramiform` command.
+//
 // OpenVDB (MPL-2.0 in 10.x, Apache-2.0 in newer releases) is linked into this benchmark only,
 // never into the ramiform library.
 
@@ -45,6 +52,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -57,11 +66,13 @@
 #include <string>
 #include <vector>
 
+#include "ramiform/field/skeleton_field.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/mesh/trimesh.h"
 #include "ramiform/mesh/winding.h"
+#include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/skeleton/skeleton.h"
 
 namespace {
@@ -322,13 +333,69 @@ ramiform::TriMesh to_trimesh(const VdbMesh& m) {
 
 int usage() {
   std::fprintf(stderr,
-               "usage: ramiform_bench_openvdb SKELETON VOXEL [HALF_WIDTH=3] [--out MESH]\n"
+               "usage: ramiform_bench_openvdb SKELETON VOXEL [HALF_WIDTH=3] [--out MESH] [--tets N]\n"
                "  SKELETON    skeleton file (.json, .ply, or a cylinder model; see "
                "docs/formats.md)\n"
                "  VOXEL       voxel size in model units (> 0)\n"
                "  HALF_WIDTH  narrow-band half width in voxels (> 0, default 3)\n"
-               "  --out MESH  also write the mesh (.ply, .obj or .off)\n");
+               "  --out MESH  also write the mesh (.ply, .obj or .off)\n"
+               "  --tets N    time ramiform's tetrahedral polygonizer at N levels (0..6) instead\n");
   return 2;
+}
+
+// The checks `ramiform check --skeleton --json` reports, as the JSON members shared by both
+// pipelines' results.
+std::string check_json(const ramiform::TriMesh& mesh, const ramiform::Skeleton& skeleton) {
+  const ramiform::MeshReport report = ramiform::check_mesh(mesh);
+  std::vector<ramiform::Vec3> nodes;
+  nodes.reserve(skeleton.nodes.size());
+  for (const auto& n : skeleton.nodes) nodes.push_back(n.position);
+  const std::vector<char> inside = ramiform::points_inside(mesh, nodes);
+  std::size_t n_inside = 0;
+  for (const char f : inside) n_inside += f != 0 ? 1 : 0;
+  const double nodes_inside =
+      nodes.empty() ? 0.0 : static_cast<double>(n_inside) / static_cast<double>(nodes.size());
+  char buffer[640];
+  std::snprintf(buffer, sizeof buffer,
+                "\"triangles\": %zu, \"watertight\": %s, \"oriented\": %s, \"manifold\": %s, "
+                "\"components\": %zu, \"nodes_inside\": %.17g, \"vertices\": %zu, "
+                "\"euler\": %lld, \"boundary_edges\": %zu, \"nonmanifold_edges\": %zu, "
+                "\"nonmanifold_vertices\": %zu, \"signed_volume\": %.9g",
+                report.triangles, report.watertight ? "true" : "false",
+                report.oriented ? "true" : "false", report.manifold ? "true" : "false",
+                report.components, nodes_inside, report.vertices, report.euler,
+                report.boundary_edges, report.nonmanifold_edges, report.nonmanifold_vertices,
+                ramiform::signed_volume(mesh));
+  return buffer;
+}
+
+// ramiform's tetrahedral polygonizer under the same protocol: `runs` runs, each building the
+// field and meshing; the stage times of the best run.
+std::string time_tets(const ramiform::Skeleton& skeleton, int levels, int runs) {
+  ramiform::TetrahedralOptions options;
+  options.levels = levels;
+  double best = std::numeric_limits<double>::infinity(), first = 0;
+  ramiform::TriMesh mesh;
+  ramiform::TetrahedralStats stats, best_stats;
+  for (int run = 0; run < runs; ++run) {
+    mesh = {};
+    const auto t0 = Clock::now();
+    const ramiform::FieldPtr field = ramiform::make_skeleton_field(skeleton, {}, {});
+    mesh = ramiform::polygonize_tetrahedral(*field, skeleton, options, nullptr, &stats);
+    const double seconds = seconds_since(t0);
+    if (run == 0) first = seconds;
+    if (seconds < best) best_stats = stats;
+    best = std::min(best, seconds);
+  }
+  char buffer[512];
+  std::snprintf(buffer, sizeof buffer,
+                "{\"pipeline\": \"ramiform tets\", \"levels\": %d, \"seconds\": {\"total\": %.6f, "
+                "\"first_total\": %.6f, \"tetrahedralize\": %.6f, \"subdivide\": %.6f, "
+                "\"extract\": %.6f, \"cleanup\": %.6f}, \"runs\": %d, ",
+                levels, best, first, best_stats.seconds_tetrahedralize,
+                best_stats.seconds_subdivide, best_stats.seconds_extract,
+                best_stats.seconds_cleanup, runs);
+  return buffer + check_json(mesh, skeleton) + "}";
 }
 
 bool parse_positive(const char* text, double& out) {
@@ -340,13 +407,22 @@ bool parse_positive(const char* text, double& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The allocator settings of the `ramiform` command (apps/ramiform/main.cpp).
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
   std::vector<std::string> args;
   std::string out_path;
+  int tets_levels = -1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out") {
       if (i + 1 >= argc) return usage();
       out_path = argv[++i];
+    } else if (a == "--tets") {
+      if (i + 1 >= argc) return usage();
+      const std::string n = argv[++i];
+      if (n.size() != 1 || n[0] < '0' || n[0] > '6') return usage();
+      tets_levels = n[0] - '0';
     } else {
       args.push_back(a);
     }
@@ -358,13 +434,17 @@ int main(int argc, char** argv) {
     return usage();
   }
   try {
-    openvdb::initialize();
+    constexpr int kRuns = 3;
     const ramiform::Skeleton skeleton = ramiform::read_skeleton(args[0]);
+    if (tets_levels >= 0) {
+      std::printf("%s\n", time_tets(skeleton, tets_levels, kRuns).c_str());
+      return 0;
+    }
+    openvdb::initialize();
     const TubeComplex tc = tube_complex(skeleton);
 
-    constexpr int kRuns = 3;
     double best_ls = std::numeric_limits<double>::infinity();
-    double best_mesh = best_ls, best_total = best_ls;
+    double best_mesh = best_ls, best_total = best_ls, first_total = 0;
     VdbMesh vdb;
     std::size_t active_voxels = 0;
     for (int run = 0; run < kRuns; ++run) {
@@ -375,6 +455,7 @@ int main(int argc, char** argv) {
       const auto t1 = Clock::now();
       openvdb::tools::volumeToMesh(*grid, vdb.points, vdb.triangles, vdb.quads, 0.0);
       const double me = seconds_since(t1);
+      if (run == 0) first_total = ls + me;
       best_ls = std::min(best_ls, ls);
       best_mesh = std::min(best_mesh, me);
       best_total = std::min(best_total, ls + me);
@@ -383,30 +464,15 @@ int main(int argc, char** argv) {
 
     const ramiform::TriMesh mesh = to_trimesh(vdb);
     if (!out_path.empty()) ramiform::write_mesh(mesh, out_path);
-    const ramiform::MeshReport report = ramiform::check_mesh(mesh);
-    std::vector<ramiform::Vec3> nodes;
-    nodes.reserve(skeleton.nodes.size());
-    for (const auto& n : skeleton.nodes) nodes.push_back(n.position);
-    const std::vector<char> inside = ramiform::points_inside(mesh, nodes);
-    std::size_t n_inside = 0;
-    for (const char f : inside) n_inside += f != 0 ? 1 : 0;
-    const double nodes_inside =
-        nodes.empty() ? 0.0 : static_cast<double>(n_inside) / static_cast<double>(nodes.size());
+    const std::string checks = check_json(mesh, skeleton);
 
     std::printf(
-        "{\"voxel\": %.17g, \"half_width\": %.17g, \"seconds\": {\"level_set\": %.6f, "
-        "\"mesh\": %.6f, \"total\": %.6f}, \"triangles\": %zu, \"watertight\": %s, "
-        "\"oriented\": %s, \"manifold\": %s, \"components\": %zu, \"nodes_inside\": %.17g, "
-        "\"vertices\": %zu, \"quads\": %zu, \"active_voxels\": %zu, \"euler\": %lld, "
-        "\"boundary_edges\": %zu, \"nonmanifold_edges\": %zu, \"nonmanifold_vertices\": %zu, "
-        "\"signed_volume\": %.9g, \"skeleton_nodes\": %zu, \"skeleton_edges\": %zu, "
+        "{\"pipeline\": \"openvdb\", \"voxel\": %.17g, \"half_width\": %.17g, \"seconds\": {\"level_set\": %.6f, "
+        "\"mesh\": %.6f, \"total\": %.6f, \"first_total\": %.6f}, %s, \"quads\": %zu, "
+        "\"active_voxels\": %zu, \"skeleton_nodes\": %zu, \"skeleton_edges\": %zu, "
         "\"level_set_method\": \"%s\", \"openvdb\": \"%s\", \"runs\": %d}\n",
-        voxel, half_width, best_ls, best_mesh, best_total, report.triangles,
-        report.watertight ? "true" : "false", report.oriented ? "true" : "false",
-        report.manifold ? "true" : "false", report.components, nodes_inside, report.vertices,
-        vdb.quads.size(), active_voxels, report.euler, report.boundary_edges,
-        report.nonmanifold_edges, report.nonmanifold_vertices, ramiform::signed_volume(mesh),
-        skeleton.nodes.size(), skeleton.edges.size(),
+        voxel, half_width, best_ls, best_mesh, best_total, first_total, checks.c_str(),
+        vdb.quads.size(), active_voxels, skeleton.nodes.size(), skeleton.edges.size(),
         RAMIFORM_BENCH_VDB_TUBES ? "openvdb::tools::createLevelSetTubeComplex"
                                  : "exact round-cone rasterizer (this OpenVDB has no "
                                    "LevelSetTubes.h)",

@@ -8,7 +8,6 @@
 #include <limits>
 #include <numeric>
 
-#include <tbb/parallel_sort.h>
 
 #include "ramiform/core/errors.h"
 #include "ramiform/core/random.h"
@@ -252,17 +251,33 @@ class Builder {
     for (const std::uint32_t f : free_) dead[f] = 1;
     std::vector<Tet> sorted(t_.size());
     std::vector<std::array<std::uint8_t, 4>> corner(t_.size());  // sorted position -> corner
-    std::vector<std::uint32_t> kept;
+    // Counting sort by the smallest corner, then each (small) bucket by the other three.
+    std::vector<std::uint32_t> start(limit + 1, 0);
     for (std::uint32_t t = 0; t < t_.size(); ++t) {
       if (dead[t] != 0) continue;
       std::array<std::uint8_t, 4> c{0, 1, 2, 3};
-      std::sort(c.begin(), c.end(), [&](std::uint8_t a, std::uint8_t b) { return t_[t].v[a] < t_[t].v[b]; });
-      if (t_[t].v[c[3]] >= limit) continue;
+      const Tet& v = t_[t].v;
+      std::sort(c.begin(), c.end(), [&](std::uint8_t a, std::uint8_t b) { return v[a] < v[b]; });
+      if (v[c[3]] >= limit) {
+        dead[t] = 1;
+        continue;
+      }
       corner[t] = c;
-      for (int k = 0; k < 4; ++k) sorted[t][k] = t_[t].v[c[k]];
-      kept.push_back(t);
+      for (int k = 0; k < 4; ++k) sorted[t][k] = v[c[k]];
+      ++start[sorted[t][0] + 1];
     }
-    tbb::parallel_sort(kept.begin(), kept.end(), [&](std::uint32_t a, std::uint32_t b) { return sorted[a] < sorted[b]; });
+    for (std::uint32_t i = 0; i < limit; ++i) start[i + 1] += start[i];
+    std::vector<std::uint32_t> kept(start[limit]);
+    {
+      std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+      for (std::uint32_t t = 0; t < t_.size(); ++t) {
+        if (dead[t] == 0) kept[fill[sorted[t][0]]++] = t;
+      }
+    }
+    for (std::uint32_t i = 0; i < limit; ++i) {
+      std::sort(kept.begin() + start[i], kept.begin() + start[i + 1],
+                [&](std::uint32_t a, std::uint32_t b) { return sorted[a] < sorted[b]; });
+    }
     std::vector<std::uint32_t> renumber(t_.size(), kNone);
     for (std::uint32_t q = 0; q < kept.size(); ++q) renumber[kept[q]] = q;
     out.tets.resize(kept.size());
@@ -427,13 +442,14 @@ DelaunayResult delaunay_tetrahedralize(const std::vector<Vec3>& points) {
   std::iota(order.begin(), order.end(), 0U);
   Rng rng(kInsertionSeed);
   for (std::uint32_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.below(i)]);
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(n);
+  for (std::uint32_t i = 0; i < n; ++i) keyed[i] = {code[order[i]], order[i]};
   for (std::uint32_t end = n; end > 0;) {
     const std::uint32_t begin = end > kFirstRound ? end / 2 : 0;
-    std::sort(order.begin() + begin, order.begin() + end, [&](std::uint32_t a, std::uint32_t b) {
-      return code[a] < code[b] || (code[a] == code[b] && a < b);
-    });
+    std::sort(keyed.begin() + begin, keyed.begin() + end);
     end = begin;
   }
+  for (std::uint32_t i = 0; i < n; ++i) order[i] = keyed[i].second;
   Builder builder(std::move(all));
   builder.start(n, n + 1, n + 2, n + 3);
   for (const std::uint32_t i : order) {
