@@ -65,6 +65,55 @@ void validate_options(const TetrahedralOptions& o) {
   if (o.max_growth_rounds < 0) fail("max_growth_rounds must be >= 0");
 }
 
+// What the bounding point set can resolve, checked before it is built (InvalidArgument, naming
+// the node or edge):
+// - a node's cross-section (jittered by kJitter of its half size) must stand clear of the
+//   rounding of its coordinates, or its corners would coincide;
+// - radii and coordinates must lie within [1e-50, 1e50]: the exact in-sphere test multiplies
+//   five coordinate differences, which must neither underflow nor overflow;
+// - the cross-sections every `station_spacing` radii must stay countable (a 1 m edge with a
+//   1e-300 radius would ask for 10^299 of them).
+constexpr double kMinRadiusPerCoordinate = 1e-11;
+constexpr double kMinScale = 1e-50, kMaxScale = 1e50;
+std::string number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
+constexpr double kMaxStations = 1 << 24;
+void validate_resolution(const Skeleton& s, const TetrahedralOptions& o) {
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) {
+    const auto& n = s.nodes[i];
+    const double magnitude = n.position.cwiseAbs().maxCoeff();
+    if (n.radius < kMinScale || magnitude > kMaxScale) {
+      throw InvalidArgument("tetrahedral polygonizer: node " + std::to_string(i) + ": radius " +
+                            number(n.radius) + " and coordinates up to " + number(magnitude) +
+                            " are outside [1e-50, 1e50], where its exact predicates cannot "
+                            "underflow or overflow (rescale the skeleton)");
+    }
+    if (n.radius < kMinRadiusPerCoordinate * magnitude) {
+      throw InvalidArgument("tetrahedral polygonizer: node " + std::to_string(i) + ": radius " +
+                            number(n.radius) + " is below 1e-11 of its largest coordinate (" +
+                            number(magnitude) +
+                            "); its cross-section would vanish in double precision (move the "
+                            "skeleton near the origin, or use --method mc)");
+    }
+  }
+  double stations = 0;
+  for (std::size_t e = 0; e < s.edges.size(); ++e) {
+    const auto& na = s.nodes[s.edges[e][0]];
+    const auto& nb = s.nodes[s.edges[e][1]];
+    const double radii = (nb.position - na.position).norm() / (0.5 * (na.radius + nb.radius));
+    stations += radii / o.station_spacing;
+    if (stations > kMaxStations) {
+      throw InvalidArgument("tetrahedral polygonizer: the skeleton needs more than " +
+                            number(kMaxStations) + " cross-sections (one every " +
+                            number(o.station_spacing) + " radii; edge " + std::to_string(e) +
+                            " alone is " + number(radii) + " radii long); use --method mc");
+    }
+  }
+}
+
 // Two unit vectors completing d to an orthonormal frame.
 void frame(const Vec3& d, Vec3& e1, Vec3& e2) {
   const Vec3 helper = std::abs(d.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
@@ -979,6 +1028,7 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
                                TetrahedralStats* stats_out) {
   validate_options(options);
   validate(skeleton);
+  validate_resolution(skeleton, options);
   TetrahedralStats st;
   auto clock = Clock::now();
 

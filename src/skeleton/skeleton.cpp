@@ -43,6 +43,11 @@ void validate(const Skeleton& skeleton, const std::string& source) {
     }
     box.extend(n.position);
   }
+  if (!std::isfinite(box.diagonal().norm())) {
+    throw InputError(source, 0,
+                     "the nodes' coordinates span more than double precision can hold (from " +
+                         fmt(box.min().minCoeff()) + " to " + fmt(box.max().maxCoeff()) + ")");
+  }
   const double scale = std::max(box.diagonal().norm(), 1.0);
   std::unordered_set<std::uint64_t> seen;
   seen.reserve(skeleton.edges.size() * 2);

@@ -109,6 +109,27 @@ TEST_F(MeshTetsTest, LevelsOutOfRangeAreUsageErrors) {
   }
 }
 
+TEST_F(MeshTetsTest, UnresolvableSkeletonsAreBadInputWithNoOutput) {
+  // A radius the cross-sections cannot resolve, and coordinates whose span overflows: exit 2,
+  // a message naming the node or file, no mesh.
+  const struct {
+    const char* json;
+    const char* expected;
+  } cases[] = {
+      {R"({"nodes": [{"position": [0, 0, 0], "radius": 0.1}, {"position": [1, 0, 0], "radius": 1e-300}], "edges": [[0, 1]]})",
+       "node 1: radius 1e-300"},
+      {R"({"nodes": [{"position": [0, 0, 1e308], "radius": 0.1}, {"position": [0, 0, -1e308], "radius": 0.1}], "edges": [[0, 1]]})",
+       "span more than double precision"},
+  };
+  for (const auto& c : cases) {
+    const std::string skel = write("bad.json", c.json);
+    const CliRun r = run_cli("mesh " + skel + " -o " + path("m.ply"));
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find(c.expected), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(path("m.ply")));
+  }
+}
+
 TEST_F(MeshTetsTest, MarchingCubesMethodStillWorks) {
   const std::string skel = y_fork();
   const CliRun r = run_cli("mesh " + skel + " -o " + path("m.ply") +

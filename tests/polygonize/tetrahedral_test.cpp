@@ -446,6 +446,45 @@ TEST(Tetrahedral, InvalidSkeletonsThrowInputError) {
   EXPECT_THROW((void)polygonize_tetrahedral(*field, loop), InputError);
 }
 
+TEST(Tetrahedral, UnresolvableSkeletonsThrowInvalidArgumentNamingTheElement) {
+  // Each of these used to end in a Delaunay failure (underflowing predicates) or an
+  // astronomical station count; they are bad input, reported before any work.
+  auto segment = [](Vec3 a, Vec3 b, double r) {
+    Skeleton s;
+    s.nodes = {{a, r}, {b, r}};
+    s.edges = {{0, 1}};
+    return s;
+  };
+  struct Case {
+    Skeleton skeleton;
+    const char* expected;
+  };
+  Skeleton lone;
+  lone.nodes = {{Vec3::Zero(), 1e-300}};
+  const Case cases[] = {
+      {segment(Vec3::Zero(), Vec3(1, 0, 0), 1e-300), "node 0: radius 1e-300"},
+      {lone, "node 0: radius 1e-300"},
+      // Georeferenced coordinates with a radius below their rounding.
+      {segment(Vec3(5e5, 5e6, 0), Vec3(5e5, 5e6, 1), 1e-6), "below 1e-11 of its largest coordinate"},
+      // 10^8 radii long: 2.5 10^7 cross-sections.
+      {segment(Vec3::Zero(), Vec3(1, 0, 0), 1e-8), "edge 0 alone is 1e+08 radii long"},
+  };
+  for (const Case& c : cases) {
+    const FieldPtr field = make_skeleton_field(test::y_fork());
+    try {
+      (void)polygonize_tetrahedral(*field, c.skeleton, at_levels(0));
+      ADD_FAILURE() << "accepted: " << c.expected;
+    } catch (const InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos) << e.what();
+    }
+  }
+  // The same georeferenced segment with a 1 mm radius is fine (and closed).
+  const Skeleton geo = segment(Vec3(5e5, 5e6, 0), Vec3(5e5, 5e6, 0.05), 1e-3);
+  const FieldPtr field = make_skeleton_field(geo);
+  const TriMesh m = polygonize_tetrahedral(*field, geo, at_levels(1));
+  EXPECT_TRUE(check_mesh(m).watertight);
+}
+
 // --- real trees -------------------------------------------------------------------------------
 
 /// Reads a shared tree, meshes it at `levels` and checks it: closed, one component, every node

@@ -66,6 +66,15 @@ TEST(SkeletonValidate, RejectsNonFinitePosition) {
   }
 }
 
+TEST(SkeletonValidate, RejectsCoordinatesWhoseSpanOverflows) {
+  // Each coordinate is finite, but their differences are not: reported as such, not as the
+  // "zero-length edge" that an infinite scale used to make of it.
+  Skeleton s = chain();
+  s.nodes[0].position = Vec3(0, 0, -1e308);
+  s.nodes[1].position = Vec3(0, 0, 1e308);
+  expect_rejected(s, {"span more than double precision"});
+}
+
 TEST(SkeletonValidate, RejectsBadRadius) {
   for (double bad : {0.0, -0.0, -1.0, -1e-300, kNaN, kInf, -kInf}) {
     SCOPED_TRACE(bad);
