@@ -24,11 +24,13 @@ int run_mesh(MeshArgs& args) {
   RunScope scope(args.common);
   StageTimer timer;
   const SkeletonFieldOptions options = field_options(args.field);
-  const Skeleton skeleton = read_skeleton(args.skeleton_path, read_options(args.field));
-  timer.lap("read");
   if (args.out_path.empty()) {
     args.out_path = std::filesystem::path(args.skeleton_path).stem().string() + ".ply";
   }
+  check_output_path(args.out_path, {".ply", ".obj", ".off", ".glb"});
+  check_output_path(args.common.stats_path);
+  const Skeleton skeleton = read_skeleton(args.skeleton_path, read_options(args.field));
+  timer.lap("read");
   const MeshJobResult result = mesh_skeleton(skeleton, options, args.job, args.out_path, timer,
                                              scope.context());
   nlohmann::json stats = result.stats;

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <initializer_list>
 #include <string>
 
 #include "ramiform/core/context.h"
@@ -65,6 +66,11 @@ class StageTimer {
   Clock::time_point start_, last_;
   nlohmann::json seconds_ = nlohmann::json::object();
 };
+
+/// Checked before the work starts, so that a long run does not end in a failed write:
+/// throws InvalidArgument when `path`'s directory does not exist or (with `extensions`, lower
+/// case with the dot) its extension is none of them. An empty path passes.
+void check_output_path(const std::string& path, std::initializer_list<const char*> extensions = {});
 
 /// Writes `stats` to `path` (atomically) unless path is empty.
 void write_stats(const std::string& path, const nlohmann::json& stats);

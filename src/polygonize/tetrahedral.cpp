@@ -15,6 +15,7 @@
 #include "ramiform/polygonize/tetrahedral.h"
 
 #include <tbb/parallel_sort.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -111,6 +112,31 @@ void validate_resolution(const Skeleton& s, const TetrahedralOptions& o) {
                             number(o.station_spacing) + " radii; edge " + std::to_string(e) +
                             " alone is " + number(radii) + " radii long); use --method mc");
     }
+  }
+}
+
+// The physical memory of this machine in bytes (0 when unknown).
+double physical_memory() {
+#if defined(_SC_PHYS_PAGES) && defined(_SC_PAGE_SIZE)
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page = sysconf(_SC_PAGE_SIZE);
+  if (pages > 0 && page > 0) return static_cast<double>(pages) * static_cast<double>(page);
+#endif
+  return 0;
+}
+
+// A run needs at least about 600 * 4^levels bytes per bounding point at its peak (measured on
+// generated trees of 1,500 and 20,000 segments: 1.6, 3.7, 12.8 and 54 KB per point at levels 0
+// to 3). A run that cannot fit in the machine's memory is refused up front instead of being
+// killed by the system after minutes of work.
+void check_memory(std::size_t points, const TetrahedralOptions& o) {
+  const double need = static_cast<double>(points) * 600.0 * std::pow(4.0, o.levels);
+  const double have = physical_memory();
+  if (have > 0 && need > have) {
+    throw InvalidArgument("tetrahedral polygonizer: " + std::to_string(points) +
+                          " bounding points at --levels " + std::to_string(o.levels) +
+                          " need at least " + number(need / 1e9) + " GB, more than this machine's " +
+                          number(have / 1e9) + " GB (use fewer levels, or check the radii's units)");
   }
 }
 
@@ -1037,6 +1063,7 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
   //    The jitter is relative to the local cross-section (1e-3 of its half size), so even the
   //    thinnest twig's squares are far from cospherical in floating point.
   PointSetBuilder builder = bounding_points(skeleton, options);
+  check_memory(builder.points.size(), options);
   std::vector<Vec3> pts = std::move(builder.points);
   Rng rng(0x7e7a);
   const Aabb skel_box = bounding_box(skeleton);

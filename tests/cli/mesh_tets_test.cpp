@@ -130,6 +130,26 @@ TEST_F(MeshTetsTest, UnresolvableSkeletonsAreBadInputWithNoOutput) {
   }
 }
 
+TEST_F(MeshTetsTest, OutputPathsAreCheckedBeforeTheWork) {
+  const std::string skel = y_fork();
+  const struct {
+    std::string args;
+    const char* expected;
+  } cases[] = {
+      {"-o " + path("no/such/dir/m.ply"), "does not exist"},
+      {"-o " + path("m.stl"), "unknown format '.stl'"},
+      {"-o " + path("m.ply") + " --stats " + path("no/such/s.json"), "does not exist"},
+  };
+  for (const auto& c : cases) {
+    const CliRun r = run_cli("mesh " + skel + " " + c.args);
+    EXPECT_EQ(r.code, 2) << c.args << ": " << r.out;
+    EXPECT_NE(r.out.find(c.expected), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(path("m.ply")));
+  }
+  // An upper-case extension is a known one.
+  EXPECT_EQ(run_cli("mesh " + skel + " --levels 0 -o " + path("M.PLY")).code, 0);
+}
+
 TEST_F(MeshTetsTest, MarchingCubesMethodStillWorks) {
   const std::string skel = y_fork();
   const CliRun r = run_cli("mesh " + skel + " -o " + path("m.ply") +

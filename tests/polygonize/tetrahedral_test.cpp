@@ -478,6 +478,17 @@ TEST(Tetrahedral, UnresolvableSkeletonsThrowInvalidArgumentNamingTheElement) {
       EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos) << e.what();
     }
   }
+  // 250,000 cross-sections at level 6 need terabytes: refused before the work starts.
+  {
+    const Skeleton hair = segment(Vec3::Zero(), Vec3(1, 0, 0), 1e-6);
+    const FieldPtr field = make_skeleton_field(hair);
+    try {
+      (void)polygonize_tetrahedral(*field, hair, at_levels(6));
+      ADD_FAILURE() << "a terabyte run was accepted";
+    } catch (const InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find("--levels 6 need at least"), std::string::npos) << e.what();
+    }
+  }
   // The same georeferenced segment with a 1 mm radius is fine (and closed).
   const Skeleton geo = segment(Vec3(5e5, 5e6, 0), Vec3(5e5, 5e6, 0.05), 1e-3);
   const FieldPtr field = make_skeleton_field(geo);
