@@ -39,6 +39,16 @@ int run_mesh(MeshArgs& args) {
   std::cout << "wrote " << args.out_path << ": " << result.mesh.vertex_count() << " vertices, "
             << result.mesh.triangle_count() << " triangles"
             << (result.report.watertight ? ", watertight" : ", NOT watertight") << '\n';
+  // A coarse lattice (levels 0 and 1, or a coarse mc cell) can let a thin branch fall apart;
+  // say so instead of leaving it to a later check.
+  const auto components = stats.value("components", std::size_t{0});
+  const auto expected = stats.value("skeleton_components", std::size_t{0});
+  if (components > expected) {
+    std::cerr << "ramiform: warning: " << args.out_path << " has " << components
+              << " components for " << expected
+              << " connected skeleton part(s): branches thinner than the lattice came apart ("
+              << (args.job.method == "mc" ? "use a smaller --cell" : "use more --levels") << ")\n";
+  }
   return 0;
 }
 
