@@ -95,6 +95,7 @@ class Collapser {
   // needles next to a change of the previous sweep are looked at: the others were already
   // refused and nothing around them moved.
   std::size_t sweep(bool first) {
+    relaxed_ = !first;
     const std::size_t n = mesh_.triangles.size();
     std::vector<std::vector<std::uint32_t>> parts((n + kGrain - 1) / kGrain);
     parallel::for_chunks(
@@ -312,6 +313,13 @@ class Collapser {
     return true;
   }
 
+  // The smallest angle (as a sine) of the triangles `around`.
+  double worst_of(const std::vector<std::uint32_t>& around) const {
+    double worst = INFINITY;
+    for (const std::uint32_t t : around) worst = std::min(worst, angle_of(mesh_.triangles[t]));
+    return worst;
+  }
+
   // Quality of removing x into y (y keeps its position), over the triangles around x: the
   // smallest angle of the changed triangles, or -1 when the collapse is not allowed.
   double evaluate(std::uint32_t x, std::uint32_t y, const std::vector<std::uint32_t>& around_x,
@@ -397,7 +405,14 @@ class Collapser {
     const double keep_u = evaluate(v, u, blk.around_v, shared);
     const bool into_v = keep_v >= keep_u;
     const double best = std::max(keep_v, keep_u);
-    if (!(best > worst_old)) return false;
+    // The changed triangles must beat the needle. Later sweeps accept a collapse that beats the
+    // worst triangle around the removed end before (a worse needle next to this one): the local
+    // minimum angle still rises. Measured (triangles below 1 / 5 degrees, smallest angle): the
+    // 1,500-segment benchmark tree at level 1, 48 / 628 / 0.035 -> 35 / 394 / 0.042; the
+    // 31-segment tree at level 3, 156 / 1,325 / 0.042 -> 124 / 1,215 / 0.042. Relaxed from the
+    // first sweep on, it left fewer small angles but a smaller smallest one (0.001 degrees).
+    const double bar = relaxed_ ? worst_of(into_v ? blk.around_u : blk.around_v) : worst_old;
+    if (!(best > bar)) return false;
     const std::uint32_t x = into_v ? u : v;  // removed
     const std::uint32_t y = into_v ? v : u;  // kept
     if (!keep_.empty()) {
@@ -497,6 +512,7 @@ class Collapser {
   std::vector<std::uint32_t> head_;
   std::unique_ptr<std::uint32_t[]> next_;
   std::vector<char> touched_;  // vertices next to a change of the current sweep
+  bool relaxed_ = false;  // later sweeps: see try_collapse
   double min_angle_;           // as a sine, see min_angle_sine()
   double max_edge_ratio_;
   double cos_turn_;

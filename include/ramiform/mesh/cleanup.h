@@ -12,7 +12,8 @@
 ///   neither of those is left with fewer than three neighbours;
 /// - no fold: no surviving triangle turns its normal by more than `max_normal_turn_deg` or
 ///   becomes degenerate;
-/// - better: every changed triangle's smallest angle beats the needle's.
+/// - better: every changed triangle's smallest angle beats the needle's (after the first sweep:
+///   the smallest angle around the removed end point before, which may be a worse neighbour's).
 /// A needle whose short edge may not collapse (a cap, with one angle near 180 degrees) has its
 /// longest edge flipped instead when that improves the smallest angle of the two triangles.
 /// The kept end point stays where it was (a vertex already on the surface), so the surface is
