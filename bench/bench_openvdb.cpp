@@ -332,14 +332,15 @@ ramiform::TriMesh to_trimesh(const VdbMesh& m) {
 }
 
 int usage() {
-  std::fprintf(stderr,
-               "usage: ramiform_bench_openvdb SKELETON VOXEL [HALF_WIDTH=3] [--out MESH] [--tets N]\n"
-               "  SKELETON    skeleton file (.json, .ply, or a cylinder model; see "
-               "docs/formats.md)\n"
-               "  VOXEL       voxel size in model units (> 0)\n"
-               "  HALF_WIDTH  narrow-band half width in voxels (> 0, default 3)\n"
-               "  --out MESH  also write the mesh (.ply, .obj or .off)\n"
-               "  --tets N    time ramiform's tetrahedral polygonizer at N levels (0..6) instead\n");
+  std::fprintf(
+      stderr,
+      "usage: ramiform_bench_openvdb SKELETON VOXEL [HALF_WIDTH=3] [--out MESH] [--tets N]\n"
+      "  SKELETON    skeleton file (.json, .ply, or a cylinder model; see "
+      "docs/formats.md)\n"
+      "  VOXEL       voxel size in model units (> 0)\n"
+      "  HALF_WIDTH  narrow-band half width in voxels (> 0, default 3)\n"
+      "  --out MESH  also write the mesh (.ply, .obj or .off)\n"
+      "  --tets N    time ramiform's tetrahedral polygonizer at N levels (0..6) instead\n");
   return 2;
 }
 
@@ -467,7 +468,8 @@ int main(int argc, char** argv) {
     const std::string checks = check_json(mesh, skeleton);
 
     std::printf(
-        "{\"pipeline\": \"openvdb\", \"voxel\": %.17g, \"half_width\": %.17g, \"seconds\": {\"level_set\": %.6f, "
+        "{\"pipeline\": \"openvdb\", \"voxel\": %.17g, \"half_width\": %.17g, \"seconds\": "
+        "{\"level_set\": %.6f, "
         "\"mesh\": %.6f, \"total\": %.6f, \"first_total\": %.6f}, %s, \"quads\": %zu, "
         "\"active_voxels\": %zu, \"skeleton_nodes\": %zu, \"skeleton_edges\": %zu, "
         "\"level_set_method\": \"%s\", \"openvdb\": \"%s\", \"runs\": %d}\n",

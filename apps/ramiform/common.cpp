@@ -91,15 +91,17 @@ void check_output_path(const std::string& path, std::initializer_list<const char
   if (path.empty()) return;
   const std::filesystem::path p(path);
   std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   if (extensions.size() > 0 &&
       std::none_of(extensions.begin(), extensions.end(), [&](const char* e) { return ext == e; })) {
     std::string list;
     for (const char* e : extensions) list += (list.empty() ? "" : ", ") + std::string(e);
-    throw InvalidArgument("cannot write '" + path + "': unknown format '" + ext + "' (supported: " +
-                          list + ")");
+    throw InvalidArgument("cannot write '" + path + "': unknown format '" + ext +
+                          "' (supported: " + list + ")");
   }
-  const std::filesystem::path dir = p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
+  const std::filesystem::path dir =
+      p.has_parent_path() ? p.parent_path() : std::filesystem::path(".");
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) {
     throw InvalidArgument("cannot write '" + path + "': directory '" + dir.string() +

@@ -8,9 +8,9 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <initializer_list>
 #include <memory>
 #include <nlohmann/json.hpp>
-#include <initializer_list>
 #include <string>
 
 #include "ramiform/core/context.h"

@@ -512,7 +512,7 @@ class Collapser {
   std::vector<std::uint32_t> head_;
   std::unique_ptr<std::uint32_t[]> next_;
   std::vector<char> touched_;  // vertices next to a change of the current sweep
-  bool relaxed_ = false;  // later sweeps: see try_collapse
+  bool relaxed_ = false;       // later sweeps: see try_collapse
   double min_angle_;           // as a sine, see min_angle_sine()
   double max_edge_ratio_;
   double cos_turn_;

@@ -8,7 +8,6 @@
 #include <limits>
 #include <numeric>
 
-
 #include "ramiform/core/errors.h"
 #include "ramiform/core/random.h"
 

@@ -110,7 +110,8 @@ void validate_resolution(const Skeleton& s, const TetrahedralOptions& o) {
       throw InvalidArgument("tetrahedral polygonizer: the skeleton needs more than " +
                             number(kMaxStations) + " cross-sections (one every " +
                             number(o.station_spacing) + " radii; edge " + std::to_string(e) +
-                            " alone is " + number(radii) + " radii long); use --method mc");
+                            " alone is " + number(radii) +
+                            " radii long: are the radii in the skeleton's unit?)");
     }
   }
 }
@@ -135,8 +136,9 @@ void check_memory(std::size_t points, const TetrahedralOptions& o) {
   if (have > 0 && need > have) {
     throw InvalidArgument("tetrahedral polygonizer: " + std::to_string(points) +
                           " bounding points at --levels " + std::to_string(o.levels) +
-                          " need at least " + number(need / 1e9) + " GB, more than this machine's " +
-                          number(have / 1e9) + " GB (use fewer levels, or check the radii's units)");
+                          " need at least " + number(need / 1e9) +
+                          " GB, more than this machine's " + number(have / 1e9) +
+                          " GB (use fewer levels, or check the radii's units)");
   }
 }
 

@@ -12,8 +12,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <numbers>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <string>
 
 #include "cli/cli_run.h"
@@ -156,17 +156,23 @@ TEST_F(MeshTetsTest, WarnsWhenBranchesComeApart) {
   // twigs one twig's tip comes apart there (the benchmark tree of docs/benchmarks.md). Level 1
   // keeps it whole, and says nothing.
   const std::string tree = path("tree.json");
-  ASSERT_EQ(run_cli("generate " + tree + " --segments 1500 --tip-radius 0.004 --trunk-length 1 --seed 1").code, 0);
-  const CliRun coarse = run_cli("mesh " + tree + " --levels 0 -o " + path("m0.ply") + " --stats " + path("s0.json"));
+  ASSERT_EQ(
+      run_cli("generate " + tree + " --segments 1500 --tip-radius 0.004 --trunk-length 1 --seed 1")
+          .code,
+      0);
+  const CliRun coarse =
+      run_cli("mesh " + tree + " --levels 0 -o " + path("m0.ply") + " --stats " + path("s0.json"));
   ASSERT_EQ(coarse.code, 0) << coarse.out;
   const nlohmann::json s0 = read_json(path("s0.json"));
   ASSERT_GT(s0["components"].get<int>(), 1);
-  EXPECT_NE(coarse.out.find("warning: " + path("m0.ply") + " has " + std::to_string(s0["components"].get<int>()) +
+  EXPECT_NE(coarse.out.find("warning: " + path("m0.ply") + " has " +
+                            std::to_string(s0["components"].get<int>()) +
                             " components for 1 connected skeleton part"),
             std::string::npos)
       << coarse.out;
   EXPECT_NE(coarse.out.find("use more --levels"), std::string::npos) << coarse.out;
-  const CliRun fine = run_cli("mesh " + tree + " --levels 1 -o " + path("m1.ply") + " --stats " + path("s1.json"));
+  const CliRun fine =
+      run_cli("mesh " + tree + " --levels 1 -o " + path("m1.ply") + " --stats " + path("s1.json"));
   ASSERT_EQ(fine.code, 0) << fine.out;
   const nlohmann::json s1 = read_json(path("s1.json"));
   EXPECT_EQ(s1["components"].get<int>(), 1);

@@ -465,7 +465,8 @@ TEST(Tetrahedral, UnresolvableSkeletonsThrowInvalidArgumentNamingTheElement) {
       {segment(Vec3::Zero(), Vec3(1, 0, 0), 1e-300), "node 0: radius 1e-300"},
       {lone, "node 0: radius 1e-300"},
       // Georeferenced coordinates with a radius below their rounding.
-      {segment(Vec3(5e5, 5e6, 0), Vec3(5e5, 5e6, 1), 1e-6), "below 1e-11 of its largest coordinate"},
+      {segment(Vec3(5e5, 5e6, 0), Vec3(5e5, 5e6, 1), 1e-6),
+       "below 1e-11 of its largest coordinate"},
       // 10^8 radii long: 2.5 10^7 cross-sections.
       {segment(Vec3::Zero(), Vec3(1, 0, 0), 1e-8), "edge 0 alone is 1e+08 radii long"},
   };
@@ -486,7 +487,8 @@ TEST(Tetrahedral, UnresolvableSkeletonsThrowInvalidArgumentNamingTheElement) {
       (void)polygonize_tetrahedral(*field, hair, at_levels(6));
       ADD_FAILURE() << "a terabyte run was accepted";
     } catch (const InvalidArgument& e) {
-      EXPECT_NE(std::string(e.what()).find("--levels 6 need at least"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("--levels 6 need at least"), std::string::npos)
+          << e.what();
     }
   }
   // The same georeferenced segment with a 1 mm radius is fine (and closed).
