@@ -84,8 +84,11 @@ struct TetrahedralStats {
 };
 
 /// Polygonizes the surface of `field` inside the region that `skeleton` bounds (normally the
-/// skeleton the field was built from). Throws InvalidArgument for bad options, InputError for an
-/// invalid (e.g. empty) skeleton, Failure if the tetrahedralization fails.
+/// skeleton the field was built from). Throws InvalidArgument for bad options and, before any
+/// work, for a skeleton the bounding point set cannot resolve (a radius below 1e-11 of the node's
+/// largest coordinate, radii or coordinates outside [1e-50, 1e50], more than 2^24
+/// cross-sections, or an estimated peak memory above the machine's); InputError for an invalid
+/// (e.g. empty) skeleton; Failure if the tetrahedralization fails.
 [[nodiscard]] TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
                                              const TetrahedralOptions& options = {},
                                              Context* ctx = nullptr,
