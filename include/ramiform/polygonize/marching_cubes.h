@@ -45,8 +45,11 @@ struct MarchingCubesOptions {
   Aabb box;
   /// Root-finding steps per crossing edge (0 = linear interpolation of the corner values);
   /// steps stop early once the bracket is below tol::kRootFinding times the cell size or
-  /// |f - iso| is at most tol::kRootValue |iso|. 0..64.
-  int root_steps = 6;
+  /// |f - iso| is at most tol::kRootValue |iso|. 0..64. Most edges stop after 3 or 4; 16
+  /// leaves room for the bisection steps that edges leaving a compactly supported kernel's
+  /// reach can need (with 6, the default before, some distance-surface vertices stayed far
+  /// off the surface).
+  int root_steps = 16;
   /// Cells along each side of a block (the unit of bound-based skipping and batching), 2..64.
   int block_cells = 16;
   /// Skip blocks whose field bound excludes iso. false evaluates every block (for testing; the

@@ -52,7 +52,8 @@ struct TetrahedralOptions {
   int levels = 3;               ///< 1:8 subdivision levels (Figure 4), 0..6
   double section_scale = 3.0;   ///< cross-section square edge / node radius (paper: 3), >= 2
   double station_spacing = 4.0; ///< max distance between cross-sections along an edge, in radii
-  int root_steps = 12;          ///< root-finding rounds per crossing edge (0 = linear)
+  int root_steps = 16;          ///< root-finding rounds per crossing edge (0 = linear; most
+                                ///< edges stop after 3 or 4, see marching_cubes.h)
   int max_growth_rounds = 200;  ///< rounds of hole fixing before giving up (reported)
   bool cleanup = true;          ///< collapse needle edges afterwards (mesh/cleanup.h)
   /// Remove small components (< 1 % of the triangles) that enclose no skeleton node: blobs
