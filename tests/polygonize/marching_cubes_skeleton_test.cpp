@@ -9,7 +9,6 @@
 #include <cmath>
 
 #include "ramiform/field/skeleton_field.h"
-#include "ramiform/skeleton/generate.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/mesh/winding.h"
 #include "ramiform/polygonize/marching_cubes.h"
@@ -31,6 +30,14 @@ void expect_nodes_inside(const TriMesh& m, const Skeleton& s) {
   for (const auto& n : s.nodes) nodes.push_back(n.position);
   const std::vector<char> inside = points_inside(m, nodes);
   for (std::size_t i = 0; i < nodes.size(); ++i) EXPECT_TRUE(inside[i]) << "node " << i;
+}
+
+/// The Wyvill distance surface of `s` (what `ramiform mesh --surface distance` meshes).
+FieldPtr wyvill_distance_field(const Skeleton& s) {
+  SkeletonFieldOptions fo;
+  fo.surface = SurfaceKind::kDistance;
+  fo.kernel = Kernel{KernelKind::kWyvill, 0.0};
+  return make_skeleton_field(s, fo);
 }
 
 TEST(MarchingCubesSkeleton, YForkConvolutionIsOneClosedSphere) {
@@ -57,16 +64,8 @@ TEST(MarchingCubesSkeleton, DistanceSurfaceVerticesLieOnTheSurfaceWithDefaultSte
   // end of an edge; interpolants crept from the inside end and, within the former default of 6
   // steps, left vertices up to the whole iso value off the surface (on the 1,500-segment
   // benchmark tree at a 1 cm cell: 9 % of them even with the creeping caught, at 6 steps).
-  BranchingTreeOptions to;
-  to.segments = 100;
-  to.tip_radius = 0.004;
-  to.trunk_length = 1;
-  to.seed = 1;
-  const Skeleton s = branching_tree(to);
-  SkeletonFieldOptions fo;
-  fo.surface = SurfaceKind::kDistance;
-  fo.kernel = Kernel{KernelKind::kWyvill, 0.0};
-  const FieldPtr field = make_skeleton_field(s, fo);
+  const Skeleton s = test::twig_tree(100);
+  const FieldPtr field = wyvill_distance_field(s);
   MarchingCubesOptions o;
   o.cell_size = 0.01;
   const TriMesh m = marching_cubes(*field, o);
@@ -80,10 +79,7 @@ TEST(MarchingCubesSkeleton, DistanceSurfaceVerticesLieOnTheSurfaceWithDefaultSte
 
 TEST(MarchingCubesSkeleton, YForkDistanceSurfaceIsOneClosedSphere) {
   const Skeleton s = test::y_fork(0.5);
-  SkeletonFieldOptions fo;
-  fo.surface = SurfaceKind::kDistance;
-  fo.kernel = Kernel{KernelKind::kWyvill, 0.0};
-  const FieldPtr field = make_skeleton_field(s, fo);
+  const FieldPtr field = wyvill_distance_field(s);
   MarchingCubesOptions o;
   o.cell_size = min_radius(s) / 3.0;
   const TriMesh m = marching_cubes(*field, o);

@@ -231,14 +231,8 @@ TEST(Tetrahedral, DistanceSurfaceVerticesLieOnTheSurfaceWithDefaultOptions) {
   // The Wyvill kernel has compact support: along an edge that leaves it, g = 1 - (f/iso)^(-2/3)
   // falls to -infinity and the interpolating steps used to creep from the inside end, leaving
   // some vertices far off the surface (1.2 % of them on the 1,500-segment benchmark tree).
-  // A 100-segment tree with 4 mm twigs (as `ramiform generate --segments 100 --tip-radius 0.004
-  // --trunk-length 1 --seed 1`): 201 of 28 k vertices were off the surface at level 1.
-  BranchingTreeOptions to;
-  to.segments = 100;
-  to.tip_radius = 0.004;
-  to.trunk_length = 1;
-  to.seed = 1;
-  const Skeleton s = branching_tree(to);
+  // A 100-segment tree with 4 mm twigs: 201 of 28 k vertices were off the surface at level 1.
+  const Skeleton s = test::twig_tree(100);
   for (const int levels : {1, 2}) {
     SCOPED_TRACE("levels " + std::to_string(levels));
     SkeletonFieldOptions fo;
@@ -473,12 +467,7 @@ TEST(Tetrahedral, InvalidSkeletonsThrowInputError) {
 TEST(Tetrahedral, UnresolvableSkeletonsThrowInvalidArgumentNamingTheElement) {
   // Each of these used to end in a Delaunay failure (underflowing predicates) or an
   // astronomical station count; they are bad input, reported before any work.
-  auto segment = [](Vec3 a, Vec3 b, double r) {
-    Skeleton s;
-    s.nodes = {{a, r}, {b, r}};
-    s.edges = {{0, 1}};
-    return s;
-  };
+  auto segment = [](Vec3 a, Vec3 b, double r) { return test::single_segment(a, b, r, r); };
   struct Case {
     Skeleton skeleton;
     const char* expected;

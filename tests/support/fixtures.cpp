@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "ramiform/core/random.h"
+#include "ramiform/skeleton/generate.h"
 
 namespace ramiform::test {
 
@@ -58,6 +59,15 @@ Skeleton random_tree(std::uint64_t seed, int nodes) {
     s.edges.push_back({parent, static_cast<std::uint32_t>(i)});
   }
   return s;
+}
+
+Skeleton twig_tree(std::size_t segments) {
+  BranchingTreeOptions o;
+  o.segments = segments;
+  o.tip_radius = 0.004;
+  o.trunk_length = 1;
+  o.seed = 1;
+  return branching_tree(o);
 }
 
 Skeleton single_segment(const Vec3& a, const Vec3& b, double ra, double rb) {

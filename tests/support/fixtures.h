@@ -36,6 +36,11 @@ namespace ramiform::test {
 /// validate().
 [[nodiscard]] Skeleton random_tree(std::uint64_t seed, int nodes);
 
+/// The generated tree with 4 mm twigs of docs/benchmarks.md with `segments` edges:
+/// branching_tree with tip_radius 0.004, trunk_length 1 and seed 1 (what `ramiform generate
+/// --segments N --tip-radius 0.004 --trunk-length 1 --seed 1` writes).
+[[nodiscard]] Skeleton twig_tree(std::size_t segments);
+
 /// One segment from `a` (radius `ra`) to `b` (radius `rb`).
 [[nodiscard]] Skeleton single_segment(const Vec3& a = Vec3(0, 0, 0), const Vec3& b = Vec3(0, 0, 10),
                                       double ra = 1.0, double rb = 1.0);
