@@ -2,6 +2,8 @@
 // Copyright (c) 2026 the ramiform authors
 #include "ramiform/core/errors.h"
 
+#include <cstdio>
+
 #include <utility>
 
 namespace ramiform {
@@ -37,5 +39,11 @@ InputError::InputError(std::string file, const std::string& element, std::size_t
                                               problem)),
       file_(std::move(file)),
       problem_(element + " " + std::to_string(element_index) + ": " + problem) {}
+
+std::string format_number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
 
 }  // namespace ramiform

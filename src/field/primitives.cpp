@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <sstream>
 #include <string>
 
 #include "field/cutoff.h"
@@ -22,13 +21,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // in the evaluation (a different order of operations than the bound's) never leaves the bound.
 constexpr double kBoundSlack = 1e-12;
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 std::string vec(const Vec3& v) {
-  return "(" + num(v.x()) + " " + num(v.y()) + " " + num(v.z()) + ")";
+  return "(" + format_number(v.x()) + " " + format_number(v.y()) + " " + format_number(v.z()) + ")";
 }
 
 // Derivative of detail::fade_of with respect to its argument v.
@@ -102,7 +96,7 @@ class CircleElement final : public Element {
     return {center_ - extent - Vec3::Constant(pad), center_ + extent + Vec3::Constant(pad)};
   }
   std::string describe() const override {
-    return "torus primitive: circle of radius " + num(radius_) + " around " + vec(center_) +
+    return "torus primitive: circle of radius " + format_number(radius_) + " around " + vec(center_) +
            ", normal " + vec(normal_);
   }
 
@@ -205,8 +199,8 @@ class ConeElement final : public Element {
     return box;
   }
   std::string describe() const override {
-    return name_ + " primitive: inner solid from " + vec(a_ + t0_ * u_) + " (radius " + num(r0_) +
-           ") to " + vec(a_ + t1_ * u_) + " (radius " + num(r1_) + ")";
+    return name_ + " primitive: inner solid from " + vec(a_ + t0_ * u_) + " (radius " + format_number(r0_) +
+           ") to " + vec(a_ + t1_ * u_) + " (radius " + format_number(r1_) + ")";
   }
 
  private:
@@ -253,7 +247,7 @@ class HalfSpaceElement final : public Element {
   }
   std::string describe() const override {
     return "half-space primitive: plane through " + vec(point_) + ", outward normal " +
-           vec(normal_) + ", falloff " + num(falloff_) + "; unbounded (infinite bounds())";
+           vec(normal_) + ", falloff " + format_number(falloff_) + "; unbounded (infinite bounds())";
   }
 
  private:
@@ -302,8 +296,8 @@ class DistancePrimitive final : public Field {
   Aabb bounds() const override { return inside_box_; }
 
   std::string describe() const override {
-    return element_->describe() + "; surface radius " + num(R_ * kernel_.x_at(iso())) + ", " +
-           kernel_name(kernel_.kind) + " kernel, iso " + num(iso()) + ", weight " + num(weight_);
+    return element_->describe() + "; surface radius " + format_number(R_ * kernel_.x_at(iso())) + ", " +
+           kernel_name(kernel_.kind) + " kernel, iso " + format_number(iso()) + ", weight " + format_number(weight_);
   }
 
  protected:
@@ -358,7 +352,7 @@ void check_point(const Vec3& p, const std::string& what) {
 
 void check_positive(double v, const std::string& what) {
   if (!std::isfinite(v) || v <= 0) {
-    throw InvalidArgument(what + " must be finite and > 0, got " + num(v));
+    throw InvalidArgument(what + " must be finite and > 0, got " + format_number(v));
   }
 }
 
@@ -377,11 +371,11 @@ Resolved resolve(const DistancePrimitiveOptions& o, const std::string& what) {
                           "metaball or inverse-power");
   }
   if (!std::isfinite(o.weight) || o.weight <= 0) {
-    throw InvalidArgument(what + ": weight must be finite and > 0, got " + num(o.weight));
+    throw InvalidArgument(what + ": weight must be finite and > 0, got " + format_number(o.weight));
   }
   if (!std::isfinite(o.iso) || o.iso < 0) {
     throw InvalidArgument(what + ": iso must be finite and > 0 (0 = kernel default), got " +
-                          num(o.iso));
+                          format_number(o.iso));
   }
   Resolved r{o.kernel, o.iso == 0 ? o.kernel.default_iso() : o.iso, o.weight};
   (void)r.kernel.x_at(r.iso);  // throws when the kernel never reaches the iso value
@@ -407,7 +401,7 @@ FieldPtr make_cone_like(const Vec3& a, double ra, const Vec3& b, double rb, doub
   const double scale = std::max({len, ra, rb});
   const double tiny = tol::kCoincident * scale;
   if (t0 > t1 + tiny || std::max(side(t0), side(t1)) < -tiny) {
-    throw InvalidArgument(name + ": rounding " + num(rounding) +
+    throw InvalidArgument(name + ": rounding " + format_number(rounding) +
                           " is larger than the inradius of the shape (no ball of that radius "
                           "fits inside)");
   }
@@ -442,8 +436,8 @@ FieldPtr make_box_field(const Vec3& center, const Vec3& half_size, double roundi
   }
   check_positive(rounding, what + ": rounding");
   if (rounding > half_size.minCoeff()) {
-    throw InvalidArgument(what + ": rounding " + num(rounding) +
-                          " exceeds the smallest half size " + num(half_size.minCoeff()));
+    throw InvalidArgument(what + ": rounding " + format_number(rounding) +
+                          " exceeds the smallest half size " + format_number(half_size.minCoeff()));
   }
   const Resolved o = resolve(options, what);
   const Vec3 inner = (half_size - Vec3::Constant(rounding)).cwiseMax(0.0);
@@ -461,8 +455,8 @@ FieldPtr make_cylinder_field(const Vec3& a, const Vec3& b, double radius, double
   check_positive(radius, what + ": radius");
   check_positive(rounding, what + ": rounding");
   if (rounding > radius || rounding > 0.5 * len) {
-    throw InvalidArgument(what + ": rounding " + num(rounding) + " exceeds min(radius " +
-                          num(radius) + ", length / 2 " + num(0.5 * len) + ")");
+    throw InvalidArgument(what + ": rounding " + format_number(rounding) + " exceeds min(radius " +
+                          format_number(radius) + ", length / 2 " + format_number(0.5 * len) + ")");
   }
   const Resolved o = resolve(options, what);
   return make_cone_like(a, radius, b, radius, rounding, o, "rounded cylinder");
@@ -475,9 +469,9 @@ FieldPtr make_cone_field(const Vec3& a, double ra, const Vec3& b, double rb, dou
   check_point(b, what + ": b");
   if (!((b - a).norm() > 0)) throw InvalidArgument(what + ": a and b coincide at " + vec(a));
   if (!std::isfinite(ra) || ra < 0)
-    throw InvalidArgument(what + ": ra must be finite and >= 0, got " + num(ra));
+    throw InvalidArgument(what + ": ra must be finite and >= 0, got " + format_number(ra));
   if (!std::isfinite(rb) || rb < 0)
-    throw InvalidArgument(what + ": rb must be finite and >= 0, got " + num(rb));
+    throw InvalidArgument(what + ": rb must be finite and >= 0, got " + format_number(rb));
   if (ra == 0 && rb == 0) throw InvalidArgument(what + ": ra and rb are both 0");
   check_positive(rounding, what + ": rounding");
   const Resolved o = resolve(options, what);

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <string>
 
 #include "ramiform/core/errors.h"
@@ -26,12 +25,6 @@ constexpr double kCoplanar = 1e-9;
 constexpr double kSingularRcond = 1e-15;
 // Points per parallel evaluation chunk.
 constexpr std::size_t kGrain = 256;
-
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 // Signed distance to the box (> 0 inside) and its gradient.
 double signed_box_distance(const Aabb& box, const Vec3& p, Vec3* gradient) {
@@ -118,8 +111,8 @@ class RbfField final : public Field {
 
   std::string describe() const override {
     return "variational implicit surface (cubic RBF), " + std::to_string(centres_.size()) +
-           " constraints, iso " + num(iso()) + ", clipped to a box of diagonal " +
-           num(clip_.diagonal().norm());
+           " constraints, iso " + format_number(iso()) + ", clipped to a box of diagonal " +
+           format_number(clip_.diagonal().norm());
   }
 
  protected:
@@ -171,9 +164,9 @@ class RbfField final : public Field {
 
 FieldPtr make_rbf_field(std::span<const RbfConstraint> constraints, const RbfOptions& options) {
   if (!std::isfinite(options.iso))
-    throw InvalidArgument("rbf: iso must be finite, got " + num(options.iso));
+    throw InvalidArgument("rbf: iso must be finite, got " + format_number(options.iso));
   if (!std::isfinite(options.margin) || options.margin <= 0) {
-    throw InvalidArgument("rbf: margin must be finite and > 0, got " + num(options.margin));
+    throw InvalidArgument("rbf: margin must be finite and > 0, got " + format_number(options.margin));
   }
   const std::size_t n = constraints.size();
   if (n < 4) {
@@ -185,8 +178,8 @@ FieldPtr make_rbf_field(std::span<const RbfConstraint> constraints, const RbfOpt
     const auto& c = constraints[i];
     if (!c.position.allFinite() || !std::isfinite(c.value)) {
       throw InvalidArgument("rbf: constraint " + std::to_string(i) + " is not finite (position " +
-                            num(c.position.x()) + " " + num(c.position.y()) + " " +
-                            num(c.position.z()) + ", value " + num(c.value) + ")");
+                            format_number(c.position.x()) + " " + format_number(c.position.y()) + " " +
+                            format_number(c.position.z()) + ", value " + format_number(c.value) + ")");
     }
     box.extend(c.position);
   }
@@ -221,8 +214,8 @@ FieldPtr make_rbf_field(std::span<const RbfConstraint> constraints, const RbfOpt
       if (!(r > tol::kCoincident)) {
         throw InvalidArgument(
             "rbf: constraints " + std::to_string(j) + " and " + std::to_string(i) +
-            " are at the same position (" + num(constraints[i].position.x()) + " " +
-            num(constraints[i].position.y()) + " " + num(constraints[i].position.z()) + ")");
+            " are at the same position (" + format_number(constraints[i].position.x()) + " " +
+            format_number(constraints[i].position.y()) + " " + format_number(constraints[i].position.z()) + ")");
       }
       M(ii, static_cast<Eigen::Index>(j)) = M(static_cast<Eigen::Index>(j), ii) = r * r * r;
     }
@@ -241,7 +234,7 @@ FieldPtr make_rbf_field(std::span<const RbfConstraint> constraints, const RbfOpt
     throw InvalidArgument(
         "rbf: the interpolation system is numerically singular (reciprocal "
         "condition " +
-        num(rcond) +
+        format_number(rcond) +
         "); check for (near-)duplicate or coplanar "
         "constraint positions");
   }
@@ -276,10 +269,10 @@ std::vector<RbfConstraint> rbf_constraints_from_normals(std::span<const Vec3> po
   }
   if (!std::isfinite(offset) || offset <= 0) {
     throw InvalidArgument("rbf normal constraints: offset must be finite and > 0, got " +
-                          num(offset));
+                          format_number(offset));
   }
   if (!std::isfinite(iso))
-    throw InvalidArgument("rbf normal constraints: iso must be finite, got " + num(iso));
+    throw InvalidArgument("rbf normal constraints: iso must be finite, got " + format_number(iso));
   std::vector<RbfConstraint> out;
   out.reserve(2 * points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {

@@ -7,7 +7,6 @@
 #include <limits>
 #include <memory>
 #include <numbers>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,12 +22,6 @@ constexpr double kPi = std::numbers::pi;
 // Relative growth (times the largest coordinate magnitude) of every box passed down or up, so
 // that rounding in the maps (different operation order than the enclosures) stays inside.
 constexpr double kBoxSlack = 1e-9;
-
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 Aabb padded(Aabb b) {
   if (b.isEmpty()) return b;
@@ -185,8 +178,8 @@ class TaperMap final : public WarpMap {
   Aabb inverse_box(const Aabb& box) const override { return scaled(box, true); }
   Aabb forward_box(const Aabb& box) const override { return scaled(box, false); }
   std::string describe() const override {
-    return "taper along axis " + std::to_string(o_.axis) + " (scale " + num(o_.scale_start) +
-           " at " + num(o_.start) + " to " + num(o_.scale_end) + " at " + num(o_.end) + ")";
+    return "taper along axis " + std::to_string(o_.axis) + " (scale " + format_number(o_.scale_start) +
+           " at " + format_number(o_.start) + " to " + format_number(o_.scale_end) + " at " + format_number(o_.end) + ")";
   }
 
  private:
@@ -241,8 +234,8 @@ class TwistMap final : public WarpMap {
   Aabb inverse_box(const Aabb& box) const override { return rotated(box, -1); }
   Aabb forward_box(const Aabb& box) const override { return rotated(box, 1); }
   std::string describe() const override {
-    return "twist about axis " + std::to_string(o_.axis) + " (" + num(o_.rate) +
-           " rad per unit from " + num(o_.origin) + ")";
+    return "twist about axis " + std::to_string(o_.axis) + " (" + format_number(o_.rate) +
+           " rad per unit from " + format_number(o_.origin) + ")";
   }
 
  private:
@@ -468,8 +461,8 @@ class BendMap final : public WarpMap {
   }
 
   std::string describe() const override {
-    return "bend (rate " + num(o_.rate) + " about y = " + num(o_.center) + ", region y in [" +
-           num(o_.min) + ", " + num(o_.max) + "])";
+    return "bend (rate " + format_number(o_.rate) + " about y = " + format_number(o_.center) + ", region y in [" +
+           format_number(o_.min) + ", " + format_number(o_.max) + "])";
   }
 
  private:
@@ -491,7 +484,7 @@ void check_child(const FieldPtr& child, const char* what) {
 }
 
 void check_finite(double v, const std::string& what) {
-  if (!std::isfinite(v)) throw InvalidArgument(what + " must be finite, got " + num(v));
+  if (!std::isfinite(v)) throw InvalidArgument(what + " must be finite, got " + format_number(v));
 }
 
 void check_axis(int axis, const std::string& what) {
@@ -559,14 +552,14 @@ FieldPtr make_taper(FieldPtr child, const TaperOptions& options) {
   check_finite(options.start, "taper: start");
   check_finite(options.end, "taper: end");
   if (!(options.start < options.end)) {
-    throw InvalidArgument("taper: start (" + num(options.start) + ") must be below end (" +
-                          num(options.end) + ")");
+    throw InvalidArgument("taper: start (" + format_number(options.start) + ") must be below end (" +
+                          format_number(options.end) + ")");
   }
   for (const auto& [v, name] :
        {std::pair{options.scale_start, "scale_start"}, std::pair{options.scale_end, "scale_end"}}) {
     if (!std::isfinite(v) || v <= 0) {
       throw InvalidArgument(std::string("taper: ") + name + " must be finite and > 0, got " +
-                            num(v));
+                            format_number(v));
     }
   }
   return std::make_shared<WarpField>(std::move(child), std::make_shared<TaperMap>(options));
@@ -587,8 +580,8 @@ FieldPtr make_bend(FieldPtr child, const BendOptions& options) {
   check_finite(options.min, "bend: min");
   check_finite(options.max, "bend: max");
   if (!(options.min <= options.center && options.center <= options.max)) {
-    throw InvalidArgument("bend: need min <= center <= max, got min " + num(options.min) +
-                          ", center " + num(options.center) + ", max " + num(options.max));
+    throw InvalidArgument("bend: need min <= center <= max, got min " + format_number(options.min) +
+                          ", center " + format_number(options.center) + ", max " + format_number(options.max));
   }
   return std::make_shared<WarpField>(std::move(child), std::make_shared<BendMap>(options));
 }

@@ -34,12 +34,6 @@ void check(bool ok, const std::string& what) {
   if (!ok) throw InvalidArgument("space colonization: " + what);
 }
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 // Radii from tips to roots given a parent array where every node's parent has a smaller position
 // in `order` (order lists parents before children).
 void pipe_radii(std::vector<SkeletonNode>& nodes, const std::vector<std::uint32_t>& parent,
@@ -101,10 +95,10 @@ std::uint64_t hash_cell(std::int64_t x, std::int64_t y, std::int64_t z) {
 }  // namespace
 
 void ColonizationOptions::validate() const {
-  check(std::isfinite(step) && step > 0, "step must be finite and > 0 (got " + num(step) + ")");
-  check(std::isfinite(kill) && kill > 0, "kill must be finite and > 0 (got " + num(kill) + ")");
+  check(std::isfinite(step) && step > 0, "step must be finite and > 0 (got " + format_number(step) + ")");
+  check(std::isfinite(kill) && kill > 0, "kill must be finite and > 0 (got " + format_number(kill) + ")");
   check(std::isfinite(influence) && influence > kill,
-        "influence must be finite and > kill (got " + num(influence) + ")");
+        "influence must be finite and > kill (got " + format_number(influence) + ")");
   check(!roots.empty(), "roots must not be empty");
   for (std::size_t i = 0; i < roots.size(); ++i) {
     check(is_finite(roots[i]), "root " + std::to_string(i) + " is not finite");
@@ -116,9 +110,9 @@ void ColonizationOptions::validate() const {
   check(is_finite(tropism), "tropism must be finite");
   check(max_iterations >= 0, "max_iterations must be >= 0");
   check(std::isfinite(tip_radius) && tip_radius > 0,
-        "tip_radius must be finite and > 0 (got " + num(tip_radius) + ")");
+        "tip_radius must be finite and > 0 (got " + format_number(tip_radius) + ")");
   check(pipe_exponent >= 2 && pipe_exponent <= 3,
-        "pipe_exponent must be in [2, 3] (got " + num(pipe_exponent) + ")");
+        "pipe_exponent must be in [2, 3] (got " + format_number(pipe_exponent) + ")");
 }
 
 struct SpaceColonization::Impl {
@@ -657,8 +651,8 @@ void assign_pipe_radii(Skeleton& skeleton, std::span<const std::uint32_t> roots,
                        double exponent) {
   auto fail = [](const std::string& what) { throw InvalidArgument("assign_pipe_radii: " + what); };
   if (!(std::isfinite(tip_radius) && tip_radius > 0))
-    fail("tip_radius must be finite and > 0 (got " + num(tip_radius) + ")");
-  if (!(exponent >= 2 && exponent <= 3)) fail("exponent must be in [2, 3] (got " + num(exponent) + ")");
+    fail("tip_radius must be finite and > 0 (got " + format_number(tip_radius) + ")");
+  if (!(exponent >= 2 && exponent <= 3)) fail("exponent must be in [2, 3] (got " + format_number(exponent) + ")");
   const std::size_t n = skeleton.nodes.size();
   std::vector<std::vector<std::uint32_t>> adj(n);
   for (std::size_t e = 0; e < skeleton.edges.size(); ++e) {

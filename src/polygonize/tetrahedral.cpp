@@ -76,11 +76,6 @@ void validate_options(const TetrahedralOptions& o) {
 //   1e-300 radius would ask for 10^299 of them).
 constexpr double kMinRadiusPerCoordinate = 1e-11;
 constexpr double kMinScale = 1e-50, kMaxScale = 1e50;
-std::string number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", v);
-  return buffer;
-}
 constexpr double kMaxStations = 1 << 24;
 void validate_resolution(const Skeleton& s, const TetrahedralOptions& o) {
   for (std::size_t i = 0; i < s.nodes.size(); ++i) {
@@ -88,14 +83,14 @@ void validate_resolution(const Skeleton& s, const TetrahedralOptions& o) {
     const double magnitude = n.position.cwiseAbs().maxCoeff();
     if (n.radius < kMinScale || magnitude > kMaxScale) {
       throw InvalidArgument("tetrahedral polygonizer: node " + std::to_string(i) + ": radius " +
-                            number(n.radius) + " and coordinates up to " + number(magnitude) +
+                            format_number(n.radius) + " and coordinates up to " + format_number(magnitude) +
                             " are outside [1e-50, 1e50], where its exact predicates cannot "
                             "underflow or overflow (rescale the skeleton)");
     }
     if (n.radius < kMinRadiusPerCoordinate * magnitude) {
       throw InvalidArgument("tetrahedral polygonizer: node " + std::to_string(i) + ": radius " +
-                            number(n.radius) + " is below 1e-11 of its largest coordinate (" +
-                            number(magnitude) +
+                            format_number(n.radius) + " is below 1e-11 of its largest coordinate (" +
+                            format_number(magnitude) +
                             "); its cross-section would vanish in double precision (move the "
                             "skeleton near the origin, or use --method mc)");
     }
@@ -108,9 +103,9 @@ void validate_resolution(const Skeleton& s, const TetrahedralOptions& o) {
     stations += radii / o.station_spacing;
     if (stations > kMaxStations) {
       throw InvalidArgument("tetrahedral polygonizer: the skeleton needs more than " +
-                            number(kMaxStations) + " cross-sections (one every " +
-                            number(o.station_spacing) + " radii; edge " + std::to_string(e) +
-                            " alone is " + number(radii) +
+                            format_number(kMaxStations) + " cross-sections (one every " +
+                            format_number(o.station_spacing) + " radii; edge " + std::to_string(e) +
+                            " alone is " + format_number(radii) +
                             " radii long: are the radii in the skeleton's unit?)");
     }
   }
@@ -136,8 +131,8 @@ void check_memory(std::size_t points, const TetrahedralOptions& o) {
   if (have > 0 && need > have) {
     throw InvalidArgument("tetrahedral polygonizer: " + std::to_string(points) +
                           " bounding points at --levels " + std::to_string(o.levels) +
-                          " need at least " + number(need / 1e9) +
-                          " GB, more than this machine's " + number(have / 1e9) +
+                          " need at least " + format_number(need / 1e9) +
+                          " GB, more than this machine's " + format_number(have / 1e9) +
                           " GB (use fewer levels, or check the radii's units)");
   }
 }

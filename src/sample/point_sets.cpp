@@ -99,12 +99,6 @@ void require(bool ok, const std::string& message) {
   if (!ok) throw InvalidArgument(message);
 }
 
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 std::size_t attempt_budget(std::size_t max_attempts, std::size_t count) {
   if (max_attempts != 0) return max_attempts;
   const std::size_t cap = std::numeric_limits<std::size_t>::max() / 2000;
@@ -114,10 +108,10 @@ std::size_t attempt_budget(std::size_t max_attempts, std::size_t count) {
 void check_box(const Aabb& box, const std::string& what) {
   if (box.isEmpty()) return;
   if (!box.min().allFinite() || !box.max().allFinite()) {
-    throw InvalidArgument(what + ": the sampling box is unbounded (" + num(box.min().x()) + ", " +
-                          num(box.min().y()) + ", " + num(box.min().z()) + ") - (" +
-                          num(box.max().x()) + ", " + num(box.max().y()) + ", " +
-                          num(box.max().z()) + "); intersect the field with a bounded shape first");
+    throw InvalidArgument(what + ": the sampling box is unbounded (" + format_number(box.min().x()) + ", " +
+                          format_number(box.min().y()) + ", " + format_number(box.min().z()) + ") - (" +
+                          format_number(box.max().x()) + ", " + format_number(box.max().y()) + ", " +
+                          format_number(box.max().z()) + "); intersect the field with a bounded shape first");
   }
 }
 
@@ -990,7 +984,7 @@ Check check(const FieldDensityOptions& o, double iso) {
   if (auto e = check_nonneg("min_distance", o.min_distance)) return e;
   if (!(iso > 0.0)) {
     return OptionError{"exponent", "density (iso / f)^exponent needs a field with iso > 0 (iso = " +
-                                       num(iso) + ")"};
+                                       format_number(iso) + ")"};
   }
   return std::nullopt;
 }
@@ -1017,7 +1011,7 @@ Check check(const NearSurfaceOptions& o) {
   if (!std::isfinite(o.project_width) || o.project_width < 0.0 ||
       (o.project_width > 0.0 && o.project_width < o.epsilon)) {
     return OptionError{"project_width", "must be 0 (automatic) or finite and >= epsilon (" +
-                                            num(o.epsilon) + "), got " + num(o.project_width)};
+                                            format_number(o.epsilon) + "), got " + format_number(o.project_width)};
   }
   if (!o.box.isEmpty() && (!o.box.min().allFinite() || !o.box.max().allFinite())) {
     return OptionError{"box", "must be finite"};
@@ -1140,7 +1134,7 @@ void LaneKernel::validate() const {
   for (std::size_t i = 0; i < table.size(); ++i) {
     const auto [d, f] = table[i];
     const std::string where =
-        "kernel pair " + std::to_string(i) + " (" + num(d) + ", " + num(f) + ")";
+        "kernel pair " + std::to_string(i) + " (" + format_number(d) + ", " + format_number(f) + ")";
     if (!std::isfinite(d) || !std::isfinite(f)) throw InvalidArgument(where + ": not finite");
     if (f < 0.0) throw InvalidArgument(where + ": factor must be >= 0");
     if (i == 0 && d != 0.0) throw InvalidArgument(where + ": the first distance must be 0");
@@ -1418,8 +1412,8 @@ PointSet sample_near_mesh(const TriMesh& mesh, const NearMeshOptions& options, s
   require(std::isfinite(options.min_offset) && std::isfinite(options.max_offset),
           "sample_near_mesh: min_offset and max_offset must be finite");
   require(options.min_offset <= options.max_offset, "sample_near_mesh: min_offset " +
-                                                        num(options.min_offset) + " > max_offset " +
-                                                        num(options.max_offset));
+                                                        format_number(options.min_offset) + " > max_offset " +
+                                                        format_number(options.max_offset));
   const std::size_t nv = mesh.positions.size();
   const bool own_normals = mesh.normals.size() == nv && nv > 0;
   std::vector<double> cdf;
@@ -1481,7 +1475,7 @@ PointSet sample_near_mesh(const TriMesh& mesh, const NearMeshOptions& options, s
 PointSet thin_points(const PointSet& points, const Field& secondary, double percent,
                      std::uint64_t seed) {
   require(std::isfinite(percent) && percent >= 0.0 && percent <= 100.0,
-          "thin_points: percent " + num(percent) + " is not in [0, 100]");
+          "thin_points: percent " + format_number(percent) + " is not in [0, 100]");
   require(points.normals.empty() || points.normals.size() == points.positions.size(),
           "thin_points: normal count differs from point count");
   std::vector<double> values(points.positions.size());

@@ -140,12 +140,6 @@ std::string kind_name(ObjectKind kind) {
   return "object";
 }
 
-std::string format_number(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
 std::string format_vec3(const Vec3& v) {
   return format_number(v.x()) + "," + format_number(v.y()) + "," + format_number(v.z());
 }

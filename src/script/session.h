@@ -154,8 +154,7 @@ class Call {
   std::size_t line_;
 };
 
-/// "3 objects" style helpers.
-std::string format_number(double v);
+/// "1,2,3" for messages (numbers as ramiform::format_number).
 std::string format_vec3(const Vec3& v);
 
 }  // namespace ramiform::script

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -53,6 +56,20 @@ TEST(Errors, InputErrorWithoutLineOrFile) {
   } catch (const std::runtime_error& r) {
     EXPECT_STREQ(r.what(), "a.obj:5: bad vertex");
   }
+}
+
+TEST(Errors, FormatNumberIsTheDefaultStreamText) {
+  // Messages across the library used to print numbers with a default std::ostream or "%.6g";
+  // format_number is both.
+  for (const double v : {0.0, -0.0, 1.0, 0.004, -2.5, 1e-300, 2.5e7, 123456789.0, 1.0 / 3.0,
+                         std::numeric_limits<double>::infinity(), 5e-324}) {
+    std::ostringstream s;
+    s << v;
+    EXPECT_EQ(format_number(v), s.str()) << v;
+  }
+  EXPECT_EQ(format_number(0.004), "0.004");
+  EXPECT_EQ(format_number(1e-300), "1e-300");
+  EXPECT_EQ(format_number(2.5e7), "2.5e+07");
 }
 
 }  // namespace

@@ -171,8 +171,9 @@ TEST_F(ScriptTest, ThinningGrowthAndSkeletonsThroughTheLanguage) {
   }
   std::size_t outside = 0;
   for (std::uint32_t v = 0; v < tree.node_count(); ++v) {
-    if (!trunk[v])
+    if (!trunk[v]) {
       EXPECT_TRUE(inside(v)) << "node " << v << " at " << tree.nodes[v].position.transpose();
+    }
     outside += trunk[v];
   }
   EXPECT_LT(outside, 20u);

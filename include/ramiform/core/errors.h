@@ -55,4 +55,8 @@ class Failure : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A number for messages: six significant digits ("%.6g", the same text as a default
+/// std::ostream), e.g. "0.004", "1e-300", "2.5e+07".
+[[nodiscard]] std::string format_number(double v);
+
 }  // namespace ramiform
