@@ -96,8 +96,8 @@ class CircleElement final : public Element {
     return {center_ - extent - Vec3::Constant(pad), center_ + extent + Vec3::Constant(pad)};
   }
   std::string describe() const override {
-    return "torus primitive: circle of radius " + format_number(radius_) + " around " + vec(center_) +
-           ", normal " + vec(normal_);
+    return "torus primitive: circle of radius " + format_number(radius_) + " around " +
+           vec(center_) + ", normal " + vec(normal_);
   }
 
  private:
@@ -199,8 +199,9 @@ class ConeElement final : public Element {
     return box;
   }
   std::string describe() const override {
-    return name_ + " primitive: inner solid from " + vec(a_ + t0_ * u_) + " (radius " + format_number(r0_) +
-           ") to " + vec(a_ + t1_ * u_) + " (radius " + format_number(r1_) + ")";
+    return name_ + " primitive: inner solid from " + vec(a_ + t0_ * u_) + " (radius " +
+           format_number(r0_) + ") to " + vec(a_ + t1_ * u_) + " (radius " + format_number(r1_) +
+           ")";
   }
 
  private:
@@ -247,7 +248,8 @@ class HalfSpaceElement final : public Element {
   }
   std::string describe() const override {
     return "half-space primitive: plane through " + vec(point_) + ", outward normal " +
-           vec(normal_) + ", falloff " + format_number(falloff_) + "; unbounded (infinite bounds())";
+           vec(normal_) + ", falloff " + format_number(falloff_) +
+           "; unbounded (infinite bounds())";
   }
 
  private:
@@ -296,8 +298,9 @@ class DistancePrimitive final : public Field {
   Aabb bounds() const override { return inside_box_; }
 
   std::string describe() const override {
-    return element_->describe() + "; surface radius " + format_number(R_ * kernel_.x_at(iso())) + ", " +
-           kernel_name(kernel_.kind) + " kernel, iso " + format_number(iso()) + ", weight " + format_number(weight_);
+    return element_->describe() + "; surface radius " + format_number(R_ * kernel_.x_at(iso())) +
+           ", " + kernel_name(kernel_.kind) + " kernel, iso " + format_number(iso()) + ", weight " +
+           format_number(weight_);
   }
 
  protected:

@@ -166,7 +166,8 @@ FieldPtr make_rbf_field(std::span<const RbfConstraint> constraints, const RbfOpt
   if (!std::isfinite(options.iso))
     throw InvalidArgument("rbf: iso must be finite, got " + format_number(options.iso));
   if (!std::isfinite(options.margin) || options.margin <= 0) {
-    throw InvalidArgument("rbf: margin must be finite and > 0, got " + format_number(options.margin));
+    throw InvalidArgument("rbf: margin must be finite and > 0, got " +
+                          format_number(options.margin));
   }
   const std::size_t n = constraints.size();
   if (n < 4) {
@@ -178,8 +179,9 @@ FieldPtr make_rbf_field(std::span<const RbfConstraint> constraints, const RbfOpt
     const auto& c = constraints[i];
     if (!c.position.allFinite() || !std::isfinite(c.value)) {
       throw InvalidArgument("rbf: constraint " + std::to_string(i) + " is not finite (position " +
-                            format_number(c.position.x()) + " " + format_number(c.position.y()) + " " +
-                            format_number(c.position.z()) + ", value " + format_number(c.value) + ")");
+                            format_number(c.position.x()) + " " + format_number(c.position.y()) +
+                            " " + format_number(c.position.z()) + ", value " +
+                            format_number(c.value) + ")");
     }
     box.extend(c.position);
   }
@@ -212,10 +214,11 @@ FieldPtr make_rbf_field(std::span<const RbfConstraint> constraints, const RbfOpt
     for (std::size_t j = 0; j < i; ++j) {
       const double r = (centres[i] - centres[j]).norm();
       if (!(r > tol::kCoincident)) {
-        throw InvalidArgument(
-            "rbf: constraints " + std::to_string(j) + " and " + std::to_string(i) +
-            " are at the same position (" + format_number(constraints[i].position.x()) + " " +
-            format_number(constraints[i].position.y()) + " " + format_number(constraints[i].position.z()) + ")");
+        throw InvalidArgument("rbf: constraints " + std::to_string(j) + " and " +
+                              std::to_string(i) + " are at the same position (" +
+                              format_number(constraints[i].position.x()) + " " +
+                              format_number(constraints[i].position.y()) + " " +
+                              format_number(constraints[i].position.z()) + ")");
       }
       M(ii, static_cast<Eigen::Index>(j)) = M(static_cast<Eigen::Index>(j), ii) = r * r * r;
     }

@@ -178,8 +178,9 @@ class TaperMap final : public WarpMap {
   Aabb inverse_box(const Aabb& box) const override { return scaled(box, true); }
   Aabb forward_box(const Aabb& box) const override { return scaled(box, false); }
   std::string describe() const override {
-    return "taper along axis " + std::to_string(o_.axis) + " (scale " + format_number(o_.scale_start) +
-           " at " + format_number(o_.start) + " to " + format_number(o_.scale_end) + " at " + format_number(o_.end) + ")";
+    return "taper along axis " + std::to_string(o_.axis) + " (scale " +
+           format_number(o_.scale_start) + " at " + format_number(o_.start) + " to " +
+           format_number(o_.scale_end) + " at " + format_number(o_.end) + ")";
   }
 
  private:
@@ -461,8 +462,8 @@ class BendMap final : public WarpMap {
   }
 
   std::string describe() const override {
-    return "bend (rate " + format_number(o_.rate) + " about y = " + format_number(o_.center) + ", region y in [" +
-           format_number(o_.min) + ", " + format_number(o_.max) + "])";
+    return "bend (rate " + format_number(o_.rate) + " about y = " + format_number(o_.center) +
+           ", region y in [" + format_number(o_.min) + ", " + format_number(o_.max) + "])";
   }
 
  private:
@@ -528,7 +529,9 @@ Vec3 twist_by(const Vec3& p, const TwistOptions& options, double sign) {
 
 Vec3 twist_forward(const Vec3& p, const TwistOptions& options) { return twist_by(p, options, 1.0); }
 
-Vec3 twist_inverse(const Vec3& p, const TwistOptions& options) { return twist_by(p, options, -1.0); }
+Vec3 twist_inverse(const Vec3& p, const TwistOptions& options) {
+  return twist_by(p, options, -1.0);
+}
 
 Vec3 bend_forward(const Vec3& p, const BendOptions& options) {
   if (options.rate == 0) return p;
@@ -552,8 +555,8 @@ FieldPtr make_taper(FieldPtr child, const TaperOptions& options) {
   check_finite(options.start, "taper: start");
   check_finite(options.end, "taper: end");
   if (!(options.start < options.end)) {
-    throw InvalidArgument("taper: start (" + format_number(options.start) + ") must be below end (" +
-                          format_number(options.end) + ")");
+    throw InvalidArgument("taper: start (" + format_number(options.start) +
+                          ") must be below end (" + format_number(options.end) + ")");
   }
   for (const auto& [v, name] :
        {std::pair{options.scale_start, "scale_start"}, std::pair{options.scale_end, "scale_end"}}) {
@@ -581,7 +584,8 @@ FieldPtr make_bend(FieldPtr child, const BendOptions& options) {
   check_finite(options.max, "bend: max");
   if (!(options.min <= options.center && options.center <= options.max)) {
     throw InvalidArgument("bend: need min <= center <= max, got min " + format_number(options.min) +
-                          ", center " + format_number(options.center) + ", max " + format_number(options.max));
+                          ", center " + format_number(options.center) + ", max " +
+                          format_number(options.max));
   }
   return std::make_shared<WarpField>(std::move(child), std::make_shared<BendMap>(options));
 }

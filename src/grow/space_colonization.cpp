@@ -95,8 +95,10 @@ std::uint64_t hash_cell(std::int64_t x, std::int64_t y, std::int64_t z) {
 }  // namespace
 
 void ColonizationOptions::validate() const {
-  check(std::isfinite(step) && step > 0, "step must be finite and > 0 (got " + format_number(step) + ")");
-  check(std::isfinite(kill) && kill > 0, "kill must be finite and > 0 (got " + format_number(kill) + ")");
+  check(std::isfinite(step) && step > 0,
+        "step must be finite and > 0 (got " + format_number(step) + ")");
+  check(std::isfinite(kill) && kill > 0,
+        "kill must be finite and > 0 (got " + format_number(kill) + ")");
   check(std::isfinite(influence) && influence > kill,
         "influence must be finite and > kill (got " + format_number(influence) + ")");
   check(!roots.empty(), "roots must not be empty");
@@ -652,7 +654,8 @@ void assign_pipe_radii(Skeleton& skeleton, std::span<const std::uint32_t> roots,
   auto fail = [](const std::string& what) { throw InvalidArgument("assign_pipe_radii: " + what); };
   if (!(std::isfinite(tip_radius) && tip_radius > 0))
     fail("tip_radius must be finite and > 0 (got " + format_number(tip_radius) + ")");
-  if (!(exponent >= 2 && exponent <= 3)) fail("exponent must be in [2, 3] (got " + format_number(exponent) + ")");
+  if (!(exponent >= 2 && exponent <= 3))
+    fail("exponent must be in [2, 3] (got " + format_number(exponent) + ")");
   const std::size_t n = skeleton.nodes.size();
   std::vector<std::vector<std::uint32_t>> adj(n);
   for (std::size_t e = 0; e < skeleton.edges.size(); ++e) {

@@ -63,7 +63,8 @@ class Collapser {
         max_edge_ratio_(o.max_edge_ratio),
         cos_turn_(std::cos(o.max_normal_turn_deg * kDeg)),
         keep_(o.keep_sides.begin(), o.keep_sides.end()) {
-    std::sort(keep_.begin(), keep_.end(), [](const Vec3& a, const Vec3& b) { return a.x() < b.x(); });
+    std::sort(keep_.begin(), keep_.end(),
+              [](const Vec3& a, const Vec3& b) { return a.x() < b.x(); });
     Vec3 high = Vec3::Constant(-INFINITY);
     for (const Vec3& p : mesh.positions) {
       low_ = low_.cwiseMin(p);
@@ -362,8 +363,10 @@ class Collapser {
       const Vec3& p = *it;
       if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
       double w = 0;
-      for (const Tri& f : before) w += detail::solid_angle_fraction(pos(f[0]) - p, pos(f[1]) - p, pos(f[2]) - p);
-      for (const Tri& f : after) w -= detail::solid_angle_fraction(pos(f[0]) - p, pos(f[1]) - p, pos(f[2]) - p);
+      for (const Tri& f : before)
+        w += detail::solid_angle_fraction(pos(f[0]) - p, pos(f[1]) - p, pos(f[2]) - p);
+      for (const Tri& f : after)
+        w -= detail::solid_angle_fraction(pos(f[0]) - p, pos(f[1]) - p, pos(f[2]) - p);
       if (std::abs(w) > 0.5) return true;
     }
     return false;

@@ -16,7 +16,7 @@ namespace {
 
 constexpr std::uint32_t kNone = UINT32_MAX;
 constexpr std::uint64_t kInsertionSeed = 0xb410;  // fixed: the output must not vary
-constexpr std::uint32_t kFirstRound = 64;        // points of the first (smallest) round
+constexpr std::uint32_t kFirstRound = 64;         // points of the first (smallest) round
 constexpr double kEps = std::numeric_limits<double>::epsilon() / 2;  // unit roundoff, 2^-53
 
 // Forward error bounds of the floating-point determinants below, as multiples of the unit
@@ -131,7 +131,9 @@ T insphere_det(const std::array<std::array<T, 3>, 4>& r) {
          (lift(r[1]) * det3(r[0], r[2], r[3]) - lift(r[0]) * det3(r[1], r[2], r[3]));
 }
 
-std::array<double, 3> minus(const Vec3& a, const Vec3& b) { return {a.x() - b.x(), a.y() - b.y(), a.z() - b.z()}; }
+std::array<double, 3> minus(const Vec3& a, const Vec3& b) {
+  return {a.x() - b.x(), a.y() - b.y(), a.z() - b.z()};
+}
 
 std::array<Expansion, 3> minus_exact(const Vec3& a, const Vec3& b) {
   return {Expansion::difference(a.x(), b.x()), Expansion::difference(a.y(), b.y()),
@@ -223,7 +225,8 @@ class Builder {
         for (int c = 0; c < 4; ++c) {
           if (c != j && c != f.k) e[m++] = fresh_[q][c];
         }
-        const std::uint64_t key = (std::uint64_t{std::min(e[0], e[1])} << 32U) | std::max(e[0], e[1]);
+        const std::uint64_t key =
+            (std::uint64_t{std::min(e[0], e[1])} << 32U) | std::max(e[0], e[1]);
         std::size_t h = (key * 0x9E3779B97F4A7C15ULL >> 40U) & mask;
         while (table_[h].stamp == stamp_ && table_[h].key != key) h = (h + 1) & mask;
         Slot& slot = table_[h];
@@ -332,7 +335,8 @@ class Builder {
         const int k = static_cast<int>((rotation_ + static_cast<unsigned>(j)) & 3U);
         const std::uint32_t nb = t_[t].n[k];
         if (nb == prev || nb == kNone) continue;
-        std::array<const Vec3*, 4> q{&p_[t_[t].v[0]], &p_[t_[t].v[1]], &p_[t_[t].v[2]], &p_[t_[t].v[3]]};
+        std::array<const Vec3*, 4> q{&p_[t_[t].v[0]], &p_[t_[t].v[1]], &p_[t_[t].v[2]],
+                                     &p_[t_[t].v[3]]};
         q[k] = &p;
         if (orient3d(*q[0], *q[1], *q[2], *q[3]) < 0) {
           prev = t;
@@ -395,12 +399,13 @@ int insphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const V
   // corners), hence the minus signs.
   const std::array<std::array<double, 3>, 4> r{minus(a, e), minus(b, e), minus(c, e), minus(d, e)};
   const double det = insphere_det(r);
-  const double perm = lift(r[3]) * permanent3(r[0], r[1], r[2]) + lift(r[2]) * permanent3(r[0], r[1], r[3]) +
-                      lift(r[1]) * permanent3(r[0], r[2], r[3]) + lift(r[0]) * permanent3(r[1], r[2], r[3]);
+  const double perm =
+      lift(r[3]) * permanent3(r[0], r[1], r[2]) + lift(r[2]) * permanent3(r[0], r[1], r[3]) +
+      lift(r[1]) * permanent3(r[0], r[2], r[3]) + lift(r[0]) * permanent3(r[1], r[2], r[3]);
   if (std::abs(det) > kInsphereBound * perm) return -sign_of(det);
   g_exact_calls.fetch_add(1, std::memory_order_relaxed);
-  const std::array<std::array<Expansion, 3>, 4> x{minus_exact(a, e), minus_exact(b, e), minus_exact(c, e),
-                                                  minus_exact(d, e)};
+  const std::array<std::array<Expansion, 3>, 4> x{minus_exact(a, e), minus_exact(b, e),
+                                                  minus_exact(c, e), minus_exact(d, e)};
   return -insphere_det(x).sign();
 }
 
@@ -412,7 +417,8 @@ DelaunayResult delaunay_tetrahedralize(const std::vector<Vec3>& points) {
   if (n < 4) return result;
   Aabb box;
   for (const auto& q : points) {
-    if (!q.allFinite()) throw InvalidArgument("delaunay_tetrahedralize: point with a non-finite coordinate");
+    if (!q.allFinite())
+      throw InvalidArgument("delaunay_tetrahedralize: point with a non-finite coordinate");
     box.extend(q);
   }
   // The enclosing tetrahedron: a regular one around the points' bounding sphere, its inscribed

@@ -35,7 +35,8 @@ namespace ramiform::detail {
 
 /// Sign of the in-sphere test: +1 when e lies strictly inside the sphere through a, b, c, d,
 /// -1 outside, 0 on it; (a, b, c, d) must be positively oriented (orient3d > 0).
-[[nodiscard]] int insphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& e);
+[[nodiscard]] int insphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
+                           const Vec3& e);
 
 /// How many predicate calls the floating-point filter could not decide (process-wide counter,
 /// for tests and statistics).

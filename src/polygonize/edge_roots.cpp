@@ -102,7 +102,8 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
     if (transformed[e] != 0 && step == 0) {  // secant of log f = -3/2 log(1 - g)
       const double la = -1.5 * std::log1p(-fa[e]);
       const double lb = -1.5 * std::log1p(-fb[e]);
-      if (la != lb && std::isfinite(la) && std::isfinite(lb)) return (ta[e] * lb - tb[e] * la) / (lb - la);
+      if (la != lb && std::isfinite(la) && std::isfinite(lb))
+        return (ta[e] * lb - tb[e] * la) / (lb - la);
     }
     // Creeping: the same end replaced again and again without its |g| halving (g far from
     // quadratic, as for a compactly supported kernel, whose g falls to -infinity at the edge of

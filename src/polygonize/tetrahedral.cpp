@@ -35,7 +35,6 @@
 #include "ramiform/mesh/cleanup.h"
 #include "ramiform/mesh/winding.h"
 
-
 namespace ramiform {
 namespace {
 
@@ -83,13 +82,15 @@ void validate_resolution(const Skeleton& s, const TetrahedralOptions& o) {
     const double magnitude = n.position.cwiseAbs().maxCoeff();
     if (n.radius < kMinScale || magnitude > kMaxScale) {
       throw InvalidArgument("tetrahedral polygonizer: node " + std::to_string(i) + ": radius " +
-                            format_number(n.radius) + " and coordinates up to " + format_number(magnitude) +
+                            format_number(n.radius) + " and coordinates up to " +
+                            format_number(magnitude) +
                             " are outside [1e-50, 1e50], where its exact predicates cannot "
                             "underflow or overflow (rescale the skeleton)");
     }
     if (n.radius < kMinRadiusPerCoordinate * magnitude) {
       throw InvalidArgument("tetrahedral polygonizer: node " + std::to_string(i) + ": radius " +
-                            format_number(n.radius) + " is below 1e-11 of its largest coordinate (" +
+                            format_number(n.radius) +
+                            " is below 1e-11 of its largest coordinate (" +
                             format_number(magnitude) +
                             "); its cross-section would vanish in double precision (move the "
                             "skeleton near the origin, or use --method mc)");
@@ -526,8 +527,13 @@ class Lattice {
  public:
   Lattice(const std::vector<Vec3>& pts, const std::vector<Tet>& tets,
           const std::vector<std::uint32_t>& neighbor, int levels)
-      : pts_(pts), tets_(tets), neighbor_(neighbor), m_(1 << levels),
-        side_(static_cast<std::size_t>(m_) + 1), vertex_(pts.size(), kNone), slot_of_(tets.size(), kNone) {
+      : pts_(pts),
+        tets_(tets),
+        neighbor_(neighbor),
+        m_(1 << levels),
+        side_(static_cast<std::size_t>(m_) + 1),
+        vertex_(pts.size(), kNone),
+        slot_of_(tets.size(), kNone) {
     build_tables();
   }
 
@@ -565,7 +571,8 @@ class Lattice {
       if (!is_live(slot)) continue;
       const Tet& t = tets_[slot_tet_[slot]];
       for (int e = 0; e < 6; ++e) {
-        const std::uint64_t key = (std::uint64_t{t[kEdgeCorners[e][0]]} << 32U) | t[kEdgeCorners[e][1]];
+        const std::uint64_t key =
+            (std::uint64_t{t[kEdgeCorners[e][0]]} << 32U) | t[kEdgeCorners[e][1]];
         edges.push_back({key, 6 * slot + static_cast<std::uint32_t>(e)});
       }
     }
@@ -576,7 +583,8 @@ class Lattice {
         tet_edge_[edges[i].ref] = tet_edge_[edges[i - 1].ref];
         continue;
       }
-      const auto old = std::lower_bound(edge_points_.begin(), edge_points_.end(), EdgeRef{edges[i].key, 0});
+      const auto old =
+          std::lower_bound(edge_points_.begin(), edge_points_.end(), EdgeRef{edges[i].key, 0});
       if (old != edge_points_.end() && old->key == edges[i].key) {
         tet_edge_[edges[i].ref] = old->ref;
         continue;
@@ -607,12 +615,14 @@ class Lattice {
         if (other != kNone && other < slot) {
           for (int j = 0; j < 4; ++j) {
             if (neighbor_[4 * static_cast<std::size_t>(nb) + j] == t) {
-              tet_face_[4 * static_cast<std::size_t>(slot) + k] = tet_face_[4 * static_cast<std::size_t>(other) + j];
+              tet_face_[4 * static_cast<std::size_t>(slot) + k] =
+                  tet_face_[4 * static_cast<std::size_t>(other) + j];
             }
           }
           continue;
         }
-        tet_face_[4 * static_cast<std::size_t>(slot) + k] = static_cast<std::uint32_t>(refs_.size());
+        tet_face_[4 * static_cast<std::size_t>(slot) + k] =
+            static_cast<std::uint32_t>(refs_.size());
         for (const Bary& w : face_bary_[k]) refs_.emplace_back(slot, w);
       }
     }
@@ -651,7 +661,8 @@ class Lattice {
       return vertex_[t[k]];
     }
     if (nonzero == 2) {
-      const int e = edge_of_[(w[0] != 0) | (w[1] != 0) << 1U | (w[2] != 0) << 2U | (w[3] != 0) << 3U];
+      const int e =
+          edge_of_[(w[0] != 0) | (w[1] != 0) << 1U | (w[2] != 0) << 2U | (w[3] != 0) << 3U];
       return tet_edge_[6 * slot + e] + (w[kEdgeCorners[e][1]] - 1);
     }
     if (nonzero == 3) {
@@ -686,15 +697,18 @@ class Lattice {
     bool operator<(const EdgeRef& o) const { return key < o.key || (key == o.key && ref < o.ref); }
   };
 
-  static constexpr std::array<std::array<int, 2>, 6> kEdgeCorners{{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
-  static constexpr std::array<std::array<int, 3>, 4> kFaceCorners{{{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}}};
+  static constexpr std::array<std::array<int, 2>, 6> kEdgeCorners{
+      {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+  static constexpr std::array<std::array<int, 3>, 4> kFaceCorners{
+      {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}}};
 
   // Barycentric enumerations (in a fixed order) of the points strictly inside each face (the
   // face opposite corner k) and inside the tetrahedron, and the reverse lookups of id(). A
   // face's points are named by the weights (a, b) of its second and third corners in point id
   // order, which both tetrahedra sharing the face agree on (corners are sorted by id).
   void build_tables() {
-    for (int e = 0; e < 6; ++e) edge_of_[(1U << kEdgeCorners[e][0]) | (1U << kEdgeCorners[e][1])] = e;
+    for (int e = 0; e < 6; ++e)
+      edge_of_[(1U << kEdgeCorners[e][0]) | (1U << kEdgeCorners[e][1])] = e;
     face_rank_.assign(side_ * side_, 0);
     for (int k = 0; k < 4; ++k) {
       const auto& c = kFaceCorners[k];
@@ -713,8 +727,9 @@ class Lattice {
     for (int a = 0; a <= m_; ++a) {
       for (int b = 0; a + b <= m_; ++b) {
         for (int c = 0; a + b + c <= m_; ++c) {
-          all_bary_.push_back({static_cast<std::uint8_t>(m_ - a - b - c), static_cast<std::uint8_t>(a),
-                               static_cast<std::uint8_t>(b), static_cast<std::uint8_t>(c)});
+          all_bary_.push_back({static_cast<std::uint8_t>(m_ - a - b - c),
+                               static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(b),
+                               static_cast<std::uint8_t>(c)});
         }
       }
     }
@@ -723,8 +738,9 @@ class Lattice {
       for (int b = 1; a + b < m_; ++b) {
         for (int c = 1; a + b + c < m_; ++c) {
           inner_rank_[(a * side_ + b) * side_ + c] = static_cast<std::uint32_t>(inner_bary_.size());
-          inner_bary_.push_back({static_cast<std::uint8_t>(m_ - a - b - c), static_cast<std::uint8_t>(a),
-                                 static_cast<std::uint8_t>(b), static_cast<std::uint8_t>(c)});
+          inner_bary_.push_back({static_cast<std::uint8_t>(m_ - a - b - c),
+                                 static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(b),
+                                 static_cast<std::uint8_t>(c)});
         }
       }
     }
@@ -739,14 +755,14 @@ class Lattice {
   std::array<std::vector<Bary>, 4> face_bary_;
   std::vector<std::uint32_t> face_rank_, inner_rank_;
   std::vector<Bary> inner_bary_;
-  std::vector<Bary> all_bary_;  // every lattice point of a tetrahedron
-  std::vector<std::uint32_t> vertex_;     // per point id, its corner's global id
-  std::vector<std::uint32_t> slot_of_;    // per tetrahedron, its slot if extracted
-  std::vector<std::uint32_t> slot_tet_;   // per slot, its tetrahedron
-  std::vector<std::uint32_t> tet_edge_;   // per slot and local edge, the edge's first point id
-  std::vector<std::uint32_t> tet_face_;   // per slot and face, the face's first point id
+  std::vector<Bary> all_bary_;           // every lattice point of a tetrahedron
+  std::vector<std::uint32_t> vertex_;    // per point id, its corner's global id
+  std::vector<std::uint32_t> slot_of_;   // per tetrahedron, its slot if extracted
+  std::vector<std::uint32_t> slot_tet_;  // per slot, its tetrahedron
+  std::vector<std::uint32_t> tet_edge_;  // per slot and local edge, the edge's first point id
+  std::vector<std::uint32_t> tet_face_;  // per slot and face, the face's first point id
   std::vector<std::uint32_t> inner_first_;
-  std::vector<EdgeRef> edge_points_;      // every corner pair so far, sorted, with its first id
+  std::vector<EdgeRef> edge_points_;  // every corner pair so far, sorted, with its first id
   std::vector<std::pair<std::uint32_t, Bary>> refs_;  // per point, (slot, barycentric)
   std::vector<Vec3> positions_;
   std::vector<double> values_;
@@ -805,11 +821,11 @@ void extract_chunk(const Field& field, const std::vector<Vec3>& pts, const std::
     sc.id.assign(side * side * side, 0);
     sc.generation = 0;
   }
-  std::vector<std::uint32_t> gid;        // global ids of the corners of every live tetrahedron
-  std::vector<std::size_t> gid_begin;    // per live tetrahedron, its first corner in gid
+  std::vector<std::uint32_t> gid;      // global ids of the corners of every live tetrahedron
+  std::vector<std::size_t> gid_begin;  // per live tetrahedron, its first corner in gid
   std::vector<std::array<std::uint32_t, 4>> leaf_ids;  // local corner ids of every leaf
-  std::vector<std::uint8_t> corner_faces;  // per corner, the faces it lies on (bits)
-  std::vector<Vec3> corner_bary;           // per corner, its (w1, w2, w3)
+  std::vector<std::uint8_t> corner_faces;              // per corner, the faces it lies on (bits)
+  std::vector<Vec3> corner_bary;                       // per corner, its (w1, w2, w3)
   std::vector<char> live_flip;             // per live tetrahedron, negatively oriented
   std::vector<std::size_t> live_slot;      // per live tetrahedron, its index in the chunk
   out.face_inside.assign(end - begin, 0);
@@ -905,7 +921,8 @@ void extract_chunk(const Field& field, const std::vector<Vec3>& pts, const std::
     for (std::size_t i = 0; i < order.size(); ++i) {
       const std::uint64_t key = keys[order[i]];
       if (i == 0 || key != keys[order[i - 1]]) {
-        out.records.push_back((std::uint64_t{gid[base + (key >> 32U)]} << 32U) | gid[base + (key & 0xffffffffU)]);
+        out.records.push_back((std::uint64_t{gid[base + (key >> 32U)]} << 32U) |
+                              gid[base + (key & 0xffffffffU)]);
       }
       rank[order[i]] = static_cast<std::uint32_t>(out.records.size() - 1);
     }
@@ -932,7 +949,8 @@ std::vector<ChunkOutput> extract_list(const Field& field, const std::vector<Vec3
         list.size(), 256,
         [&](std::size_t r) {
           const Tet& t = tets[list[r]];
-          const Interval bound = field.bound(box_of(TetPoints{pts[t[0]], pts[t[1]], pts[t[2]], pts[t[3]]}));
+          const Interval bound =
+              field.bound(box_of(TetPoints{pts[t[0]], pts[t[1]], pts[t[2]], pts[t[3]]}));
           if (!bound.straddles(field.iso())) live[r] = bound.lo > field.iso() ? 2 : 0;
         },
         ctx);
@@ -944,7 +962,8 @@ std::vector<ChunkOutput> extract_list(const Field& field, const std::vector<Vec3
   parallel::for_chunks(
       list.size(), kTetsPerChunk,
       [&](std::size_t b, std::size_t e) {
-        extract_chunk(field, pts, tets, list, b, e, o, live, lattice, first_slot, outs[b / kTetsPerChunk]);
+        extract_chunk(field, pts, tets, list, b, e, o, live, lattice, first_slot,
+                      outs[b / kTetsPerChunk]);
       },
       ctx);
   if (!outs.empty()) outs[0].evaluated = lattice.evaluated() - evaluated;
@@ -1095,7 +1114,8 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
   check_cancel(ctx);
 
   // 3. Region and hole closing.
-  std::vector<char> keep = initial_region(skeleton, pts, tets, real_points, neighbor, builder.node_points, options, ctx);
+  std::vector<char> keep =
+      initial_region(skeleton, pts, tets, real_points, neighbor, builder.node_points, options, ctx);
   st.region_tets = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), 1));
   std::vector<std::uint32_t> list;
   for (std::uint32_t t = 0; t < tets.size(); ++t) {
@@ -1164,7 +1184,9 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
     const auto first = by_inside.begin() + bucket_start[in];
     const auto last = by_inside.begin() + bucket_start[in + 1];
     if (first == last) continue;
-    std::sort(first, last, [&](std::uint32_t x, std::uint32_t y) { return records[x] < records[y] || (records[x] == records[y] && x < y); });
+    std::sort(first, last, [&](std::uint32_t x, std::uint32_t y) {
+      return records[x] < records[y] || (records[x] == records[y] && x < y);
+    });
     for (auto it = first; it != last; ++it) {
       if (it == first || records[*it] != records[*(it - 1)]) {
         const auto out = static_cast<std::uint32_t>(records[*it] & 0xffffffffU);

@@ -108,10 +108,11 @@ std::size_t attempt_budget(std::size_t max_attempts, std::size_t count) {
 void check_box(const Aabb& box, const std::string& what) {
   if (box.isEmpty()) return;
   if (!box.min().allFinite() || !box.max().allFinite()) {
-    throw InvalidArgument(what + ": the sampling box is unbounded (" + format_number(box.min().x()) + ", " +
-                          format_number(box.min().y()) + ", " + format_number(box.min().z()) + ") - (" +
-                          format_number(box.max().x()) + ", " + format_number(box.max().y()) + ", " +
-                          format_number(box.max().z()) + "); intersect the field with a bounded shape first");
+    throw InvalidArgument(
+        what + ": the sampling box is unbounded (" + format_number(box.min().x()) + ", " +
+        format_number(box.min().y()) + ", " + format_number(box.min().z()) + ") - (" +
+        format_number(box.max().x()) + ", " + format_number(box.max().y()) + ", " +
+        format_number(box.max().z()) + "); intersect the field with a bounded shape first");
   }
 }
 
@@ -1011,7 +1012,8 @@ Check check(const NearSurfaceOptions& o) {
   if (!std::isfinite(o.project_width) || o.project_width < 0.0 ||
       (o.project_width > 0.0 && o.project_width < o.epsilon)) {
     return OptionError{"project_width", "must be 0 (automatic) or finite and >= epsilon (" +
-                                            format_number(o.epsilon) + "), got " + format_number(o.project_width)};
+                                            format_number(o.epsilon) + "), got " +
+                                            format_number(o.project_width)};
   }
   if (!o.box.isEmpty() && (!o.box.min().allFinite() || !o.box.max().allFinite())) {
     return OptionError{"box", "must be finite"};
@@ -1133,8 +1135,8 @@ LaneKernel LaneKernel::parse(const std::string& text) {
 void LaneKernel::validate() const {
   for (std::size_t i = 0; i < table.size(); ++i) {
     const auto [d, f] = table[i];
-    const std::string where =
-        "kernel pair " + std::to_string(i) + " (" + format_number(d) + ", " + format_number(f) + ")";
+    const std::string where = "kernel pair " + std::to_string(i) + " (" + format_number(d) + ", " +
+                              format_number(f) + ")";
     if (!std::isfinite(d) || !std::isfinite(f)) throw InvalidArgument(where + ": not finite");
     if (f < 0.0) throw InvalidArgument(where + ": factor must be >= 0");
     if (i == 0 && d != 0.0) throw InvalidArgument(where + ": the first distance must be 0");
@@ -1411,9 +1413,9 @@ PointSet sample_near_surface(const Field& field, const NearSurfaceOptions& optio
 PointSet sample_near_mesh(const TriMesh& mesh, const NearMeshOptions& options, std::uint64_t seed) {
   require(std::isfinite(options.min_offset) && std::isfinite(options.max_offset),
           "sample_near_mesh: min_offset and max_offset must be finite");
-  require(options.min_offset <= options.max_offset, "sample_near_mesh: min_offset " +
-                                                        format_number(options.min_offset) + " > max_offset " +
-                                                        format_number(options.max_offset));
+  require(options.min_offset <= options.max_offset,
+          "sample_near_mesh: min_offset " + format_number(options.min_offset) + " > max_offset " +
+              format_number(options.max_offset));
   const std::size_t nv = mesh.positions.size();
   const bool own_normals = mesh.normals.size() == nv && nv > 0;
   std::vector<double> cdf;

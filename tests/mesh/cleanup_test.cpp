@@ -109,9 +109,9 @@ TEST(NeedleCleanup, IsDeterministicAndLeavesGoodMeshesAlone) {
 TEST(NeedleCleanup, SameResultOnAnyThreadCount) {
   // Some 60k vertices: several blocks of the parallel pass, with needles inside blocks and on
   // their borders (left to the serial pass). Both a sphere and a torus, in one mesh.
-  const TriMesh needles = renumbered_by_first_use(
-      test::merged(with_needles(test::icosphere(6), 1e-4, 2),
-                   with_needles(test::torus(4.0, 1.0, 120, 40), 1e-3, 3)));
+  const TriMesh needles =
+      renumbered_by_first_use(test::merged(with_needles(test::icosphere(6), 1e-4, 2),
+                                           with_needles(test::torus(4.0, 1.0, 120, 40), 1e-3, 3)));
   ASSERT_GT(needles.vertex_count(), 50000U);
   test::expect_closed_surface(needles, 2, 2);
   TriMesh reference = needles;

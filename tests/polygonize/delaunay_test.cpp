@@ -24,12 +24,15 @@ namespace {
 __extension__ using I128 = __int128;  // exact for the determinants of 20-bit coordinates
 using IVec = std::array<std::int64_t, 3>;
 
-I128 det3_int(const std::array<I128, 3>& u, const std::array<I128, 3>& v, const std::array<I128, 3>& w) {
+I128 det3_int(const std::array<I128, 3>& u, const std::array<I128, 3>& v,
+              const std::array<I128, 3>& w) {
   return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
          u[2] * (v[0] * w[1] - v[1] * w[0]);
 }
 
-std::array<I128, 3> sub(const IVec& a, const IVec& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+std::array<I128, 3> sub(const IVec& a, const IVec& b) {
+  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
 
 int sign128(I128 x) { return (x > 0) - (x < 0); }
 
@@ -84,7 +87,9 @@ TEST(Predicates, UnitTetrahedronSigns) {
 TEST(Predicates, OrientMatchesIntegerArithmetic) {
   Rng rng(11);
   const std::uint64_t exact_before = exact_predicate_calls();
-  auto ri = [&](double lo, double hi) { return static_cast<std::int64_t>(std::floor(rng.uniform(lo, hi))); };
+  auto ri = [&](double lo, double hi) {
+    return static_cast<std::int64_t>(std::floor(rng.uniform(lo, hi)));
+  };
   for (int trial = 0; trial < 2000; ++trial) {
     const IVec a{ri(0, 1 << 20), ri(0, 1 << 20), ri(0, 1 << 20)};
     const IVec u{ri(-(1 << 20), 1 << 20), ri(-(1 << 20), 1 << 20), ri(-(1 << 20), 1 << 20)};
@@ -94,7 +99,8 @@ TEST(Predicates, OrientMatchesIntegerArithmetic) {
     const IVec c{a[0] + v[0], a[1] + v[1], a[2] + v[2]};
     IVec d{a[0] + k * u[0] + m * v[0], a[1] + k * u[1] + m * v[1], a[2] + k * u[2] + m * v[2]};
     d[trial % 3] += trial % 5 - 2;  // on the plane, or one unit off it
-    ASSERT_EQ(orient3d(to_vec(a), to_vec(b), to_vec(c), to_vec(d)), orient_int(a, b, c, d)) << trial;
+    ASSERT_EQ(orient3d(to_vec(a), to_vec(b), to_vec(c), to_vec(d)), orient_int(a, b, c, d))
+        << trial;
   }
   EXPECT_GT(exact_predicate_calls(), exact_before);
 }
@@ -120,13 +126,16 @@ TEST(Predicates, InsphereMatchesIntegerArithmetic) {
   int zeros = 0;
   for (int trial = 0; trial < 3000; ++trial) {
     std::array<IVec, 5> p;
-    for (auto& q : p) q = moved(on[static_cast<std::size_t>(rng.uniform(0, static_cast<double>(on.size())))]);
+    for (auto& q : p)
+      q = moved(on[static_cast<std::size_t>(rng.uniform(0, static_cast<double>(on.size())))]);
     p[4][trial % 3] += trial % 3 - 1;
     if (orient_int(p[0], p[1], p[2], p[3]) == 0) continue;
     if (orient_int(p[0], p[1], p[2], p[3]) < 0) std::swap(p[0], p[1]);
     const int expected = insphere_int(p[0], p[1], p[2], p[3], p[4]);
     zeros += expected == 0 ? 1 : 0;
-    ASSERT_EQ(insphere(to_vec(p[0]), to_vec(p[1]), to_vec(p[2]), to_vec(p[3]), to_vec(p[4])), expected) << trial;
+    ASSERT_EQ(insphere(to_vec(p[0]), to_vec(p[1]), to_vec(p[2]), to_vec(p[3]), to_vec(p[4])),
+              expected)
+        << trial;
   }
   EXPECT_GT(zeros, 100);
 }
@@ -146,7 +155,8 @@ std::array<std::uint32_t, 3> face_of(const std::array<std::uint32_t, 4>& t, int 
 
 // Conforming, non-degenerate, empty spheres, neighbours consistent with shared faces; returns
 // the total volume.
-double check_delaunay(const std::vector<Vec3>& p, const DelaunayResult& d, bool brute_force_spheres) {
+double check_delaunay(const std::vector<Vec3>& p, const DelaunayResult& d,
+                      bool brute_force_spheres) {
   const auto& tets = d.tets;
   EXPECT_EQ(d.neighbors.size(), 4 * tets.size());
   for (std::size_t t = 0; t < tets.size(); ++t) {
@@ -164,7 +174,8 @@ double check_delaunay(const std::vector<Vec3>& p, const DelaunayResult& d, bool 
       }
     }
   }
-  std::map<std::array<std::uint32_t, 3>, std::vector<std::uint32_t>> faces;  // face -> opposite corners
+  std::map<std::array<std::uint32_t, 3>, std::vector<std::uint32_t>>
+      faces;  // face -> opposite corners
   double total = 0;
   for (const auto& t : tets) {
     EXPECT_TRUE(std::is_sorted(t.begin(), t.end()));
@@ -181,7 +192,9 @@ double check_delaunay(const std::vector<Vec3>& p, const DelaunayResult& d, bool 
                 -orient3d(p[f[0]], p[f[1]], p[f[2]], p[opposite[1]]));
     }
   }
-  EXPECT_EQ(static_cast<std::size_t>(std::count(d.neighbors.begin(), d.neighbors.end(), UINT32_MAX)), boundary);
+  EXPECT_EQ(
+      static_cast<std::size_t>(std::count(d.neighbors.begin(), d.neighbors.end(), UINT32_MAX)),
+      boundary);
   if (brute_force_spheres) {
     for (auto t : tets) {
       if (orient3d(p[t[0]], p[t[1]], p[t[2]], p[t[3]]) < 0) std::swap(t[0], t[1]);
@@ -197,7 +210,8 @@ TEST(Delaunay, RandomPointsInACube) {
   Rng rng(3);
   std::vector<Vec3> p;
   for (int c = 0; c < 8; ++c) p.emplace_back((c & 1) ? 1 : 0, (c & 2) ? 1 : 0, (c & 4) ? 1 : 0);
-  for (int i = 0; i < 600; ++i) p.emplace_back(rng.uniform(0.05, 0.95), rng.uniform(0.05, 0.95), rng.uniform(0.05, 0.95));
+  for (int i = 0; i < 600; ++i)
+    p.emplace_back(rng.uniform(0.05, 0.95), rng.uniform(0.05, 0.95), rng.uniform(0.05, 0.95));
   const DelaunayResult d = delaunay_tetrahedralize(p);
   EXPECT_EQ(d.duplicate_points, 0U);
   EXPECT_GT(d.tets.size(), 5 * p.size());
@@ -219,7 +233,8 @@ TEST(Delaunay, JitteredGridIsConforming) {
   for (int x = 0; x < 7; ++x) {
     for (int y = 0; y < 7; ++y) {
       for (int z = 0; z < 7; ++z) {
-        p.emplace_back(x + 1e-9 * rng.uniform(-1, 1), y + 1e-9 * rng.uniform(-1, 1), z + 1e-9 * rng.uniform(-1, 1));
+        p.emplace_back(x + 1e-9 * rng.uniform(-1, 1), y + 1e-9 * rng.uniform(-1, 1),
+                       z + 1e-9 * rng.uniform(-1, 1));
       }
     }
   }

@@ -72,7 +72,7 @@ struct TetrahedralStats {
   std::size_t skipped_tets = 0;       ///< region tetrahedra whose bound excludes the surface
   std::size_t leaf_tets = 0;          ///< leaf tetrahedra marched (8^levels per region tetrahedron
                                       ///< with lattice points on both sides)
-  std::size_t vertices_evaluated = 0; ///< distinct lattice points evaluated (each once)
+  std::size_t vertices_evaluated = 0;  ///< distinct lattice points evaluated (each once)
   std::size_t crossing_edges = 0;     ///< mesh vertices
   std::uint64_t root_evaluations = 0; ///< evaluations spent placing vertices
   std::size_t collapsed_edges = 0;    ///< needle edges collapsed by the cleanup pass
