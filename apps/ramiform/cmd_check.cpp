@@ -23,6 +23,7 @@ struct CheckArgs {
 };
 
 int run_check(const CheckArgs& args) {
+  check_output_path(args.common.stats_path);
   RunScope scope(args.common);
   StageTimer timer;
   const TriMesh mesh = read_mesh(args.mesh_path);

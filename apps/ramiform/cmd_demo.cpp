@@ -26,6 +26,7 @@ struct DemoArgs {
 };
 
 int run_demo(const DemoArgs& args) {
+  check_output_path(args.common.stats_path);
   RunScope scope(args.common);
   namespace fs = std::filesystem;
   std::error_code ec;

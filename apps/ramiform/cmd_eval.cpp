@@ -21,6 +21,7 @@ struct EvalArgs {
 };
 
 int run_eval(const EvalArgs& args) {
+  check_output_path(args.common.stats_path);
   RunScope scope(args.common);
   StageTimer timer;
   const SkeletonFieldOptions options = field_options(args.field);

@@ -51,6 +51,9 @@ struct GrowArgs {
 };
 
 int run_grow(const GrowArgs& args) {
+  // Growth can take minutes: a path that cannot be written is refused before it.
+  check_output_path(args.out_path, {".json", ".ply", ".obj"});
+  check_output_path(args.common.stats_path);
   RunScope scope(args.common);
   StageTimer timer;
   const PointSet points = read_points(args.points_path);
@@ -96,6 +99,8 @@ struct SampleArgs {
 
 // Runs the script (its outputs are discarded: only the named shape is used), then samples.
 int run_sample(const SampleArgs& args) {
+  check_output_path(args.out_path);  // any extension: text, or .ply
+  check_output_path(args.common.stats_path);
   RunScope scope(args.common);
   StageTimer timer;
   ScriptOptions so;
@@ -150,6 +155,7 @@ int run_lsystem(const LSystemArgs& args) {
     return 0;
   }
   if (args.out_path.empty()) throw InvalidArgument("-o TREE.json is required");
+  check_output_path(args.out_path, {".json", ".ply", ".obj"});
   RunScope scope(args.common);
   std::string text;
   std::string source = args.source;

@@ -45,6 +45,7 @@ ScriptOptions script_options(const ScriptArgs& args) {
 }
 
 int run_run(const ScriptArgs& args) {
+  check_output_path(args.common.stats_path);
   RunScope scope(args.common);
   StageTimer timer;
   const ScriptOptions options = script_options(args);

@@ -100,6 +100,38 @@ TEST_F(PipelineCli, BadInputsExitTwoWithAMessageAndNoOutput) {
   EXPECT_FALSE(fs::exists(path("l.json")));
 }
 
+// Every command that writes refuses an output it cannot write before doing any work: the
+// inputs below are missing or broken too, and the message is about the output, so no input was
+// read (grow and sample can run for minutes before writing).
+TEST_F(PipelineCli, OutputPathsAreCheckedBeforeTheWork) {
+  const std::string missing = path("no/such/dir/out.json");
+  const std::string broken = path("absent-input");
+  const struct {
+    std::string args;
+    const char* expected;
+  } cases[] = {
+      {"generate " + missing, "does not exist"},
+      {"generate " + path("t.stl"), "unknown format '.stl' (supported: .json, .ply, .obj)"},
+      {"convert " + broken + ".json " + missing, "does not exist"},
+      {"convert " + broken + ".json " + path("t.txt"), "unknown format '.txt'"},
+      {"grow --points " + broken + ".txt -o " + missing, "does not exist"},
+      {"grow --points " + broken + ".txt -o " + path("t.off"), "unknown format '.off'"},
+      {"sample " + broken + ".rf s --dist uniform -o " + path("no/such/p.txt"), "does not exist"},
+      {"lsystem bush-2d -o " + missing, "does not exist"},
+      {"generate " + path("t.json") + " --stats " + missing, "does not exist"},
+      {"run " + broken + ".rf --stats " + missing, "does not exist"},
+      {"check " + broken + ".ply --stats " + missing, "does not exist"},
+  };
+  for (const auto& c : cases) {
+    const CliRun r = run_cli(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << ": " << r.out;
+    EXPECT_NE(r.out.find(c.expected), std::string::npos) << c.args << ": " << r.out;
+    EXPECT_EQ(r.out.find("absent-input"), std::string::npos) << c.args << ": " << r.out;
+  }
+  EXPECT_FALSE(fs::exists(path("t.json")));
+  EXPECT_FALSE(fs::exists(path("t.stl")));
+}
+
 TEST_F(PipelineCli, LSystemExamplesBecomeSkeletons) {
   const CliRun list = run_cli("lsystem --list");
   ASSERT_EQ(list.code, 0) << list.out;
