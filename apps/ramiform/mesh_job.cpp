@@ -33,6 +33,8 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
   r.mesh = polygonize_tetrahedral(field, skeleton, o, &ctx, &st);
   r.stats["levels"] = o.levels;
   r.stats["polyhedron_points"] = st.polyhedron_points;
+  r.stats["axis_points_added"] = st.axis_points_added;
+  r.stats["axis_edges_missing"] = st.axis_edges_missing;
   r.stats["delaunay_tets"] = st.delaunay_tets;
   r.stats["region_tets"] = st.region_tets;
   r.stats["grown_tets"] = st.grown_tets;

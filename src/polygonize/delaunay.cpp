@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <string>
 
 #include "ramiform/core/errors.h"
 #include "ramiform/core/random.h"
@@ -215,6 +216,12 @@ class Builder {
       const Face& f = boundary_[q];
       const std::uint32_t s = allocate();
       t_[s].v = fresh_[q];
+      if (!vt_.empty()) {
+        for (const std::uint32_t v : fresh_[q]) {
+          vt_[v] = s;
+          touched_[v] = round_;
+        }
+      }
       t_[s].n = {kNone, kNone, kNone, kNone};
       t_[s].n[f.k] = f.nb;
       if (f.nb != kNone) t_[f.nb].n[f.back] = s;
@@ -246,9 +253,62 @@ class Builder {
     return true;
   }
 
-  // The live tetrahedra whose corners are all below `limit`, in the result's canonical form
-  // (corners ascending, list sorted), with their face neighbours renumbered to match.
-  void finish(std::uint32_t limit, DelaunayResult& out) const {
+  // Makes every piece an edge by midpoint splitting, round after round (see
+  // delaunay_tetrahedralize); returns the number of pieces still missing after the last round.
+  // An insertion takes away only edges of its cavity, whose corners it marks (touched_); a
+  // piece found earlier is checked again when both its ends were marked since the round before.
+  std::size_t recover(const std::vector<std::array<std::uint32_t, 2>>& required) {
+    index_vertices();
+    touched_.assign(p_.size(), 0);
+    struct Piece {
+      std::array<std::uint32_t, 2> e;
+      bool found;
+    };
+    std::vector<Piece> pieces, next;
+    for (const auto& e : required) pieces.push_back({e, false});
+    for (std::uint32_t round = 1;; ++round) {
+      round_ = round;
+      next.clear();
+      std::size_t missing = 0;
+      for (const Piece& piece : pieces) {
+        const auto [a, b] = piece.e;
+        const bool recheck = touched_[a] + 1 >= round && touched_[b] + 1 >= round;
+        if (a == b || (piece.found && !recheck) || has_edge(a, b)) {
+          next.push_back({piece.e, true});
+          continue;
+        }
+        ++missing;
+        if (round > kRecoveryRounds) {
+          next.push_back({piece.e, false});
+          continue;
+        }
+        p_.push_back(0.5 * (p_[a] + p_[b]));
+        vt_.push_back(kNone);
+        touched_.push_back(0);
+        const auto m = static_cast<std::uint32_t>(p_.size() - 1);
+        if (!insert(m)) {  // the midpoint is a vertex already: this piece stays as it is
+          p_.pop_back();
+          vt_.pop_back();
+          touched_.pop_back();
+          next.push_back({piece.e, false});
+          continue;
+        }
+        next.push_back({{a, m}, false});
+        next.push_back({{m, b}, false});
+      }
+      if (missing == 0 || round > kRecoveryRounds) return missing;
+      pieces.swap(next);
+    }
+  }
+
+  [[nodiscard]] const std::vector<Vec3>& points() const { return p_; }
+
+  // The live tetrahedra without a corner of the enclosing tetrahedron (points n to n + 3), in
+  // the result's canonical form (corners ascending, list sorted), with their face neighbours
+  // renumbered to match; Steiner points (from n + 4 on) are renumbered from n on.
+  void finish(std::uint32_t n, DelaunayResult& out) const {
+    const auto limit = static_cast<std::uint32_t>(p_.size() - 4);
+    auto out_id = [n](std::uint32_t v) { return v < n ? v : v >= n + 4 ? v - 4 : kNone; };
     std::vector<char> dead(t_.size(), 0);
     for (const std::uint32_t f : free_) dead[f] = 1;
     std::vector<Tet> sorted(t_.size());
@@ -258,7 +318,7 @@ class Builder {
     for (std::uint32_t t = 0; t < t_.size(); ++t) {
       if (dead[t] != 0) continue;
       std::array<std::uint8_t, 4> c{0, 1, 2, 3};
-      const Tet& v = t_[t].v;
+      const Tet v{out_id(t_[t].v[0]), out_id(t_[t].v[1]), out_id(t_[t].v[2]), out_id(t_[t].v[3])};
       std::sort(c.begin(), c.end(), [&](std::uint8_t a, std::uint8_t b) { return v[a] < v[b]; });
       if (v[c[3]] >= limit) {
         dead[t] = 1;
@@ -307,6 +367,38 @@ class Builder {
     std::uint32_t tet;
     int face;
   };
+
+  // vt_[v]: a live tetrahedron with corner v, kept from here on by insert().
+  void index_vertices() {
+    std::vector<char> dead(t_.size(), 0);
+    for (const std::uint32_t f : free_) dead[f] = 1;
+    vt_.assign(p_.size(), kNone);
+    for (std::uint32_t t = 0; t < t_.size(); ++t) {
+      if (dead[t] != 0) continue;
+      for (const std::uint32_t v : t_[t].v) vt_[v] = t;
+    }
+  }
+
+  // Whether a-b is an edge: a search over the tetrahedra around a (across the faces holding a).
+  bool has_edge(std::uint32_t a, std::uint32_t b) {
+    ++stamp_;
+    const std::uint32_t seen = in_cavity();
+    cavity_.assign(1, vt_[a]);
+    t_[vt_[a]].mark = seen;
+    for (std::size_t q = 0; q < cavity_.size(); ++q) {
+      const Cell& c = t_[cavity_[q]];
+      for (int k = 0; k < 4; ++k) {
+        if (c.v[k] == b) return true;
+      }
+      for (int k = 0; k < 4; ++k) {
+        const std::uint32_t nb = c.n[k];
+        if (c.v[k] == a || nb == kNone || t_[nb].mark == seen) continue;
+        t_[nb].mark = seen;
+        cavity_.push_back(nb);
+      }
+    }
+    return false;
+  }
 
   std::uint32_t allocate() {
     if (!free_.empty()) {
@@ -361,6 +453,9 @@ class Builder {
   [[nodiscard]] std::uint32_t outside_cavity() const { return 2 * stamp_ + 1; }
   std::vector<Cell> t_;
   std::vector<std::uint32_t> free_;
+  std::vector<std::uint32_t> vt_;  // see index_vertices(); empty until recover()
+  std::vector<std::uint32_t> touched_;  // per point, the last round whose cavity held it
+  std::uint32_t round_ = 0;
   std::uint32_t last_ = 0, stamp_ = 0;
   unsigned rotation_ = 0;
   std::vector<std::uint32_t> cavity_;
@@ -411,9 +506,17 @@ int insphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const V
 
 std::uint64_t exact_predicate_calls() { return g_exact_calls.load(std::memory_order_relaxed); }
 
-DelaunayResult delaunay_tetrahedralize(const std::vector<Vec3>& points) {
+DelaunayResult delaunay_tetrahedralize(
+    const std::vector<Vec3>& points, const std::vector<std::array<std::uint32_t, 2>>& required_edges) {
   DelaunayResult result;
   const auto n = static_cast<std::uint32_t>(points.size());
+  for (const auto& e : required_edges) {
+    if (e[0] >= n || e[1] >= n) {
+      throw InvalidArgument("delaunay_tetrahedralize: required edge " + std::to_string(e[0]) +
+                            "-" + std::to_string(e[1]) + " names a point out of range (" +
+                            std::to_string(n) + " points)");
+    }
+  }
   if (n < 4) return result;
   Aabb box;
   for (const auto& q : points) {
@@ -459,6 +562,10 @@ DelaunayResult delaunay_tetrahedralize(const std::vector<Vec3>& points) {
   builder.start(n, n + 1, n + 2, n + 3);
   for (const std::uint32_t i : order) {
     if (!builder.insert(i)) ++result.duplicate_points;
+  }
+  if (!required_edges.empty()) {
+    result.missing_edges = builder.recover(required_edges);
+    result.steiner_points.assign(builder.points().begin() + n + 4, builder.points().end());
   }
   builder.finish(n, result);
   return result;

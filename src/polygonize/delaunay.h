@@ -50,10 +50,29 @@ struct DelaunayResult {
   /// UINT32_MAX on the boundary.
   std::vector<std::uint32_t> neighbors;
   std::size_t duplicate_points = 0;  ///< points equal to an earlier one (left out)
+  /// Points added on required edges (their midpoints, recursively), numbered from
+  /// points.size() on in `tets`.
+  std::vector<Vec3> steiner_points;
+  /// Pieces of required edges that are still not edges after the last round (see
+  /// delaunay_tetrahedralize).
+  std::size_t missing_edges = 0;
 };
 
 /// Delaunay tetrahedralization of `points` (finite coordinates; at least 4 affinely independent
 /// points for a non-empty result). Deterministic; single-threaded.
-[[nodiscard]] DelaunayResult delaunay_tetrahedralize(const std::vector<Vec3>& points);
+///
+/// Every segment of `required_edges` (pairs of indices into `points`) is made a union of edges
+/// of the result, as a conforming Delaunay tetrahedralization does: a segment that is not an
+/// edge is split at its midpoint, which is inserted (a Steiner point), and the halves are
+/// checked again, round after round until every piece is an edge. Segments meeting at a small
+/// angle could be split without end; after kRecoveryRounds rounds the pieces still missing are
+/// counted in `missing_edges` and left.
+[[nodiscard]] DelaunayResult delaunay_tetrahedralize(
+    const std::vector<Vec3>& points,
+    const std::vector<std::array<std::uint32_t, 2>>& required_edges = {});
+
+/// Rounds of midpoint splitting for required edges: a piece can become 1/2^kRecoveryRounds of
+/// its segment.
+constexpr int kRecoveryRounds = 8;
 
 }  // namespace ramiform::detail

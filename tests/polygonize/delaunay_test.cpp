@@ -13,9 +13,11 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <vector>
 
 #include "polygonize/delaunay.h"
+#include "ramiform/core/errors.h"
 #include "ramiform/core/random.h"
 
 namespace ramiform::detail {
@@ -250,6 +252,61 @@ TEST(Delaunay, DuplicatesAreDroppedAndTinyInputsAreEmpty) {
   EXPECT_EQ(d.tets.size(), 4U);  // the centroid-side point splits the tetrahedron in four
   EXPECT_NEAR(check_delaunay(p, d, true), 1.0 / 6.0, 1e-12);
   EXPECT_TRUE(delaunay_tetrahedralize({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}).tets.empty());
+}
+
+bool has_edge(const DelaunayResult& d, std::uint32_t a, std::uint32_t b) {
+  return std::any_of(d.tets.begin(), d.tets.end(), [&](const auto& t) {
+    return std::count(t.begin(), t.end(), a) == 1 && std::count(t.begin(), t.end(), b) == 1;
+  });
+}
+
+// A segment threaded through a ring of points close around its middle is not a Delaunay edge
+// (its diametral sphere holds the ring); required, it is split at midpoints until every piece
+// is an edge of the Delaunay tetrahedralization of the points plus the Steiner points.
+TEST(Delaunay, RequiredEdgesAreRecoveredWithSteinerPointsOnThem) {
+  Rng rng(5);
+  std::vector<Vec3> p;
+  for (int c = 0; c < 8; ++c) p.emplace_back((c & 1) ? 1 : 0, (c & 2) ? 1 : 0, (c & 4) ? 1 : 0);
+  const Vec3 a(0.1, 0.5, 0.5), b(0.9, 0.52, 0.49);
+  p.push_back(a);  // 8
+  p.push_back(b);  // 9
+  for (int k = 0; k < 8; ++k) {  // the ring, radius 0.05 around the segment's middle
+    const double phi = 2 * std::numbers::pi * (k + rng.uniform(-0.1, 0.1)) / 8;
+    p.emplace_back(0.5 + rng.uniform(-0.01, 0.01), 0.51 + 0.05 * std::cos(phi),
+                   0.495 + 0.05 * std::sin(phi));
+  }
+  for (int i = 0; i < 150; ++i)
+    p.emplace_back(rng.uniform(0.05, 0.95), rng.uniform(0.05, 0.95), rng.uniform(0.05, 0.95));
+  const DelaunayResult plain = delaunay_tetrahedralize(p);
+  ASSERT_FALSE(has_edge(plain, 8, 9));
+  EXPECT_TRUE(plain.steiner_points.empty());
+
+  const DelaunayResult d = delaunay_tetrahedralize(p, {{8, 9}, {0, 7}});
+  EXPECT_EQ(d.missing_edges, 0U);
+  ASSERT_FALSE(d.steiner_points.empty());
+  std::vector<Vec3> all = p;
+  all.insert(all.end(), d.steiner_points.begin(), d.steiner_points.end());
+  // Every Steiner point lies on a-b (or on the cube's diagonal 0-7); the pieces between
+  // consecutive points along each segment are edges.
+  for (const auto& [from, to] : {std::pair{8U, 9U}, std::pair{0U, 7U}}) {
+    const Vec3 u = all[to] - all[from];
+    std::vector<std::pair<double, std::uint32_t>> along{{0.0, from}, {1.0, to}};
+    for (std::uint32_t i = p.size(); i < all.size(); ++i) {
+      const double t = (all[i] - all[from]).dot(u) / u.squaredNorm();
+      if ((all[i] - all[from] - t * u).norm() < 1e-12) along.emplace_back(t, i);
+    }
+    std::sort(along.begin(), along.end());
+    for (std::size_t k = 0; k + 1 < along.size(); ++k) {
+      EXPECT_TRUE(has_edge(d, along[k].second, along[k + 1].second))
+          << "piece " << k << " of " << from << "-" << to;
+    }
+    if (from == 8) {
+      EXPECT_GT(along.size(), 2U);
+    }
+  }
+  EXPECT_NEAR(check_delaunay(all, d, true), 1.0, 1e-9);
+  EXPECT_THROW((void)delaunay_tetrahedralize(p, {{8, static_cast<std::uint32_t>(p.size())}}),
+               InvalidArgument);
 }
 
 }  // namespace

@@ -65,6 +65,9 @@ struct TetrahedralOptions {
 struct TetrahedralStats {
   std::size_t polyhedron_points = 0;  ///< points of the bounding point set
   std::size_t delaunay_tets = 0;      ///< tetrahedra of the Delaunay tetrahedralization
+  std::size_t axis_points_added = 0;  ///< Steiner points that make consecutive axis points
+                                      ///< edges of the tetrahedralization
+  std::size_t axis_edges_missing = 0; ///< pieces of the axis still not edges (normally 0)
   std::size_t region_tets = 0;        ///< tetrahedra kept before hole fixing
   std::size_t grown_tets = 0;         ///< tetrahedra added by hole fixing
   int growth_rounds = 0;              ///< rounds of hole fixing
