@@ -17,6 +17,12 @@ namespace {
 // finite, very negative g: only its sign matters there).
 constexpr double kFloor = 1e-300;
 constexpr std::size_t kGrain = 8192;  // edges per parallel task
+// Below this g = 1 - (f / iso)^(-2/3) the field is all but zero (f < 1e-9 iso: beyond every
+// kernel's reach, or floored): interpolation towards such an end lands on the other end, so the
+// bracket is bisected instead, and the final estimate is the bracket's midpoint. (A 4.4 m
+// lattice edge of archi_Tree_1 at level 0 runs from a node, f = 2.8 iso, to where f = 0; the
+// secant put the vertex on the node's own point and left the node outside the mesh.)
+constexpr double kVanished = -1e4;
 
 double damping(double g_new, double g_old) {
   const double m = 1 - g_new / g_old;
@@ -77,7 +83,8 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
     return 1.0 - 1.0 / (c * c);
   };
   parallel::for_each(n, kGrain, [&](std::size_t e) {
-    transformed[e] = use_transform && fa[e] > 0 && fb[e] > 0 ? 1 : 0;
+    // A zero end (beyond a truncated or compactly supported kernel) is floored, see kFloor.
+    transformed[e] = use_transform && fa[e] >= 0 && fb[e] >= 0 && fa[e] + fb[e] > 0 ? 1 : 0;
     fa[e] = g_of(e, fa[e]);
     fb[e] = g_of(e, fb[e]);
     // An end exactly on the surface is the root (the sign test below needs g != 0 at a).
@@ -98,8 +105,11 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
     return s;
   };
   auto secant = [&](std::size_t e) { return secant_of(e, fa[e], fb[e]); };  // damped
+  auto vanished = [&](std::size_t e) {
+    return transformed[e] != 0 && std::min(ga[e], gb[e]) < kVanished;
+  };
   auto propose = [&](std::size_t e, int step) {
-    if (transformed[e] != 0 && step == 0) {  // secant of log f = -3/2 log(1 - g)
+    if (transformed[e] != 0 && step == 0 && !vanished(e)) {  // secant of log f = -3/2 log(1 - g)
       const double la = -1.5 * std::log1p(-fa[e]);
       const double lb = -1.5 * std::log1p(-fb[e]);
       if (la != lb && std::isfinite(la) && std::isfinite(lb))
@@ -112,6 +122,16 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
     // the Wyvill distance surface of the 1,500-segment benchmark tree 1.2 % of the vertices
     // ended far off the surface; with a plain "same end twice" rule the Cauchy field spent
     // 8 % more evaluations.)
+    if (vanished(e)) {
+      // The root lies far nearer the live end (a Cauchy field falls off like the distance^-3:
+      // f < 1e-6 iso some 100 radii out, the surface about 1 radius out): steps of 1/32 of the
+      // bracket towards it; bisection once a step has landed inside.
+      const bool a_live = ga[e] > gb[e] ? ga[e] > 0 : false;
+      const bool inside_last = last_side[e] == (a_live ? -1 : 1);
+      if (step == 0 || inside_last) return 0.5 * (ta[e] + tb[e]);
+      const double w = (tb[e] - ta[e]) / 32;
+      return a_live ? ta[e] + w : tb[e] - w;
+    }
     if (slow[e] >= 3) return 0.5 * (ta[e] + tb[e]);
     if (!std::isnan(gc[e]) && slow[e] == 0) {
       const double u = quadratic_root(tb[e] - ta[e], ga[e], gb[e], tc[e] - ta[e], gc[e]);
@@ -185,7 +205,9 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
   parallel::for_each(n, kGrain, [&](std::size_t e) {
     // Out of steps: the secant of the undamped values (the damped ones may have shrunk one
     // end's value to nothing, which would put the vertex at that end).
-    const double s = ta[e] == tb[e] ? ta[e] : secant_of(e, ga[e], gb[e]);
+    const double s = ta[e] == tb[e] ? ta[e]
+                     : vanished(e)  ? 0.5 * (ta[e] + tb[e])
+                                    : secant_of(e, ga[e], gb[e]);
     out[e] = a[e] + s * d[e];
   });
   return out;

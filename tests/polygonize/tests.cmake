@@ -3,7 +3,8 @@ set(RAMIFORM_polygonize_TESTS
   polygonize/marching_cubes_test.cpp
   polygonize/marching_cubes_skeleton_test.cpp
   polygonize/tetrahedral_test.cpp
-  polygonize/delaunay_test.cpp)
+  polygonize/delaunay_test.cpp
+  polygonize/edge_roots_test.cpp)
 
 # The generator of src/polygonize/mc_tables.inc (header-only logic in tools/mc_table_generator.h,
 # which mc_tables_test.cpp also uses). Regenerate with:
