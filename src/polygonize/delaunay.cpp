@@ -10,6 +10,7 @@
 #include <string>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/parallel.h"
 #include "ramiform/core/random.h"
 
 namespace ramiform::detail {
@@ -18,6 +19,7 @@ namespace {
 constexpr std::uint32_t kNone = UINT32_MAX;
 constexpr std::uint64_t kInsertionSeed = 0xb410;  // fixed: the output must not vary
 constexpr std::uint32_t kFirstRound = 64;         // points of the first (smallest) round
+constexpr std::size_t kFinishGrain = 16384;        // tetrahedra per parallel task of finish()
 constexpr double kEps = std::numeric_limits<double>::epsilon() / 2;  // unit roundoff, 2^-53
 
 // Forward error bounds of the floating-point determinants below, as multiples of the unit
@@ -308,50 +310,76 @@ class Builder {
   // renumbered to match; Steiner points (from n + 4 on) are renumbered from n on.
   void finish(std::uint32_t n, DelaunayResult& out) const {
     const auto limit = static_cast<std::uint32_t>(p_.size() - 4);
-    auto out_id = [n](std::uint32_t v) { return v < n ? v : v >= n + 4 ? v - 4 : kNone; };
-    std::vector<char> dead(t_.size(), 0);
+    const std::size_t cells = t_.size();
+    std::vector<char> dead(cells, 0);
     for (const std::uint32_t f : free_) dead[f] = 1;
-    std::vector<Tet> sorted(t_.size());
-    std::vector<std::array<std::uint8_t, 4>> corner(t_.size());  // sorted position -> corner
+    std::vector<Tet> sorted(cells);
+    std::vector<std::array<std::uint8_t, 4>> corner(cells);  // sorted position -> corner
+    // Corners renumbered (Steiner points down by four, the enclosing corners to kNone) and
+    // sorted by a network of five compare-exchanges; per tetrahedron, in parallel.
+    parallel::for_chunks(cells, kFinishGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t t = b; t < e; ++t) {
+        if (dead[t] != 0) continue;
+        Tet v{};
+        std::array<std::uint8_t, 4> c{0, 1, 2, 3};
+        for (int k = 0; k < 4; ++k) {
+          const std::uint32_t x = t_[t].v[k];
+          v[k] = x < n ? x : x >= n + 4 ? x - 4 : kNone;
+        }
+        for (const auto [i, j] : {std::pair{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 2}}) {
+          if (v[j] < v[i]) {
+            std::swap(v[i], v[j]);
+            std::swap(c[i], c[j]);
+          }
+        }
+        if (v[3] >= limit) {
+          dead[t] = 1;
+          continue;
+        }
+        sorted[t] = v;
+        corner[t] = c;
+      }
+    });
     // Counting sort by the smallest corner, then each (small) bucket by the other three.
     std::vector<std::uint32_t> start(limit + 1, 0);
-    for (std::uint32_t t = 0; t < t_.size(); ++t) {
-      if (dead[t] != 0) continue;
-      std::array<std::uint8_t, 4> c{0, 1, 2, 3};
-      const Tet v{out_id(t_[t].v[0]), out_id(t_[t].v[1]), out_id(t_[t].v[2]), out_id(t_[t].v[3])};
-      std::sort(c.begin(), c.end(), [&](std::uint8_t a, std::uint8_t b) { return v[a] < v[b]; });
-      if (v[c[3]] >= limit) {
-        dead[t] = 1;
-        continue;
-      }
-      corner[t] = c;
-      for (int k = 0; k < 4; ++k) sorted[t][k] = v[c[k]];
-      ++start[sorted[t][0] + 1];
+    for (std::size_t t = 0; t < cells; ++t) {
+      if (dead[t] == 0) ++start[sorted[t][0] + 1];
     }
     for (std::uint32_t i = 0; i < limit; ++i) start[i + 1] += start[i];
     std::vector<std::uint32_t> kept(start[limit]);
     {
       std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-      for (std::uint32_t t = 0; t < t_.size(); ++t) {
+      for (std::uint32_t t = 0; t < cells; ++t) {
         if (dead[t] == 0) kept[fill[sorted[t][0]]++] = t;
       }
     }
-    for (std::uint32_t i = 0; i < limit; ++i) {
-      std::sort(kept.begin() + start[i], kept.begin() + start[i + 1],
-                [&](std::uint32_t a, std::uint32_t b) { return sorted[a] < sorted[b]; });
-    }
-    std::vector<std::uint32_t> renumber(t_.size(), kNone);
-    for (std::uint32_t q = 0; q < kept.size(); ++q) renumber[kept[q]] = q;
+    std::vector<std::uint32_t> renumber(cells, kNone);
+    parallel::for_chunks(limit, kFinishGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) {
+        const auto first = kept.begin() + start[i], last = kept.begin() + start[i + 1];
+        for (auto it = first + (first != last ? 1 : 0); it < last; ++it) {  // insertion sort
+          const std::uint32_t x = *it;
+          auto hole = it;
+          for (; hole != first && sorted[x] < sorted[*(hole - 1)]; --hole) *hole = *(hole - 1);
+          *hole = x;
+        }
+        for (auto it = first; it != last; ++it) {
+          renumber[*it] = static_cast<std::uint32_t>(it - kept.begin());
+        }
+      }
+    });
     out.tets.resize(kept.size());
     out.neighbors.resize(4 * kept.size());
-    for (std::uint32_t q = 0; q < kept.size(); ++q) {
-      const std::uint32_t t = kept[q];
-      out.tets[q] = sorted[t];
-      for (int k = 0; k < 4; ++k) {
-        const std::uint32_t nb = t_[t].n[corner[t][k]];
-        out.neighbors[4 * q + k] = nb == kNone ? kNone : renumber[nb];
+    parallel::for_chunks(kept.size(), kFinishGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t q = b; q < e; ++q) {
+        const std::uint32_t t = kept[q];
+        out.tets[q] = sorted[t];
+        for (int k = 0; k < 4; ++k) {
+          const std::uint32_t nb = t_[t].n[corner[t][k]];
+          out.neighbors[4 * q + k] = nb == kNone ? kNone : renumber[nb];
+        }
       }
-    }
+    });
   }
 
  private:
