@@ -326,7 +326,7 @@ class Builder {
           const std::uint32_t x = t_[t].v[k];
           v[k] = x < n ? x : x >= n + 4 ? x - 4 : kNone;
         }
-        for (const auto [i, j] : {std::pair{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 2}}) {
+        for (const auto& [i, j] : {std::pair{0, 1}, {2, 3}, {0, 2}, {1, 3}, {1, 2}}) {
           if (v[j] < v[i]) {
             std::swap(v[i], v[j]);
             std::swap(c[i], c[j]);
