@@ -576,9 +576,10 @@ class Lattice {
       }
     }
     // Edges: the new slots' corner pairs, sorted; equal pairs share their points, and a pair
-    // seen in an earlier round keeps the points it got there.
+    // seen in an earlier round keeps the points it got there. At level 0 edges hold no points
+    // (the sort was a tenth of a level-0 run).
     std::vector<EdgeRef> edges;
-    for (std::uint32_t slot = first; slot < end; ++slot) {
+    for (std::uint32_t slot = first; slot < end && m_ > 1; ++slot) {
       if (!is_live(slot)) continue;
       const Tet& t = tets_[slot_tet_[slot]];
       for (int e = 0; e < 6; ++e) {
