@@ -66,6 +66,10 @@ void register_mesh(CLI::App& root, Action& action) {
       ->check(CLI::IsMember({"tets", "mc"}));
   c->add_option("--levels", args->job.levels, "tets: 1:8 subdivision levels (default 3)")
       ->check(CLI::Range(0, 6));
+  c->add_option("--section-scale", args->job.section_scale,
+                "tets: cross-section square edge / radius (default 3, the paper's 3R; >= 2). 2.6 "
+                "gives level 1 eight-sided instead of four-sided branch sections (docs/polygonize.md)")
+      ->check(CLI::Range(2.0, 1e3));
   c->add_flag("!--no-cleanup", args->job.cleanup,
               "tets: skip the needle cleanup pass (edge collapses of short edges)");
   c->add_flag("--fit-radii", args->job.fit_radii,
@@ -81,15 +85,17 @@ void register_mesh(CLI::App& root, Action& action) {
                   ->check(CLI::Range(2, 4096));
   cell->excludes(res);
   auto* levels = c->get_option("--levels");
+  auto* scale = c->get_option("--section-scale");
   add_field_options(*c, args->field);
   add_common_options(*c, args->common);
-  c->callback([args, cell, res, levels, &action] {
+  c->callback([args, cell, res, levels, scale, &action] {
     if (args->job.method != "mc" && (cell->count() > 0 || res->count() > 0)) {
       throw CLI::ValidationError(cell->count() > 0 ? "--cell" : "--resolution",
                                  "applies to --method mc only (the default method is tets)");
     }
-    if (args->job.method == "mc" && levels->count() > 0) {
-      throw CLI::ValidationError("--levels", "applies to --method tets only");
+    if (args->job.method == "mc" && (levels->count() > 0 || scale->count() > 0)) {
+      throw CLI::ValidationError(levels->count() > 0 ? "--levels" : "--section-scale",
+                                 "applies to --method tets only");
     }
     action = [args] { return run_mesh(*args); };
   });

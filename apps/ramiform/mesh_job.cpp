@@ -28,10 +28,12 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
                      Context& ctx, MeshJobResult& r) {
   TetrahedralOptions o;
   o.levels = options.levels;
+  o.section_scale = options.section_scale;
   o.cleanup = options.cleanup;
   TetrahedralStats st;
   r.mesh = polygonize_tetrahedral(field, skeleton, o, &ctx, &st);
   r.stats["levels"] = o.levels;
+  r.stats["section_scale"] = o.section_scale;
   r.stats["polyhedron_points"] = st.polyhedron_points;
   r.stats["axis_points_added"] = st.axis_points_added;
   r.stats["axis_edges_missing"] = st.axis_edges_missing;

@@ -19,6 +19,7 @@ struct MeshJobOptions {
   double cell_size = 0.0;       ///< marching-cubes cell; 0 = from resolution
   int resolution = 128;         ///< cells along the longest side when cell_size is 0
   int levels = 3;               ///< tets: 1:8 subdivision levels
+  double section_scale = 3.0;   ///< tets: cross-section square edge / radius
   bool cleanup = true;          ///< tets: needle cleanup pass
   bool fit_radii = false;       ///< split edges and fit per-edge weights (convolution only)
   bool radius_error = false;    ///< measure the radius error (always on with fit_radii)

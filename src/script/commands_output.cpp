@@ -75,10 +75,17 @@ CommandResult run_save_mesh(Call& c) {
     }
     TetrahedralOptions o;
     o.levels = c.option_integer("levels", 3, 0, 6);
+    o.section_scale = c.option_number("section_scale", 3.0);
+    if (!(o.section_scale >= 2.0 && o.section_scale <= 1e3)) {
+      c.fail(*c.option_token("section_scale"), "section_scale= must be in [2, 1000]");
+    }
     mesh = polygonize_tetrahedral(*obj.field, *obj.skeleton, o, c.session().ctx);
     how = "tets, " + std::to_string(o.levels) + " levels";
   } else {
-    if (const Token* t = c.option_token("levels")) c.fail(*t, "levels= applies to method=tets");
+    for (const char* key : {"levels", "section_scale"}) {
+      if (const Token* t = c.option_token(key))
+        c.fail(*t, std::string(key) + "= applies to method=tets");
+    }
     if (c.has_option("cell") && c.has_option("resolution")) {
       c.fail(*c.option_token("resolution"), "give cell= or resolution=, not both");
     }
@@ -200,13 +207,14 @@ void add_output_commands(std::vector<CommandSpec>& out) {
        {}});
   out.push_back(
       {"save_mesh",
-       "save_mesh NAME FILE [FILE ...] [resolution=N | cell=H] [method=mc|tets] [levels=N]",
+       "save_mesh NAME FILE [FILE ...] [resolution=N | cell=H] [method=mc|tets] [levels=N] "
+       "[section_scale=S]",
        "Polygonizes a shape once and writes it to every FILE (.ply, .obj, .off, .glb) inside the "
        "output directory: marching cubes over the shape's bounds (default 96 cells along the "
        "longest side), or for a shape made by skeleton, grow or lsystem the skeleton-bounded "
        "tetrahedral polygonizer.",
        "save_mesh s3 s3.ply resolution=128",
-       {"resolution", "cell", "method", "levels"},
+       {"resolution", "cell", "method", "levels", "section_scale"},
        run_save_mesh,
        {}});
   out.push_back({"eval",

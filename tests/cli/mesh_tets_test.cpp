@@ -208,6 +208,44 @@ TEST_F(MeshTetsTest, EveryLevelKeepsEveryBranchAndCoarseCubesWarn) {
   EXPECT_NEAR(s1["min_angle_deg"].get<double>(), smallest, 1e-9);
 }
 
+// At level 1 with the paper's 3R squares, the midpoints between a station's centre and its
+// corners lie 1.06 radii out, so a branch's section there has four vertices (a quarter of the
+// volume is lost on the benchmark tree); at 2.6R they lie inside and the section gets eight.
+// Measured as the enclosed volume against level 3's.
+TEST_F(MeshTetsTest, SectionScaleTradesTrianglesForRoundSections) {
+  const std::string tree = path("tree.json");
+  ASSERT_EQ(run_cli("generate " + tree + " --segments 31 --seed 2").code, 0);
+  auto volume_at = [&](const std::string& args, std::size_t& triangles) {
+    const CliRun r = run_cli("mesh " + tree + " " + args + " -o " + path("m.ply") +
+                             " --stats " + path("s.json"));
+    EXPECT_EQ(r.code, 0) << args << ": " << r.out;
+    const TriMesh m = read_mesh(path("m.ply"));
+    const MeshReport rep = check_mesh(m);
+    EXPECT_TRUE(rep.watertight && rep.oriented && rep.manifold) << args;
+    EXPECT_EQ(rep.components, 1U) << args;
+    triangles = m.triangle_count();
+    return signed_volume(m);
+  };
+  std::size_t n3 = 0, n_square = 0, n_round = 0;
+  const double fine = volume_at("--levels 3", n3);
+  const double square = volume_at("--levels 1", n_square);
+  EXPECT_EQ(read_json(path("s.json"))["section_scale"].get<double>(), 3.0);
+  const double round = volume_at("--levels 1 --section-scale 2.6", n_round);
+  EXPECT_EQ(read_json(path("s.json"))["section_scale"].get<double>(), 2.6);
+  // Measured on this tree: 0.744 and 0.889 of level 3's volume (0.971 at level 2).
+  EXPECT_LT(square, 0.8 * fine);
+  EXPECT_GT(round, 0.85 * fine);
+  EXPECT_LT(round, fine);
+  EXPECT_GT(n_round, n_square);
+  EXPECT_LT(n_round, n3);
+  const CliRun cubes = run_cli("mesh " + tree + " --method mc --section-scale 2.6 -o " +
+                               path("c.ply"));
+  EXPECT_EQ(cubes.code, 1) << cubes.out;
+  EXPECT_NE(cubes.out.find("applies to --method tets only"), std::string::npos) << cubes.out;
+  EXPECT_EQ(run_cli("mesh " + tree + " --section-scale 1.5 -o " + path("c.ply")).code, 1);
+  EXPECT_FALSE(fs::exists(path("c.ply")));
+}
+
 TEST_F(MeshTetsTest, MarchingCubesMethodStillWorks) {
   const std::string skel = y_fork();
   const CliRun r = run_cli("mesh " + skel + " -o " + path("m.ply") +

@@ -33,6 +33,42 @@ TEST_F(ScriptCli, RunWritesOutputsIntoOutAndReportsThem) {
   EXPECT_TRUE(fs::exists(path("out/stats.json")));
 }
 
+// The tetrahedral polygonizer from the scene language, with its options; a skeleton file
+// relative to the script.
+TEST_F(ScriptCli, SaveMeshRunsTheTetrahedralPolygonizerWithItsOptions) {
+  fs::create_directories(path("out"));
+  (void)y_fork();  // writes fork.json beside the script
+  const std::string script = write(
+      "tree.rf",
+      "skeleton t fork.json\nsave_mesh t square.ply method=tets levels=1\n"
+      "save_mesh t round.ply method=tets levels=1 section_scale=2.6\n");
+  const CliRun r = run_cli("run " + script + " --out " + path("out"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("(tets, 1 levels)"), std::string::npos) << r.out;
+  const TriMesh square = read_mesh(path("out/square.ply"));
+  const TriMesh round = read_mesh(path("out/round.ply"));
+  for (const TriMesh* m : {&square, &round}) {
+    const MeshReport rep = check_mesh(*m);
+    EXPECT_TRUE(rep.watertight && rep.oriented && rep.manifold);
+    EXPECT_EQ(rep.components, 1U);
+  }
+  EXPECT_GT(round.triangle_count(), square.triangle_count());
+  const std::string bad = write("bad.rf",
+                                "skeleton t fork.json\n"
+                                "save_mesh t b.ply method=tets section_scale=1.5\n");
+  const CliRun b = run_cli("run " + bad + " --out " + path("out"));
+  EXPECT_EQ(b.code, 2) << b.out;
+  EXPECT_NE(b.out.find("bad.rf:2:45: save_mesh: section_scale= must be in [2, 1000]"),
+            std::string::npos)
+      << b.out;
+  const std::string cubes = write("mc.rf", "sphere s\nsave_mesh s c.ply section_scale=2.6\n");
+  const CliRun c = run_cli("run " + cubes + " --out " + path("out"));
+  EXPECT_EQ(c.code, 2) << c.out;
+  EXPECT_NE(c.out.find("section_scale= applies to method=tets"), std::string::npos) << c.out;
+  EXPECT_FALSE(fs::exists(path("out/b.ply")));
+  EXPECT_FALSE(fs::exists(path("out/c.ply")));
+}
+
 TEST_F(ScriptCli, SetOverridesAParameter) {
   const std::string script = write("scene.rf", "param r 1\nsphere s $r\neval s 1.5 0 0\n");
   const CliRun small = run_cli("run " + script + " --out " + dir_.string());
