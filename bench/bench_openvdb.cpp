@@ -2,6 +2,7 @@
 // Copyright (c) 2026 the ramiform authors
 //
 // ramiform_bench_openvdb SKELETON VOXEL [HALF_WIDTH=3] [--out MESH] [--tets LEVELS]
+//                        [--section-scale S]
 //
 // The OpenVDB pipeline people use instead of ramiform, measured and checked the way we check our
 // own meshes: the union of the skeleton's round cones (each edge the convex hull of its two node
@@ -29,7 +30,8 @@
 // OpenVDB's scanline one. The JSON field "level_set_method" says which one ran.
 //
 // With --tets LEVELS, ramiform's tetrahedral polygonizer (default options, convolution surface,
-// as `ramiform mesh SKELETON --levels LEVELS`) runs on the skeleton instead, under the same
+// as `ramiform mesh SKELETON --levels LEVELS [--section-scale S]`) runs on the skeleton instead,
+// under the same
 // protocol and with the same checks (VOXEL is then ignored). Run each pipeline in its own process:
 // "first_total" is then a cold run, which on a VM can be twice the warm "total" (first-touch
 // page faults measured at 0.35 GB/s on the benchmark machine; a later run reuses the freed
@@ -335,12 +337,14 @@ int usage() {
   std::fprintf(
       stderr,
       "usage: ramiform_bench_openvdb SKELETON VOXEL [HALF_WIDTH=3] [--out MESH] [--tets N]\n"
+      "                              [--section-scale S]\n"
       "  SKELETON    skeleton file (.json, .ply, or a cylinder model; see "
       "docs/formats.md)\n"
       "  VOXEL       voxel size in model units (> 0)\n"
       "  HALF_WIDTH  narrow-band half width in voxels (> 0, default 3)\n"
       "  --out MESH  also write the mesh (.ply, .obj or .off)\n"
-      "  --tets N    time ramiform's tetrahedral polygonizer at N levels (0..6) instead\n");
+      "  --tets N    time ramiform's tetrahedral polygonizer at N levels (0..6) instead\n"
+      "  --section-scale S  with --tets: cross-section squares S radii wide (default 3)\n");
   return 2;
 }
 
@@ -372,9 +376,11 @@ std::string check_json(const ramiform::TriMesh& mesh, const ramiform::Skeleton& 
 
 // ramiform's tetrahedral polygonizer under the same protocol: `runs` runs, each building the
 // field and meshing; the stage times of the best run.
-std::string time_tets(const ramiform::Skeleton& skeleton, int levels, int runs) {
+std::string time_tets(const ramiform::Skeleton& skeleton, int levels, double section_scale,
+                      int runs) {
   ramiform::TetrahedralOptions options;
   options.levels = levels;
+  options.section_scale = section_scale;
   double best = std::numeric_limits<double>::infinity(), first = 0;
   ramiform::TriMesh mesh;
   ramiform::TetrahedralStats stats, best_stats;
@@ -390,10 +396,11 @@ std::string time_tets(const ramiform::Skeleton& skeleton, int levels, int runs) 
   }
   char buffer[512];
   std::snprintf(buffer, sizeof buffer,
-                "{\"pipeline\": \"ramiform tets\", \"levels\": %d, \"seconds\": {\"total\": %.6f, "
+                "{\"pipeline\": \"ramiform tets\", \"levels\": %d, \"section_scale\": %g, "
+                "\"seconds\": {\"total\": %.6f, "
                 "\"first_total\": %.6f, \"tetrahedralize\": %.6f, \"subdivide\": %.6f, "
                 "\"extract\": %.6f, \"cleanup\": %.6f}, \"runs\": %d, ",
-                levels, best, first, best_stats.seconds_tetrahedralize,
+                levels, section_scale, best, first, best_stats.seconds_tetrahedralize,
                 best_stats.seconds_subdivide, best_stats.seconds_extract,
                 best_stats.seconds_cleanup, runs);
   return buffer + check_json(mesh, skeleton) + "}";
@@ -414,11 +421,14 @@ int main(int argc, char** argv) {
   std::vector<std::string> args;
   std::string out_path;
   int tets_levels = -1;
+  double section_scale = 3.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out") {
       if (i + 1 >= argc) return usage();
       out_path = argv[++i];
+    } else if (a == "--section-scale") {
+      if (i + 1 >= argc || !parse_positive(argv[++i], section_scale)) return usage();
     } else if (a == "--tets") {
       if (i + 1 >= argc) return usage();
       const std::string n = argv[++i];
@@ -438,7 +448,7 @@ int main(int argc, char** argv) {
     constexpr int kRuns = 3;
     const ramiform::Skeleton skeleton = ramiform::read_skeleton(args[0]);
     if (tets_levels >= 0) {
-      std::printf("%s\n", time_tets(skeleton, tets_levels, kRuns).c_str());
+      std::printf("%s\n", time_tets(skeleton, tets_levels, section_scale, kRuns).c_str());
       return 0;
     }
     openvdb::initialize();
