@@ -308,7 +308,7 @@ class Builder {
   // The live tetrahedra without a corner of the enclosing tetrahedron (points n to n + 3), in
   // the result's canonical form (corners ascending, list sorted), with their face neighbours
   // renumbered to match; Steiner points (from n + 4 on) are renumbered from n on.
-  void finish(std::uint32_t n, DelaunayResult& out) const {
+  void finish(std::uint32_t n, DelaunayResult& out, const Context* ctx) const {
     const auto limit = static_cast<std::uint32_t>(p_.size() - 4);
     const std::size_t cells = t_.size();
     std::vector<char> dead(cells, 0);
@@ -339,7 +339,7 @@ class Builder {
         sorted[t] = v;
         corner[t] = c;
       }
-    });
+    }, ctx);
     // Counting sort by the smallest corner, then each (small) bucket by the other three.
     std::vector<std::uint32_t> start(limit + 1, 0);
     for (std::size_t t = 0; t < cells; ++t) {
@@ -367,7 +367,7 @@ class Builder {
           renumber[*it] = static_cast<std::uint32_t>(it - kept.begin());
         }
       }
-    });
+    }, ctx);
     out.tets.resize(kept.size());
     out.neighbors.resize(4 * kept.size());
     parallel::for_chunks(kept.size(), kFinishGrain, [&](std::size_t b, std::size_t e) {
@@ -379,7 +379,7 @@ class Builder {
           out.neighbors[4 * q + k] = nb == kNone ? kNone : renumber[nb];
         }
       }
-    });
+    }, ctx);
   }
 
  private:
@@ -534,8 +534,9 @@ int insphere(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const V
 
 std::uint64_t exact_predicate_calls() { return g_exact_calls.load(std::memory_order_relaxed); }
 
-DelaunayResult delaunay_tetrahedralize(
-    const std::vector<Vec3>& points, const std::vector<std::array<std::uint32_t, 2>>& required_edges) {
+DelaunayResult delaunay_tetrahedralize(const std::vector<Vec3>& points,
+                                       const std::vector<std::array<std::uint32_t, 2>>& required_edges,
+                                       const Context* ctx) {
   DelaunayResult result;
   const auto n = static_cast<std::uint32_t>(points.size());
   for (const auto& e : required_edges) {
@@ -595,7 +596,7 @@ DelaunayResult delaunay_tetrahedralize(
     result.missing_edges = builder.recover(required_edges);
     result.steiner_points.assign(builder.points().begin() + n + 4, builder.points().end());
   }
-  builder.finish(n, result);
+  builder.finish(n, result, ctx);
   return result;
 }
 

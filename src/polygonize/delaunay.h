@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "ramiform/core/context.h"
 #include "ramiform/core/types.h"
 
 namespace ramiform::detail {
@@ -67,9 +68,12 @@ struct DelaunayResult {
 /// checked again, round after round until every piece is an edge. Segments meeting at a small
 /// angle could be split without end; after kRecoveryRounds rounds the pieces still missing are
 /// counted in `missing_edges` and left.
+/// The insertion is sequential; the final renumbering runs on `ctx`'s threads (nullptr: all
+/// cores). The result does not depend on the thread count.
 [[nodiscard]] DelaunayResult delaunay_tetrahedralize(
     const std::vector<Vec3>& points,
-    const std::vector<std::array<std::uint32_t, 2>>& required_edges = {});
+    const std::vector<std::array<std::uint32_t, 2>>& required_edges = {},
+    const Context* ctx = nullptr);
 
 /// Rounds of midpoint splitting for required edges: a piece can become 1/2^kRecoveryRounds of
 /// its segment.

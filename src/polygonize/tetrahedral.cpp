@@ -1146,7 +1146,7 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
   //    edge (another branch close by, or the squares of a bend) gets Steiner points on the
   //    axis until it is (measured: 36 of 8,698 pairs on the 1,500-segment benchmark tree, 551
   //    of 7,856 on archi_Tree_1, which came apart into 62 pieces at level 0 without them).
-  detail::DelaunayResult delaunay = detail::delaunay_tetrahedralize(pts, builder.axis_pairs);
+  detail::DelaunayResult delaunay = detail::delaunay_tetrahedralize(pts, builder.axis_pairs, ctx);
   if (delaunay.duplicate_points > 0) {
     // The jitter makes every point distinct; equal points mean a skeleton the checks missed.
     throw Failure("tetrahedral polygonizer: " + std::to_string(delaunay.duplicate_points) +
