@@ -17,11 +17,12 @@ namespace {
 // finite, very negative g: only its sign matters there).
 constexpr double kFloor = 1e-300;
 constexpr std::size_t kGrain = 8192;  // edges per parallel task
-// Below this g = 1 - (f / iso)^(-2/3) the field is all but zero (f < 1e-9 iso: beyond every
-// kernel's reach, or floored): interpolation towards such an end lands on the other end, so the
-// bracket is bisected instead, and the final estimate is the bracket's midpoint. (A 4.4 m
-// lattice edge of archi_Tree_1 at level 0 runs from a node, f = 2.8 iso, to where f = 0; the
-// secant put the vertex on the node's own point and left the node outside the mesh.)
+// Below this g = 1 - (f / iso)^(-2/3) the field has all but vanished (f < 1e-6 iso: far beyond
+// the surface, or exactly 0 and floored): interpolation towards such an end lands on the other
+// end, so the bracket steps towards the live end instead (see propose), and the final estimate
+// is the bracket's midpoint. (A 4.4 m lattice edge of archi_Tree_1 at level 0 runs from a node,
+// f = 2.8 iso, to where f = 0; the vertex ended on the node's own point and left the node
+// outside the mesh.)
 constexpr double kVanished = -1e4;
 
 double damping(double g_new, double g_old) {
