@@ -20,7 +20,7 @@ struct ConvertArgs {
 };
 
 int run_convert(const ConvertArgs& args) {
-  check_output_path(args.out_path, {".json", ".ply", ".obj"});
+  check_output_path(args.out_path, kSkeletonFormats);
   check_output_path(args.common.stats_path);
   RunScope scope(args.common);
   StageTimer timer;

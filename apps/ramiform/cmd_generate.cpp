@@ -19,7 +19,7 @@ struct GenerateArgs {
 };
 
 int run_generate(const GenerateArgs& args) {
-  check_output_path(args.out_path, {".json", ".ply", ".obj"});
+  check_output_path(args.out_path, kSkeletonFormats);
   check_output_path(args.common.stats_path);
   RunScope scope(args.common);
   StageTimer timer;

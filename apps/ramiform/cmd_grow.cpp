@@ -52,7 +52,7 @@ struct GrowArgs {
 
 int run_grow(const GrowArgs& args) {
   // Growth can take minutes: a path that cannot be written is refused before it.
-  check_output_path(args.out_path, {".json", ".ply", ".obj"});
+  check_output_path(args.out_path, kSkeletonFormats);
   check_output_path(args.common.stats_path);
   RunScope scope(args.common);
   StageTimer timer;
@@ -155,7 +155,7 @@ int run_lsystem(const LSystemArgs& args) {
     return 0;
   }
   if (args.out_path.empty()) throw InvalidArgument("-o TREE.json is required");
-  check_output_path(args.out_path, {".json", ".ply", ".obj"});
+  check_output_path(args.out_path, kSkeletonFormats);
   RunScope scope(args.common);
   std::string text;
   std::string source = args.source;

@@ -27,7 +27,7 @@ int run_mesh(MeshArgs& args) {
   if (args.out_path.empty()) {
     args.out_path = std::filesystem::path(args.skeleton_path).stem().string() + ".ply";
   }
-  check_output_path(args.out_path, {".ply", ".obj", ".off", ".glb"});
+  check_output_path(args.out_path, kMeshFormats);
   check_output_path(args.common.stats_path);
   const Skeleton skeleton = read_skeleton(args.skeleton_path, read_options(args.field));
   timer.lap("read");

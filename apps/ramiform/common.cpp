@@ -87,13 +87,13 @@ void write_stats(const std::string& path, const nlohmann::json& stats) {
       path, [&](std::ostream& out) { out << stats.dump(2) << '\n'; });
 }
 
-void check_output_path(const std::string& path, std::initializer_list<const char*> extensions) {
+void check_output_path(const std::string& path, std::span<const char* const> extensions) {
   if (path.empty()) return;
   const std::filesystem::path p(path);
   std::string ext = p.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return std::tolower(c); });
-  if (extensions.size() > 0 &&
+  if (!extensions.empty() &&
       std::none_of(extensions.begin(), extensions.end(), [&](const char* e) { return ext == e; })) {
     std::string list;
     for (const char* e : extensions) list += (list.empty() ? "" : ", ") + std::string(e);

@@ -7,10 +7,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include <array>
 #include <chrono>
-#include <initializer_list>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 
 #include "ramiform/core/context.h"
@@ -67,10 +68,14 @@ class StageTimer {
   nlohmann::json seconds_ = nlohmann::json::object();
 };
 
+/// The output formats of write_skeleton and write_mesh, for check_output_path.
+inline constexpr std::array<const char*, 3> kSkeletonFormats{".json", ".ply", ".obj"};
+inline constexpr std::array<const char*, 4> kMeshFormats{".ply", ".obj", ".off", ".glb"};
+
 /// Checked before the work starts, so that a long run does not end in a failed write:
 /// throws InvalidArgument when `path`'s directory does not exist or (with `extensions`, lower
 /// case with the dot) its extension is none of them. An empty path passes.
-void check_output_path(const std::string& path, std::initializer_list<const char*> extensions = {});
+void check_output_path(const std::string& path, std::span<const char* const> extensions = {});
 
 /// Writes `stats` to `path` (atomically) unless path is empty.
 void write_stats(const std::string& path, const nlohmann::json& stats);

@@ -9,6 +9,7 @@
 #include <numeric>
 #include <string>
 
+#include "core/bucket_order.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/core/random.h"
@@ -340,33 +341,13 @@ class Builder {
         corner[t] = c;
       }
     }, ctx);
-    // Counting sort by the smallest corner, then each (small) bucket by the other three.
-    std::vector<std::uint32_t> start(limit + 1, 0);
-    for (std::size_t t = 0; t < cells; ++t) {
-      if (dead[t] == 0) ++start[sorted[t][0] + 1];
-    }
-    for (std::uint32_t i = 0; i < limit; ++i) start[i + 1] += start[i];
-    std::vector<std::uint32_t> kept(start[limit]);
-    {
-      std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-      for (std::uint32_t t = 0; t < cells; ++t) {
-        if (dead[t] == 0) kept[fill[sorted[t][0]]++] = t;
-      }
-    }
+    // By the smallest corner, then by the other three.
+    const std::vector<std::uint32_t> kept = bucket_order(
+        cells, limit, [&](std::size_t t) { return dead[t] != 0 ? kNoBucket : sorted[t][0]; },
+        [&](std::uint32_t x, std::uint32_t y) { return sorted[x] < sorted[y]; }, ctx);
     std::vector<std::uint32_t> renumber(cells, kNone);
-    parallel::for_chunks(limit, kFinishGrain, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) {
-        const auto first = kept.begin() + start[i], last = kept.begin() + start[i + 1];
-        for (auto it = first + (first != last ? 1 : 0); it < last; ++it) {  // insertion sort
-          const std::uint32_t x = *it;
-          auto hole = it;
-          for (; hole != first && sorted[x] < sorted[*(hole - 1)]; --hole) *hole = *(hole - 1);
-          *hole = x;
-        }
-        for (auto it = first; it != last; ++it) {
-          renumber[*it] = static_cast<std::uint32_t>(it - kept.begin());
-        }
-      }
+    parallel::for_chunks(kept.size(), kFinishGrain, [&](std::size_t b, std::size_t e) {
+      for (std::size_t q = b; q < e; ++q) renumber[kept[q]] = static_cast<std::uint32_t>(q);
     }, ctx);
     out.tets.resize(kept.size());
     out.neighbors.resize(4 * kept.size());

@@ -24,6 +24,7 @@
 #include <numbers>
 #include <string>
 
+#include "core/bucket_order.h"
 #include "field/bvh.h"
 #include "polygonize/delaunay.h"
 #include "polygonize/edge_roots.h"
@@ -576,9 +577,9 @@ class Lattice {
     }
     // Edges: the new slots' corner pairs, sorted; equal pairs share their points, and a pair
     // seen in an earlier round keeps the points it got there. At level 0 edges hold no points
-    // (the sort was a tenth of a level-0 run).
+    // (their sort was a tenth of a level-0 run).
     std::vector<EdgeRef> raw;
-    for (std::uint32_t slot = first; slot < end && m_ > 1; ++slot) {
+    for (std::uint32_t slot = first; m_ > 1 && slot < end; ++slot) {
       if (!is_live(slot)) continue;
       const Tet& t = tets_[slot_tet_[slot]];
       for (int e = 0; e < 6; ++e) {
@@ -708,32 +709,15 @@ class Lattice {
     bool operator<(const EdgeRef& o) const { return key < o.key || (key == o.key && ref < o.ref); }
   };
 
-  // `raw` in ascending order: a counting sort by the lower corner (point ids are dense), then
-  // each small bucket (some twenty pairs) by insertion sort, the buckets in parallel. Linear;
+  // `raw` in ascending order, bucketed by the lower corner (point ids are dense): linear, where
   // a comparison sort of the 950 k pairs of the benchmark tree's level-1 run took 0.028 s.
   std::vector<EdgeRef> sorted_edges(const std::vector<EdgeRef>& raw, const Context* ctx) const {
-    std::vector<std::uint32_t> start(pts_.size() + 1, 0);
-    for (const EdgeRef& r : raw) ++start[(r.key >> 32U) + 1];
-    for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+    const std::vector<std::uint32_t> order = detail::bucket_order(
+        raw.size(), pts_.size(),
+        [&](std::size_t i) { return static_cast<std::uint32_t>(raw[i].key >> 32U); },
+        [&](std::uint32_t x, std::uint32_t y) { return raw[x] < raw[y]; }, ctx);
     std::vector<EdgeRef> out(raw.size());
-    {
-      std::vector<std::uint32_t> cursor(start.begin(), start.end() - 1);
-      for (const EdgeRef& r : raw) out[cursor[r.key >> 32U]++] = r;
-    }
-    parallel::for_chunks(
-        pts_.size(), 8192,
-        [&](std::size_t b, std::size_t e) {
-          for (std::size_t p = b; p < e; ++p) {
-            const auto lo = out.begin() + start[p], hi = out.begin() + start[p + 1];
-            for (auto it = lo + (lo != hi ? 1 : 0); it < hi; ++it) {
-              const EdgeRef x = *it;
-              auto hole = it;
-              for (; hole != lo && x < *(hole - 1); --hole) *hole = *(hole - 1);
-              *hole = x;
-            }
-          }
-        },
-        ctx);
+    for (std::size_t i = 0; i < order.size(); ++i) out[i] = raw[order[i]];
     return out;
   }
 
@@ -1216,16 +1200,16 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
   st.seconds_subdivide = seconds_since(clock);
 
   // Unique crossing edges, one mesh vertex per distinct pair of global lattice ids, numbered in
-  // (inside id, outside id) order: the records are bucketed by their inside id (a counting
-  // sort, linear in the records), then each small bucket is ordered by the outside id.
-  std::vector<std::uint32_t> bucket_start(lattice.size() + 1, 0);
-  for (const std::uint64_t r : records) ++bucket_start[(r >> 32U) + 1];
-  for (std::size_t i = 1; i < bucket_start.size(); ++i) bucket_start[i] += bucket_start[i - 1];
-  std::vector<std::uint32_t> by_inside(records.size());
-  {
-    std::vector<std::uint32_t> cursor(bucket_start.begin(), bucket_start.end() - 1);
-    for (std::uint32_t i = 0; i < records.size(); ++i) by_inside[cursor[records[i] >> 32U]++] = i;
-  }
+  // (inside id, outside id) order: the records bucketed by their inside id, each small bucket
+  // ordered by the outside id.
+  std::vector<std::uint32_t> bucket_start;
+  std::vector<std::uint32_t> by_inside = detail::bucket_order(
+      records.size(), lattice.size(),
+      [&](std::size_t i) { return static_cast<std::uint32_t>(records[i] >> 32U); },
+      [&](std::uint32_t x, std::uint32_t y) {
+        return records[x] < records[y] || (records[x] == records[y] && x < y);
+      },
+      ctx, &bucket_start);
   std::vector<std::uint32_t> vertex_of(records.size());
   std::vector<Vec3> ea, eb;
   std::vector<double> fa, fb;
@@ -1233,9 +1217,6 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
     const auto first = by_inside.begin() + bucket_start[in];
     const auto last = by_inside.begin() + bucket_start[in + 1];
     if (first == last) continue;
-    std::sort(first, last, [&](std::uint32_t x, std::uint32_t y) {
-      return records[x] < records[y] || (records[x] == records[y] && x < y);
-    });
     for (auto it = first; it != last; ++it) {
       if (it == first || records[*it] != records[*(it - 1)]) {
         const auto out = static_cast<std::uint32_t>(records[*it] & 0xffffffffU);
