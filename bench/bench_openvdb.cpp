@@ -31,8 +31,7 @@
 //
 // With --tets LEVELS, ramiform's tetrahedral polygonizer (default options, convolution surface,
 // as `ramiform mesh SKELETON --levels LEVELS [--section-scale S]`) runs on the skeleton instead,
-// under the same
-// protocol and with the same checks (VOXEL is then ignored). Run each pipeline in its own process:
+// under the same protocol and with the same checks (VOXEL is then ignored; --out writes its mesh). Run each pipeline in its own process:
 // "first_total" is then a cold run, which on a VM can be twice the warm "total" (first-touch
 // page faults measured at 0.35 GB/s on the benchmark machine; a later run reuses the freed
 // pages). Both run with the allocator settings of the `ramiform` command.
@@ -377,7 +376,7 @@ std::string check_json(const ramiform::TriMesh& mesh, const ramiform::Skeleton& 
 // ramiform's tetrahedral polygonizer under the same protocol: `runs` runs, each building the
 // field and meshing; the stage times of the best run.
 std::string time_tets(const ramiform::Skeleton& skeleton, int levels, double section_scale,
-                      int runs) {
+                      int runs, const std::string& out_path) {
   ramiform::TetrahedralOptions options;
   options.levels = levels;
   options.section_scale = section_scale;
@@ -394,6 +393,7 @@ std::string time_tets(const ramiform::Skeleton& skeleton, int levels, double sec
     if (seconds < best) best_stats = stats;
     best = std::min(best, seconds);
   }
+  if (!out_path.empty()) ramiform::write_mesh(mesh, out_path);
   char buffer[512];
   std::snprintf(buffer, sizeof buffer,
                 "{\"pipeline\": \"ramiform tets\", \"levels\": %d, \"section_scale\": %g, "
@@ -448,7 +448,7 @@ int main(int argc, char** argv) {
     constexpr int kRuns = 3;
     const ramiform::Skeleton skeleton = ramiform::read_skeleton(args[0]);
     if (tets_levels >= 0) {
-      std::printf("%s\n", time_tets(skeleton, tets_levels, section_scale, kRuns).c_str());
+      std::printf("%s\n", time_tets(skeleton, tets_levels, section_scale, kRuns, out_path).c_str());
       return 0;
     }
     openvdb::initialize();
