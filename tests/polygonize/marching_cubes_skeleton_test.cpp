@@ -32,14 +32,6 @@ void expect_nodes_inside(const TriMesh& m, const Skeleton& s) {
   for (std::size_t i = 0; i < nodes.size(); ++i) EXPECT_TRUE(inside[i]) << "node " << i;
 }
 
-/// The Wyvill distance surface of `s` (what `ramiform mesh --surface distance` meshes).
-FieldPtr wyvill_distance_field(const Skeleton& s) {
-  SkeletonFieldOptions fo;
-  fo.surface = SurfaceKind::kDistance;
-  fo.kernel = Kernel{KernelKind::kWyvill, 0.0};
-  return make_skeleton_field(s, fo);
-}
-
 TEST(MarchingCubesSkeleton, YForkConvolutionIsOneClosedSphere) {
   const Skeleton s = test::y_fork();
   const FieldPtr field = make_skeleton_field(s, {});
@@ -65,7 +57,7 @@ TEST(MarchingCubesSkeleton, DistanceSurfaceVerticesLieOnTheSurfaceWithDefaultSte
   // steps, left vertices up to the whole iso value off the surface (on the 1,500-segment
   // benchmark tree at a 1 cm cell: 9 % of them even with the creeping caught, at 6 steps).
   const Skeleton s = test::twig_tree(100);
-  const FieldPtr field = wyvill_distance_field(s);
+  const FieldPtr field = test::wyvill_distance_field(s);
   MarchingCubesOptions o;
   o.cell_size = 0.01;
   const TriMesh m = marching_cubes(*field, o);
@@ -79,7 +71,7 @@ TEST(MarchingCubesSkeleton, DistanceSurfaceVerticesLieOnTheSurfaceWithDefaultSte
 
 TEST(MarchingCubesSkeleton, YForkDistanceSurfaceIsOneClosedSphere) {
   const Skeleton s = test::y_fork(0.5);
-  const FieldPtr field = wyvill_distance_field(s);
+  const FieldPtr field = test::wyvill_distance_field(s);
   MarchingCubesOptions o;
   o.cell_size = min_radius(s) / 3.0;
   const TriMesh m = marching_cubes(*field, o);

@@ -233,12 +233,9 @@ TEST(Tetrahedral, DistanceSurfaceVerticesLieOnTheSurfaceWithDefaultOptions) {
   // some vertices far off the surface (1.2 % of them on the 1,500-segment benchmark tree).
   // A 100-segment tree with 4 mm twigs: 201 of 28 k vertices were off the surface at level 1.
   const Skeleton s = test::twig_tree(100);
+  const FieldPtr field = test::wyvill_distance_field(s);
   for (const int levels : {1, 2}) {
     SCOPED_TRACE("levels " + std::to_string(levels));
-    SkeletonFieldOptions fo;
-    fo.surface = SurfaceKind::kDistance;
-    fo.kernel = Kernel{KernelKind::kWyvill, 0.0};  // as `ramiform mesh --surface distance`
-    const FieldPtr field = make_skeleton_field(s, fo);
     const TriMesh m = polygonize_tetrahedral(*field, s, at_levels(levels));
     expect_closed(m, 1);
     EXPECT_LT(max_relative_residual(*field, m), 1e-6);

@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "ramiform/core/random.h"
+#include "ramiform/field/skeleton_field.h"
 #include "ramiform/skeleton/generate.h"
 
 namespace ramiform::test {
@@ -68,6 +69,13 @@ Skeleton twig_tree(std::size_t segments) {
   o.trunk_length = 1;
   o.seed = 1;
   return branching_tree(o);
+}
+
+FieldPtr wyvill_distance_field(const Skeleton& s) {
+  SkeletonFieldOptions fo;
+  fo.surface = SurfaceKind::kDistance;
+  fo.kernel = Kernel{KernelKind::kWyvill, 0.0};
+  return make_skeleton_field(s, fo);
 }
 
 Skeleton single_segment(const Vec3& a, const Vec3& b, double ra, double rb) {

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "ramiform/core/types.h"
+#include "ramiform/field/field.h"
 #include "ramiform/skeleton/skeleton.h"
 
 namespace ramiform::test {
@@ -40,6 +41,9 @@ namespace ramiform::test {
 /// branching_tree with tip_radius 0.004, trunk_length 1 and seed 1 (what `ramiform generate
 /// --segments N --tip-radius 0.004 --trunk-length 1 --seed 1` writes).
 [[nodiscard]] Skeleton twig_tree(std::size_t segments);
+
+/// The Wyvill distance surface of `s` (what `ramiform mesh --surface distance` meshes).
+[[nodiscard]] FieldPtr wyvill_distance_field(const Skeleton& s);
 
 /// One segment from `a` (radius `ra`) to `b` (radius `rb`).
 [[nodiscard]] Skeleton single_segment(const Vec3& a = Vec3(0, 0, 0), const Vec3& b = Vec3(0, 0, 10),
