@@ -71,7 +71,7 @@
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/checks.h"
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 #include "ramiform/mesh/winding.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/skeleton/skeleton.h"

@@ -6,7 +6,8 @@
 set -euo pipefail
 
 packages=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libnanoflann-dev
-          libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev libhwy-dev)
+          libcli11-dev nlohmann-json3-dev libgtest-dev libgmock-dev libbenchmark-dev libhwy-dev
+          python3)
 
 # `--bench`: also the optional comparison benchmark's OpenVDB (MPL-2.0; linked into
 # bench/bench_openvdb.cpp only, never into the library; `make test` never needs it).

@@ -12,6 +12,7 @@
 #include "common.h"
 #include "demo_scene.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/script/script.h"
 
 namespace ramiform::cli {
@@ -19,9 +20,9 @@ namespace {
 
 struct DemoArgs {
   std::string out_dir = "out";
-  int levels = 2;
+  int levels = 2;  ///< the demo's mesh levels (examples/demo.rf's `param levels`)
   int points = 2500;
-  std::uint64_t seed = 1;
+  std::uint64_t seed = ScriptOptions{}.seed;
   CommonOptions common;
 };
 
@@ -101,9 +102,11 @@ void register_demo(CLI::App& root, Action& action) {
       "tree.glb and stats.json into --out.");
   c->add_option("--out", args->out_dir, "output directory (created if missing)")
       ->capture_default_str();
-  c->add_option("--levels", args->levels, "tets: 1:8 subdivision levels of the tree mesh")
-      ->check(CLI::Range(0, 6))
-      ->capture_default_str();
+  // The demo's own default (a quick run); the range is the polygonizer's.
+  c->add_option("--levels", args->levels,
+                with_default("tets: 1:8 subdivision levels of the tree mesh", args->levels,
+                             TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels))
+      ->check(CLI::Range(TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels));
   c->add_option("--points", args->points, "attraction points in the crown")
       ->check(CLI::Range(10, 10'000'000))
       ->capture_default_str();

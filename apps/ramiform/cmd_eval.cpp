@@ -32,7 +32,7 @@ int run_eval(const EvalArgs& args) {
   timer.lap("field");
   std::vector<double> values(points.size());
   std::vector<Vec3> gradients(args.gradient ? points.size() : 0);
-  field->evaluate(points.positions, values, gradients);
+  field->evaluate(points.positions, values, gradients, &scope.context());
   timer.lap("evaluate");
   std::string out;
   out.reserve(points.size() * (args.gradient ? 96 : 26));

@@ -47,21 +47,29 @@ void register_generate(CLI::App& root, Action& action) {
       "Write a procedural binary branching tree with pipe-model radii (for tests and "
       "benchmarks; the same options give the same tree everywhere).");
   c->add_option("OUT", args->out_path, "output skeleton: .json (or .ply, .obj)")->required();
-  c->add_option("--segments", t.segments, "number of edges (default 1000)")
+  c->add_option("--segments", t.segments, with_default("number of edges", static_cast<double>(t.segments)))
       ->check(CLI::Range(1, 10000000));
-  c->add_option("--seed", t.seed, "random seed (default 1)");
-  c->add_option("--trunk-length", t.trunk_length, "length of the first edge (default 3)")
+  c->add_option("--seed", t.seed, with_default("random seed", static_cast<double>(t.seed)));
+  c->add_option("--trunk-length", t.trunk_length,
+                with_default("length of the first edge", t.trunk_length))
       ->check(CLI::PositiveNumber);
-  c->add_option("--length-ratio", t.length_ratio, "child/parent edge length (default 0.8)")
+  c->add_option("--length-ratio", t.length_ratio,
+                with_default("child/parent edge length", t.length_ratio))
       ->check(CLI::Range(1e-3, 1.0));
-  c->add_option("--branch-angle", t.branch_angle_deg, "child/parent angle, degrees (default 32)")
+  c->add_option("--branch-angle", t.branch_angle_deg,
+                with_default("child/parent angle, degrees", t.branch_angle_deg))
       ->check(CLI::Range(0.0, 90.0));
-  c->add_option("--jitter", t.jitter_deg, "random direction deviation, degrees (default 6)")
+  c->add_option("--jitter", t.jitter_deg,
+                with_default("random direction deviation, degrees", t.jitter_deg))
       ->check(CLI::Range(0.0, 45.0));
-  c->add_option("--tip-radius", t.tip_radius, "radius of every tip (default 0.02)")
+  c->add_option("--tip-radius", t.tip_radius, with_default("radius of every tip", t.tip_radius))
       ->check(CLI::PositiveNumber);
-  c->add_option("--pipe-exponent", t.pipe_exponent, "pipe model exponent n (default 2)")
-      ->check(CLI::Range(1.0, 4.0));
+  c->add_option("--pipe-exponent", t.pipe_exponent,
+                with_default("pipe model exponent n", t.pipe_exponent,
+                             BranchingTreeOptions::kMinPipeExponent,
+                             BranchingTreeOptions::kMaxPipeExponent))
+      ->check(CLI::Range(BranchingTreeOptions::kMinPipeExponent,
+                         BranchingTreeOptions::kMaxPipeExponent));
   add_common_options(*c, args->common);
   c->callback([args, &action] { action = [args] { return run_generate(*args); }; });
 }

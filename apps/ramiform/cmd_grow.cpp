@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "common.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 #include "ramiform/grow/lsystem.h"
 #include "ramiform/grow/space_colonization.h"
 #include "ramiform/io/points_io.h"
@@ -25,27 +26,31 @@ namespace {
 // "X,Y,Z" -> vector (InvalidArgument naming the flag otherwise).
 Vec3 parse_vec3(const std::string& text, const std::string& flag) {
   Vec3 v;
-  std::stringstream ss(text);
-  std::string part;
-  int k = 0;
-  while (std::getline(ss, part, ',')) {
-    if (k == 3) break;
-    char* end = nullptr;
-    v[k] = std::strtod(part.c_str(), &end);
-    if (part.empty() || *end != '\0' || !std::isfinite(v[k])) k = 4;
-    ++k;
+  std::string_view rest = text;
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t comma = rest.find(',');
+    const bool last = k == 2;
+    if (last != (comma == std::string_view::npos) ||
+        parse_number(rest.substr(0, comma), v[k]) != NumberStatus::kOk) {
+      throw InvalidArgument(flag + " expects X,Y,Z (three numbers), got '" + text + "'");
+    }
+    if (!last) rest.remove_prefix(comma + 1);
   }
-  if (k != 3) throw InvalidArgument(flag + " expects X,Y,Z (three numbers), got '" + text + "'");
   return v;
+}
+
+// The text parse_vec3 reads back as `v`, for the defaults in --help.
+std::string vec3_text(const Vec3& v) {
+  return exact_text(v.x()) + "," + exact_text(v.y()) + "," + exact_text(v.z());
 }
 
 struct GrowArgs {
   std::string points_path;
   std::string out_path;
   ColonizationOptions options;
-  std::string root = "0,0,0";
-  std::string direction = "0,0,1";
-  std::string tropism = "0,0,0";
+  std::string root = vec3_text(options.roots.front());
+  std::string direction = vec3_text(options.direction);
+  std::string tropism = vec3_text(options.tropism);
   std::uint64_t seed = 0;
   CommonOptions common;
 };
@@ -92,7 +97,7 @@ struct SampleArgs {
   std::string props_path;
   std::size_t count = 0;
   std::string out_path;
-  std::uint64_t seed = 1;
+  std::uint64_t seed = ScriptOptions{}.seed;
   std::vector<std::string> sets;
   CommonOptions common;
 };
@@ -192,21 +197,24 @@ void register_grow(CLI::App& root, Action& action) {
   c->add_option("--points", a->points_path, "attraction points: 'x y z' per line, or .ply")
       ->required();
   c->add_option("-o,--out", a->out_path, "output skeleton (.json, .ply, .obj)")->required();
-  c->add_option("--step", a->options.step, "node spacing D")->capture_default_str();
-  c->add_option("--influence", a->options.influence, "influence distance d_i")
-      ->capture_default_str();
-  c->add_option("--kill", a->options.kill, "kill distance d_k")->capture_default_str();
+  ColonizationOptions& o = a->options;
+  c->add_option("--step", o.step, with_default("node spacing D", o.step));
+  c->add_option("--influence", o.influence, with_default("influence distance d_i", o.influence));
+  c->add_option("--kill", o.kill, with_default("kill distance d_k", o.kill));
   c->add_option("--root", a->root, "trunk start X,Y,Z")->capture_default_str();
   c->add_option("--direction", a->direction, "initial trunk direction X,Y,Z")
       ->capture_default_str();
   c->add_option("--tropism", a->tropism, "tropism vector added to each growth direction")
       ->capture_default_str();
-  c->add_option("--max-iterations", a->options.max_iterations, "iteration limit")
-      ->capture_default_str();
-  c->add_option("--tip-radius", a->options.tip_radius, "pipe model: radius of every tip")
-      ->capture_default_str();
-  c->add_option("--pipe-exponent", a->options.pipe_exponent, "pipe model exponent n in [2, 3]")
-      ->capture_default_str();
+  c->add_option("--max-iterations", o.max_iterations,
+                with_default("iteration limit", o.max_iterations));
+  c->add_option("--tip-radius", o.tip_radius,
+                with_default("pipe model: radius of every tip", o.tip_radius));
+  // The range is checked by the library (bad input, exit 2), not by CLI11.
+  c->add_option("--pipe-exponent", o.pipe_exponent,
+                with_default("pipe model exponent n", o.pipe_exponent,
+                             ColonizationOptions::kMinPipeExponent,
+                             ColonizationOptions::kMaxPipeExponent));
   c->add_option("--seed", a->seed, "accepted for symmetry: growth itself makes no random choice");
   add_common_options(*c, a->common);
   c->callback([a, &action] { action = [a] { return run_grow(*a); }; });
@@ -245,11 +253,11 @@ void register_lsystem(CLI::App& root, Action& action) {
   c->add_option("SOURCE", a->source, "a built-in example name (--list) or an L-system file");
   c->add_option("-o,--out", a->out_path, "output skeleton (.json, .ply, .obj)");
   c->add_flag("--list", a->list, "list the built-in examples");
-  c->add_option("--iterations", a->options.iterations, "derivation steps")->capture_default_str();
-  c->add_option("--angle", a->options.angle_deg, "default turn angle, degrees")
-      ->capture_default_str();
-  c->add_option("--step", a->options.step, "default segment length")->capture_default_str();
-  c->add_option("--width", a->options.width, "initial width")->capture_default_str();
+  LSystemOptions& o = a->options;
+  c->add_option("--iterations", o.iterations, with_default("derivation steps", o.iterations));
+  c->add_option("--angle", o.angle_deg, with_default("default turn angle, degrees", o.angle_deg));
+  c->add_option("--step", o.step, with_default("default segment length", o.step));
+  c->add_option("--width", o.width, with_default("initial width", o.width));
   c->add_option("--radii", a->radii, "node radii from the turtle width or the pipe model")
       ->check(CLI::IsMember({"width", "pipe"}))
       ->capture_default_str();

@@ -64,13 +64,20 @@ void register_mesh(CLI::App& root, Action& action) {
                 "polygonizer: tets (skeleton-bounded tetrahedra, default) or mc (uniform marching "
                 "cubes over the field's bounds)")
       ->check(CLI::IsMember({"tets", "mc"}));
-  c->add_option("--levels", args->job.levels, "tets: 1:8 subdivision levels (default 3)")
-      ->check(CLI::Range(0, 6));
-  c->add_option("--section-scale", args->job.section_scale,
-                "tets: cross-section square edge / radius (default 3, the paper's 3R; >= 2). 2.6 "
-                "gives level 1 eight-sided instead of four-sided branch sections (docs/polygonize.md)")
-      ->check(CLI::Range(2.0, 1e3));
-  c->add_flag("!--no-cleanup", args->job.cleanup,
+  TetrahedralOptions& tets = args->job.tets;
+  c->add_option("--levels", tets.levels,
+                with_default("tets: 1:8 subdivision levels", tets.levels,
+                             TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels))
+      ->check(CLI::Range(TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels));
+  c->add_option("--section-scale", tets.section_scale,
+                with_default("tets: cross-section square edge / radius", tets.section_scale,
+                             TetrahedralOptions::kMinSectionScale,
+                             TetrahedralOptions::kMaxSectionScale) +
+                    "; 3 is the paper's 3R. 2.6 gives level 1 eight-sided instead of four-sided "
+                    "branch sections (docs/polygonize.md)")
+      ->check(CLI::Range(TetrahedralOptions::kMinSectionScale,
+                         TetrahedralOptions::kMaxSectionScale));
+  c->add_flag("!--no-cleanup", tets.cleanup,
               "tets: skip the needle cleanup pass (edge collapses of short edges)");
   c->add_flag("--fit-radii", args->job.fit_radii,
               "convolution surface: split long/tapered edges and fit one weight per piece by "
@@ -78,11 +85,15 @@ void register_mesh(CLI::App& root, Action& action) {
               "adds radius_error_* to --stats");
   c->add_flag("--radius-error", args->job.radius_error,
               "measure the surface's radius error against the skeleton's radii (in --stats)");
-  auto* cell = c->add_option("--cell", args->job.cell_size, "mc: cell edge length (model units)")
+  MarchingCubesOptions& mc = args->job.mc;
+  auto* cell = c->add_option("--cell", mc.cell_size, "mc: cell edge length (model units)")
                    ->check(CLI::PositiveNumber);
-  auto* res = c->add_option("--resolution", args->job.resolution,
-                            "mc: cells along the longest side of the surface's box (default 128)")
-                  ->check(CLI::Range(2, 4096));
+  auto* res = c->add_option("--resolution", mc.resolution,
+                            with_default("mc: cells along the longest side of the surface's box",
+                                         mc.resolution, MarchingCubesOptions::kMinResolution,
+                                         MarchingCubesOptions::kMaxResolution))
+                  ->check(CLI::Range(MarchingCubesOptions::kMinResolution,
+                                     MarchingCubesOptions::kMaxResolution));
   cell->excludes(res);
   auto* levels = c->get_option("--levels");
   auto* scale = c->get_option("--section-scale");

@@ -19,8 +19,8 @@ namespace {
 
 struct ScriptArgs {
   std::string script;
-  std::string out_dir = ".";
-  std::uint64_t seed = 1;
+  std::string out_dir = ScriptOptions{}.out_dir;
+  std::uint64_t seed = ScriptOptions{}.seed;
   std::vector<std::string> sets;
   bool allow_any_path = false;
   bool quiet = false;
@@ -73,7 +73,7 @@ int run_run(const ScriptArgs& args) {
   return 0;
 }
 
-// The interactive command editor (thesis `001` §4.1): one command per line, each result
+// The interactive command editor (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §4.1): one command per line, each result
 // reported; an error is reported and the session goes on. Outputs are committed after every
 // successful command.
 int run_shell(const ScriptArgs& args) {
@@ -116,7 +116,8 @@ int run_shell(const ScriptArgs& args) {
 void add_session_options(CLI::App& c, ScriptArgs& args) {
   c.add_option("--out", args.out_dir, "directory the script's outputs go to (must exist)")
       ->capture_default_str();
-  c.add_option("--seed", args.seed, "seed of every random choice")->capture_default_str();
+  c.add_option("--seed", args.seed,
+               with_default("seed of every random choice", static_cast<double>(args.seed)));
   c.add_flag("--allow-any-path", args.allow_any_path, "let outputs be written outside --out");
 }
 

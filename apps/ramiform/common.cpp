@@ -2,10 +2,9 @@
 // Copyright (c) 2026 the ramiform authors
 #include "common.h"
 
-#include <tbb/global_control.h>
-
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <filesystem>
 
 #include "ramiform/core/errors.h"
@@ -20,12 +19,7 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
                  "write run statistics (per-stage seconds, counts, field_evals) to this JSON file");
 }
 
-RunScope::RunScope(const CommonOptions& options) : context_(options.threads) {
-  if (options.threads > 0) {
-    limit_ = std::make_shared<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                   static_cast<std::size_t>(options.threads));
-  }
-}
+RunScope::RunScope(const CommonOptions& options) : context_(options.threads) {}
 
 RunScope::~RunScope() = default;
 
@@ -65,6 +59,21 @@ SkeletonReadOptions read_options(const FieldFlags& flags) {
   SkeletonReadOptions r;
   r.obj_radius = flags.obj_radius;
   return r;
+}
+
+std::string exact_text(double v) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
+}
+
+std::string with_default(const std::string& text, double value) {
+  return text + " (default " + exact_text(value) + ")";
+}
+
+std::string with_default(const std::string& text, double value, double min, double max) {
+  return text + " (default " + exact_text(value) + ", " + exact_text(min) + "\u2013" +
+         exact_text(max) + ")";
 }
 
 StageTimer::StageTimer() : start_(Clock::now()), last_(start_) {}

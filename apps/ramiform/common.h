@@ -27,7 +27,7 @@ struct CommonOptions {
 };
 void add_common_options(CLI::App& app, CommonOptions& options);
 
-/// Applies --threads for the lifetime of the returned guard and returns the Context to pass on.
+/// The Context of one command run: --threads, passed to every library call (no global setting).
 class RunScope {
  public:
   explicit RunScope(const CommonOptions& options);
@@ -38,7 +38,6 @@ class RunScope {
 
  private:
   Context context_;
-  std::shared_ptr<void> limit_;
 };
 
 /// Options that pick the field built from a skeleton: --surface, --kernel, --iso, --obj-radius.
@@ -52,6 +51,16 @@ void add_field_options(CLI::App& app, FieldFlags& flags);
 /// Throws InvalidArgument naming the flag on a bad value.
 [[nodiscard]] SkeletonFieldOptions field_options(const FieldFlags& flags);
 [[nodiscard]] SkeletonReadOptions read_options(const FieldFlags& flags);
+
+/// The shortest text that reads back as exactly `v` ("0.02", "1048576").
+[[nodiscard]] std::string exact_text(double v);
+
+/// `text` + " (default D)" or " (default D, MIN–MAX)": the one way an option's help states the
+/// default and the range of its options struct. docs/cli.md writes them the same way, and
+/// tests/cli/help_docs_test.cpp reads both. Numbers print in their shortest exact form.
+[[nodiscard]] std::string with_default(const std::string& text, double value);
+[[nodiscard]] std::string with_default(const std::string& text, double value, double min,
+                                       double max);
 
 /// Wall-clock stage timer collecting seconds per stage into a JSON object.
 class StageTimer {

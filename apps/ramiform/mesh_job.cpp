@@ -5,19 +5,14 @@
 #include "ramiform/core/errors.h"
 #include "ramiform/field/radius_fit.h"
 #include "ramiform/io/mesh_io.h"
-#include "ramiform/polygonize/marching_cubes.h"
-#include "ramiform/polygonize/tetrahedral.h"
 
 namespace ramiform::cli {
 namespace {
 
 void polygonize_mc(const Field& field, const MeshJobOptions& options, Context& ctx,
                    MeshJobResult& r) {
-  MarchingCubesOptions mc;
-  mc.cell_size = options.cell_size;
-  mc.resolution = options.resolution;
   MarchingCubesStats st;
-  r.mesh = marching_cubes(field, mc, &ctx, &st);
+  r.mesh = marching_cubes(field, options.mc, &ctx, &st);
   r.stats["cell_size"] = st.cell_size;
   r.stats["cells"] = st.cells_total;
   r.stats["cells_skipped_by_bound"] = st.cells_skipped;
@@ -26,10 +21,7 @@ void polygonize_mc(const Field& field, const MeshJobOptions& options, Context& c
 
 void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJobOptions& options,
                      Context& ctx, MeshJobResult& r) {
-  TetrahedralOptions o;
-  o.levels = options.levels;
-  o.section_scale = options.section_scale;
-  o.cleanup = options.cleanup;
+  const TetrahedralOptions& o = options.tets;
   TetrahedralStats st;
   r.mesh = polygonize_tetrahedral(field, skeleton, o, &ctx, &st);
   r.stats["levels"] = o.levels;
@@ -68,7 +60,7 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
                             StageTimer& timer, Context& ctx) {
   MeshJobResult r;
   // With --fit-radii the surface is the convolution surface of the split skeleton with fitted
-  // per-piece weights (`003` §2.2.2); the polygonizer follows the split skeleton too.
+  // per-piece weights (Zhu, Guo & Jin 2013, "Efficient polygonization of tree trunks modeled by convolution surfaces", §2.2.2); the polygonizer follows the split skeleton too.
   Skeleton meshed = skeleton;
   std::vector<double> weights;
   if (options.fit_radii) {

@@ -8,19 +8,19 @@
 #include <string>
 
 #include "common.h"
+#include "ramiform/core/geometry.h"
 #include "ramiform/mesh/checks.h"
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/polygonize/marching_cubes.h"
+#include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/skeleton/skeleton.h"
 
 namespace ramiform::cli {
 
+/// The library's options structs hold every default and range (--help prints them from there).
 struct MeshJobOptions {
   std::string method = "tets";  ///< "tets" (skeleton-bounded tetrahedra) or "mc"
-  double cell_size = 0.0;       ///< marching-cubes cell; 0 = from resolution
-  int resolution = 128;         ///< cells along the longest side when cell_size is 0
-  int levels = 3;               ///< tets: 1:8 subdivision levels
-  double section_scale = 3.0;   ///< tets: cross-section square edge / radius
-  bool cleanup = true;          ///< tets: needle cleanup pass
+  MarchingCubesOptions mc;      ///< --cell, --resolution
+  TetrahedralOptions tets;      ///< --levels, --section-scale, --no-cleanup
   bool fit_radii = false;       ///< split edges and fit per-edge weights (convolution only)
   bool radius_error = false;    ///< measure the radius error (always on with fit_radii)
 };

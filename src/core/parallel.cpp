@@ -8,6 +8,15 @@
 #include <tbb/task_arena.h>
 
 namespace ramiform::parallel {
+namespace {
+
+// True while this thread runs the body of a loop that its Context made serial (threads == 1):
+// loops nested in it that were given no Context stay serial too, so `threads = 1` means one
+// thread all the way down. (Nested loops in a multi-threaded loop run in its task arena, so
+// they keep its thread count without this.)
+thread_local bool in_serial_loop = false;
+
+}  // namespace
 
 void for_chunks(std::size_t n, std::size_t grain,
                 const std::function<void(std::size_t, std::size_t)>& body, const Context* ctx) {
@@ -21,8 +30,20 @@ void for_chunks(std::size_t n, std::size_t grain,
     const std::size_t e = b + grain < n ? b + grain : n;
     body(b, e);
   };
-  if (threads == 1 || chunks == 1) {
-    for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
+  if (threads == 1 || (ctx == nullptr && in_serial_loop)) {
+    const bool outer = in_serial_loop;
+    in_serial_loop = true;
+    try {
+      for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
+    } catch (...) {
+      in_serial_loop = outer;
+      throw;
+    }
+    in_serial_loop = outer;
+    return;
+  }
+  if (chunks == 1) {
+    run_chunk(0);
     return;
   }
   auto run = [&] {

@@ -8,7 +8,6 @@
 #include <span>
 #include <string>
 
-#include "io/text_scan.h"
 #include "ramiform/core/errors.h"
 
 namespace ramiform {
@@ -227,33 +226,6 @@ class CurveEval {
 };
 
 template <class V>
-std::vector<V> parse_points(const std::string& path, int dim) {
-  using namespace io_detail;
-  const std::string text = read_whole_file(path);
-  LineCursor cursor(text);
-  std::string_view line;
-  std::vector<std::string_view> f;
-  std::vector<V> out;
-  static constexpr const char* kNames[] = {"x", "y", "z"};
-  while (cursor.next(line)) {
-    const std::size_t ln = cursor.line_number();
-    split_fields(strip_comment(line), f, false);
-    if (f.empty()) continue;
-    if (static_cast<int>(f.size()) != dim) {
-      throw InputError(path, ln,
-                       "expected " + std::to_string(dim) + " numbers (" +
-                           (dim == 2 ? std::string("x y") : std::string("x y z")) + "), got " +
-                           std::to_string(f.size()) + " fields");
-    }
-    V v;
-    for (int c = 0; c < dim; ++c) v[c] = to_double(f[static_cast<std::size_t>(c)], path, ln, kNames[c]);
-    out.push_back(v);
-  }
-  if (out.empty()) throw InputError(path, 0, "no points");
-  return out;
-}
-
-template <class V>
 std::vector<V> points_at(const CurveEval<V>& eval, const std::vector<double>& ts) {
   std::vector<V> out;
   out.reserve(ts.size());
@@ -287,6 +259,18 @@ auto checked_eval(const Curve& curve, double t, int order) {
   return eval_of(curve).eval(t, order);
 }
 
+// flatten_with_parameters for either curve type: polylines keep their points as they are.
+template <class Flattened, class Curve>
+Flattened flatten_curve(const Curve& curve, double tolerance) {
+  validate(curve);
+  check_tolerance(tolerance);
+  Flattened out;
+  const auto eval = eval_of(curve);
+  out.parameters = eval.flatten_parameters(tolerance);
+  out.points = curve.kind == CurveKind::kPolyline ? curve.points : points_at(eval, out.parameters);
+  return out;
+}
+
 }  // namespace
 
 Vec3 curve_point(const Curve3& curve, double t) { return checked_eval(curve, t, 0); }
@@ -296,33 +280,11 @@ Vec2 curve_derivative(const Curve2& curve, double t) { return checked_eval(curve
 Vec3 curve_second_derivative(const Curve3& curve, double t) { return checked_eval(curve, t, 2); }
 
 FlattenedCurve3 flatten_with_parameters(const Curve3& curve, double tolerance) {
-  validate(curve);
-  check_tolerance(tolerance);
-  FlattenedCurve3 out;
-  if (curve.kind == CurveKind::kPolyline) {
-    out.points = curve.points;
-    out.parameters = eval_of(curve).flatten_parameters(tolerance);
-    return out;
-  }
-  const auto eval = eval_of(curve);
-  out.parameters = eval.flatten_parameters(tolerance);
-  out.points = points_at(eval, out.parameters);
-  return out;
+  return flatten_curve<FlattenedCurve3>(curve, tolerance);
 }
 
 FlattenedCurve2 flatten_with_parameters(const Curve2& curve, double tolerance) {
-  validate(curve);
-  check_tolerance(tolerance);
-  FlattenedCurve2 out;
-  if (curve.kind == CurveKind::kPolyline) {
-    out.points = curve.points;
-    out.parameters = eval_of(curve).flatten_parameters(tolerance);
-    return out;
-  }
-  const auto eval = eval_of(curve);
-  out.parameters = eval.flatten_parameters(tolerance);
-  out.points = points_at(eval, out.parameters);
-  return out;
+  return flatten_curve<FlattenedCurve2>(curve, tolerance);
 }
 
 std::vector<Vec2> flatten(const Curve2& curve, double tolerance) {
@@ -332,7 +294,5 @@ std::vector<Vec3> flatten(const Curve3& curve, double tolerance) {
   return flatten_with_parameters(curve, tolerance).points;
 }
 
-std::vector<Vec2> read_points2(const std::string& path) { return parse_points<Vec2>(path, 2); }
-std::vector<Vec3> read_points3(const std::string& path) { return parse_points<Vec3>(path, 3); }
 
 }  // namespace ramiform

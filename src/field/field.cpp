@@ -17,7 +17,7 @@ Field::Field(double iso) : iso_(iso), counter_(std::make_shared<std::atomic<std:
 Field::Field(double iso, const Field& source) : iso_(iso), counter_(source.counter_) {}
 
 void Field::evaluate(std::span<const Vec3> points, std::span<double> values,
-                     std::span<Vec3> gradients) const {
+                     std::span<Vec3> gradients, const Context* ctx) const {
   if (values.size() != points.size()) {
     throw InvalidArgument("Field::evaluate: " + std::to_string(values.size()) + " values for " +
                           std::to_string(points.size()) + " points");
@@ -27,7 +27,7 @@ void Field::evaluate(std::span<const Vec3> points, std::span<double> values,
                           " gradients for " + std::to_string(points.size()) + " points");
   }
   counter_->fetch_add(points.size(), std::memory_order_relaxed);
-  if (!points.empty()) do_evaluate(points, values, gradients);
+  if (!points.empty()) do_evaluate(points, values, gradients, ctx);
 }
 
 double Field::value(const Vec3& p) const {

@@ -8,12 +8,13 @@
 #include <numbers>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 #include "ramiform/core/tolerances.h"
 
 namespace ramiform {
 namespace {
 
-// Wyvill, McPheeters & Wyvill (1986) coefficients as printed in the thesis (`001` §3.2): the
+// Wyvill, McPheeters & Wyvill (1986) coefficients as printed in Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §3.2: the
 // exact fractions -4/9, 17/9, -22/9 solve k(1/2) = 1/2, k(1) = 0, k'(1) = 0.
 constexpr double kWyvillA = -4.0 / 9.0;
 constexpr double kWyvillB = 17.0 / 9.0;
@@ -164,8 +165,7 @@ Kernel parse_kernel(std::string_view text) {
   if (colon != std::string_view::npos) {
     const std::string_view num = text.substr(colon + 1);
     double v = 0;
-    const auto [ptr, ec] = std::from_chars(num.data(), num.data() + num.size(), v);
-    if (ec != std::errc() || ptr != num.data() + num.size() || !std::isfinite(v) || v <= 0) {
+    if (parse_number(num, v) != NumberStatus::kOk || v <= 0) {
       throw InvalidArgument("kernel '" + std::string(text) + "': parameter '" + std::string(num) +
                             "' is not a positive number");
     }

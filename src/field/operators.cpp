@@ -83,14 +83,14 @@ class NaryField final : public Field {
 
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
-                   std::span<Vec3> gradients) const override {
+                   std::span<Vec3> gradients, const Context* ctx) const override {
     const std::size_t n = points.size();
-    children_[0]->evaluate(points, values, gradients);
+    children_[0]->evaluate(points, values, gradients, ctx);
     apply_shift(0, values);
     std::vector<double> v(n);
     std::vector<Vec3> g(gradients.empty() ? 0 : n);
     for (std::size_t c = 1; c < children_.size(); ++c) {
-      children_[c]->evaluate(points, v, g);
+      children_[c]->evaluate(points, v, g, ctx);
       apply_shift(c, v);
       for (std::size_t i = 0; i < n; ++i) {
         switch (op_) {
@@ -178,11 +178,11 @@ class DifferenceField final : public Field {
 
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
-                   std::span<Vec3> gradients) const override {
-    a_->evaluate(points, values, gradients);
+                   std::span<Vec3> gradients, const Context* ctx) const override {
+    a_->evaluate(points, values, gradients, ctx);
     std::vector<double> v(points.size());
     std::vector<Vec3> g(gradients.empty() ? 0 : points.size());
-    b_->evaluate(points, v, g);
+    b_->evaluate(points, v, g, ctx);
     const double sb = iso() - b_->iso();
     for (std::size_t i = 0; i < points.size(); ++i) {
       const double nb = 2 * iso() - (v[i] + sb);
@@ -221,10 +221,10 @@ class TransformField final : public Field {
 
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
-                   std::span<Vec3> gradients) const override {
+                   std::span<Vec3> gradients, const Context* ctx) const override {
     std::vector<Vec3> local(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) local[i] = inverse_ * points[i];
-    child_->evaluate(local, values, gradients);
+    child_->evaluate(local, values, gradients, ctx);
     for (auto& g : gradients) g = linear_inverse_t_ * g;
   }
 

@@ -305,7 +305,7 @@ class DistancePrimitive final : public Field {
 
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
-                   std::span<Vec3> gradients) const override {
+                   std::span<Vec3> gradients, const Context* /*ctx*/) const override {
     const bool with_gradient = !gradients.empty();
     for (std::size_t i = 0; i < points.size(); ++i) {
       Vec3 grad_d;

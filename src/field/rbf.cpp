@@ -117,7 +117,7 @@ class RbfField final : public Field {
 
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
-                   std::span<Vec3> gradients) const override {
+                   std::span<Vec3> gradients, const Context* ctx) const override {
     const bool with_gradient = !gradients.empty();
     auto run = [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i) {
@@ -143,7 +143,7 @@ class RbfField final : public Field {
       }
     };
     if (points.size() > kGrain && centres_.size() >= 32) {
-      parallel::for_chunks(points.size(), kGrain, run);
+      parallel::for_chunks(points.size(), kGrain, run, ctx);
     } else {
       run(0, points.size());
     }

@@ -143,7 +143,7 @@ class SkeletonField final : public Field {
 
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
-                   std::span<Vec3> gradients) const override {
+                   std::span<Vec3> gradients, const Context* ctx) const override {
     const std::size_t n = points.size();
     const bool with_gradient = !gradients.empty();
     // Spatially coherent chunks: sort points along a Morton curve when the batch spans several
@@ -194,7 +194,7 @@ class SkeletonField final : public Field {
       }
     };
     if (chunks >= 4) {
-      parallel::for_each(chunks, 1, run_chunk);
+      parallel::for_each(chunks, 1, run_chunk, ctx);
     } else {
       for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
     }

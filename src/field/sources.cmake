@@ -5,9 +5,19 @@ set(RAMIFORM_FIELD_SOURCES
   src/field/operators.cpp
   src/field/skeleton_field.cpp
   src/field/skeleton_field_simd.cpp
+  src/field/radius_fit_detail.cpp
+  src/field/radius_fit_system.cpp
   src/field/radius_fit.cpp
+  src/field/radius_fit_coverage.cpp
+  src/field/edge_split.cpp
+  src/field/radius_error.cpp
   src/field/primitives.cpp
   src/field/warps.cpp
   src/field/rbf.cpp
   src/field/curves.cpp
-  src/field/sweep.cpp)
+  src/field/sweep.cpp
+  src/field/sweep_falloff.cpp
+  src/field/sweep_interpolation.cpp
+  src/field/sweep_path.cpp
+  src/field/sweep_region.cpp
+  src/field/pointwise_field.cpp)

@@ -124,17 +124,17 @@ class WarpField final : public Field {
 
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
-                   std::span<Vec3> gradients) const override {
+                   std::span<Vec3> gradients, const Context* ctx) const override {
     const std::size_t n = points.size();
     std::vector<Vec3> local(n);
     if (gradients.empty()) {
       for (std::size_t i = 0; i < n; ++i) local[i] = map_->inverse(points[i], nullptr);
-      child_->evaluate(local, values);
+      child_->evaluate(local, values, {}, ctx);
       return;
     }
     std::vector<Mat3> jacobians(n);
     for (std::size_t i = 0; i < n; ++i) local[i] = map_->inverse(points[i], &jacobians[i]);
-    child_->evaluate(local, values, gradients);
+    child_->evaluate(local, values, gradients, ctx);
     for (std::size_t i = 0; i < n; ++i) gradients[i] = jacobians[i].transpose() * gradients[i];
   }
 

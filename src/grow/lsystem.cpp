@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 #include "ramiform/core/types.h"
 #include "ramiform/grow/space_colonization.h"
 
@@ -225,15 +226,9 @@ class LineParser {
           while (i_ < s_.size() && std::isdigit(static_cast<unsigned char>(s_[i_])) != 0) ++i_;
         }
       }
-      const std::string text(s_.substr(b, i_ - b));
-      std::size_t used = 0;
+      const std::string_view text = std::string_view(s_).substr(b, i_ - b);
       double v = 0;
-      try {
-        v = std::stod(text, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != text.size()) fail("bad number '" + text + "'", b);
+      if (parse_number(text, v) != NumberStatus::kOk) fail("bad number '" + std::string(text) + "'", b);
       Expr e;
       e.value = v;
       return e;
@@ -415,7 +410,9 @@ void LSystemOptions::validate() const {
   check_option(std::isfinite(width) && width > 0, "width must be finite and > 0");
   check_option(std::isfinite(width_factor) && width_factor > 0, "width_factor must be finite and > 0");
   check_option(std::isfinite(tip_radius) && tip_radius > 0, "tip_radius must be finite and > 0");
-  check_option(pipe_exponent >= 2 && pipe_exponent <= 3, "pipe_exponent must be in [2, 3]");
+  check_option(pipe_exponent >= kMinPipeExponent && pipe_exponent <= kMaxPipeExponent,
+               "pipe_exponent must be in [" + format_number(kMinPipeExponent) + ", " +
+                   format_number(kMaxPipeExponent) + "]");
   check_option(max_modules > 0, "max_modules must be > 0");
 }
 

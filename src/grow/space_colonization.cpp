@@ -113,8 +113,9 @@ void ColonizationOptions::validate() const {
   check(max_iterations >= 0, "max_iterations must be >= 0");
   check(std::isfinite(tip_radius) && tip_radius > 0,
         "tip_radius must be finite and > 0 (got " + format_number(tip_radius) + ")");
-  check(pipe_exponent >= 2 && pipe_exponent <= 3,
-        "pipe_exponent must be in [2, 3] (got " + format_number(pipe_exponent) + ")");
+  check(pipe_exponent >= kMinPipeExponent && pipe_exponent <= kMaxPipeExponent,
+        "pipe_exponent must be in [" + format_number(kMinPipeExponent) + ", " +
+            format_number(kMaxPipeExponent) + "] (got " + format_number(pipe_exponent) + ")");
 }
 
 struct SpaceColonization::Impl {
@@ -654,8 +655,11 @@ void assign_pipe_radii(Skeleton& skeleton, std::span<const std::uint32_t> roots,
   auto fail = [](const std::string& what) { throw InvalidArgument("assign_pipe_radii: " + what); };
   if (!(std::isfinite(tip_radius) && tip_radius > 0))
     fail("tip_radius must be finite and > 0 (got " + format_number(tip_radius) + ")");
-  if (!(exponent >= 2 && exponent <= 3))
-    fail("exponent must be in [2, 3] (got " + format_number(exponent) + ")");
+  constexpr double lo = ColonizationOptions::kMinPipeExponent;
+  constexpr double hi = ColonizationOptions::kMaxPipeExponent;
+  if (!(exponent >= lo && exponent <= hi))
+    fail("exponent must be in [" + format_number(lo) + ", " + format_number(hi) + "] (got " +
+         format_number(exponent) + ")");
   const std::size_t n = skeleton.nodes.size();
   std::vector<std::vector<std::uint32_t>> adj(n);
   for (std::size_t e = 0; e < skeleton.edges.size(); ++e) {

@@ -6,7 +6,7 @@
 
 #include <ostream>
 
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 
 namespace ramiform::io {
 

@@ -21,9 +21,6 @@ namespace {
 
 using io_detail::LineCursor;
 using io_detail::next_content;
-using io_detail::NumberStatus;
-using io_detail::parse_double;
-using io_detail::parse_int64;
 using io_detail::split_fields;
 using io_detail::strip_comment;
 using io_detail::to_double;
@@ -43,7 +40,7 @@ struct Cylinder {
 std::int64_t to_whole(std::string_view token, const std::string& source, std::size_t line,
                       std::string_view what) {
   std::int64_t v = 0;
-  if (parse_int64(token, v) == NumberStatus::kOk) return v;
+  if (parse_number(token, v) == NumberStatus::kOk) return v;
   const double d = to_double(token, source, line, what);
   constexpr double kExact = 9007199254740992.0;  // 2^53: beyond it doubles skip integers
   if (d != std::floor(d) || std::abs(d) > kExact) {
@@ -380,7 +377,7 @@ Skeleton parse_treeqsm(std::string_view text, const std::string& source_name,
     if (first) {
       first = false;
       double v = 0.0;
-      if (parse_double(f[0], v) == NumberStatus::kMalformed) continue;  // a header line
+      if (parse_number(f[0], v) == NumberStatus::kMalformed) continue;  // a header line
     }
     if (f.size() < 9) {
       throw InputError(source, ln,

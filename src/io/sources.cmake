@@ -1,5 +1,6 @@
 set(RAMIFORM_IO_SOURCES
   src/io/atomic_file.cpp
+  src/io/curve_io.cpp
   src/io/gltf_format.cpp
   src/io/mesh_io.cpp
   src/io/obj_format.cpp

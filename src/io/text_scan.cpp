@@ -107,37 +107,6 @@ bool split_fields(std::string_view line, std::vector<std::string_view>& fields, 
   }
 }
 
-NumberStatus parse_double(std::string_view token, double& value) {
-  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-  if (token.empty() || token.front() == '+') return NumberStatus::kMalformed;
-  if (token.size() > 1 && token.front() == '-' && token[1] == '+') return NumberStatus::kMalformed;
-  const char* end = token.data() + token.size();
-  const auto [ptr, ec] = std::from_chars(token.data(), end, value);
-  if (ec == std::errc::result_out_of_range && ptr == end) {
-    // libstdc++ reports underflow as out of range too; a magnitude below the smallest
-    // subnormal (negative exponent) is zero, not an error.
-    const std::size_t e = token.find_first_of("eE");
-    if (e != std::string_view::npos && e + 1 < token.size() && token[e + 1] == '-') {
-      value = token.front() == '-' ? -0.0 : 0.0;
-      return NumberStatus::kOk;
-    }
-    return NumberStatus::kOutOfRange;
-  }
-  if (ec != std::errc() || ptr != end) return NumberStatus::kMalformed;
-  if (!std::isfinite(value)) return NumberStatus::kNotFinite;
-  return NumberStatus::kOk;
-}
-
-NumberStatus parse_int64(std::string_view token, std::int64_t& value) {
-  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-  if (token.empty() || token.front() == '+') return NumberStatus::kMalformed;
-  const char* end = token.data() + token.size();
-  const auto [ptr, ec] = std::from_chars(token.data(), end, value);
-  if (ec == std::errc::result_out_of_range) return NumberStatus::kOutOfRange;
-  if (ec != std::errc() || ptr != end) return NumberStatus::kMalformed;
-  return NumberStatus::kOk;
-}
-
 std::string quote(std::string_view token) {
   if (token.size() > 40) return "'" + std::string(token.substr(0, 37)) + "...'";
   return "'" + std::string(token) + "'";
@@ -146,7 +115,7 @@ std::string quote(std::string_view token) {
 double to_double(std::string_view token, const std::string& source, std::size_t line,
                  std::string_view what) {
   double value = 0.0;
-  switch (parse_double(token, value)) {
+  switch (parse_number(token, value)) {
     case NumberStatus::kOk:
       return value;
     case NumberStatus::kNotFinite:
@@ -163,7 +132,7 @@ double to_double(std::string_view token, const std::string& source, std::size_t 
 std::int64_t to_int64(std::string_view token, const std::string& source, std::size_t line,
                       std::string_view what) {
   std::int64_t value = 0;
-  switch (parse_int64(token, value)) {
+  switch (parse_number(token, value)) {
     case NumberStatus::kOk:
       return value;
     case NumberStatus::kOutOfRange:

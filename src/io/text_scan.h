@@ -13,6 +13,8 @@
 #include <string_view>
 #include <vector>
 
+#include "ramiform/core/numbers.h"
+
 namespace ramiform::io_detail {
 
 /// The whole file as bytes. Throws InputError(path) when it cannot be opened or read.
@@ -56,16 +58,7 @@ bool split_fields(std::string_view line, std::vector<std::string_view>& fields,
 /// cursor.line_number().
 bool next_content(LineCursor& cursor, std::vector<std::string_view>& fields);
 
-/// Outcome of strict number parsing.
-enum class NumberStatus { kOk, kMalformed, kNotFinite, kOutOfRange };
-
-/// Parses the whole token as a decimal floating-point number (an optional leading '+' is
-/// accepted). NaN and infinities give kNotFinite, overflow gives kOutOfRange.
-NumberStatus parse_double(std::string_view token, double& value);
-/// Parses the whole token as a decimal integer (an optional leading '+' is accepted).
-NumberStatus parse_int64(std::string_view token, std::int64_t& value);
-
-/// Strict parsers that throw InputError(source, line, "<what>: ...") naming the token.
+/// Strict parsers (core/numbers.h) that throw InputError(source, line, "<what>: ...") naming the token.
 double to_double(std::string_view token, const std::string& source, std::size_t line,
                  std::string_view what);
 std::int64_t to_int64(std::string_view token, const std::string& source, std::size_t line,

@@ -54,8 +54,8 @@ class MeshField final : public Field {
 
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
-                   std::span<Vec3> gradients) const override {
-    const std::vector<double> w = winding_.evaluate(points);
+                   std::span<Vec3> gradients, const Context* ctx) const override {
+    const std::vector<double> w = winding_.evaluate(points, ctx);
     std::copy(w.begin(), w.end(), values.begin());
     if (gradients.empty()) return;
     std::vector<Vec3> probes;
@@ -66,7 +66,7 @@ class MeshField final : public Field {
         probes.push_back(p - step_ * Vec3::Unit(k));
       }
     }
-    const std::vector<double> v = winding_.evaluate(probes);
+    const std::vector<double> v = winding_.evaluate(probes, ctx);
     for (std::size_t i = 0; i < points.size(); ++i) {
       for (int k = 0; k < 3; ++k) {
         const std::size_t at = i * 6 + static_cast<std::size_t>(k) * 2;

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 
 namespace ramiform::detail {
 

@@ -16,7 +16,8 @@ namespace ramiform::detail {
 /// fb[e] at t = 1), where exactly one end is inside (f > iso), returns the point where f = iso,
 /// found by `steps` rounds of bracketed root finding (a log-secant first step, then quadratic
 /// interpolation of 1 - (f/iso)^(-2/3) where f > 0 at both ends, Anderson-Björck regula falsi
-/// when the steps creep from one end, then bisection; see the .cpp); every round
+/// when the steps creep from one end, then bisection: RootBracket of core/roots.h, driven for
+/// all edges at once; see the .cpp); every round
 /// evaluates all unconverged edges in one batch and an edge stops once its bracket in t is at
 /// most tol::kRootFinding or |f - iso| at the last point is at most tol::kRootValue |iso|.
 /// Steps = 0 gives linear interpolation. A NaN value counts as on the surface. Adds the

@@ -465,9 +465,10 @@ void MarchingCubesOptions::validate() const {
     throw InvalidArgument("MarchingCubesOptions.cell_size must be finite and >= 0, got " +
                           std::to_string(cell_size));
   }
-  if (resolution < 1 || resolution > (1 << 20)) {
-    throw InvalidArgument("MarchingCubesOptions.resolution must be in [1, 1048576], got " +
-                          std::to_string(resolution));
+  if (resolution < kMinResolution || resolution > kMaxResolution) {
+    throw InvalidArgument("MarchingCubesOptions.resolution must be in [" +
+                          std::to_string(kMinResolution) + ", " + std::to_string(kMaxResolution) +
+                          "], got " + std::to_string(resolution));
   }
   if (!box.isEmpty() && (!box.min().allFinite() || !box.max().allFinite())) {
     throw InvalidArgument("MarchingCubesOptions.box must be finite");

@@ -3,4 +3,11 @@ set(RAMIFORM_POLYGONIZE_SOURCES
 list(APPEND RAMIFORM_POLYGONIZE_SOURCES
   src/polygonize/delaunay.cpp
   src/polygonize/edge_roots.cpp
-  src/polygonize/tetrahedral.cpp)
+  src/polygonize/tetrahedral.cpp
+  src/polygonize/tetrahedral_checks.cpp
+  src/polygonize/tetrahedral_cleanup.cpp
+  src/polygonize/tetrahedral_extract.cpp
+  src/polygonize/tetrahedral_lattice.cpp
+  src/polygonize/tetrahedral_mesh.cpp
+  src/polygonize/tetrahedral_points.cpp
+  src/polygonize/tetrahedral_region.cpp)

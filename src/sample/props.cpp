@@ -4,12 +4,12 @@
 
 #include <algorithm>
 #include <cctype>
-#include <charconv>
-#include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 
 namespace ramiform {
 
@@ -84,8 +84,7 @@ Props parse_props(std::string_view text, const std::string& source) {
     }
     const auto eq = line.find('=');
     if (eq == std::string_view::npos) {
-      throw InputError(source, line_no,
-                       "expected 'key = value', got '" + std::string(line) + "'");
+      throw InputError(source, line_no, "expected 'key = value', got '" + std::string(line) + "'");
     }
     const std::string_view key = trim(line.substr(0, eq));
     const std::string_view value = trim(line.substr(eq + 1));
@@ -100,9 +99,9 @@ Props parse_props(std::string_view text, const std::string& source) {
     }
     const std::string k(key);
     if (const auto it = props.values.find(k); it != props.values.end()) {
-      throw InputError(source, line_no,
-                       "key '" + k + "' given twice (first on line " +
-                           std::to_string(it->second.second) + ")");
+      throw InputError(
+          source, line_no,
+          "key '" + k + "' given twice (first on line " + std::to_string(it->second.second) + ")");
     }
     props.values.emplace(k, std::make_pair(std::string(value), line_no));
     if (end == text.size()) break;
@@ -119,8 +118,7 @@ Props read_props(const std::string& path) {
   return parse_props(ss.str(), path);
 }
 
-PropsReader::PropsReader(const Props& props, std::vector<std::string> valid_keys,
-                         std::string what)
+PropsReader::PropsReader(const Props& props, std::vector<std::string> valid_keys, std::string what)
     : props_(props), valid_keys_(std::move(valid_keys)), what_(std::move(what)) {
   // Report the unknown key that comes first in the file, so the message is reproducible.
   auto first = props_.values.end();
@@ -152,10 +150,8 @@ void PropsReader::fail(const std::string& key, const std::string& problem) const
 double PropsReader::number(const std::string& key, double fallback) const {
   const auto it = props_.values.find(key);
   if (it == props_.values.end()) return fallback;
-  const std::string& s = it->second.first;
   double v = 0.0;
-  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || ptr != s.data() + s.size() || !std::isfinite(v)) {
+  if (parse_number(it->second.first, v) != NumberStatus::kOk) {
     fail(key, "expected a finite number");
   }
   return v;
@@ -164,13 +160,11 @@ double PropsReader::number(const std::string& key, double fallback) const {
 std::size_t PropsReader::count(const std::string& key, std::size_t fallback) const {
   const auto it = props_.values.find(key);
   if (it == props_.values.end()) return fallback;
-  const std::string& s = it->second.first;
-  std::size_t v = 0;
-  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc() || ptr != s.data() + s.size()) {
+  std::int64_t v = 0;
+  if (parse_number(it->second.first, v) != NumberStatus::kOk || v < 0) {
     fail(key, "expected a non-negative integer");
   }
-  return v;
+  return static_cast<std::size_t>(v);
 }
 
 bool PropsReader::flag(const std::string& key, bool fallback) const {

@@ -1,3 +1,19 @@
 set(RAMIFORM_SAMPLE_SOURCES
+  src/sample/common.cpp
+  src/sample/dart.cpp
+  src/sample/distributions.cpp
+  src/sample/field_cache.cpp
+  src/sample/lane.cpp
+  src/sample/lane_kernel.cpp
+  src/sample/near_mesh.cpp
+  src/sample/near_surface.cpp
+  src/sample/option_checks.cpp
+  src/sample/point_grid.cpp
   src/sample/point_sets.cpp
-  src/sample/props.cpp)
+  src/sample/projection.cpp
+  src/sample/props.cpp
+  src/sample/region.cpp
+  src/sample/stratified.cpp
+  src/sample/sum_tree.cpp
+  src/sample/thinning.cpp
+  src/sample/voxel_grid.cpp)

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
-// Curve commands and the curve-based surfaces of thesis `001` §4.1–4.2: surfaces of revolution,
+// Curve commands and the curve-based surfaces of Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §4.1–4.2: surfaces of revolution,
 // sweeps and implicit skinning.
 
 #include "ramiform/core/errors.h"
 #include "ramiform/field/curves.h"
+#include "ramiform/io/curve_io.h"
 #include "ramiform/field/sweep.h"
 #include "session.h"
 
@@ -101,7 +102,7 @@ CurveSurfaceOptions surface_options(const Call& c) {
       c.fail(*t, e.what());
     }
   }
-  o.weight = c.option_positive("weight", 1.0);
+  o.weight = c.option_positive("weight", o.weight);
   return o;
 }
 

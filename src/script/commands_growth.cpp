@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
-// Point-set and growth commands: the thesis's point_set_* commands (`001` §7.0.1, §7.1), space
+// Point-set and growth commands: the thesis's point_set_* commands (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §7.0.1, §7.1), space
 // colonization (§2.5, chapter 7) and L-systems as skeleton sources.
 
 #include <algorithm>
@@ -123,7 +123,8 @@ CommandResult run_point_set_mesh(Call& c) {
   const std::string name = c.new_name(0);
   const TriMesh mesh = read_mesh(c.input_path(1));
   NearMeshOptions o;
-  o.count = static_cast<std::size_t>(c.option_integer("count", 1000, 1, 100'000'000));
+  o.count = static_cast<std::size_t>(
+      c.option_integer("count", static_cast<int>(o.count), 1, 100'000'000));
   o.min_offset = c.option_number("min_offset", 0.0);
   o.max_offset = c.option_number("max_offset", o.min_offset);
   return stored(c, name, sample_near_mesh(mesh, o, seed_for(c, name)),
@@ -150,7 +151,7 @@ CommandResult run_grow(Call& c) {
   o.step = c.option_positive("step", o.step);
   o.influence = c.option_positive("influence", o.influence);
   o.kill = c.option_positive("kill", o.kill);
-  o.roots = {c.option_vec3("root", Vec3::Zero())};
+  o.roots = {c.option_vec3("root", o.roots.front())};
   o.direction = c.option_vec3("direction", o.direction);
   o.tropism = c.option_vec3("tropism", o.tropism);
   o.max_iterations = c.option_integer("max_iterations", o.max_iterations, 0, 10'000'000);
@@ -239,6 +240,8 @@ CommandResult run_save_skeleton(Call& c) {
 }  // namespace
 
 void add_growth_commands(std::vector<CommandSpec>& out) {
+  const ColonizationOptions grow;
+  const LSystemOptions ls;
   out.push_back(
       {"point_set_gen",
        "point_set_gen SHAPE DISTRIBUTION [PROPS] [count=N] [name=P] [seed=S]",
@@ -291,9 +294,17 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
        "[direction=X,Y,Z] [tropism=X,Y,Z] [max_iterations=N] [tip_radius=R] [pipe_exponent=N] "
        "[avoid=SHAPE]",
        "Space colonization (Runions et al. 2007, thesis §2.5): grows a tree from `root` toward "
-       "the points, then sets pipe-model radii. `avoid` keeps nodes out of a shape (§7.2). "
-       "TREE is a shape (Cauchy convolution surface of the skeleton); save_mesh method=tets "
-       "meshes it, save_skeleton writes the skeleton.",
+       "the points in steps of `step`" +
+           with_default(grow.step) + "; points within `influence`" +
+           with_default(grow.influence) + " attract a node and points within `kill`" +
+           with_default(grow.kill) + " die, for at most `max_iterations`" +
+           with_default(grow.max_iterations) + " iterations. Then pipe-model radii: `tip_radius`" +
+           with_default(grow.tip_radius) + " at the tips, exponent `pipe_exponent`" +
+           with_default(grow.pipe_exponent, ColonizationOptions::kMinPipeExponent,
+                        ColonizationOptions::kMaxPipeExponent) +
+           ". `avoid` keeps nodes out of a shape (§7.2). TREE is a shape (Cauchy convolution "
+           "surface of the skeleton); save_mesh method=tets meshes it, save_skeleton writes the "
+           "skeleton.",
        "sphere crown 3 center=0,0,5\npoint_set_gen crown uniform count=300\n"
        "grow tree from crown step=0.4 influence=2 kill=0.8\nsave_skeleton tree tree.json",
        {"step", "influence", "kill", "root", "direction", "tropism", "max_iterations", "tip_radius",
@@ -304,7 +315,10 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
       {"lsystem",
        "lsystem TREE EXAMPLE|FILE [iterations=N] [angle=DEG] [step=L] [width=W] [radii=width|pipe]",
        "A skeleton from a bracketed parametric L-system (docs/growth.md): one of the built-in "
-       "examples or a file.",
+       "examples or a file, derived `iterations`" +
+           with_default(ls.iterations) + " times; the turtle turns by `angle`" +
+           with_default(ls.angle_deg) + " degrees, moves by `step`" + with_default(ls.step) +
+           " and starts with `width`" + with_default(ls.width) + ".",
        "lsystem plant abop_fig1_24a iterations=4\nsave_skeleton plant plant.json",
        {"iterations", "angle", "step", "width", "radii", "tip_radius", "pipe_exponent"},
        run_lsystem,

@@ -73,11 +73,14 @@ CommandResult run_save_mesh(Call& c) {
       if (const Token* t = c.option_token(key))
         c.fail(*t, std::string(key) + "= applies to method=mc");
     }
-    TetrahedralOptions o;
-    o.levels = c.option_integer("levels", 3, 0, 6);
-    o.section_scale = c.option_number("section_scale", 3.0);
-    if (!(o.section_scale >= 2.0 && o.section_scale <= 1e3)) {
-      c.fail(*c.option_token("section_scale"), "section_scale= must be in [2, 1000]");
+    using Tets = TetrahedralOptions;
+    Tets o;
+    o.levels = c.option_integer("levels", o.levels, Tets::kMinLevels, Tets::kMaxLevels);
+    o.section_scale = c.option_number("section_scale", o.section_scale);
+    if (!(o.section_scale >= Tets::kMinSectionScale && o.section_scale <= Tets::kMaxSectionScale)) {
+      c.fail(*c.option_token("section_scale"), "section_scale= must be in " +
+                                                   range_text(Tets::kMinSectionScale,
+                                                              Tets::kMaxSectionScale));
     }
     mesh = polygonize_tetrahedral(*obj.field, *obj.skeleton, o, c.session().ctx);
     how = "tets, " + std::to_string(o.levels) + " levels";
@@ -95,9 +98,11 @@ CommandResult run_save_mesh(Call& c) {
       c.fail(c.arg(0), "'" + c.arg(0).text +
                            "' is unbounded (a plane?); intersect it with a bounded shape first");
     }
-    MarchingCubesOptions o;
-    o.cell_size = c.option_positive("cell", 0.0);
-    o.resolution = c.option_integer("resolution", 96, 1, 4096);
+    using Mc = MarchingCubesOptions;
+    Mc o;
+    o.cell_size = c.option_positive("cell", o.cell_size);
+    o.resolution =
+        c.option_integer("resolution", o.resolution, Mc::kMinResolution, Mc::kMaxResolution);
     mesh = marching_cubes(*obj.field, o, c.session().ctx);
     how = o.cell_size > 0 ? "mc, cell " + format_number(o.cell_size)
                           : "mc, resolution " + std::to_string(o.resolution);
@@ -196,6 +201,10 @@ CommandResult run_help(Call& c) {
 }  // namespace
 
 void add_output_commands(std::vector<CommandSpec>& out) {
+  using Mc = MarchingCubesOptions;
+  using Tets = TetrahedralOptions;
+  const Mc mc;
+  const Tets tets;
   out.push_back(
       {"param",
        "param NAME VALUE",
@@ -210,9 +219,15 @@ void add_output_commands(std::vector<CommandSpec>& out) {
        "save_mesh NAME FILE [FILE ...] [resolution=N | cell=H] [method=mc|tets] [levels=N] "
        "[section_scale=S]",
        "Polygonizes a shape once and writes it to every FILE (.ply, .obj, .off, .glb) inside the "
-       "output directory: marching cubes over the shape's bounds (default 96 cells along the "
-       "longest side), or for a shape made by skeleton, grow or lsystem the skeleton-bounded "
-       "tetrahedral polygonizer.",
+       "output directory: marching cubes over the shape's bounds, `resolution` cells along the "
+       "longest side" +
+           with_default(mc.resolution, Mc::kMinResolution, Mc::kMaxResolution) +
+           " or cells of size `cell`; or, for a shape made by skeleton, grow or lsystem, the "
+           "skeleton-bounded tetrahedral polygonizer with `levels` subdivisions" +
+           with_default(tets.levels, Tets::kMinLevels, Tets::kMaxLevels) +
+           " and cross-section squares `section_scale` radii wide" +
+           with_default(tets.section_scale, Tets::kMinSectionScale, Tets::kMaxSectionScale) +
+           ".",
        "save_mesh s3 s3.ply resolution=128",
        {"resolution", "cell", "method", "levels", "section_scale"},
        run_save_mesh,

@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
-// Shape commands: primitives (thesis `001` §3.2), BlobTree operators (§3.3), transforms and
+// Shape commands: primitives (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §3.2), BlobTree operators (§3.3), transforms and
 // Barr's deformations (§4.1), skeletons from files and variational (RBF) surfaces.
 
 #include <cmath>
 #include <fstream>
 #include <numbers>
-#include <sstream>
+#include <string_view>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 #include "ramiform/field/operators.h"
 #include "ramiform/field/primitives.h"
 #include "ramiform/field/rbf.h"
@@ -47,7 +48,7 @@ Kernel kernel_option(const Call& call) {
 DistancePrimitiveOptions primitive_options(const Call& call) {
   DistancePrimitiveOptions o;
   o.kernel = kernel_option(call);
-  o.weight = call.option_positive("weight", 1.0);
+  o.weight = call.option_positive("weight", o.weight);
   return o;
 }
 
@@ -337,7 +338,7 @@ CommandResult run_taper(Call& c) {
   TaperOptions o;
   o.axis = axis_option(c);
   o.scale_end = c.positive(1, "scale at the end");
-  o.scale_start = c.option_positive("scale_start", 1.0);
+  o.scale_start = c.option_positive("scale_start", o.scale_start);
   const Aabb box = f->bounds();
   o.start = c.option_number("start", box.isEmpty() ? 0.0 : box.min()[o.axis]);
   o.end = c.option_number("end", box.isEmpty() ? 1.0 : box.max()[o.axis]);
@@ -366,6 +367,8 @@ CommandResult run_bend(Call& c) {
   return rebind(c, make_bend(f, o), "bent at rate " + c.arg(1).text);
 }
 
+constexpr const char* kBlanks = " \t\r\v\f";  // what separates numbers on a line
+
 // RBF constraints: "x y z value" or "x y z nx ny nz" per line.
 CommandResult run_rbf(Call& c) {
   c.expect_count(2, 2, "NAME FILE");
@@ -382,16 +385,17 @@ CommandResult run_rbf(Call& c) {
     ++line_no;
     const std::size_t hash = text.find('#');
     if (hash != std::string::npos) text.resize(hash);
-    std::istringstream ls(text);
     std::vector<double> v;
-    std::string word;
-    while (ls >> word) {
-      char* end = nullptr;
-      const double x = std::strtod(word.c_str(), &end);
-      if (end == word.c_str() || *end != '\0' || !std::isfinite(x)) {
-        throw InputError(path, line_no, "expected a finite number, got '" + word + "'");
+    for (std::size_t at = text.find_first_not_of(kBlanks); at != std::string::npos;) {
+      const std::size_t end = text.find_first_of(kBlanks, at);
+      const std::string_view word = std::string_view(text).substr(at, end - at);
+      double x = 0;
+      if (parse_number(word, x) != NumberStatus::kOk) {
+        throw InputError(path, line_no,
+                         "expected a finite number, got '" + std::string(word) + "'");
       }
       v.push_back(x);
+      at = end == std::string::npos ? end : text.find_first_not_of(kBlanks, end);
     }
     if (v.empty()) continue;
     if (v.size() == 4) {

@@ -3,6 +3,7 @@
 #include "session.h"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cstdio>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <system_error>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 
 namespace ramiform {
 namespace script {
@@ -144,6 +146,27 @@ std::string format_vec3(const Vec3& v) {
   return format_number(v.x()) + "," + format_number(v.y()) + "," + format_number(v.z());
 }
 
+namespace {
+
+std::string exact_number(double v) {
+  std::array<char, 32> buf{};
+  const char* end = std::to_chars(buf.data(), buf.data() + buf.size(), v).ptr;
+  return std::string(buf.data(), static_cast<std::size_t>(end - buf.data()));
+}
+
+}  // namespace
+
+std::string range_text(double min, double max) {
+  return "[" + exact_number(min) + ", " + exact_number(max) + "]";
+}
+
+std::string with_default(double value) { return " (default " + exact_number(value) + ")"; }
+
+std::string with_default(double value, double min, double max) {
+  return " (default " + exact_number(value) + ", " + exact_number(min) + "\u2013" +
+         exact_number(max) + ")";
+}
+
 const std::map<std::string, const CommandSpec*>& command_table() {
   static const std::vector<CommandSpec> specs = [] {
     std::vector<CommandSpec> all;
@@ -232,14 +255,13 @@ std::string Call::new_name(std::size_t i) const {
 double Call::parse_number(const Token& token, const std::string& what) const {
   const std::string& s = token.text;
   double v = 0;
-  const char* begin = s.data();
-  const char* end = s.data() + s.size();
-  if (!s.empty() && *begin == '+') ++begin;
-  const auto [ptr, ec] = std::from_chars(begin, end, v);
-  if (s.empty() || ec != std::errc() || ptr != end) {
+  const NumberStatus status = ramiform::parse_number(s, v);
+  if (status == NumberStatus::kNotFinite) {
+    fail(token, what + " must be finite, got '" + shown(s) + "'");
+  }
+  if (status != NumberStatus::kOk) {
     fail(token, "expected a number for " + what + ", got '" + shown(s) + "'");
   }
-  if (!std::isfinite(v)) fail(token, what + " must be finite, got '" + shown(s) + "'");
   return v;
 }
 

@@ -16,7 +16,7 @@
 #include "ramiform/core/types.h"
 #include "ramiform/field/curves.h"
 #include "ramiform/field/field.h"
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 #include "ramiform/script/script.h"
 #include "ramiform/skeleton/skeleton.h"
 
@@ -156,5 +156,13 @@ class Call {
 
 /// "1,2,3" for messages (numbers as ramiform::format_number).
 std::string format_vec3(const Vec3& v);
+
+/// "[MIN, MAX]" for messages, numbers in their shortest exact form.
+std::string range_text(double min, double max);
+/// " (default D)" or " (default D, MIN–MAX)": how a command's help states a default and range
+/// of an options struct. docs/language.md writes them the same way, after the option's name in
+/// backquotes; tests/cli/help_docs_test.cpp reads both.
+std::string with_default(double value);
+std::string with_default(double value, double min, double max);
 
 }  // namespace ramiform::script

@@ -33,7 +33,10 @@ Skeleton branching_tree(const BranchingTreeOptions& o) {
         "branch_angle_deg must be in [0, 90)");
   check(std::isfinite(o.jitter_deg) && o.jitter_deg >= 0, "jitter_deg must be >= 0");
   check(std::isfinite(o.tip_radius) && o.tip_radius > 0, "tip_radius must be > 0");
-  check(o.pipe_exponent >= 1 && o.pipe_exponent <= 4, "pipe_exponent must be in [1, 4]");
+  check(o.pipe_exponent >= BranchingTreeOptions::kMinPipeExponent &&
+            o.pipe_exponent <= BranchingTreeOptions::kMaxPipeExponent,
+        "pipe_exponent must be in [" + format_number(BranchingTreeOptions::kMinPipeExponent) +
+            ", " + format_number(BranchingTreeOptions::kMaxPipeExponent) + "]");
 
   const double deg = std::numbers::pi / 180;
   Rng rng(o.seed);

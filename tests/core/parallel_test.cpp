@@ -7,7 +7,9 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <algorithm>
 #include <mutex>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -164,6 +166,33 @@ TEST(Parallel, CancelDuringWorkStopsBetweenChunks) {
                    &two),
                Cancelled);
   EXPECT_LT(calls2.load(), 100000);
+}
+
+// threads = 1 is one thread all the way down: loops nested without a Context (as inside a field
+// evaluation) run on the calling thread; with 2 threads they use at most the loop's 2.
+std::size_t distinct_threads_of_nested_loops(int threads) {
+  std::mutex m;
+  std::vector<std::thread::id> seen;
+  const Context ctx(threads);
+  parallel::for_chunks(
+      8, 1,
+      [&](std::size_t, std::size_t) {
+        parallel::for_chunks(64, 1, [&](std::size_t, std::size_t) {
+          volatile double x = 0;
+          for (int k = 0; k < 20000; ++k) x = x + std::sqrt(static_cast<double>(k));
+          const std::lock_guard<std::mutex> lock(m);
+          if (std::find(seen.begin(), seen.end(), std::this_thread::get_id()) == seen.end()) {
+            seen.push_back(std::this_thread::get_id());
+          }
+        });
+      },
+      &ctx);
+  return seen.size();
+}
+
+TEST(Parallel, NestedLoopsKeepTheThreadCount) {
+  EXPECT_EQ(distinct_threads_of_nested_loops(1), 1u);
+  EXPECT_LE(distinct_threads_of_nested_loops(2), 2u);
 }
 
 TEST(Context, CheckAndProgress) {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
-// The closed-form Cauchy segment integral (`003` eq. 5) against adaptive Gauss–Kronrod
+// The closed-form Cauchy segment integral (Zhu, Guo & Jin 2013, "Efficient polygonization of tree trunks modeled by convolution surfaces", eq. 5) against adaptive Gauss–Kronrod
 // quadrature in long double, and its gradient against central differences.
 #include <gtest/gtest.h>
 

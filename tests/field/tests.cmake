@@ -1,4 +1,5 @@
 set(RAMIFORM_field_TESTS
+  field/field_context_test.cpp
   field/kernels_test.cpp
   field/cauchy_integral_test.cpp
   field/skeleton_field_test.cpp
@@ -8,4 +9,10 @@ set(RAMIFORM_field_TESTS
   field/warps_test.cpp
   field/rbf_test.cpp
   field/curves_test.cpp
-  field/sweep_test.cpp)
+  field/sweep_test.cpp
+  field/sweep_region_test.cpp
+  field/sweep_interpolation_test.cpp)
+# The sweep surfaces' 2-D distance and interpolation are internal (src/field/); their tests
+# reach them directly.
+set_source_files_properties(field/sweep_region_test.cpp field/sweep_interpolation_test.cpp
+                            PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/src)

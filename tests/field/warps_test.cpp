@@ -39,8 +39,8 @@ class Recording final : public Field {
 
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
-                   std::span<Vec3> gradients) const override {
-    child_->evaluate(points, values, gradients);
+                   std::span<Vec3> gradients, const Context* ctx) const override {
+    child_->evaluate(points, values, gradients, ctx);
   }
 
  private:

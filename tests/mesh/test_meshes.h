@@ -9,7 +9,7 @@
 #include <numbers>
 #include <utility>
 
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 
 namespace ramiform::test {
 

@@ -12,7 +12,7 @@
 #include <cstddef>
 
 #include "ramiform/mesh/checks.h"
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 
 namespace ramiform::test {
 

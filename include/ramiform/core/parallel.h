@@ -17,7 +17,9 @@ namespace ramiform::parallel {
 
 /// Calls `body(begin, end)` for consecutive chunks [begin, end) of [0, n), each at most `grain`
 /// long, in parallel on `ctx->threads()` threads (all when ctx is null or threads is 0; serial
-/// when threads is 1). Checks cancellation between chunks and throws `Cancelled`.
+/// when threads is 1). A loop without a Context nested in another loop keeps that loop's thread
+/// count (serial inside a serial loop, the same task arena inside a parallel one). Checks
+/// cancellation between chunks and throws `Cancelled`.
 void for_chunks(std::size_t n, std::size_t grain,
                 const std::function<void(std::size_t begin, std::size_t end)>& body,
                 const Context* ctx = nullptr);

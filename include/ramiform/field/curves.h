@@ -3,7 +3,7 @@
 #pragma once
 
 /// \file
-/// Planar (2-D) and space (3-D) curves for the curve-based surfaces of thesis `001` §4.1–4.2
+/// Planar (2-D) and space (3-D) curves for the curve-based surfaces of Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §4.1–4.2
 /// (surfaces of revolution, sweeps, implicit skinning; see field/sweep.h and docs/skinning.md):
 /// a curve is a kind and a list of points. All curves are parameterized over t in [0, 1].
 ///
@@ -13,8 +13,7 @@
 /// | kBezier | ONE Bezier curve of degree n-1 through the n control points (closed: the first point is appended, degree n), de Casteljau | the Bezier parameter |
 /// | kBSpline | uniform B-spline of degree p = min(3, n-1); open: clamped (open-uniform knots, passes through the end points); closed: periodic over the n points | open: knots 0 (p+1 times), i/(n-p), 1 (p+1 times); closed: uniform knots, t = (u - p) / n |
 ///
-/// The curve file format (`read_points2`, `read_points3`): one point per line, "x y" or
-/// "x y z", numbers separated by spaces or tabs; '#' starts a comment; blank lines are ignored.
+/// Curve files are read by io/curve_io.h.
 
 #include <string>
 #include <vector>
@@ -85,12 +84,5 @@ struct FlattenedCurve2 {
 };
 [[nodiscard]] FlattenedCurve3 flatten_with_parameters(const Curve3& curve, double tolerance);
 [[nodiscard]] FlattenedCurve2 flatten_with_parameters(const Curve2& curve, double tolerance);
-
-/// Reads a curve file (format above): "x y" per point line (Curve2 points) or "x y z"
-/// (Curve3 points). Throws InputError(path, line, problem) for an unreadable file, a line with
-/// the wrong number of fields, a field that is not a number or not finite; InputError(path, 0,
-/// "no points") for a file without points.
-[[nodiscard]] std::vector<Vec2> read_points2(const std::string& path);
-[[nodiscard]] std::vector<Vec3> read_points3(const std::string& path);
 
 }  // namespace ramiform

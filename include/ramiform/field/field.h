@@ -15,6 +15,7 @@
 #include <memory>
 #include <span>
 
+#include "ramiform/core/context.h"
 #include "ramiform/core/types.h"
 
 namespace ramiform {
@@ -34,9 +35,11 @@ class Field : public std::enable_shared_from_this<Field> {
   /// Evaluates f at every point: `values[i] = f(points[i])`, and when `gradients` is non-empty
   /// also `gradients[i] = grad f(points[i])`. `values` must have the size of `points`;
   /// `gradients` that size or 0. Throws InvalidArgument on a size mismatch. Thread-safe.
-  /// Adds points.size() to the evaluation counter.
+  /// Adds points.size() to the evaluation counter. Large batches are split over
+  /// `ctx->threads()` threads (nullptr: all cores) and check `ctx` for cancellation between
+  /// chunks; the values never depend on the thread count.
   void evaluate(std::span<const Vec3> points, std::span<double> values,
-                std::span<Vec3> gradients = {}) const;
+                std::span<Vec3> gradients = {}, const Context* ctx = nullptr) const;
 
   /// f(p) (a batch of one).
   [[nodiscard]] double value(const Vec3& p) const;
@@ -73,8 +76,9 @@ class Field : public std::enable_shared_from_this<Field> {
   Field(double iso, const Field& source);
 
   /// The evaluation itself; sizes are already checked and `gradients` is empty or full-size.
+  /// Operators pass `ctx` on to their children; parallel loops run on its threads.
   virtual void do_evaluate(std::span<const Vec3> points, std::span<double> values,
-                           std::span<Vec3> gradients) const = 0;
+                           std::span<Vec3> gradients, const Context* ctx) const = 0;
 
  private:
   double iso_;

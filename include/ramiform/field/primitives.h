@@ -3,7 +3,7 @@
 #pragma once
 
 /// \file
-/// Distance-surface primitives of the implicit modeler (thesis `001` §3.2, §4.1): torus, rounded
+/// Distance-surface primitives of the implicit modeler (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §3.2, §4.1): torus, rounded
 /// box, rounded cylinder, rounded cone and half-space. Each is
 ///
 ///   f(p) = weight * k(d(p) / R),   R = radius / kernel.x_at(iso),

@@ -6,7 +6,8 @@
 /// Radius-matched convolution surfaces: per-edge weights w_i >= 0 of a line-skeleton
 /// convolution surface f = sum_i w_i lambda_i F_i (skeleton_field.h) found by non-negative
 /// least squares so that the surface passes through the radii the skeleton asks for (Zhu, Guo
-/// & Jin, `003` §2.2.2, eq. 6: min_{A >= 0} |F A - T|^2). With w_i = 1 joints swell and free
+/// & Jin 2013, "Efficient polygonization of tree trunks modeled by convolution surfaces", Sci
+/// China Inf Sci, §2.2.2, eq. 6: min_{A >= 0} |F A - T|^2). With w_i = 1 joints swell and free
 /// ends pull in; the fitted weights shrink the one and feed the other. One weight per edge
 /// cannot make a tapered edge (one kernel width per edge) or a long edge next to a joint follow
 /// its radii: split_edges() first (see docs/fields.md for measured errors).
@@ -28,9 +29,10 @@
 ///   min_{w >= 0} sum_j omega_j (sum_i F_ji w_i + o_j - T)^2 + mu sum_i D_i (w_i - 1)^2,
 /// D_i = sum_j omega_j F_ji^2, mu = `regularization` (keeps the weights that the constraints
 /// barely determine near 1 and the normal matrix N positive definite), omega_j = Huber row
-/// weights (see `robust_threshold`). Solvers: Lawson–Hanson active set on dense normal
-/// equations (small problems) or block principal pivoting (Kim & Park 2011) on the sparse
-/// normal equations with a sparse LDL^T of the free block (large problems). Both stop at the
+/// weights (see `robust_threshold`). Solvers (core/nnls.h): Lawson–Hanson active set on dense
+/// normal equations (Lawson & Hanson 1974, Solving Least Squares Problems, ch. 23; small
+/// problems) or block principal pivoting (Kim & Park 2011) on the sparse normal equations with a
+/// sparse LDL^T of the free block (large problems). Both stop at the
 /// KKT conditions of that problem: with g = N w - b, w_i >= 0, |g_i| <= tol N_ii where w_i > 0
 /// and g_i >= -tol N_ii where w_i = 0, i.e. no single coordinate step would move a weight by
 /// more than tol. Results are identical for any thread count; `ctx` sets the threads of the
@@ -152,8 +154,8 @@ struct RadiusFitResult {
                                                Context* ctx = nullptr);
 
 /// Per-edge weights w_i >= 0 for make_skeleton_field(skeleton, field_options, weights) so that
-/// the convolution surface passes as closely as possible through the requested radii (`003`
-/// §2.2.2). Edges whose field reaches no constraint point keep weight 1. Throws as
+/// the convolution surface passes as closely as possible through the requested radii (Zhu,
+/// Guo & Jin 2013, §2.2.2). Edges whose field reaches no constraint point keep weight 1. Throws as
 /// build_radius_fit_system().
 [[nodiscard]] RadiusFitResult fit_edge_weights(const Skeleton& skeleton,
                                                const SkeletonFieldOptions& field_options,
@@ -205,8 +207,9 @@ struct RadiusErrorOptions {
 /// Radius error of a surface against a skeleton's requested radii. Every sample is a ray from a
 /// point of an edge perpendicular to it; the measured radius is the distance to the crossing of
 /// the surface nearest the requested radius on the grid 0, 0.3 .. 0.9, 1, 1.1 .. 32 radii
-/// (bracketed outward while f > iso and inward while f <= iso, then refined by the Illinois
-/// method to 1e-9 of the radius, all rays in one batch per step). Samples whose requested
+/// (bracketed outward while f > iso and inward while f <= iso, then refined by the bracketed
+/// root finder of core/roots.h to a bracket of 1e-9 of the radius, whose midpoint is the
+/// measured radius; all rays in one batch per step). Samples whose requested
 /// surface point lies strictly inside another edge's requested tube are skipped, and so are
 /// those that enter another tube less than `min_gap` radii further out. A ray that starts
 /// outside (f <= iso on the skeleton) measures radius 0.

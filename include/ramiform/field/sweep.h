@@ -3,7 +3,8 @@
 #pragma once
 
 /// \file
-/// Curve-based distance surfaces of thesis `001` §4.1–4.2: implicit surfaces of revolution,
+/// Curve-based distance surfaces of Kochhar 2010, "Application of implicit methods to the
+/// interactive modeling of trees" (M.Sc. thesis), §4.1–4.2: implicit surfaces of revolution,
 /// sweep surfaces and implicit skinning. Each is a distance surface (thesis §3.2) whose skeletal
 /// element is built from curves (field/curves.h):
 ///

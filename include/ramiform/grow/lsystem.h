@@ -50,6 +50,9 @@ enum class LSystemRadius {
 
 /// Options of L-system derivation and interpretation; validated at entry (InvalidArgument).
 struct LSystemOptions {
+  static constexpr double kMinPipeExponent = 2.0;  ///< smallest `pipe_exponent`
+  static constexpr double kMaxPipeExponent = 3.0;  ///< largest `pipe_exponent`
+
   int iterations = 5;       ///< derivation steps, >= 0
   double angle_deg = 25;    ///< default turn angle of + - & ^ \ / (degrees), finite
   double step = 1;          ///< default length of F and f, model units, finite
@@ -57,7 +60,7 @@ struct LSystemOptions {
   double width_factor = 0.7;       ///< `!` without argument multiplies the width by this, > 0
   LSystemRadius radius = LSystemRadius::kWidth;  ///< how radii are set
   double tip_radius = 0.02;        ///< kPipe: radius of every tip, > 0
-  double pipe_exponent = 2.5;      ///< kPipe: exponent in [2, 3]
+  double pipe_exponent = 2.5;      ///< kPipe: exponent, kMinPipeExponent..kMaxPipeExponent
   std::size_t max_modules = 20'000'000;  ///< a derivation longer than this throws InvalidArgument
 
   void validate() const;

@@ -4,8 +4,8 @@
 
 /// \file
 /// Space colonization (Runions, Lane & Prusinkiewicz 2007, "Modeling trees with a space
-/// colonization algorithm"; thesis `001` §2.5 and chapter 7): a tree grows from one or more roots
-/// toward a cloud of attraction points, and pipe-model radii (`001` §2.6, eq. 2.1).
+/// colonization algorithm"; Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §2.5 and chapter 7): a tree grows from one or more roots
+/// toward a cloud of attraction points, and pipe-model radii (Kochhar 2010 §2.6, eq. 2.1).
 ///
 /// One iteration:
 ///  1. every live attraction point is associated with its closest node within the influence
@@ -55,6 +55,9 @@ namespace ramiform {
 
 /// Options of space colonization; `validate()` runs at entry of every function below.
 struct ColonizationOptions {
+  static constexpr double kMinPipeExponent = 2.0;  ///< smallest `pipe_exponent`
+  static constexpr double kMaxPipeExponent = 3.0;  ///< largest `pipe_exponent`
+
   double step = 1.0;               ///< D, node spacing (edge length), model units, > 0
   double influence = 10.0;         ///< d_i, influence distance, model units, > kill
   double kill = 2.0;               ///< d_k, kill distance, model units, > 0 (>= step/2 advised)
@@ -63,7 +66,7 @@ struct ColonizationOptions {
   Vec3 tropism = Vec3::Zero();     ///< added to each unit growth direction (its length is the weight)
   int max_iterations = 1000;       ///< upper bound on iterations (step() calls), >= 0
   double tip_radius = 0.02;        ///< pipe model radius of every tip, model units, > 0
-  double pipe_exponent = 2.5;      ///< pipe model exponent n in [2, 3]
+  double pipe_exponent = 2.5;      ///< pipe model exponent n, kMinPipeExponent..kMaxPipeExponent
   /// Optional obstacle: nodes are never created where f > iso (the roots must lie outside).
   /// Not owned; must outlive the growth. Meshes can be used through a field wrapping them.
   const Field* obstacle = nullptr;
@@ -147,7 +150,7 @@ class SpaceColonization {
                                                          const ColonizationOptions& options,
                                                          Context* ctx = nullptr);
 
-/// Pipe-model radii (`001` eq. 2.1): every tip (a node without children) gets `tip_radius`, every
+/// Pipe-model radii (Kochhar 2010 eq. 2.1): every tip (a node without children) gets `tip_radius`, every
 /// other node r with r^n = sum over its children of r_child^n, n = `exponent`. Children are
 /// determined by orienting every edge away from the given roots (breadth first). Works on any
 /// forest: `roots` holds one node per connected component that has edges (isolated nodes not

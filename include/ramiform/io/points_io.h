@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 
 namespace ramiform {
 

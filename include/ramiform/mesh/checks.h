@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "ramiform/core/context.h"
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 
 namespace ramiform {
 

@@ -5,7 +5,7 @@
 /// \file
 /// Needle cleanup for polygonizer output. Marching tetrahedra (and marching cubes) make long,
 /// narrow triangles wherever the surface passes close to a grid corner: the vertices on the
-/// edges around that corner crowd together (Zhu, Guo & Jin, `003` §6, name this their method's
+/// edges around that corner crowd together (Zhu, Guo & Jin 2013, "Efficient polygonization of tree trunks modeled by convolution surfaces", §6, name this their method's
 /// weakness). clean_needles() collapses the short edges of such triangles, each collapse on its
 /// own and only where it keeps the mesh a closed, consistently oriented 2-manifold:
 /// - link condition: the end points share exactly the two vertices opposite the edge, and
@@ -31,7 +31,7 @@
 #include <span>
 
 #include "ramiform/core/context.h"
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 
 namespace ramiform {
 

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "ramiform/core/context.h"
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 
 namespace ramiform {
 
@@ -53,7 +53,7 @@ class WindingNumber {
 
   /// Winding numbers of many points, in parallel; one value per point.
   [[nodiscard]] std::vector<double> evaluate(std::span<const Vec3> points,
-                                             Context* ctx = nullptr) const;
+                                             const Context* ctx = nullptr) const;
 
  private:
   struct Impl;
@@ -63,6 +63,6 @@ class WindingNumber {
 /// For each point, 1 when the fast winding number of `mesh` there exceeds 0.5, else 0 (one entry
 /// per point). Builds a `WindingNumber` (O(T log T)) and queries in parallel.
 [[nodiscard]] std::vector<char> points_inside(const TriMesh& mesh, std::span<const Vec3> points,
-                                              Context* ctx = nullptr);
+                                              const Context* ctx = nullptr);
 
 }  // namespace ramiform

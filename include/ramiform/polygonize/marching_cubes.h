@@ -29,16 +29,20 @@
 #include "ramiform/core/context.h"
 #include "ramiform/core/types.h"
 #include "ramiform/field/field.h"
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 
 namespace ramiform {
 
 /// Options of `marching_cubes`.
 struct MarchingCubesOptions {
+  static constexpr int kMinResolution = 1;        ///< fewest cells along the longest side
+  static constexpr int kMaxResolution = 1 << 20;  ///< most cells along the longest side
+
   double cell_size = 0.0;  ///< edge length of a cubic cell in model units; 0 = use resolution
-  /// Cells along the longest side of the box when cell_size is 0 (>= 1). With an empty `box`
-  /// this is the longest side of field.bounds() before padding.
-  int resolution = 64;
+  /// Cells along the longest side of the box when cell_size is 0, kMinResolution..kMaxResolution
+  /// (max_cells bounds the whole grid). With an empty `box` this is the longest side of
+  /// field.bounds() before padding.
+  int resolution = 96;
   /// Region to mesh. Empty (the default) = field.bounds() padded by one cell on every side.
   /// The grid starts at box.min() and covers the box with whole cells (it may overhang the max
   /// side by less than one cell).

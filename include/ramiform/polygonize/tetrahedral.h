@@ -3,7 +3,8 @@
 #pragma once
 
 /// \file
-/// The skeleton-bounded tetrahedral polygonizer (Zhu, Guo & Jin 2013, `003` §3–5).
+/// The skeleton-bounded tetrahedral polygonizer (Zhu, Guo & Jin 2013, "Efficient polygonization
+/// of tree trunks modeled by convolution surfaces", Sci China Inf Sci, §3–5).
 ///
 /// 1. A bounding point set follows the skeleton: every node; a square cross-section of edge
 ///    `section_scale` x radius at forks, tips and every `station_spacing` radii along chains
@@ -42,15 +43,22 @@
 
 #include "ramiform/core/context.h"
 #include "ramiform/field/field.h"
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 #include "ramiform/skeleton/skeleton.h"
 
 namespace ramiform {
 
 /// Options of polygonize_tetrahedral(); validated at entry (InvalidArgument naming the field).
 struct TetrahedralOptions {
-  int levels = 3;               ///< 1:8 subdivision levels (Figure 4), 0..6
-  double section_scale = 3.0;   ///< cross-section square edge / node radius (paper: 3), >= 2
+  static constexpr int kMinLevels = 0;  ///< fewest `levels`: region tetrahedra marched unsplit
+  static constexpr int kMaxLevels = 6;  ///< most `levels`: 8^6 leaves per region tetrahedron
+  /// Smallest `section_scale` (radii): a narrower square would not contain the branch's section.
+  static constexpr double kMinSectionScale = 2.0;
+  static constexpr double kMaxSectionScale = 1000.0;  ///< largest `section_scale` (radii)
+
+  int levels = 3;               ///< 1:8 subdivision levels (Figure 4), kMinLevels..kMaxLevels
+  /// Cross-section square edge / node radius (the paper's 3R), kMinSectionScale..kMaxSectionScale.
+  double section_scale = 3.0;
   double station_spacing = 4.0; ///< max distance between cross-sections along an edge, in radii
   int root_steps = 16;          ///< root-finding rounds per crossing edge (0 = linear; most
                                 ///< edges stop after 3 or 4, see marching_cubes.h)

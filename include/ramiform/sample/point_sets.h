@@ -3,8 +3,10 @@
 #pragma once
 
 /// \file
-/// Point distributions inside, near and on implicit surfaces and triangle meshes (thesis `001`
-/// chapters 5-6 and §7.1). These point sets feed space colonization (grow/).
+/// Point distributions inside, near and on implicit surfaces and triangle meshes, from the thesis
+/// Kochhar 2010, *Application of implicit methods to the interactive modeling of trees* (M.Sc.
+/// thesis, University of Calgary), chapters 5-6 and §7.1; "thesis" below means this one. These
+/// point sets feed space colonization (grow/).
 ///
 /// Every sampler is deterministic: equal inputs and seed give identical points on any thread
 /// count (candidates are drawn in fixed blocks from `Rng::split(block)`, field values are
@@ -21,7 +23,7 @@
 
 #include "ramiform/core/context.h"
 #include "ramiform/field/field.h"
-#include "ramiform/mesh/trimesh.h"
+#include "ramiform/core/geometry.h"
 #include "ramiform/sample/props.h"
 
 namespace ramiform {

@@ -3,8 +3,9 @@
 #pragma once
 
 /// \file
-/// `.props` files: the parameter files of the thesis's point-set commands (`001` §7.0.1,
-/// `point_set_gen s poisson poisson.props`). One `key = value` per line; `#` starts a comment
+/// `.props` files: the parameter files of the point-set commands of Kochhar 2010, *Application
+/// of implicit methods to the interactive modeling of trees* (M.Sc. thesis, University of
+/// Calgary), §7.0.1 (`point_set_gen s poisson poisson.props`). One `key = value` per line; `#` starts a comment
 /// (whole line or after a value); blank lines are ignored; keys are letters, digits, `_`, `-`
 /// and `.`, starting with a letter or `_`. See docs/sampling.md for the keys of each
 /// distribution.
@@ -41,9 +42,11 @@ class PropsReader {
 
   /// True when the key is present.
   [[nodiscard]] bool has(const std::string& key) const;
-  /// A finite number; `fallback` when absent. InputError (file, line, key, value) otherwise.
+  /// A finite number (parse_number of core/numbers.h: decimal, optional leading '+'); `fallback`
+  /// when absent. InputError (file, line, key, value) otherwise.
   [[nodiscard]] double number(const std::string& key, double fallback) const;
-  /// A non-negative integer; `fallback` when absent.
+  /// A non-negative decimal integer up to 2^63 - 1 (optional leading '+'); `fallback` when
+  /// absent. InputError (file, line, key, value) otherwise.
   [[nodiscard]] std::size_t count(const std::string& key, std::size_t fallback) const;
   /// true/false, yes/no, on/off, 1/0; `fallback` when absent.
   [[nodiscard]] bool flag(const std::string& key, bool fallback) const;

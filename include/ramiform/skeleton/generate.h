@@ -14,6 +14,9 @@ namespace ramiform {
 
 /// Options of branching_tree(); validated at entry (InvalidArgument naming the option).
 struct BranchingTreeOptions {
+  static constexpr double kMinPipeExponent = 1.0;  ///< smallest `pipe_exponent`
+  static constexpr double kMaxPipeExponent = 4.0;  ///< largest `pipe_exponent`
+
   std::size_t segments = 1000;  ///< number of edges of the result, >= 1
   std::uint64_t seed = 1;       ///< random seed (jitter and branch rolls)
   double trunk_length = 3.0;    ///< length of the first edge, model units, > 0
@@ -21,7 +24,8 @@ struct BranchingTreeOptions {
   double branch_angle_deg = 32; ///< angle between a child and its parent's direction, degrees
   double jitter_deg = 6;        ///< random deviation of each direction, degrees, >= 0
   double tip_radius = 0.02;     ///< radius of every tip node, model units, > 0
-  double pipe_exponent = 2.0;   ///< pipe model r^n = sum r_child^n (n in [1, 4])
+  /// Pipe model exponent n of r^n = sum r_child^n, kMinPipeExponent..kMaxPipeExponent.
+  double pipe_exponent = 2.0;
 };
 
 /// A binary branching tree grown breadth-first from a root at the origin pointing up (+z):

@@ -3,7 +3,9 @@
 #pragma once
 
 /// \file
-/// `TriMesh` and `PointSet`: plain copyable data.
+/// `TriMesh` and `PointSet`: the plain copyable data that several stages share (polygonizers
+/// produce meshes, samplers read and write point sets, `mesh/` checks and repairs meshes, `io/`
+/// reads and writes both), so they live below every stage.
 
 #include <array>
 #include <cstdint>

@@ -1,0 +1,198 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "polygonize/tetrahedral_points.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "ramiform/core/random.h"
+
+namespace ramiform::detail::tets {
+namespace {
+
+using Adjacency = std::vector<std::vector<std::uint32_t>>;
+
+// Two unit vectors completing d to an orthonormal frame.
+void frame(const Vec3& d, Vec3& e1, Vec3& e2) {
+  const Vec3 helper = std::abs(d.x()) < 0.6 ? Vec3::UnitX() : Vec3::UnitY();
+  e1 = d.cross(helper).normalized();
+  e2 = d.cross(e1).normalized();
+}
+
+void add(BoundingPoints& pb, const Vec3& p, double half) {
+  pb.points.push_back(p);
+  pb.sizes.push_back(half);
+}
+
+void add_square(BoundingPoints& pb, const Vec3& c, const Vec3& d, double half) {
+  Vec3 e1, e2;
+  frame(d, e1, e2);
+  for (const double a : {-1.0, 1.0}) {
+    for (const double b : {-1.0, 1.0}) add(pb, c + half * (a * e1 + b * e2), half);
+  }
+}
+
+Adjacency adjacency(const Skeleton& s) {
+  Adjacency adjacent(s.nodes.size());
+  for (const auto& e : s.edges) {
+    adjacent[e[0]].push_back(e[1]);
+    adjacent[e[1]].push_back(e[0]);
+  }
+  return adjacent;
+}
+
+// Which nodes get a cross-section. Forks, tips and isolated nodes always do; along a chain of
+// degree-2 nodes (scanned cylinder models have many short cylinders) a node is skipped while it
+// lies within `station_spacing` radii of the last section, the chain bends by less than
+// kMaxBendDeg and the radius changes by less than kMaxRadiusChange since it. Closely packed
+// sections would only make many small tetrahedra, each subdivided as finely as a big one.
+constexpr double kMaxBendDeg = 25.0;
+constexpr double kMaxRadiusChange = 0.25;
+std::vector<char> section_nodes(const Skeleton& s, const Adjacency& adjacent,
+                                const TetrahedralOptions& o) {
+  const std::size_t n = s.nodes.size();
+  std::vector<char> section(n, 1);
+  std::vector<char> visited(n, 0);
+  const double cos_bend = std::cos(kMaxBendDeg * std::numbers::pi / 180.0);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (adjacent[i].size() == 2) continue;
+    for (const std::uint32_t first : adjacent[i]) {
+      std::uint32_t prev = i, cur = first, kept = i;
+      while (adjacent[cur].size() == 2 && visited[cur] == 0) {
+        visited[cur] = 1;
+        const std::uint32_t next = adjacent[cur][0] == prev ? adjacent[cur][1] : adjacent[cur][0];
+        const auto& nk = s.nodes[kept];
+        const auto& nc = s.nodes[cur];
+        const Vec3 along = nc.position - nk.position;
+        const Vec3 ahead = s.nodes[next].position - nc.position;
+        const double r = std::min(nk.radius, nc.radius);
+        const bool near = along.norm() < o.station_spacing * r;
+        const bool straight = along.dot(ahead) >= cos_bend * along.norm() * ahead.norm();
+        const bool even =
+            std::abs(nc.radius - nk.radius) <= kMaxRadiusChange * std::max(nk.radius, nc.radius);
+        if (near && straight && even) {
+          section[cur] = 0;
+        } else {
+          kept = cur;
+        }
+        prev = cur;
+        cur = next;
+      }
+    }
+  }
+  return section;
+}
+
+// §5: an auxiliary point on each side of the plane of every pair of branches at the fork p, at
+// the mean length of the two edges (capped at the section size).
+void add_fork_points(BoundingPoints& pb, const Skeleton& s, const std::vector<std::uint32_t>& adj,
+                     const Vec3& p, double half) {
+  for (std::size_t a = 0; a < adj.size(); ++a) {
+    for (std::size_t b = a + 1; b < adj.size(); ++b) {
+      const Vec3 ua = s.nodes[adj[a]].position - p;
+      const Vec3 ub = s.nodes[adj[b]].position - p;
+      const Vec3 nrm = ua.cross(ub);
+      if (nrm.norm() <= 1e-12 * ua.norm() * ub.norm()) continue;
+      const double len = std::min(0.5 * (ua.norm() + ub.norm()), 2 * half);
+      add(pb, p + len * nrm.normalized(), half);
+      add(pb, p - len * nrm.normalized(), half);
+    }
+  }
+}
+
+// The cross-section of node i with half size `half`: a cube around an isolated node; otherwise
+// a square across the mean direction of its edges, with a second square and a cap beyond a tip
+// and the auxiliary points around a fork.
+void add_node_section(BoundingPoints& pb, const Skeleton& s, const Adjacency& adjacent,
+                      std::uint32_t i, double half) {
+  const Vec3& p = s.nodes[i].position;
+  const auto& adj = adjacent[i];
+  if (adj.empty()) {
+    for (int c = 0; c < 8; ++c) {
+      add(pb, p + half * Vec3((c & 1) ? 1 : -1, (c & 2) ? 1 : -1, (c & 4) ? 1 : -1), half);
+    }
+    return;
+  }
+  // Section direction: incident edge directions aligned with the first one, summed.
+  const Vec3 u0 = (s.nodes[adj[0]].position - p).normalized();
+  Vec3 d = Vec3::Zero();
+  for (const std::uint32_t j : adj) {
+    const Vec3 u = (s.nodes[j].position - p).normalized();
+    d += u.dot(u0) >= 0 ? u : Vec3(-u);
+  }
+  d = d.norm() > 1e-12 ? Vec3(d.normalized()) : u0;
+  add_square(pb, p, d, half);
+  if (adj.size() == 1) {
+    const Vec3 out = -u0;
+    add_square(pb, p + out * half, out, half);
+    add(pb, p + out * (2 * half), half);
+  }
+  if (adj.size() >= 3) add_fork_points(pb, s, adj, p, half);
+}
+
+// Intermediate stations along long edges, each a square and its centre on the skeleton, and
+// the axis pairs that join the centres from node to node.
+void add_edge_stations(BoundingPoints& pb, const Skeleton& s, const TetrahedralOptions& o) {
+  const double half_scale = 0.5 * o.section_scale;
+  for (const auto& e : s.edges) {
+    const auto& na = s.nodes[e[0]];
+    const auto& nb = s.nodes[e[1]];
+    const Vec3 d = nb.position - na.position;
+    const double len = d.norm();
+    const double r_mean = 0.5 * (na.radius + nb.radius);
+    const int stations = static_cast<int>(std::ceil(len / (o.station_spacing * r_mean))) - 1;
+    std::uint32_t axis = pb.node_points[e[0]];
+    for (int k = 1; k <= stations; ++k) {
+      const double t = static_cast<double>(k) / (stations + 1);
+      const double half = half_scale * ((1 - t) * na.radius + t * nb.radius);
+      add_square(pb, na.position + t * d, d / len, half);
+      add(pb, na.position + t * d, half);
+      const auto centre = static_cast<std::uint32_t>(pb.points.size() - 1);
+      pb.axis_pairs.push_back({axis, centre});
+      axis = centre;
+    }
+    pb.axis_pairs.push_back({axis, pb.node_points[e[1]]});
+  }
+}
+
+}  // namespace
+
+BoundingPoints bounding_points(const Skeleton& s, const TetrahedralOptions& o) {
+  BoundingPoints pb;
+  const Adjacency adjacent = adjacency(s);
+  const double half_scale = 0.5 * o.section_scale;
+  const std::vector<char> section = section_nodes(s, adjacent, o);
+  for (std::uint32_t i = 0; i < s.nodes.size(); ++i) {
+    // Every node is a point of the set: the lattice then samples the inside on the skeleton
+    // itself, so even at level 0 or 1 no branch can fall between lattice points.
+    pb.node_points.push_back(static_cast<std::uint32_t>(pb.points.size()));
+    const double half = half_scale * s.nodes[i].radius;
+    add(pb, s.nodes[i].position, half);
+    if (section[i] != 0) add_node_section(pb, s, adjacent, i, half);
+  }
+  add_edge_stations(pb, s, o);
+  return pb;
+}
+
+// The jitter is relative to the local cross-section, so even the thinnest twig's squares are
+// far from cospherical in floating point.
+std::vector<Vec3> jitter_and_enclose(BoundingPoints& set, const Skeleton& skeleton) {
+  std::vector<Vec3> pts = std::move(set.points);
+  Rng rng(0x7e7a);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    pts[i] +=
+        kJitter * set.sizes[i] * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+  }
+  const Aabb skel_box = bounding_box(skeleton);
+  const double scale = skel_box.diagonal().norm();
+  const Vec3 c = skel_box.center();
+  const Vec3 h = 0.5 * skel_box.diagonal() + Vec3::Constant(0.5 * scale);
+  for (int k = 0; k < 8; ++k) {
+    pts.push_back(
+        c + Vec3((k & 1) ? h.x() : -h.x(), (k & 2) ? h.y() : -h.y(), (k & 4) ? h.z() : -h.z()));
+  }
+  return pts;
+}
+
+}  // namespace ramiform::detail::tets
