@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
 //
-// The modeler's shapes (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), chapters 3-4): field evaluations per second at 65,536
-// random points of each shape's bounding box, and marching cubes at 96 cells along the longest
-// side (what `save_mesh NAME FILE` does by default).
+// The modeler's shapes (Kochhar 2010, "Application of implicit methods to the interactive modeling
+// of trees" (M.Sc. thesis), chapters 3-4): field evaluations per second at 65,536 random points of
+// each shape's bounding box, and marching cubes at 96 cells along the longest side (what `save_mesh
+// NAME FILE` does by default).
 
 #include <benchmark/benchmark.h>
 

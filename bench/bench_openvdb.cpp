@@ -67,11 +67,11 @@
 #include <string>
 #include <vector>
 
+#include "ramiform/core/geometry.h"
 #include "ramiform/field/skeleton_field.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/checks.h"
-#include "ramiform/core/geometry.h"
 #include "ramiform/mesh/winding.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/skeleton/skeleton.h"

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
 //
-// Point-set generation (docs/sampling.md, "Speed"), after Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), Tables 6.1-6.2:
-// 1,000 Poisson-disk points with f in (0.40, 0.41) near a deep blended surface, by rejection
-// without and with the field cache (cube edge 0.5) and with Lane's restricted grid, and by
-// projection (NearSurfaceOptions::Method::kProject); plus inside Poisson-disk sets of 10k and
-// 100k points.
+// Point-set generation (docs/sampling.md, "Speed"), after Kochhar 2010, "Application of implicit
+// methods to the interactive modeling of trees" (M.Sc. thesis), Tables 6.1-6.2: 1,000 Poisson-disk
+// points with f in (0.40, 0.41) near a deep blended surface, by rejection without and with the
+// field cache (cube edge 0.5) and with Lane's restricted grid, and by projection
+// (NearSurfaceOptions::Method::kProject); plus inside Poisson-disk sets of 10k and 100k points.
 //
 // The deep blended surface: 32 Wyvill distance primitives from field/primitives.h (8 tori,
 // 8 rounded boxes, 8 rounded cylinders, 8 rounded cones; iso 0.41, radii 0.6-1.4) placed on a

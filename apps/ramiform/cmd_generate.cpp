@@ -47,7 +47,8 @@ void register_generate(CLI::App& root, Action& action) {
       "Write a procedural binary branching tree with pipe-model radii (for tests and "
       "benchmarks; the same options give the same tree everywhere).");
   c->add_option("OUT", args->out_path, "output skeleton: .json (or .ply, .obj)")->required();
-  c->add_option("--segments", t.segments, with_default("number of edges", static_cast<double>(t.segments)))
+  c->add_option("--segments", t.segments,
+                with_default("number of edges", static_cast<double>(t.segments)))
       ->check(CLI::Range(1, 10000000));
   c->add_option("--seed", t.seed, with_default("random seed", static_cast<double>(t.seed)));
   c->add_option("--trunk-length", t.trunk_length,
@@ -64,10 +65,10 @@ void register_generate(CLI::App& root, Action& action) {
       ->check(CLI::Range(0.0, 45.0));
   c->add_option("--tip-radius", t.tip_radius, with_default("radius of every tip", t.tip_radius))
       ->check(CLI::PositiveNumber);
-  c->add_option("--pipe-exponent", t.pipe_exponent,
-                with_default("pipe model exponent n", t.pipe_exponent,
-                             BranchingTreeOptions::kMinPipeExponent,
-                             BranchingTreeOptions::kMaxPipeExponent))
+  c->add_option(
+       "--pipe-exponent", t.pipe_exponent,
+       with_default("pipe model exponent n", t.pipe_exponent,
+                    BranchingTreeOptions::kMinPipeExponent, BranchingTreeOptions::kMaxPipeExponent))
       ->check(CLI::Range(BranchingTreeOptions::kMinPipeExponent,
                          BranchingTreeOptions::kMaxPipeExponent));
   add_common_options(*c, args->common);

@@ -211,10 +211,10 @@ void register_grow(CLI::App& root, Action& action) {
   c->add_option("--tip-radius", o.tip_radius,
                 with_default("pipe model: radius of every tip", o.tip_radius));
   // The range is checked by the library (bad input, exit 2), not by CLI11.
-  c->add_option("--pipe-exponent", o.pipe_exponent,
-                with_default("pipe model exponent n", o.pipe_exponent,
-                             ColonizationOptions::kMinPipeExponent,
-                             ColonizationOptions::kMaxPipeExponent));
+  c->add_option(
+      "--pipe-exponent", o.pipe_exponent,
+      with_default("pipe model exponent n", o.pipe_exponent, ColonizationOptions::kMinPipeExponent,
+                   ColonizationOptions::kMaxPipeExponent));
   c->add_option("--seed", a->seed, "accepted for symmetry: growth itself makes no random choice");
   add_common_options(*c, a->common);
   c->callback([a, &action] { action = [a] { return run_grow(*a); }; });

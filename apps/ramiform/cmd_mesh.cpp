@@ -69,14 +69,14 @@ void register_mesh(CLI::App& root, Action& action) {
                 with_default("tets: 1:8 subdivision levels", tets.levels,
                              TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels))
       ->check(CLI::Range(TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels));
-  c->add_option("--section-scale", tets.section_scale,
-                with_default("tets: cross-section square edge / radius", tets.section_scale,
-                             TetrahedralOptions::kMinSectionScale,
-                             TetrahedralOptions::kMaxSectionScale) +
-                    "; 3 is the paper's 3R. 2.6 gives level 1 eight-sided instead of four-sided "
-                    "branch sections (docs/polygonize.md)")
-      ->check(CLI::Range(TetrahedralOptions::kMinSectionScale,
-                         TetrahedralOptions::kMaxSectionScale));
+  c->add_option(
+       "--section-scale", tets.section_scale,
+       with_default("tets: cross-section square edge / radius", tets.section_scale,
+                    TetrahedralOptions::kMinSectionScale, TetrahedralOptions::kMaxSectionScale) +
+           "; 3 is the paper's 3R. 2.6 gives level 1 eight-sided instead of four-sided "
+           "branch sections (docs/polygonize.md)")
+      ->check(
+          CLI::Range(TetrahedralOptions::kMinSectionScale, TetrahedralOptions::kMaxSectionScale));
   c->add_flag("!--no-cleanup", tets.cleanup,
               "tets: skip the needle cleanup pass (edge collapses of short edges)");
   c->add_flag("--fit-radii", args->job.fit_radii,

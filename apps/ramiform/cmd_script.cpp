@@ -73,9 +73,9 @@ int run_run(const ScriptArgs& args) {
   return 0;
 }
 
-// The interactive command editor (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §4.1): one command per line, each result
-// reported; an error is reported and the session goes on. Outputs are committed after every
-// successful command.
+// The interactive command editor (Kochhar 2010, "Application of implicit methods to the interactive
+// modeling of trees" (M.Sc. thesis), §4.1): one command per line, each result reported; an error is
+// reported and the session goes on. Outputs are committed after every successful command.
 int run_shell(const ScriptArgs& args) {
   RunScope scope(args.common);
   ScriptSession session(script_options(args), &scope.context());

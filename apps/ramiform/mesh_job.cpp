@@ -60,7 +60,8 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
                             StageTimer& timer, Context& ctx) {
   MeshJobResult r;
   // With --fit-radii the surface is the convolution surface of the split skeleton with fitted
-  // per-piece weights (Zhu, Guo & Jin 2013, "Efficient polygonization of tree trunks modeled by convolution surfaces", §2.2.2); the polygonizer follows the split skeleton too.
+  // per-piece weights (Zhu, Guo & Jin 2013, "Efficient polygonization of tree trunks modeled by
+  // convolution surfaces", §2.2.2); the polygonizer follows the split skeleton too.
   Skeleton meshed = skeleton;
   std::vector<double> weights;
   if (options.fit_radii) {

@@ -294,5 +294,4 @@ std::vector<Vec3> flatten(const Curve3& curve, double tolerance) {
   return flatten_with_parameters(curve, tolerance).points;
 }
 
-
 }  // namespace ramiform

@@ -14,8 +14,9 @@
 namespace ramiform {
 namespace {
 
-// Wyvill, McPheeters & Wyvill (1986) coefficients as printed in Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §3.2: the
-// exact fractions -4/9, 17/9, -22/9 solve k(1/2) = 1/2, k(1) = 0, k'(1) = 0.
+// Wyvill, McPheeters & Wyvill (1986) coefficients as printed in Kochhar 2010, "Application of
+// implicit methods to the interactive modeling of trees" (M.Sc. thesis), §3.2: the exact fractions
+// -4/9, 17/9, -22/9 solve k(1/2) = 1/2, k(1) = 0, k'(1) = 0.
 constexpr double kWyvillA = -4.0 / 9.0;
 constexpr double kWyvillB = 17.0 / 9.0;
 constexpr double kWyvillC = -22.0 / 9.0;

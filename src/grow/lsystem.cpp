@@ -228,7 +228,8 @@ class LineParser {
       }
       const std::string_view text = std::string_view(s_).substr(b, i_ - b);
       double v = 0;
-      if (parse_number(text, v) != NumberStatus::kOk) fail("bad number '" + std::string(text) + "'", b);
+      if (parse_number(text, v) != NumberStatus::kOk)
+        fail("bad number '" + std::string(text) + "'", b);
       Expr e;
       e.value = v;
       return e;

@@ -33,7 +33,8 @@ std::vector<V> parse_points(const std::string& path, int dim) {
                            std::to_string(f.size()) + " fields");
     }
     V v;
-    for (int c = 0; c < dim; ++c) v[c] = to_double(f[static_cast<std::size_t>(c)], path, ln, kNames[c]);
+    for (int c = 0; c < dim; ++c)
+      v[c] = to_double(f[static_cast<std::size_t>(c)], path, ln, kNames[c]);
     out.push_back(v);
   }
   if (out.empty()) throw InputError(path, 0, "no points");

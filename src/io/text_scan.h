@@ -58,7 +58,8 @@ bool split_fields(std::string_view line, std::vector<std::string_view>& fields,
 /// cursor.line_number().
 bool next_content(LineCursor& cursor, std::vector<std::string_view>& fields);
 
-/// Strict parsers (core/numbers.h) that throw InputError(source, line, "<what>: ...") naming the token.
+/// Strict parsers (core/numbers.h) that throw InputError(source, line, "<what>: ...") naming the
+/// token.
 double to_double(std::string_view token, const std::string& source, std::size_t line,
                  std::string_view what);
 std::int64_t to_int64(std::string_view token, const std::string& source, std::size_t line,

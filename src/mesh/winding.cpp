@@ -220,7 +220,8 @@ WindingNumber& WindingNumber::operator=(WindingNumber&&) noexcept = default;
 
 double WindingNumber::operator()(const Vec3& p) const { return impl_->query(p); }
 
-std::vector<double> WindingNumber::evaluate(std::span<const Vec3> points, const Context* ctx) const {
+std::vector<double> WindingNumber::evaluate(std::span<const Vec3> points,
+                                            const Context* ctx) const {
   std::vector<double> w(points.size());
   parallel::for_chunks(
       points.size(), 64,
@@ -231,7 +232,8 @@ std::vector<double> WindingNumber::evaluate(std::span<const Vec3> points, const 
   return w;
 }
 
-std::vector<char> points_inside(const TriMesh& mesh, std::span<const Vec3> points, const Context* ctx) {
+std::vector<char> points_inside(const TriMesh& mesh, std::span<const Vec3> points,
+                                const Context* ctx) {
   const WindingNumber wn(mesh);
   const std::vector<double> w = wn.evaluate(points, ctx);
   std::vector<char> inside(points.size());

@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
-// Curve commands and the curve-based surfaces of Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §4.1–4.2: surfaces of revolution,
-// sweeps and implicit skinning.
+// Curve commands and the curve-based surfaces of Kochhar 2010, "Application of implicit methods to
+// the interactive modeling of trees" (M.Sc. thesis), §4.1–4.2: surfaces of revolution, sweeps and
+// implicit skinning.
 
 #include "ramiform/core/errors.h"
 #include "ramiform/field/curves.h"
-#include "ramiform/io/curve_io.h"
 #include "ramiform/field/sweep.h"
+#include "ramiform/io/curve_io.h"
 #include "session.h"
 
 namespace ramiform::script {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
-// Point-set and growth commands: the thesis's point_set_* commands (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §7.0.1, §7.1), space
+// Point-set and growth commands: the thesis's point_set_* commands (Kochhar 2010, "Application of
+// implicit methods to the interactive modeling of trees" (M.Sc. thesis), §7.0.1, §7.1), space
 // colonization (§2.5, chapter 7) and L-systems as skeleton sources.
 
 #include <algorithm>
@@ -295,11 +296,11 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
        "[avoid=SHAPE]",
        "Space colonization (Runions et al. 2007, thesis §2.5): grows a tree from `root` toward "
        "the points in steps of `step`" +
-           with_default(grow.step) + "; points within `influence`" +
-           with_default(grow.influence) + " attract a node and points within `kill`" +
-           with_default(grow.kill) + " die, for at most `max_iterations`" +
-           with_default(grow.max_iterations) + " iterations. Then pipe-model radii: `tip_radius`" +
-           with_default(grow.tip_radius) + " at the tips, exponent `pipe_exponent`" +
+           with_default(grow.step) + "; points within `influence`" + with_default(grow.influence) +
+           " attract a node and points within `kill`" + with_default(grow.kill) +
+           " die, for at most `max_iterations`" + with_default(grow.max_iterations) +
+           " iterations. Then pipe-model radii: `tip_radius`" + with_default(grow.tip_radius) +
+           " at the tips, exponent `pipe_exponent`" +
            with_default(grow.pipe_exponent, ColonizationOptions::kMinPipeExponent,
                         ColonizationOptions::kMaxPipeExponent) +
            ". `avoid` keeps nodes out of a shape (§7.2). TREE is a shape (Cauchy convolution "

@@ -78,9 +78,9 @@ CommandResult run_save_mesh(Call& c) {
     o.levels = c.option_integer("levels", o.levels, Tets::kMinLevels, Tets::kMaxLevels);
     o.section_scale = c.option_number("section_scale", o.section_scale);
     if (!(o.section_scale >= Tets::kMinSectionScale && o.section_scale <= Tets::kMaxSectionScale)) {
-      c.fail(*c.option_token("section_scale"), "section_scale= must be in " +
-                                                   range_text(Tets::kMinSectionScale,
-                                                              Tets::kMaxSectionScale));
+      c.fail(*c.option_token("section_scale"),
+             "section_scale= must be in " +
+                 range_text(Tets::kMinSectionScale, Tets::kMaxSectionScale));
     }
     mesh = polygonize_tetrahedral(*obj.field, *obj.skeleton, o, c.session().ctx);
     how = "tets, " + std::to_string(o.levels) + " levels";
@@ -226,8 +226,7 @@ void add_output_commands(std::vector<CommandSpec>& out) {
            "skeleton-bounded tetrahedral polygonizer with `levels` subdivisions" +
            with_default(tets.levels, Tets::kMinLevels, Tets::kMaxLevels) +
            " and cross-section squares `section_scale` radii wide" +
-           with_default(tets.section_scale, Tets::kMinSectionScale, Tets::kMaxSectionScale) +
-           ".",
+           with_default(tets.section_scale, Tets::kMinSectionScale, Tets::kMaxSectionScale) + ".",
        "save_mesh s3 s3.ply resolution=128",
        {"resolution", "cell", "method", "levels", "section_scale"},
        run_save_mesh,

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
-// Shape commands: primitives (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §3.2), BlobTree operators (§3.3), transforms and
-// Barr's deformations (§4.1), skeletons from files and variational (RBF) surfaces.
+// Shape commands: primitives (Kochhar 2010, "Application of implicit methods to the interactive
+// modeling of trees" (M.Sc. thesis), §3.2), BlobTree operators (§3.3), transforms and Barr's
+// deformations (§4.1), skeletons from files and variational (RBF) surfaces.
 
 #include <cmath>
 #include <fstream>

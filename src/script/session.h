@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "ramiform/core/geometry.h"
 #include "ramiform/core/types.h"
 #include "ramiform/field/curves.h"
 #include "ramiform/field/field.h"
-#include "ramiform/core/geometry.h"
 #include "ramiform/script/script.h"
 #include "ramiform/skeleton/skeleton.h"
 

@@ -50,8 +50,8 @@ struct Value {
 
 /// One option with the struct values it must state. An empty flag or key: not on that side.
 struct OptionCase {
-  std::string cli_command;  // `ramiform CLI_COMMAND --help` and "## `ramiform CLI_COMMAND"
-  std::string flag;         // "--levels"
+  std::string cli_command;     // `ramiform CLI_COMMAND --help` and "## `ramiform CLI_COMMAND"
+  std::string flag;            // "--levels"
   std::string script_command;  // `help SCRIPT_COMMAND` and "### SCRIPT_COMMAND"
   std::string key;             // "levels"
   Value expected;
@@ -257,10 +257,9 @@ TEST_F(HelpDocsRunTest, CliDefaultsAreTheStructs) {
             0);
   const std::string stats = read_file(path("t.json"));
   EXPECT_NE(stats.find("\"levels\": " + std::to_string(tets.levels)), std::string::npos) << stats;
-  const CliRun explicit_tets =
-      run_cli("mesh " + skel + " -o " + path("t2.ply") + " --levels " +
-              std::to_string(tets.levels) + " --section-scale " +
-              std::to_string(tets.section_scale));
+  const CliRun explicit_tets = run_cli("mesh " + skel + " -o " + path("t2.ply") + " --levels " +
+                                       std::to_string(tets.levels) + " --section-scale " +
+                                       std::to_string(tets.section_scale));
   ASSERT_EQ(explicit_tets.code, 0) << explicit_tets.out;
   EXPECT_EQ(read_file(path("t.ply")), read_file(path("t2.ply")));
 
@@ -289,8 +288,8 @@ TEST_F(HelpDocsRunTest, CliDefaultsAreTheStructs) {
   std::string points;
   for (int i = 0; i < 30; ++i) {
     const Vec3 p(0.3 * (i % 5) - 0.6, 0.25 * (i % 3) - 0.25, 4.0 + 0.2 * i);
-    points += std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) +
-              "\n";
+    points +=
+        std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + "\n";
   }
   const std::string pts = write("p.txt", points);
   ASSERT_EQ(run_cli("grow --points " + pts + " -o " + path("g.json")).code, 0);
@@ -308,15 +307,14 @@ TEST_F(HelpDocsRunTest, SceneLanguageDefaultsAreTheStructs) {
   ScriptSession session(options);
   session.execute_line("skeleton t \"" + skel + "\" surface=convolution");
   const CommandResult tets = session.execute_line("save_mesh t t.ply method=tets");
-  EXPECT_NE(tets.message.find("(tets, " + std::to_string(TetrahedralOptions{}.levels) +
-                              " levels)"),
+  EXPECT_NE(tets.message.find("(tets, " + std::to_string(TetrahedralOptions{}.levels) + " levels)"),
             std::string::npos)
       << tets.message;
   session.execute_line("sphere s");
   const CommandResult mc = session.execute_line("save_mesh s s.ply");
-  EXPECT_NE(mc.message.find("(mc, resolution " +
-                            std::to_string(MarchingCubesOptions{}.resolution) + ")"),
-            std::string::npos)
+  EXPECT_NE(
+      mc.message.find("(mc, resolution " + std::to_string(MarchingCubesOptions{}.resolution) + ")"),
+      std::string::npos)
       << mc.message;
   const CommandResult ls = session.execute_line("lsystem p monopodial");
   EXPECT_NE(ls.message.find(", " + std::to_string(LSystemOptions{}.iterations) + " iterations"),

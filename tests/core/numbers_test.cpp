@@ -50,8 +50,8 @@ TEST(ParseNumber, UnderflowIsSignedZero) {
 }
 
 TEST(ParseNumber, Refusals) {
-  for (const char* t : {"", "+", "-", "++1", "+-1", "-+1", "1,5", "1.5x", " 1", "1 ", "0x10",
-                        "e5", "1e", "--1", "abc"}) {
+  for (const char* t : {"", "+", "-", "++1", "+-1", "-+1", "1,5", "1.5x", " 1", "1 ", "0x10", "e5",
+                        "1e", "--1", "abc"}) {
     EXPECT_EQ(status_of(t), NumberStatus::kMalformed) << "'" << t << "'";
   }
   for (const char* t : {"nan", "NaN", "inf", "-inf", "infinity"}) {

@@ -4,10 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstring>
-#include <algorithm>
 #include <mutex>
 #include <thread>
 #include <utility>

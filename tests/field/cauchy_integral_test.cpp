@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
-// The closed-form Cauchy segment integral (Zhu, Guo & Jin 2013, "Efficient polygonization of tree trunks modeled by convolution surfaces", eq. 5) against adaptive Gauss–Kronrod
-// quadrature in long double, and its gradient against central differences.
+// The closed-form Cauchy segment integral (Zhu, Guo & Jin 2013, "Efficient polygonization of tree
+// trunks modeled by convolution surfaces", eq. 5) against adaptive Gauss–Kronrod quadrature in long
+// double, and its gradient against central differences.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -48,10 +48,11 @@ TEST(FieldContext, ValuesAndGradientsIdenticalForAnyThreadCount) {
     gradients.push_back(g);
   }
   for (std::size_t r = 1; r < values.size(); ++r) {
-    EXPECT_EQ(std::memcmp(values[0].data(), values[r].data(), values[0].size() * sizeof(double)), 0);
-    EXPECT_EQ(std::memcmp(gradients[0].data(), gradients[r].data(),
-                          gradients[0].size() * sizeof(Vec3)),
+    EXPECT_EQ(std::memcmp(values[0].data(), values[r].data(), values[0].size() * sizeof(double)),
               0);
+    EXPECT_EQ(
+        std::memcmp(gradients[0].data(), gradients[r].data(), gradients[0].size() * sizeof(Vec3)),
+        0);
   }
 }
 

@@ -30,7 +30,8 @@ class SphereField : public Field {
   [[nodiscard]] std::string describe() const override { return "sdf sphere"; }
 
  protected:
-  void do_evaluate(std::span<const Vec3> p, std::span<double> v, std::span<Vec3> g, const Context* /*ctx*/) const override {
+  void do_evaluate(std::span<const Vec3> p, std::span<double> v, std::span<Vec3> g,
+                   const Context* /*ctx*/) const override {
     for (std::size_t i = 0; i < p.size(); ++i) {
       const Vec3 d = p[i] - c_;
       v[i] = r_ - d.norm();
@@ -57,7 +58,8 @@ class QuadraticSphereField : public Field {
   [[nodiscard]] std::string describe() const override { return "quadratic sphere"; }
 
  protected:
-  void do_evaluate(std::span<const Vec3> p, std::span<double> v, std::span<Vec3> g, const Context* /*ctx*/) const override {
+  void do_evaluate(std::span<const Vec3> p, std::span<double> v, std::span<Vec3> g,
+                   const Context* /*ctx*/) const override {
     for (std::size_t i = 0; i < p.size(); ++i) {
       const Vec3 d = p[i] - c_;
       v[i] = 1.0 - d.squaredNorm() / (r_ * r_);
@@ -87,8 +89,8 @@ class TorusField : public Field {
   [[nodiscard]] std::string describe() const override { return "sdf torus"; }
 
  protected:
-  void do_evaluate(std::span<const Vec3> p, std::span<double> v,
-                   std::span<Vec3> /*g*/, const Context* /*ctx*/) const override {
+  void do_evaluate(std::span<const Vec3> p, std::span<double> v, std::span<Vec3> /*g*/,
+                   const Context* /*ctx*/) const override {
     for (std::size_t i = 0; i < p.size(); ++i) v[i] = eval(p[i]);
   }
 
@@ -134,8 +136,8 @@ class BlobField : public Field {
   [[nodiscard]] std::string describe() const override { return "gaussian blobs"; }
 
  protected:
-  void do_evaluate(std::span<const Vec3> p, std::span<double> v,
-                   std::span<Vec3> /*g*/, const Context* /*ctx*/) const override {
+  void do_evaluate(std::span<const Vec3> p, std::span<double> v, std::span<Vec3> /*g*/,
+                   const Context* /*ctx*/) const override {
     for (std::size_t i = 0; i < p.size(); ++i) {
       double f = 0.0;
       for (const auto& b : blobs_) f += std::exp(-(p[i] - b.c).squaredNorm() / (b.s * b.s));
@@ -169,8 +171,8 @@ class MaxField : public Field {
   [[nodiscard]] std::string describe() const override { return "max"; }
 
  protected:
-  void do_evaluate(std::span<const Vec3> p, std::span<double> v,
-                   std::span<Vec3> /*g*/, const Context* /*ctx*/) const override {
+  void do_evaluate(std::span<const Vec3> p, std::span<double> v, std::span<Vec3> /*g*/,
+                   const Context* /*ctx*/) const override {
     std::vector<double> tmp(p.size());
     for (std::size_t k = 0; k < children_.size(); ++k) {
       children_[k]->evaluate(p, k == 0 ? v : std::span<double>(tmp));
@@ -197,7 +199,8 @@ class LyingBoundField : public Field {
   [[nodiscard]] std::string describe() const override { return "lying bound"; }
 
  protected:
-  void do_evaluate(std::span<const Vec3> p, std::span<double> v, std::span<Vec3> g, const Context* /*ctx*/) const override {
+  void do_evaluate(std::span<const Vec3> p, std::span<double> v, std::span<Vec3> g,
+                   const Context* /*ctx*/) const override {
     inner_->evaluate(p, v, g);
   }
 

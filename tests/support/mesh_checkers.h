@@ -11,8 +11,8 @@
 
 #include <cstddef>
 
-#include "ramiform/mesh/checks.h"
 #include "ramiform/core/geometry.h"
+#include "ramiform/mesh/checks.h"
 
 namespace ramiform::test {
 

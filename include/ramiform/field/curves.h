@@ -3,15 +3,18 @@
 #pragma once
 
 /// \file
-/// Planar (2-D) and space (3-D) curves for the curve-based surfaces of Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §4.1–4.2
-/// (surfaces of revolution, sweeps, implicit skinning; see field/sweep.h and docs/skinning.md):
-/// a curve is a kind and a list of points. All curves are parameterized over t in [0, 1].
+/// Planar (2-D) and space (3-D) curves for the curve-based surfaces of Kochhar 2010, "Application
+/// of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §4.1–4.2 (surfaces of
+/// revolution, sweeps, implicit skinning; see field/sweep.h and docs/skinning.md): a curve is a
+/// kind and a list of points. All curves are parameterized over t in [0, 1].
 ///
+// clang-format off
 /// | kind | curve | parameterization |
 /// |---|---|---|
 /// | kPolyline | straight pieces through the points (closed: plus the piece back to the first) | t uniform per piece: piece j covers [j/m, (j+1)/m], m = number of pieces |
 /// | kBezier | ONE Bezier curve of degree n-1 through the n control points (closed: the first point is appended, degree n), de Casteljau | the Bezier parameter |
 /// | kBSpline | uniform B-spline of degree p = min(3, n-1); open: clamped (open-uniform knots, passes through the end points); closed: periodic over the n points | open: knots 0 (p+1 times), i/(n-p), 1 (p+1 times); closed: uniform knots, t = (u - p) / n |
+// clang-format on
 ///
 /// Curve files are read by io/curve_io.h.
 

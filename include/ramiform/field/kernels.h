@@ -6,13 +6,20 @@
 /// Radial kernels k(x) of a normalized distance x = d / R (distance surfaces), and the Cauchy
 /// convolution kernel with its closed-form integral along a segment.
 ///
+// clang-format off
 /// | kernel | k(x) | iso | x at iso | support | source |
 /// |---|---|---|---|---|---|
-/// | Wyvill | 1 - 22/9 x^2 + 17/9 x^4 - 4/9 x^6 | 0.5 | 1/2 | x <= 1 | Wyvill, McPheeters, Wyvill 1986; Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §3.2 (a = -0.44444, b = 1.888889, c = -2.44444) |
+/// | Wyvill | 1 - 22/9 x^2 + 17/9 x^4 - 4/9 x^6 | 0.5 | 1/2 | x <= 1 | Wyvill, McPheeters, Wyvill 1986; Kochhar 2010 §3.2 (a = -0.44444, b = 1.888889, c = -2.44444) |
 /// | Blinn | exp(-B x^2) | 0.5 | sqrt(ln 2 / B) | infinite (cut off) | Blinn 1982; Kochhar 2010 §3.2, g = b exp(-a r^2) |
 /// | Metaball | 1 - 3x^2 (x <= 1/3), 3/2 (1 - x)^2 (x <= 1) | 0.5 | 1 - 1/sqrt(3) | x <= 1 | Nishimura et al. 1985 (Murakami's "metaballs"), Kochhar 2010 §3.2 |
-/// | Inverse power | x^-(alpha - 1) | 1 | 1 | infinite (cut off) | Gruber & Wallner 2014, "Polygonization of Line Skeletons by Using Equipotential Surfaces – A Practical Description", eq. 1 (point charge q / r^(alpha-1)) |
-/// | Cauchy | 1 / (1 + s^2 r^2)^2 | user | - | infinite (cut off) | McCormack & Sherstyuk 1998; Zhu, Guo & Jin 2013, "Efficient polygonization of tree trunks modeled by convolution surfaces", eq. 5 |
+/// | Inverse power | x^-(alpha - 1) | 1 | 1 | infinite (cut off) | Gruber & Wallner 2014 eq. 1 (point charge q / r^(alpha-1)) |
+/// | Cauchy | 1 / (1 + s^2 r^2)^2 | user | - | infinite (cut off) | McCormack & Sherstyuk 1998; Zhu, Guo & Jin 2013 eq. 5 |
+// clang-format on
+///
+/// Sources: Kochhar 2010, "Application of implicit methods to the interactive modeling of trees"
+/// (M.Sc. thesis); Gruber & Wallner 2014, "Polygonization of Line Skeletons by Using
+/// Equipotential Surfaces – A Practical Description"; Zhu, Guo & Jin 2013, "Efficient
+/// polygonization of tree trunks modeled by convolution surfaces".
 ///
 /// For distance surfaces the radius of influence R is chosen from a requested surface radius r
 /// as R = r / x_iso, so that a lone point primitive has exactly radius r.
@@ -64,8 +71,8 @@ struct Kernel {
 
 /// Closed-form integral of the Cauchy kernel 1/(1 + s^2 |p - q|^2)^2 over q on the segment
 /// [a, b] (arc-length measure, not scaled by a weight): the segment field of McCormack &
-/// Sherstyuk; Zhu, Guo & Jin 2013 eq. 5. With u the coordinate along the segment relative to the foot of p,
-/// h the distance of p from the segment's line and P = 1 + s^2 h^2:
+/// Sherstyuk; Zhu, Guo & Jin 2013 eq. 5. With u the coordinate along the segment relative to the
+/// foot of p, h the distance of p from the segment's line and P = 1 + s^2 h^2:
 ///   F = [u / (2P (P + s^2 u^2)) + atan(s u / sqrt(P)) / (2 s P^(3/2))] from u = -x to l - x.
 /// The atan difference is taken as one atan2 so that it does not cancel far from the segment.
 /// `gradient` may be null.

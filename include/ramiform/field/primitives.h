@@ -3,8 +3,9 @@
 #pragma once
 
 /// \file
-/// Distance-surface primitives of the implicit modeler (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §3.2, §4.1): torus, rounded
-/// box, rounded cylinder, rounded cone and half-space. Each is
+/// Distance-surface primitives of the implicit modeler (Kochhar 2010, "Application of implicit
+/// methods to the interactive modeling of trees" (M.Sc. thesis), §3.2, §4.1): torus, rounded box,
+/// rounded cylinder, rounded cone and half-space. Each is
 ///
 ///   f(p) = weight * k(d(p) / R),   R = radius / kernel.x_at(iso),
 ///

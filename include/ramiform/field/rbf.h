@@ -5,7 +5,8 @@
 /// \file
 /// Variational implicit surfaces (Turk & O'Brien, "Shape transformation using variational
 /// implicit functions", SIGGRAPH 1999; "Modelling with implicit surfaces that interpolate",
-/// ACM TOG 21(4), 2002; Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §3.2, §4.1): the smoothest function through given values,
+/// ACM TOG 21(4), 2002; Kochhar 2010, "Application of implicit methods to the interactive modeling
+/// of trees" (M.Sc. thesis), §3.2, §4.1): the smoothest function through given values,
 ///
 ///   f_rbf(p) = sum_j w_j |p - c_j|^3 + c0 + c·p,
 ///

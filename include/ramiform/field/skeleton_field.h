@@ -12,10 +12,11 @@
 /// at the closest point, and k is a distance kernel (Wyvill by default, see kernels.h).
 ///
 /// Convolution surface (Cauchy kernel only): f(p) = sum_i w_i lambda_i F_i(p), where F_i is the
-/// closed-form integral of 1/(1 + s_i^2 r^2)^2 along segment i (Zhu, Guo & Jin 2013, "Efficient polygonization of tree trunks modeled by convolution surfaces", eq. 1, 5), s_i = c / r_i
-/// with c the kernel's width parameter and r_i the mean radius of the segment's two nodes, and
-/// lambda_i = 2 c iso (1 + c^2)^(3/2) / (pi r_i) makes an infinitely long segment's surface a
-/// cylinder of radius exactly r_i. Point primitives use the kernel itself (no integral).
+/// closed-form integral of 1/(1 + s_i^2 r^2)^2 along segment i (Zhu, Guo & Jin 2013, "Efficient
+/// polygonization of tree trunks modeled by convolution surfaces", eq. 1, 5), s_i = c / r_i with c
+/// the kernel's width parameter and r_i the mean radius of the segment's two nodes, and lambda_i =
+/// 2 c iso (1 + c^2)^(3/2) / (pi r_i) makes an infinitely long segment's surface a cylinder of
+/// radius exactly r_i. Point primitives use the kernel itself (no integral).
 ///
 /// Infinite kernels are cut off (tolerances.h, kKernelCutoff), so every primitive has a finite
 /// support box; evaluation and restrict() prune through a BVH over those boxes.

@@ -4,7 +4,8 @@
 
 /// \file
 /// Barr's global deformations: taper, twist and bend (A. Barr, "Global and local deformations of
-/// solid primitives", SIGGRAPH 1984; Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §4.1). A warp field shows its child's shape
+/// solid primitives", SIGGRAPH 1984; Kochhar 2010, "Application of implicit methods to the
+/// interactive modeling of trees" (M.Sc. thesis), §4.1). A warp field shows its child's shape
 /// deformed by the forward map W:
 ///
 ///   f(p) = f_child(W^-1(p)),   grad f(p) = J_{W^-1}(p)^T grad f_child(W^-1(p)).

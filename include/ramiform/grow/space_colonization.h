@@ -4,7 +4,8 @@
 
 /// \file
 /// Space colonization (Runions, Lane & Prusinkiewicz 2007, "Modeling trees with a space
-/// colonization algorithm"; Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §2.5 and chapter 7): a tree grows from one or more roots
+/// colonization algorithm"; Kochhar 2010, "Application of implicit methods to the interactive
+/// modeling of trees" (M.Sc. thesis), §2.5 and chapter 7): a tree grows from one or more roots
 /// toward a cloud of attraction points, and pipe-model radii (Kochhar 2010 §2.6, eq. 2.1).
 ///
 /// One iteration:
@@ -150,8 +151,8 @@ class SpaceColonization {
                                                          const ColonizationOptions& options,
                                                          Context* ctx = nullptr);
 
-/// Pipe-model radii (Kochhar 2010 eq. 2.1): every tip (a node without children) gets `tip_radius`, every
-/// other node r with r^n = sum over its children of r_child^n, n = `exponent`. Children are
+/// Pipe-model radii (Kochhar 2010 eq. 2.1): every tip (a node without children) gets `tip_radius`,
+/// every other node r with r^n = sum over its children of r_child^n, n = `exponent`. Children are
 /// determined by orienting every edge away from the given roots (breadth first). Works on any
 /// forest: `roots` holds one node per connected component that has edges (isolated nodes not
 /// listed get `tip_radius`). Throws InvalidArgument when tip_radius is not finite and > 0,

@@ -5,9 +5,10 @@
 /// \file
 /// Needle cleanup for polygonizer output. Marching tetrahedra (and marching cubes) make long,
 /// narrow triangles wherever the surface passes close to a grid corner: the vertices on the
-/// edges around that corner crowd together (Zhu, Guo & Jin 2013, "Efficient polygonization of tree trunks modeled by convolution surfaces", §6, name this their method's
-/// weakness). clean_needles() collapses the short edges of such triangles, each collapse on its
-/// own and only where it keeps the mesh a closed, consistently oriented 2-manifold:
+/// edges around that corner crowd together (Zhu, Guo & Jin 2013, "Efficient polygonization of tree
+/// trunks modeled by convolution surfaces", §6, name this their method's weakness). clean_needles()
+/// collapses the short edges of such triangles, each collapse on its own and only where it keeps
+/// the mesh a closed, consistently oriented 2-manifold:
 /// - link condition: the end points share exactly the two vertices opposite the edge, and
 ///   neither of those is left with fewer than three neighbours;
 /// - no fold: no surviving triangle turns its normal by more than `max_normal_turn_deg` or

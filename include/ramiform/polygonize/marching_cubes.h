@@ -27,9 +27,9 @@
 #include <cstdint>
 
 #include "ramiform/core/context.h"
+#include "ramiform/core/geometry.h"
 #include "ramiform/core/types.h"
 #include "ramiform/field/field.h"
-#include "ramiform/core/geometry.h"
 
 namespace ramiform {
 

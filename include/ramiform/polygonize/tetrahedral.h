@@ -42,8 +42,8 @@
 #include <cstdint>
 
 #include "ramiform/core/context.h"
-#include "ramiform/field/field.h"
 #include "ramiform/core/geometry.h"
+#include "ramiform/field/field.h"
 #include "ramiform/skeleton/skeleton.h"
 
 namespace ramiform {
@@ -56,7 +56,7 @@ struct TetrahedralOptions {
   static constexpr double kMinSectionScale = 2.0;
   static constexpr double kMaxSectionScale = 1000.0;  ///< largest `section_scale` (radii)
 
-  int levels = 3;               ///< 1:8 subdivision levels (Figure 4), kMinLevels..kMaxLevels
+  int levels = 3;  ///< 1:8 subdivision levels (Figure 4), kMinLevels..kMaxLevels
   /// Cross-section square edge / node radius (the paper's 3R), kMinSectionScale..kMaxSectionScale.
   double section_scale = 3.0;
   double station_spacing = 4.0; ///< max distance between cross-sections along an edge, in radii

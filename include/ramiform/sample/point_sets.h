@@ -22,8 +22,8 @@
 #include <vector>
 
 #include "ramiform/core/context.h"
-#include "ramiform/field/field.h"
 #include "ramiform/core/geometry.h"
+#include "ramiform/field/field.h"
 #include "ramiform/sample/props.h"
 
 namespace ramiform {

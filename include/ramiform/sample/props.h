@@ -5,10 +5,10 @@
 /// \file
 /// `.props` files: the parameter files of the point-set commands of Kochhar 2010, *Application
 /// of implicit methods to the interactive modeling of trees* (M.Sc. thesis, University of
-/// Calgary), §7.0.1 (`point_set_gen s poisson poisson.props`). One `key = value` per line; `#` starts a comment
-/// (whole line or after a value); blank lines are ignored; keys are letters, digits, `_`, `-`
-/// and `.`, starting with a letter or `_`. See docs/sampling.md for the keys of each
-/// distribution.
+/// Calgary), §7.0.1 (`point_set_gen s poisson poisson.props`). One `key = value` per line; `#`
+/// starts a comment (whole line or after a value); blank lines are ignored; keys are letters,
+/// digits, `_`, `-` and `.`, starting with a letter or `_`. See docs/sampling.md for the keys of
+/// each distribution.
 
 #include <cstddef>
 #include <map>

@@ -4,7 +4,8 @@
 
 /// \file
 /// The scene language (`.rf` scripts): line-based commands in the style of the thesis's command
-/// editor (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis), §4.1, §7.0.1) — `COMMAND NAME ARGS...`, named objects, `#` comments:
+/// editor (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees"
+/// (M.Sc. thesis), §4.1, §7.0.1) — `COMMAND NAME ARGS...`, named objects, `#` comments:
 ///
 ///     sphere s1
 ///     line s2
