@@ -25,10 +25,10 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/ramiform ${RAMIFORM_GENERATED_IN
 install(EXPORT ramiformTargets NAMESPACE ramiform:: DESTINATION ${RAMIFORM_INSTALL_CMAKEDIR})
 
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/ramiformConfig.cmake.in
-                              ${CMAKE_BINARY_DIR}/ramiformConfig.cmake
+                              ${PROJECT_BINARY_DIR}/ramiformConfig.cmake
                               INSTALL_DESTINATION ${RAMIFORM_INSTALL_CMAKEDIR})
-write_basic_package_version_file(${CMAKE_BINARY_DIR}/ramiformConfigVersion.cmake
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/ramiformConfigVersion.cmake
                                  VERSION ${PROJECT_VERSION} COMPATIBILITY SameMinorVersion)
-install(FILES ${CMAKE_BINARY_DIR}/ramiformConfig.cmake
-              ${CMAKE_BINARY_DIR}/ramiformConfigVersion.cmake
+install(FILES ${PROJECT_BINARY_DIR}/ramiformConfig.cmake
+              ${PROJECT_BINARY_DIR}/ramiformConfigVersion.cmake
         DESTINATION ${RAMIFORM_INSTALL_CMAKEDIR})

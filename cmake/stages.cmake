@@ -1,10 +1,11 @@
 # SPDX-License-Identifier: MIT
 # Copyright (c) 2026 the ramiform authors
 #
-# ramiform_stage(NAME [STAGES lower stages...] [LIBS private libraries...])
+# ramiform_stage(NAME [STAGES lower stages...])
 #
 # Adds the static library ramiform_NAME from src/NAME/sources.cmake (RAMIFORM_<NAME>_SOURCES).
-# It links the listed lower stages publicly and LIBS privately. Its include path is a directory
+# It links the listed lower stages publicly (what a stage uses inside is linked privately by
+# the caller). Its include path is a directory
 # of links made at configure time, build/stage-include/NAME/, holding
 #   ramiform/<stage> -> include/ramiform/<stage>   (public headers)
 #   <stage>          -> src/<stage>                (internal headers, private)
@@ -48,16 +49,16 @@ macro(ramiform_read_stages file)
   endif()
 endmacro()
 
-set(RAMIFORM_GENERATED_INCLUDE ${CMAKE_BINARY_DIR}/generated/include)
+set(RAMIFORM_GENERATED_INCLUDE ${PROJECT_BINARY_DIR}/generated/include)
 set(RAMIFORM_STAGE_TARGETS "")
 
 function(ramiform_stage name)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "STAGES;LIBS")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "STAGES")
   string(TOUPPER ${name} upper)
   include(${PROJECT_SOURCE_DIR}/src/${name}/sources.cmake)
-  set(public_dir ${CMAKE_BINARY_DIR}/stage-include/${name}/public)
-  set(private_dir ${CMAKE_BINARY_DIR}/stage-include/${name}/private)
-  file(REMOVE_RECURSE ${CMAKE_BINARY_DIR}/stage-include/${name})
+  set(public_dir ${PROJECT_BINARY_DIR}/stage-include/${name}/public)
+  set(private_dir ${PROJECT_BINARY_DIR}/stage-include/${name}/private)
+  file(REMOVE_RECURSE ${PROJECT_BINARY_DIR}/stage-include/${name})
   file(MAKE_DIRECTORY ${public_dir}/ramiform ${private_dir})
   foreach(stage ${name} ${arg_STAGES})
     if(EXISTS ${PROJECT_SOURCE_DIR}/include/ramiform/${stage})
@@ -81,8 +82,7 @@ function(ramiform_stage name)
   foreach(stage ${arg_STAGES})
     list(APPEND lower ramiform_${stage})
   endforeach()
-  target_link_libraries(ramiform_${name} PUBLIC ${lower} PRIVATE $<BUILD_INTERFACE:ramiform_flags>
-                                                                 ${arg_LIBS})
+  target_link_libraries(ramiform_${name} PUBLIC ${lower} PRIVATE $<BUILD_INTERFACE:ramiform_flags>)
   if(name STREQUAL "core")
     target_link_libraries(ramiform_${name} PUBLIC Eigen3::Eigen)
   endif()

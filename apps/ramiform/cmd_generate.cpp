@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "common.h"
+#include "ramiform/core/errors.h"
 #include "ramiform/skeleton/generate.h"
 
 namespace ramiform::cli {
@@ -47,22 +48,29 @@ void register_generate(CLI::App& root, Action& action) {
       "Write a procedural binary branching tree with pipe-model radii (for tests and "
       "benchmarks; the same options give the same tree everywhere).");
   c->add_option("OUT", args->out_path, "output skeleton: .json (or .ply, .obj)")->required();
+  using Tree = BranchingTreeOptions;
   c->add_option("--segments", t.segments,
-                with_default("number of edges", static_cast<double>(t.segments)))
-      ->check(CLI::Range(1, 10000000));
+                with_default("number of edges", static_cast<double>(t.segments),
+                             static_cast<double>(Tree::kMinSegments),
+                             static_cast<double>(Tree::kMaxSegments)))
+      ->check(CLI::Range(Tree::kMinSegments, Tree::kMaxSegments));
   c->add_option("--seed", t.seed, with_default("random seed", static_cast<double>(t.seed)));
   c->add_option("--trunk-length", t.trunk_length,
                 with_default("length of the first edge", t.trunk_length))
       ->check(CLI::PositiveNumber);
   c->add_option("--length-ratio", t.length_ratio,
-                with_default("child/parent edge length", t.length_ratio))
-      ->check(CLI::Range(1e-3, 1.0));
+                with_default("child/parent edge length", t.length_ratio, Tree::kMinLengthRatio,
+                             Tree::kMaxLengthRatio))
+      ->check(CLI::Range(Tree::kMinLengthRatio, Tree::kMaxLengthRatio));
   c->add_option("--branch-angle", t.branch_angle_deg,
-                with_default("child/parent angle, degrees", t.branch_angle_deg))
-      ->check(CLI::Range(0.0, 90.0));
+                with_default("child/parent angle, degrees, below " +
+                                 format_number(Tree::kMaxBranchAngleDeg),
+                             t.branch_angle_deg))
+      ->check(CLI::Range(0.0, Tree::kMaxBranchAngleDeg));
   c->add_option("--jitter", t.jitter_deg,
-                with_default("random direction deviation, degrees", t.jitter_deg))
-      ->check(CLI::Range(0.0, 45.0));
+                with_default("random direction deviation, degrees", t.jitter_deg, 0.0,
+                             Tree::kMaxJitterDeg))
+      ->check(CLI::Range(0.0, Tree::kMaxJitterDeg));
   c->add_option("--tip-radius", t.tip_radius, with_default("radius of every tip", t.tip_radius))
       ->check(CLI::PositiveNumber);
   c->add_option(

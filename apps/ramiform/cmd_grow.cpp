@@ -41,7 +41,7 @@ Vec3 parse_vec3(const std::string& text, const std::string& flag) {
 
 // The text parse_vec3 reads back as `v`, for the defaults in --help.
 std::string vec3_text(const Vec3& v) {
-  return exact_text(v.x()) + "," + exact_text(v.y()) + "," + exact_text(v.z());
+  return format_shortest(v.x()) + "," + format_shortest(v.y()) + "," + format_shortest(v.z());
 }
 
 struct GrowArgs {
@@ -254,7 +254,9 @@ void register_lsystem(CLI::App& root, Action& action) {
   c->add_option("-o,--out", a->out_path, "output skeleton (.json, .ply, .obj)");
   c->add_flag("--list", a->list, "list the built-in examples");
   LSystemOptions& o = a->options;
-  c->add_option("--iterations", o.iterations, with_default("derivation steps", o.iterations));
+  c->add_option("--iterations", o.iterations,
+                with_default("derivation steps", o.iterations, 0, LSystemOptions::kMaxIterations))
+      ->check(CLI::Range(0, LSystemOptions::kMaxIterations));
   c->add_option("--angle", o.angle_deg, with_default("default turn angle, degrees", o.angle_deg));
   c->add_option("--step", o.step, with_default("default segment length", o.step));
   c->add_option("--width", o.width, with_default("initial width", o.width));

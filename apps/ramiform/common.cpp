@@ -8,13 +8,14 @@
 #include <filesystem>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 #include "ramiform/io/atomic_file.h"
 
 namespace ramiform::cli {
 
 void add_common_options(CLI::App& app, CommonOptions& options) {
   app.add_option("--threads", options.threads, "worker threads (0 = all cores); results never depend on it")
-      ->check(CLI::Range(0, 1024));
+      ->check(CLI::Range(0, Context::kMaxThreads));
   app.add_option("--stats", options.stats_path,
                  "write run statistics (per-stage seconds, counts, field_evals) to this JSON file");
 }
@@ -61,19 +62,12 @@ SkeletonReadOptions read_options(const FieldFlags& flags) {
   return r;
 }
 
-std::string exact_text(double v) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, r.ptr);
-}
-
 std::string with_default(const std::string& text, double value) {
-  return text + " (default " + exact_text(value) + ")";
+  return text + default_text(value);
 }
 
 std::string with_default(const std::string& text, double value, double min, double max) {
-  return text + " (default " + exact_text(value) + ", " + exact_text(min) + "\u2013" +
-         exact_text(max) + ")";
+  return text + default_text(value, min, max);
 }
 
 StageTimer::StageTimer() : start_(Clock::now()), last_(start_) {}

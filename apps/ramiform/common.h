@@ -52,9 +52,6 @@ void add_field_options(CLI::App& app, FieldFlags& flags);
 [[nodiscard]] SkeletonFieldOptions field_options(const FieldFlags& flags);
 [[nodiscard]] SkeletonReadOptions read_options(const FieldFlags& flags);
 
-/// The shortest text that reads back as exactly `v` ("0.02", "1048576").
-[[nodiscard]] std::string exact_text(double v);
-
 /// `text` + " (default D)" or " (default D, MIN–MAX)": the one way an option's help states the
 /// default and the range of its options struct. docs/cli.md writes them the same way, and
 /// tests/cli/help_docs_test.cpp reads both. Numbers print in their shortest exact form.

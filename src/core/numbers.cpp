@@ -50,4 +50,41 @@ NumberStatus parse_number(std::string_view token, std::int64_t& value) {
   return NumberStatus::kOk;
 }
 
+void append_shortest(std::string& out, double value) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, value);
+  out.append(buf, static_cast<std::size_t>(r.ptr - buf));
+}
+
+std::string format_shortest(double value) {
+  std::string out;
+  append_shortest(out, value);
+  return out;
+}
+
+namespace {
+
+// format_shortest, but whole numbers below 2^53 in plain digits ("10000000", not "1e+07"),
+// as a reader of a help text expects them; both read back exactly.
+std::string shown(double value) {
+  if (!(std::abs(value) < 9007199254740992.0 && value == std::trunc(value))) {
+    return format_shortest(value);
+  }
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::fixed);
+  return std::string(buf, static_cast<std::size_t>(r.ptr - buf));
+}
+
+}  // namespace
+
+std::string default_text(double value) { return " (default " + shown(value) + ")"; }
+
+std::string default_text(double value, double min, double max) {
+  return " (default " + shown(value) + ", " + shown(min) + "\u2013" + shown(max) + ")";
+}
+
+std::string range_text(double min, double max) {
+  return "[" + shown(min) + ", " + shown(max) + "]";
+}
+
 }  // namespace ramiform

@@ -16,6 +16,18 @@ namespace {
 // they keep its thread count without this.)
 thread_local bool in_serial_loop = false;
 
+// Sets in_serial_loop for a scope and restores the outer value, also when the body throws.
+class SerialScope {
+ public:
+  SerialScope() : outer_(in_serial_loop) { in_serial_loop = true; }
+  ~SerialScope() { in_serial_loop = outer_; }
+  SerialScope(const SerialScope&) = delete;
+  SerialScope& operator=(const SerialScope&) = delete;
+
+ private:
+  bool outer_;
+};
+
 }  // namespace
 
 void for_chunks(std::size_t n, std::size_t grain,
@@ -31,15 +43,8 @@ void for_chunks(std::size_t n, std::size_t grain,
     body(b, e);
   };
   if (threads == 1 || (ctx == nullptr && in_serial_loop)) {
-    const bool outer = in_serial_loop;
-    in_serial_loop = true;
-    try {
-      for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
-    } catch (...) {
-      in_serial_loop = outer;
-      throw;
-    }
-    in_serial_loop = outer;
+    const SerialScope serial;
+    for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
     return;
   }
   if (chunks == 1) {

@@ -2,8 +2,8 @@
 // Copyright (c) 2026 the ramiform authors
 #pragma once
 
-// Internal: the path of sweep and skin surfaces (sweep.h; M.Sc. thesis "Implicit methods for the
-// space colonization algorithm", §4.1–4.2): the exact curve, its flattened polyline with curve
+// Internal: the path of sweep and skin surfaces (sweep.h; Kochhar 2010, "Application of implicit
+// methods to the interactive modeling of trees" (M.Sc. thesis), §4.1–4.2): the exact curve, its flattened polyline with curve
 // parameters and normalized arc lengths, the projection of points on it and its
 // rotation-minimizing frames.
 

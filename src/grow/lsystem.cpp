@@ -405,15 +405,15 @@ void check_option(bool ok, const std::string& what) {
 }  // namespace
 
 void LSystemOptions::validate() const {
-  check_option(iterations >= 0, "iterations must be >= 0");
+  check_option(iterations >= 0 && iterations <= kMaxIterations,
+               "iterations must be in " + range_text(0, kMaxIterations));
   check_option(std::isfinite(angle_deg), "angle_deg must be finite");
   check_option(std::isfinite(step), "step must be finite");
   check_option(std::isfinite(width) && width > 0, "width must be finite and > 0");
   check_option(std::isfinite(width_factor) && width_factor > 0, "width_factor must be finite and > 0");
   check_option(std::isfinite(tip_radius) && tip_radius > 0, "tip_radius must be finite and > 0");
   check_option(pipe_exponent >= kMinPipeExponent && pipe_exponent <= kMaxPipeExponent,
-               "pipe_exponent must be in [" + format_number(kMinPipeExponent) + ", " +
-                   format_number(kMaxPipeExponent) + "]");
+               "pipe_exponent must be in " + range_text(kMinPipeExponent, kMaxPipeExponent));
   check_option(max_modules > 0, "max_modules must be > 0");
 }
 

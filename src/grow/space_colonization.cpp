@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 #include "ramiform/core/parallel.h"
 
 namespace ramiform {
@@ -114,8 +115,8 @@ void ColonizationOptions::validate() const {
   check(std::isfinite(tip_radius) && tip_radius > 0,
         "tip_radius must be finite and > 0 (got " + format_number(tip_radius) + ")");
   check(pipe_exponent >= kMinPipeExponent && pipe_exponent <= kMaxPipeExponent,
-        "pipe_exponent must be in [" + format_number(kMinPipeExponent) + ", " +
-            format_number(kMaxPipeExponent) + "] (got " + format_number(pipe_exponent) + ")");
+        "pipe_exponent must be in " + range_text(kMinPipeExponent, kMaxPipeExponent) + " (got " +
+            format_number(pipe_exponent) + ")");
 }
 
 struct SpaceColonization::Impl {
@@ -421,7 +422,7 @@ struct SpaceColonization::Impl {
     for (std::size_t k = 0; k < hit.size(); ++k) at[k] = pos[props[hit[k]].parent];
     std::vector<double> values(hit.size());
     std::vector<Vec3> grads(hit.size());
-    opt.obstacle->evaluate(at, values, grads);
+    opt.obstacle->evaluate(at, values, grads, ctx);
     std::vector<Vec3> retry;
     std::vector<std::size_t> retry_of;
     for (std::size_t k = 0; k < hit.size(); ++k) {
@@ -658,8 +659,7 @@ void assign_pipe_radii(Skeleton& skeleton, std::span<const std::uint32_t> roots,
   constexpr double lo = ColonizationOptions::kMinPipeExponent;
   constexpr double hi = ColonizationOptions::kMaxPipeExponent;
   if (!(exponent >= lo && exponent <= hi))
-    fail("exponent must be in [" + format_number(lo) + ", " + format_number(hi) + "] (got " +
-         format_number(exponent) + ")");
+    fail("exponent must be in " + range_text(lo, hi) + " (got " + format_number(exponent) + ")");
   const std::size_t n = skeleton.nodes.size();
   std::vector<std::vector<std::uint32_t>> adj(n);
   for (std::size_t e = 0; e < skeleton.edges.size(); ++e) {

@@ -143,12 +143,6 @@ std::int64_t to_int64(std::string_view token, const std::string& source, std::si
   throw InputError(source, line, std::string(what) + ": expected an integer, got " + quote(token));
 }
 
-void append_double(std::string& out, double value) {
-  char buf[32];
-  const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, value);
-  out.append(buf, static_cast<std::size_t>(ptr - buf));
-}
-
 void append_uint(std::string& out, std::uint64_t value) {
   char buf[24];
   const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, value);

@@ -68,8 +68,8 @@ std::int64_t to_int64(std::string_view token, const std::string& source, std::si
 /// The token in quotes for an error message, shortened when long.
 std::string quote(std::string_view token);
 
-/// Appends the shortest decimal text that reads back as exactly `value`.
-void append_double(std::string& out, double value);
+/// Appends the shortest decimal text that reads back as exactly `value` (core/numbers.h).
+inline void append_double(std::string& out, double value) { append_shortest(out, value); }
 /// Appends the decimal text of `value`.
 void append_uint(std::string& out, std::uint64_t value);
 

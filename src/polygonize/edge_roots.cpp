@@ -45,7 +45,7 @@ std::optional<double> log_secant(const RootBracket& r) {
 std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Vec3>& a,
                                         const std::vector<Vec3>& d, std::vector<double> fa,
                                         std::vector<double> fb, int steps,
-                                        std::uint64_t& evaluations) {
+                                        std::uint64_t& evaluations, const Context* ctx) {
   const std::size_t n = a.size();
   const double iso = field.iso();
   // Work on the parameter t in [0, 1] of each edge. Where the field is positive at both ends
@@ -78,7 +78,7 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
     transformed[e] = use_transform && fa[e] >= 0 && fb[e] >= 0 && fa[e] + fb[e] > 0 ? 1 : 0;
     brackets[e] = RootBracket(0.0, g_of(e, fa[e]), 1.0, g_of(e, fb[e]),
                               transformed[e] != 0 ? kVanished : kNeverVanished);
-  });
+  }, ctx);
   std::vector<std::uint32_t> active(n);
   for (std::size_t e = 0; e < n; ++e) active[e] = static_cast<std::uint32_t>(e);
   std::vector<double> t(n, 0.0);
@@ -102,9 +102,9 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
           transformed[e] != 0 && step == 0 && !r.is_vanished() ? log_secant(r) : std::nullopt;
       t[e] = first ? r.safeguard(*first) : r.probe();
       points[q] = a[e] + t[e] * d[e];
-    });
+    }, ctx);
     values.resize(points.size());
-    field.evaluate(points, values);
+    field.evaluate(points, values, {}, ctx);
     evaluations += points.size();
     parallel::for_each(active.size(), kGrain, [&](std::size_t q) {
       const std::uint32_t e = active[q];
@@ -113,20 +113,21 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
       } else {
         brackets[e].update(t[e], g_of(e, values[q]));
       }
-    });
+    }, ctx);
   }
   std::vector<Vec3> out(n);
   parallel::for_each(n, kGrain,
-                     [&](std::size_t e) { out[e] = a[e] + brackets[e].estimate() * d[e]; });
+                     [&](std::size_t e) { out[e] = a[e] + brackets[e].estimate() * d[e]; }, ctx);
   return out;
 }
 
 std::vector<Vec3> find_edge_roots(const Field& field, const std::vector<Vec3>& a,
                                   const std::vector<Vec3>& b, std::vector<double> fa,
-                                  std::vector<double> fb, int steps, std::uint64_t& evaluations) {
+                                  std::vector<double> fb, int steps, std::uint64_t& evaluations,
+                                  const Context* ctx) {
   std::vector<Vec3> d(a.size());
   for (std::size_t e = 0; e < a.size(); ++e) d[e] = b[e] - a[e];
-  return find_edge_roots_along(field, a, d, std::move(fa), std::move(fb), steps, evaluations);
+  return find_edge_roots_along(field, a, d, std::move(fa), std::move(fb), steps, evaluations, ctx);
 }
 
 }  // namespace ramiform::detail

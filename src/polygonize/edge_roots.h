@@ -21,15 +21,17 @@ namespace ramiform::detail {
 /// evaluates all unconverged edges in one batch and an edge stops once its bracket in t is at
 /// most tol::kRootFinding or |f - iso| at the last point is at most tol::kRootValue |iso|.
 /// Steps = 0 gives linear interpolation. A NaN value counts as on the surface. Adds the
-/// evaluations made to `evaluations`. `d`, `fa` and `fb` have the size of `a`.
+/// evaluations made to `evaluations`. `d`, `fa` and `fb` have the size of `a`. Runs on
+/// `ctx`'s threads and checks it for cancellation (nullptr: all cores, never cancelled).
 std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Vec3>& a,
                                         const std::vector<Vec3>& d, std::vector<double> fa,
                                         std::vector<double> fb, int steps,
-                                        std::uint64_t& evaluations);
+                                        std::uint64_t& evaluations, const Context* ctx = nullptr);
 
 /// find_edge_roots_along for the edges from a[e] to b[e] (d = b - a).
 std::vector<Vec3> find_edge_roots(const Field& field, const std::vector<Vec3>& a,
                                   const std::vector<Vec3>& b, std::vector<double> fa,
-                                  std::vector<double> fb, int steps, std::uint64_t& evaluations);
+                                  std::vector<double> fb, int steps, std::uint64_t& evaluations,
+                                  const Context* ctx = nullptr);
 
 }  // namespace ramiform::detail

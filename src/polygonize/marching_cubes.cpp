@@ -13,6 +13,7 @@
 
 #include "polygonize/edge_roots.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 #include "ramiform/core/parallel.h"
 
 namespace ramiform {
@@ -466,9 +467,9 @@ void MarchingCubesOptions::validate() const {
                           std::to_string(cell_size));
   }
   if (resolution < kMinResolution || resolution > kMaxResolution) {
-    throw InvalidArgument("MarchingCubesOptions.resolution must be in [" +
-                          std::to_string(kMinResolution) + ", " + std::to_string(kMaxResolution) +
-                          "], got " + std::to_string(resolution));
+    throw InvalidArgument("MarchingCubesOptions.resolution must be in " +
+                          range_text(kMinResolution, kMaxResolution) + ", got " +
+                          std::to_string(resolution));
   }
   if (!box.isEmpty() && (!box.min().allFinite() || !box.max().allFinite())) {
     throw InvalidArgument("MarchingCubesOptions.box must be finite");

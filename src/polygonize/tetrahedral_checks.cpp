@@ -8,6 +8,7 @@
 #include <string>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 
 namespace ramiform::detail::tets {
 namespace {
@@ -74,12 +75,12 @@ void validate_options(const TetrahedralOptions& o) {
   auto fail = [](const std::string& m) { throw InvalidArgument("TetrahedralOptions." + m); };
   using O = TetrahedralOptions;
   if (o.levels < O::kMinLevels || o.levels > O::kMaxLevels) {
-    fail("levels must be in [" + std::to_string(O::kMinLevels) + ", " +
-         std::to_string(O::kMaxLevels) + "], got " + std::to_string(o.levels));
+    fail("levels must be in " + range_text(O::kMinLevels, O::kMaxLevels) + ", got " +
+         std::to_string(o.levels));
   }
   if (!(o.section_scale >= O::kMinSectionScale && o.section_scale <= O::kMaxSectionScale)) {
-    fail("section_scale must be in [" + format_number(O::kMinSectionScale) + ", " +
-         format_number(O::kMaxSectionScale) + "], got " + format_number(o.section_scale));
+    fail("section_scale must be in " + range_text(O::kMinSectionScale, O::kMaxSectionScale) +
+         ", got " + format_number(o.section_scale));
   }
   if (!(o.station_spacing > 0.0) || !std::isfinite(o.station_spacing)) {
     fail("station_spacing must be > 0, got " + std::to_string(o.station_spacing));

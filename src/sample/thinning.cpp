@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
 //
-// Thinning (Kochhar 2010, Application of implicit methods to the interactive modeling of trees,
-// M.Sc. thesis, University of Calgary, §7.1, point_set_thin): a random share of the points that
+// Thinning (Kochhar 2010, "Application of implicit methods to the interactive modeling of trees"
+// (M.Sc. thesis), §7.1, point_set_thin): a random share of the points that
 // lie inside a secondary surface is removed.
 #include <cmath>
 #include <span>
@@ -20,13 +20,17 @@ using namespace sample_detail;
 
 namespace {
 
-/// The indices of the points inside `secondary` (f > iso), in order.
-std::vector<std::uint32_t> inside_indices(const PointSet& points, const Field& secondary) {
+// The indices of the points inside `secondary` (f > iso), in order.
+std::vector<std::uint32_t> inside_indices(const PointSet& points, const Field& secondary,
+                                          const Context* ctx) {
   std::vector<double> values(points.positions.size());
-  parallel::for_chunks(points.positions.size(), kEvalGrain, [&](std::size_t b, std::size_t e) {
-    secondary.evaluate(std::span<const Vec3>(points.positions.data() + b, e - b),
-                       std::span<double>(values.data() + b, e - b));
-  });
+  parallel::for_chunks(
+      points.positions.size(), kEvalGrain,
+      [&](std::size_t b, std::size_t e) {
+        secondary.evaluate(std::span<const Vec3>(points.positions.data() + b, e - b),
+                           std::span<double>(values.data() + b, e - b));
+      },
+      ctx);
   std::vector<std::uint32_t> inside;
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (values[i] > secondary.iso()) inside.push_back(static_cast<std::uint32_t>(i));
@@ -37,12 +41,12 @@ std::vector<std::uint32_t> inside_indices(const PointSet& points, const Field& s
 }  // namespace
 
 PointSet thin_points(const PointSet& points, const Field& secondary, double percent,
-                     std::uint64_t seed) {
+                     std::uint64_t seed, const Context* ctx) {
   require(std::isfinite(percent) && percent >= 0.0 && percent <= 100.0,
           "thin_points: percent " + format_number(percent) + " is not in [0, 100]");
   require(points.normals.empty() || points.normals.size() == points.positions.size(),
           "thin_points: normal count differs from point count");
-  std::vector<std::uint32_t> inside = inside_indices(points, secondary);
+  std::vector<std::uint32_t> inside = inside_indices(points, secondary, ctx);
   const auto remove =
       static_cast<std::size_t>(std::floor(percent / 100.0 * double(inside.size()) + 0.5));
   // A partial Fisher-Yates shuffle: the first `remove` entries are a uniform random subset.

@@ -107,7 +107,8 @@ CommandResult run_point_set_thin(Call& c) {
     c.fail(c.arg(2), "percent must lie in [0, 100], got " + c.arg(2).text);
   const std::string name = c.arg(0).text;
   const std::size_t before = points.size();
-  PointSet thinned = thin_points(points, *secondary.field, percent, seed_for(c, name + "/thin"));
+  PointSet thinned =
+      thin_points(points, *secondary.field, percent, seed_for(c, name + "/thin"), c.session().ctx);
   const std::size_t removed = before - thinned.size();
   return stored(c, name, std::move(thinned),
                 " (" + std::to_string(removed) + " removed inside " + c.arg(1).text + ")");
@@ -207,7 +208,7 @@ CommandResult run_lsystem(Call& c) {
     text = ss.str();
   }
   LSystemOptions o;
-  o.iterations = c.option_integer("iterations", o.iterations, 0, 100);
+  o.iterations = c.option_integer("iterations", o.iterations, 0, LSystemOptions::kMaxIterations);
   o.angle_deg = c.option_number("angle", o.angle_deg);
   o.step = c.option_positive("step", o.step);
   o.width = c.option_positive("width", o.width);
@@ -296,12 +297,12 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
        "[avoid=SHAPE]",
        "Space colonization (Runions et al. 2007, thesis §2.5): grows a tree from `root` toward "
        "the points in steps of `step`" +
-           with_default(grow.step) + "; points within `influence`" + with_default(grow.influence) +
-           " attract a node and points within `kill`" + with_default(grow.kill) +
-           " die, for at most `max_iterations`" + with_default(grow.max_iterations) +
-           " iterations. Then pipe-model radii: `tip_radius`" + with_default(grow.tip_radius) +
+           default_text(grow.step) + "; points within `influence`" + default_text(grow.influence) +
+           " attract a node and points within `kill`" + default_text(grow.kill) +
+           " die, for at most `max_iterations`" + default_text(grow.max_iterations) +
+           " iterations. Then pipe-model radii: `tip_radius`" + default_text(grow.tip_radius) +
            " at the tips, exponent `pipe_exponent`" +
-           with_default(grow.pipe_exponent, ColonizationOptions::kMinPipeExponent,
+           default_text(grow.pipe_exponent, ColonizationOptions::kMinPipeExponent,
                         ColonizationOptions::kMaxPipeExponent) +
            ". `avoid` keeps nodes out of a shape (§7.2). TREE is a shape (Cauchy convolution "
            "surface of the skeleton); save_mesh method=tets meshes it, save_skeleton writes the "
@@ -317,9 +318,9 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
        "lsystem TREE EXAMPLE|FILE [iterations=N] [angle=DEG] [step=L] [width=W] [radii=width|pipe]",
        "A skeleton from a bracketed parametric L-system (docs/growth.md): one of the built-in "
        "examples or a file, derived `iterations`" +
-           with_default(ls.iterations) + " times; the turtle turns by `angle`" +
-           with_default(ls.angle_deg) + " degrees, moves by `step`" + with_default(ls.step) +
-           " and starts with `width`" + with_default(ls.width) + ".",
+           default_text(ls.iterations, 0, LSystemOptions::kMaxIterations) + " times; the turtle turns by `angle`" +
+           default_text(ls.angle_deg) + " degrees, moves by `step`" + default_text(ls.step) +
+           " and starts with `width`" + default_text(ls.width) + ".",
        "lsystem plant abop_fig1_24a iterations=4\nsave_skeleton plant plant.json",
        {"iterations", "angle", "step", "width", "radii", "tip_radius", "pipe_exponent"},
        run_lsystem,

@@ -141,7 +141,7 @@ CommandResult run_eval_points(Call& c) {
   const Object& obj = c.object(0, ObjectKind::kShape);
   const PointSet points = read_points(c.input_path(1));
   std::vector<double> values(points.size());
-  obj.field->evaluate(points.positions, values);
+  obj.field->evaluate(points.positions, values, {}, c.session().ctx);
   const std::string path = c.output_path(2);
   write_file_atomically(path, [&](std::ostream& out) {
     char buf[64];
@@ -221,12 +221,12 @@ void add_output_commands(std::vector<CommandSpec>& out) {
        "Polygonizes a shape once and writes it to every FILE (.ply, .obj, .off, .glb) inside the "
        "output directory: marching cubes over the shape's bounds, `resolution` cells along the "
        "longest side" +
-           with_default(mc.resolution, Mc::kMinResolution, Mc::kMaxResolution) +
+           default_text(mc.resolution, Mc::kMinResolution, Mc::kMaxResolution) +
            " or cells of size `cell`; or, for a shape made by skeleton, grow or lsystem, the "
            "skeleton-bounded tetrahedral polygonizer with `levels` subdivisions" +
-           with_default(tets.levels, Tets::kMinLevels, Tets::kMaxLevels) +
+           default_text(tets.levels, Tets::kMinLevels, Tets::kMaxLevels) +
            " and cross-section squares `section_scale` radii wide" +
-           with_default(tets.section_scale, Tets::kMinSectionScale, Tets::kMaxSectionScale) + ".",
+           default_text(tets.section_scale, Tets::kMinSectionScale, Tets::kMaxSectionScale) + ".",
        "save_mesh s3 s3.ply resolution=128",
        {"resolution", "cell", "method", "levels", "section_scale"},
        run_save_mesh,

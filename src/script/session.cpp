@@ -146,27 +146,6 @@ std::string format_vec3(const Vec3& v) {
   return format_number(v.x()) + "," + format_number(v.y()) + "," + format_number(v.z());
 }
 
-namespace {
-
-std::string exact_number(double v) {
-  std::array<char, 32> buf{};
-  const char* end = std::to_chars(buf.data(), buf.data() + buf.size(), v).ptr;
-  return std::string(buf.data(), static_cast<std::size_t>(end - buf.data()));
-}
-
-}  // namespace
-
-std::string range_text(double min, double max) {
-  return "[" + exact_number(min) + ", " + exact_number(max) + "]";
-}
-
-std::string with_default(double value) { return " (default " + exact_number(value) + ")"; }
-
-std::string with_default(double value, double min, double max) {
-  return " (default " + exact_number(value) + ", " + exact_number(min) + "\u2013" +
-         exact_number(max) + ")";
-}
-
 const std::map<std::string, const CommandSpec*>& command_table() {
   static const std::vector<CommandSpec> specs = [] {
     std::vector<CommandSpec> all;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "ramiform/core/geometry.h"
+#include "ramiform/core/numbers.h"
 #include "ramiform/core/types.h"
 #include "ramiform/field/curves.h"
 #include "ramiform/field/field.h"
@@ -157,12 +158,8 @@ class Call {
 /// "1,2,3" for messages (numbers as ramiform::format_number).
 std::string format_vec3(const Vec3& v);
 
-/// "[MIN, MAX]" for messages, numbers in their shortest exact form.
-std::string range_text(double min, double max);
-/// " (default D)" or " (default D, MIN–MAX)": how a command's help states a default and range
-/// of an options struct. docs/language.md writes them the same way, after the option's name in
-/// backquotes; tests/cli/help_docs_test.cpp reads both.
-std::string with_default(double value);
-std::string with_default(double value, double min, double max);
+// Help texts state an options struct's default and range with ramiform::default_text
+// (core/numbers.h); docs/language.md writes them the same way, after the option's name in
+// backquotes; tests/cli/help_docs_test.cpp reads both.
 
 }  // namespace ramiform::script

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 #include "ramiform/core/random.h"
 
 namespace ramiform {
@@ -26,17 +27,20 @@ Vec3 perpendicular(const Vec3& d) {
 }  // namespace
 
 Skeleton branching_tree(const BranchingTreeOptions& o) {
-  check(o.segments >= 1, "segments must be >= 1");
+  using O = BranchingTreeOptions;
+  check(o.segments >= O::kMinSegments && o.segments <= O::kMaxSegments,
+        "segments must be in " + range_text(O::kMinSegments, O::kMaxSegments));
   check(std::isfinite(o.trunk_length) && o.trunk_length > 0, "trunk_length must be > 0");
-  check(o.length_ratio > 0 && o.length_ratio <= 1, "length_ratio must be in (0, 1]");
-  check(std::isfinite(o.branch_angle_deg) && o.branch_angle_deg >= 0 && o.branch_angle_deg < 90,
-        "branch_angle_deg must be in [0, 90)");
-  check(std::isfinite(o.jitter_deg) && o.jitter_deg >= 0, "jitter_deg must be >= 0");
+  check(o.length_ratio >= O::kMinLengthRatio && o.length_ratio <= O::kMaxLengthRatio,
+        "length_ratio must be in " + range_text(O::kMinLengthRatio, O::kMaxLengthRatio));
+  check(std::isfinite(o.branch_angle_deg) && o.branch_angle_deg >= 0 &&
+            o.branch_angle_deg < O::kMaxBranchAngleDeg,
+        "branch_angle_deg must be in [0, " + format_number(O::kMaxBranchAngleDeg) + ")");
+  check(std::isfinite(o.jitter_deg) && o.jitter_deg >= 0 && o.jitter_deg <= O::kMaxJitterDeg,
+        "jitter_deg must be in [0, " + format_number(O::kMaxJitterDeg) + "]");
   check(std::isfinite(o.tip_radius) && o.tip_radius > 0, "tip_radius must be > 0");
-  check(o.pipe_exponent >= BranchingTreeOptions::kMinPipeExponent &&
-            o.pipe_exponent <= BranchingTreeOptions::kMaxPipeExponent,
-        "pipe_exponent must be in [" + format_number(BranchingTreeOptions::kMinPipeExponent) +
-            ", " + format_number(BranchingTreeOptions::kMaxPipeExponent) + "]");
+  check(o.pipe_exponent >= O::kMinPipeExponent && o.pipe_exponent <= O::kMaxPipeExponent,
+        "pipe_exponent must be in " + range_text(O::kMinPipeExponent, O::kMaxPipeExponent));
 
   const double deg = std::numbers::pi / 180;
   Rng rng(o.seed);

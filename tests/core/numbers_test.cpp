@@ -12,6 +12,8 @@
 #include <limits>
 #include <string>
 
+#include "ramiform/core/random.h"
+
 namespace ramiform {
 namespace {
 
@@ -80,6 +82,30 @@ TEST(ParseNumber, Integers) {
   for (const char* t : {"", "+", "1.0", "1e3", "++1", "+-1", "-+1", "0x1", "12a"}) {
     EXPECT_EQ(parse_number(t, v), NumberStatus::kMalformed) << t;
   }
+}
+
+TEST(FormatShortest, ReadsBackExactly) {
+  Rng rng(5);
+  for (int i = 0; i < 2000; ++i) {
+    const double v = std::ldexp(rng.uniform(-1, 1), static_cast<int>(rng.below(200)) - 100);
+    double back = 0;
+    ASSERT_EQ(parse_number(format_shortest(v), back), NumberStatus::kOk);
+    EXPECT_EQ(back, v);
+  }
+  EXPECT_EQ(format_shortest(0.1), "0.1");
+  EXPECT_EQ(format_shortest(2.5), "2.5");
+  std::string out = "x=";
+  append_shortest(out, 1e-9);
+  EXPECT_EQ(out, "x=1e-09");
+}
+
+TEST(DefaultText, StatesDefaultsAndRangesAsHelpAndDocsDo) {
+  EXPECT_EQ(default_text(0.02), " (default 0.02)");
+  EXPECT_EQ(default_text(3, 0, 6), " (default 3, 0\u20136)");
+  EXPECT_EQ(default_text(1000, 1, 10000000), " (default 1000, 1\u201310000000)");
+  EXPECT_EQ(range_text(2, 1000), "[2, 1000]");
+  EXPECT_EQ(range_text(0.001, 1), "[0.001, 1]");
+  EXPECT_EQ(range_text(1, 1048576), "[1, 1048576]");
 }
 
 // A locale whose decimal separator is a comma does not change what is read (std::stod would).

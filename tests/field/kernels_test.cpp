@@ -35,7 +35,7 @@ TEST(Kernels, WyvillKnownValues) {
   EXPECT_EQ(kWyvill.value(1.5), 0.0);
   EXPECT_EQ(kWyvill.value(100.0), 0.0);
   EXPECT_EQ(kWyvill.derivative(1.5), 0.0);
-  // Thesis 001 §3.2 coefficients: a = -4/9, b = 17/9, c = -22/9.
+  // Kochhar 2010 §3.2 coefficients: a = -4/9, b = 17/9, c = -22/9.
   for (double x : {0.1, 0.3, 0.77, 0.99}) {
     EXPECT_NEAR(kWyvill.value(x), reference_kernel(KernelKind::kWyvill, 0, x), 1e-15) << x;
     const double d = -44.0 / 9 * x + 68.0 / 9 * x * x * x - 24.0 / 9 * std::pow(x, 5);

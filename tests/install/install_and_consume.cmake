@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: MIT
 # Copyright (c) 2026 the ramiform authors
 #
-# cmake -DSOURCE_DIR=... -DBINARY_DIR=... -DWORK_DIR=... [-DBUILD_TYPE=Release] -P this file
+# cmake -DSOURCE_DIR=... -DBINARY_DIR=... -DWORK_DIR=... [-DBUILD_TYPE=Release] [-DLIBDIR=lib]
+#       [-DBINDIR=bin] [-DINCLUDEDIR=include] -P this file
 #
 # Installs the built library into a fresh prefix under WORK_DIR, then configures, builds and runs
 # a separate project (tests/install/consumer/) whose main() is README.md's library example,
@@ -14,6 +15,13 @@ endforeach()
 if(NOT DEFINED BUILD_TYPE OR BUILD_TYPE STREQUAL "")
   set(BUILD_TYPE Release)
 endif()
+foreach(pair "LIBDIR;lib" "BINDIR;bin" "INCLUDEDIR;include")
+  list(GET pair 0 var)
+  list(GET pair 1 fallback)
+  if(NOT DEFINED ${var} OR ${var} STREQUAL "")
+    set(${var} ${fallback})
+  endif()
+endforeach()
 
 function(run_step what)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -26,15 +34,15 @@ endfunction()
 file(REMOVE_RECURSE ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
 run_step("cmake --install" ${CMAKE_COMMAND} --install ${BINARY_DIR} --prefix ${prefix})
-foreach(f include/ramiform/version.h include/ramiform/core/geometry.h
-          include/ramiform/polygonize/tetrahedral.h lib/cmake/ramiform/ramiformConfig.cmake
-          lib/cmake/ramiform/ramiformConfigVersion.cmake bin/ramiform)
+foreach(f ${INCLUDEDIR}/ramiform/version.h ${INCLUDEDIR}/ramiform/core/geometry.h
+          ${INCLUDEDIR}/ramiform/polygonize/tetrahedral.h ${LIBDIR}/cmake/ramiform/ramiformConfig.cmake
+          ${LIBDIR}/cmake/ramiform/ramiformConfigVersion.cmake ${BINDIR}/ramiform)
   if(NOT EXISTS ${prefix}/${f})
     message(FATAL_ERROR "install_and_consume: ${f} is not installed under the prefix")
   endif()
 endforeach()
 # Internal headers stay internal.
-file(GLOB_RECURSE leaked ${prefix}/include/*/text_scan.h ${prefix}/include/*/delaunay.h)
+file(GLOB_RECURSE leaked ${prefix}/${INCLUDEDIR}/*/text_scan.h ${prefix}/${INCLUDEDIR}/*/delaunay.h)
 if(leaked)
   message(FATAL_ERROR "install_and_consume: internal headers installed: ${leaked}")
 endif()

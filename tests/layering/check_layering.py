@@ -8,7 +8,7 @@ and <!-- stages:end --> in docs/architecture.md (the same table CMake reads). Ev
 under src/<stage>/ and include/ramiform/<stage>/ may include headers of its own stage and of
 the stages in its row: public ones as "ramiform/<stage>/x.h" or <ramiform/<stage>/x.h>,
 internal ones as "<stage>/x.h". Includes of headers in the same folder ("x.h") and of other
-libraries are not checked. Prints one line per violation, "file:line: ..."; exits 1 when there
+libraries are not checked; a path with ".." is refused (it would hide the stage it reaches). Prints one line per violation, "file:line: ..."; exits 1 when there
 is any, 2 when the table cannot be read, else 0.
 
 usage: check_layering.py [ROOT]   (ROOT: the project's root, default: two folders up)
@@ -87,6 +87,12 @@ def check(root):
                         for number, line in enumerate(f, 1):
                             m = INCLUDE.match(line)
                             if not m:
+                                continue
+                            if ".." in m.group(1).split("/"):
+                                problems.append(f"{rel}:{number}: includes {m.group(1)}: a "
+                                                "relative path out of the folder hides which "
+                                                "stage it reaches; name the stage "
+                                                "(\"ramiform/<stage>/...\" or \"<stage>/...\")")
                                 continue
                             to = target_stage(m.group(1), stages)
                             if to is not None and to not in allowed[entry]:

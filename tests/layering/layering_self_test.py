@@ -2,8 +2,8 @@
 # SPDX-License-Identifier: MIT
 # Copyright (c) 2026 the ramiform authors
 """The layering check catches what it must: on a copy of the project's table and headers, a
-backward public include, a backward internal include and an unknown stage folder each fail
-with the file and line named; the untouched copy passes.
+backward public include, a backward internal include, a relative include out of its folder and
+an unknown stage folder each fail with the file and line named; the untouched copy passes.
 
 usage: layering_self_test.py ROOT
 """
@@ -65,13 +65,22 @@ def main(argv):
                and "'core' may not include 'polygonize'" in out,
                f"a backward internal include must fail:\n{out}")
 
+        # A relative path out of the folder (it would get past the stage include path too).
+        with open(victim, "w", encoding="utf-8") as f:
+            f.write('#include "../io/text_scan.h"\n' + text)
+        rc, out = run(tmp)
+        expect(rc == 1 and "src/field/kernels.cpp:1: includes ../io/text_scan.h: a relative path"
+               in out, f"a relative include out of the folder must fail:\n{out}")
+        with open(victim, "w", encoding="utf-8") as f:
+            f.write(text)
+
         # A folder that is no stage of the table.
         os.remove(header)
         shutil.copy(os.path.join(source, "include", "ramiform", "core", "types.h"), header)
         os.makedirs(os.path.join(tmp, "src", "gizmo"))
         rc, out = run(tmp)
         expect(rc == 1 and "src/gizmo: folder is not a stage" in out, f"unknown stage:\n{out}")
-    print("layering self-test: 4 passed, 0 failed")
+    print("layering self-test: 5 passed, 0 failed")
     return 0
 
 

@@ -18,7 +18,10 @@ class Context {
   /// Called with a stage name and a fraction in [0, 1]; may be called from any thread.
   using ProgressFn = std::function<void(const std::string& stage, double fraction)>;
 
+  static constexpr int kMaxThreads = 1024;  ///< most threads a caller may ask for
+
   Context() = default;
+  /// `threads`: 0 (all cores) to kMaxThreads.
   explicit Context(int threads) : threads_(threads) {}
 
   /// Number of worker threads; 0 means all hardware threads. Results never depend on it.

@@ -8,6 +8,7 @@
 /// reads and writes both), so they live below every stage.
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 

@@ -8,6 +8,7 @@
 /// and line, script line and column, or option name) from the status.
 
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 namespace ramiform {
@@ -28,5 +29,18 @@ enum class NumberStatus {
 
 /// Parses the whole token as a decimal integer (an optional leading '+' is accepted).
 [[nodiscard]] NumberStatus parse_number(std::string_view token, std::int64_t& value);
+
+/// Appends the shortest decimal text that parse_number reads back as exactly `value`.
+void append_shortest(std::string& out, double value);
+/// The shortest decimal text that parse_number reads back as exactly `value` ("0.1", "1e-09").
+[[nodiscard]] std::string format_shortest(double value);
+
+/// How help texts and messages state an option's default and range, the same in `--help`,
+/// the scene language's `help` and the docs: " (default D)", " (default D, MIN–MAX)" and
+/// "[MIN, MAX]", every number in its shortest exact form (whole numbers below 2^53 in plain
+/// digits: "10000000", not "1e+07").
+[[nodiscard]] std::string default_text(double value);
+[[nodiscard]] std::string default_text(double value, double min, double max);
+[[nodiscard]] std::string range_text(double min, double max);
 
 }  // namespace ramiform
