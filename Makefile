@@ -7,7 +7,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build run test sanitize bench format tidy clean
+.PHONY: all deps configure build run test sanitize bench fuzz format tidy clean
 
 all: build
 
@@ -50,6 +50,18 @@ bench:
 	    --tip-radius 0.004 --trunk-length 1 --seed 1 >/dev/null && \
 	  echo "== $(BUILD_DIR)/bench/ramiform_bench_openvdb tree1500.json 0.004" && \
 	  ./$(BUILD_DIR)/bench/ramiform_bench_openvdb $(BUILD_DIR)/bench/tree1500.json 0.004; fi
+
+# The libFuzzer harnesses of fuzz/ (docs/fuzzing.md): clang 14 with ASan + UBSan in build-fuzz,
+# then every harness for FUZZ_SECONDS on its corpus, FUZZ_PARALLEL at a time; new inputs go to
+# build-fuzz/fuzz-work/, findings to build-fuzz/fuzz-findings/ (the checked-in corpus is only read).
+FUZZ_SECONDS ?= 60
+FUZZ_PARALLEL ?= 1
+fuzz:
+	@bash scripts/install-deps.sh --fuzz
+	@cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
+	  -DRAMIFORM_FUZZ=ON -DRAMIFORM_BUILD_BENCH=OFF $(CMAKE_FLAGS) >/dev/null
+	@cmake --build build-fuzz -j $(JOBS) --target ramiform_fuzzers
+	@bash fuzz/run_fuzzers.sh build-fuzz $(FUZZ_SECONDS) $(FUZZ_PARALLEL)
 
 format:
 	@find include src apps tests bench tools -name '*.h' -o -name '*.cpp' | xargs clang-format -i

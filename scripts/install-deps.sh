@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 # Copyright (c) 2026 the ramiform authors
 # Installs the Debian packages ramiform needs, if any are missing (`--bench`: also those of the
-# optional OpenVDB comparison benchmark). Safe to run repeatedly.
+# optional OpenVDB comparison benchmark; `--fuzz`: also clang and libFuzzer for `make fuzz`).
+# Safe to run repeatedly.
 set -euo pipefail
 
 packages=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libnanoflann-dev
@@ -16,6 +17,12 @@ packages=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libnanoflann
 # (libopenvdb links it). Hence the two extra packages.
 if [ "${1:-}" = "--bench" ]; then
   packages+=(libopenvdb-dev libboost-iostreams-dev liblog4cplus-dev)
+fi
+
+# `--fuzz`: Debian's clang 14 and its compiler-rt (libFuzzer, ASan and UBSan runtimes) for the
+# fuzz harnesses of fuzz/ (docs/fuzzing.md); llvm-14 for llvm-symbolizer (readable stacks).
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang-14 libclang-rt-14-dev llvm-14)
 fi
 
 missing=()

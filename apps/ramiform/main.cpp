@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
 //
-// ramiform command line. Exit codes: 0 ok, 1 usage, 2 bad input, 3 failure.
+// ramiform command line. Exit codes: 0 ok, 1 usage, 2 bad input, 3 failure; stopped by SIGTERM,
+// SIGINT or SIGHUP it removes its staged files and dies of the signal (a shell shows 128 + N).
 
 #include <CLI/CLI.hpp>
 
 #include <malloc.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -13,6 +15,7 @@
 
 #include "commands.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/io/atomic_file.h"
 
 namespace {
 
@@ -33,11 +36,27 @@ void restart_with_huge_pages(char** argv) {
 #endif
 }
 
+// A run stopped from outside leaves no staged file (io/atomic_file.h), then ends by the same
+// signal with its default action, so the caller sees that it was interrupted.
+void on_stop_signal(int sig) {
+  ramiform::remove_staged_files_for_signal();
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
+void install_stop_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = on_stop_signal;
+  sigemptyset(&sa.sa_mask);
+  for (const int sig : {SIGTERM, SIGINT, SIGHUP}) ::sigaction(sig, &sa, nullptr);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace ramiform;
   restart_with_huge_pages(argv);
+  install_stop_handlers();
   // The polygonizers allocate and free many large buffers. glibc serves blocks above 128 KiB by
   // mmap and returns them at once, so every reuse page-faults afresh (measured: ~14 % of a
   // tets run in the kernel's fault handler). Keep blocks up to 32 MiB on the heap and do not

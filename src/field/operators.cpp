@@ -3,15 +3,51 @@
 #include "ramiform/field/operators.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <unordered_map>
 
 #include "ramiform/core/errors.h"
 
 namespace ramiform {
+
+CompositeField::CompositeField(double iso, std::span<const FieldPtr> children, const char* what)
+    : Field(iso), depth_(1) {
+  for (const FieldPtr& c : children) depth_ = std::max(depth_, field_depth(*c) + 1);
+  if (depth_ > kMaxFieldDepth) {
+    throw InvalidArgument(std::string(what) + ": the fields would be nested " +
+                          std::to_string(depth_) + " deep, more than the maximum depth " +
+                          std::to_string(kMaxFieldDepth) + " (kMaxFieldDepth)");
+  }
+}
+
+CompositeField::CompositeField(double iso, const CompositeField& source)
+    : Field(iso, source), depth_(source.depth_) {}
+
+std::size_t field_depth(const Field& field) {
+  const auto* composite = dynamic_cast<const CompositeField*>(&field);
+  return composite != nullptr ? composite->depth() : 1;
+}
+
 namespace {
 
 enum class Combine { kSum, kMax, kMin };
+
+constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+
+// A child's description inside its parent's, cut short so that a chain of transforms does not
+// build descriptions quadratic in its length.
+std::string short_description(const Field& child) {
+  constexpr std::size_t kMax = 200;
+  std::string text = child.describe();
+  if (text.size() > kMax) {
+    text.resize(kMax);
+    text += "...";
+  }
+  return text;
+}
 
 void check_children(const std::vector<FieldPtr>& children, const char* what) {
   if (children.empty()) throw InvalidArgument(std::string(what) + " needs at least one child");
@@ -21,18 +57,34 @@ void check_children(const std::vector<FieldPtr>& children, const char* what) {
 }
 
 // Sum, union (max) and intersection (min) of children. For max/min each child's values are
-// shifted by (iso - child iso) so that every child's surface stays where it was.
-class NaryField final : public Field {
+// shifted by (iso - child iso) so that every child's surface stays where it was. A child that
+// occurs several times is evaluated (bounded, restricted) once; its result is combined again at
+// each later occurrence, in the children's order, so the arithmetic is that of the unshared tree.
+class NaryField final : public CompositeField {
  public:
   NaryField(Combine op, std::vector<FieldPtr> children)
-      : Field(children.front()->iso()), op_(op), children_(std::move(children)) {}
+      : CompositeField(children.front()->iso(), children, name_of(op)),
+        op_(op),
+        children_(std::move(children)) {
+    index_sharing();
+  }
   NaryField(const NaryField& source, std::vector<FieldPtr> children)
-      : Field(source.iso(), source), op_(source.op_), children_(std::move(children)) {}
+      : CompositeField(source.iso(), source), op_(source.op_), children_(std::move(children)) {
+    index_sharing();
+  }
 
   Interval bound(const Aabb& box) const override {
-    Interval out = shifted(0, children_[0]->bound(box));
-    for (std::size_t i = 1; i < children_.size(); ++i) {
+    std::vector<Interval> seen(slots_);
+    auto child_bound = [&](std::size_t i) {
+      const std::size_t slot = slot_[first_[i]];
+      if (first_[i] != i) return seen[slot];
       const Interval b = shifted(i, children_[i]->bound(box));
+      if (slot != kNone) seen[slot] = b;
+      return b;
+    };
+    Interval out = child_bound(0);
+    for (std::size_t i = 1; i < children_.size(); ++i) {
+      const Interval b = child_bound(i);
       switch (op_) {
         case Combine::kSum: out = {out.lo + b.lo, out.hi + b.hi}; break;
         case Combine::kMax: out = {std::max(out.lo, b.lo), std::max(out.hi, b.hi)}; break;
@@ -48,12 +100,20 @@ class NaryField final : public Field {
   }
 
   Aabb bounds() const override {
-    Aabb box = children_[0]->bounds();
+    std::vector<Aabb> seen(slots_);
+    auto child_bounds = [&](std::size_t i) {
+      const std::size_t slot = slot_[first_[i]];
+      if (first_[i] != i) return seen[slot];
+      const Aabb b = children_[i]->bounds();
+      if (slot != kNone) seen[slot] = b;
+      return b;
+    };
+    Aabb box = child_bounds(0);
     for (std::size_t i = 1; i < children_.size(); ++i) {
       if (op_ == Combine::kMin) {
-        box = box.intersection(children_[i]->bounds());
+        box = box.intersection(child_bounds(i));
       } else {
-        box.extend(children_[i]->bounds());
+        box.extend(child_bounds(i));
       }
     }
     // A sum can be inside where no child is (two tails adding up): bound it conservatively by
@@ -68,30 +128,55 @@ class NaryField final : public Field {
     std::vector<FieldPtr> kids;
     kids.reserve(children_.size());
     bool changed = false;
-    for (const auto& c : children_) {
-      kids.push_back(c->restrict(box));
-      changed = changed || kids.back() != c;
+    for (std::size_t i = 0; i < children_.size(); ++i) {
+      // Each distinct child restricted once, so its restricted copy stays shared.
+      kids.push_back(first_[i] == i ? children_[i]->restrict(box) : kids[first_[i]]);
+      changed = changed || kids.back() != children_[i];
     }
     if (!changed) return shared_from_this();
     return std::make_shared<NaryField>(*this, std::move(kids));
   }
 
   std::string describe() const override {
-    const char* name = op_ == Combine::kSum ? "blend" : op_ == Combine::kMax ? "union" : "intersection";
-    return std::string(name) + " of " + std::to_string(children_.size()) + " fields";
+    return std::string(name_of(op_)) + " of " + std::to_string(children_.size()) + " fields";
   }
 
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
                    std::span<Vec3> gradients, const Context* ctx) const override {
     const std::size_t n = points.size();
+    const bool with_gradients = !gradients.empty();
+    // Values (and gradients) of the children that occur again, by slot, while still needed.
+    std::vector<std::vector<double>> kept_values(slots_);
+    std::vector<std::vector<Vec3>> kept_gradients(slots_);
+    check_cancel(ctx);
     children_[0]->evaluate(points, values, gradients, ctx);
     apply_shift(0, values);
-    std::vector<double> v(n);
-    std::vector<Vec3> g(gradients.empty() ? 0 : n);
+    if (slot_[0] != kNone) {
+      kept_values[slot_[0]].assign(values.begin(), values.end());
+      kept_gradients[slot_[0]].assign(gradients.begin(), gradients.end());
+    }
+    std::vector<double> scratch_values(n);
+    std::vector<Vec3> scratch_gradients(with_gradients ? n : 0);
     for (std::size_t c = 1; c < children_.size(); ++c) {
-      children_[c]->evaluate(points, v, g, ctx);
-      apply_shift(c, v);
+      const std::size_t first = first_[c];
+      const std::size_t slot = slot_[first];
+      std::span<const double> v;
+      std::span<const Vec3> g;
+      if (first == c) {
+        check_cancel(ctx);
+        std::vector<double>& vs = slot != kNone ? kept_values[slot] : scratch_values;
+        std::vector<Vec3>& gs = slot != kNone ? kept_gradients[slot] : scratch_gradients;
+        vs.resize(n);
+        gs.resize(with_gradients ? n : 0);
+        children_[c]->evaluate(points, vs, gs, ctx);
+        apply_shift(c, vs);
+        v = vs;
+        g = gs;
+      } else {
+        v = kept_values[slot];
+        g = kept_gradients[slot];
+      }
       for (std::size_t i = 0; i < n; ++i) {
         switch (op_) {
           case Combine::kSum:
@@ -112,10 +197,39 @@ class NaryField final : public Field {
             break;
         }
       }
+      if (slot != kNone && last_[slot] == c) {
+        kept_values[slot] = {};
+        kept_gradients[slot] = {};
+      }
     }
   }
 
  private:
+  static const char* name_of(Combine op) {
+    return op == Combine::kSum ? "blend" : op == Combine::kMax ? "union" : "intersection";
+  }
+
+  // first_[i]: the first index holding the same field as child i; slot_[i] (for a first
+  // occurrence) the slot that keeps its result for later occurrences, or kNone when it occurs
+  // once; last_[slot]: the last index using the slot.
+  void index_sharing() {
+    const std::size_t k = children_.size();
+    first_.resize(k);
+    slot_.assign(k, kNone);
+    std::unordered_map<const Field*, std::size_t> index;
+    for (std::size_t i = 0; i < k; ++i) {
+      const auto [it, is_new] = index.emplace(children_[i].get(), i);
+      first_[i] = it->second;
+      if (is_new) continue;
+      std::size_t& slot = slot_[it->second];
+      if (slot == kNone) {
+        slot = slots_++;
+        last_.push_back(i);
+      }
+      last_[slot] = i;
+    }
+  }
+
   double shift(std::size_t i) const { return op_ == Combine::kSum ? 0.0 : iso() - children_[i]->iso(); }
   Interval shifted(std::size_t i, Interval b) const { return {b.lo + shift(i), b.hi + shift(i)}; }
   void apply_shift(std::size_t i, std::span<double> v) const {
@@ -152,17 +266,23 @@ class NaryField final : public Field {
 
   Combine op_;
   std::vector<FieldPtr> children_;
+  std::vector<std::size_t> first_, slot_, last_;
+  std::size_t slots_ = 0;
 };
 
-class DifferenceField final : public Field {
+// A difference of a field with itself evaluates, bounds and restricts it once.
+class DifferenceField final : public CompositeField {
  public:
-  DifferenceField(FieldPtr a, FieldPtr b) : Field(a->iso()), a_(std::move(a)), b_(std::move(b)) {}
+  DifferenceField(FieldPtr a, FieldPtr b)
+      : CompositeField(a->iso(), std::array<FieldPtr, 2>{a, b}, "difference"),
+        a_(std::move(a)),
+        b_(std::move(b)) {}
   DifferenceField(const DifferenceField& s, FieldPtr a, FieldPtr b)
-      : Field(s.iso(), s), a_(std::move(a)), b_(std::move(b)) {}
+      : CompositeField(s.iso(), s), a_(std::move(a)), b_(std::move(b)) {}
 
   Interval bound(const Aabb& box) const override {
     const Interval ia = a_->bound(box);
-    const Interval ib = b_->bound(box);
+    const Interval ib = b_ == a_ ? ia : b_->bound(box);
     const double sb = iso() - b_->iso();
     // min(f_a, 2 iso - (f_b + sb))
     return {std::min(ia.lo, 2 * iso() - (ib.hi + sb)), std::min(ia.hi, 2 * iso() - (ib.lo + sb))};
@@ -170,7 +290,7 @@ class DifferenceField final : public Field {
   Aabb bounds() const override { return a_->bounds(); }
   FieldPtr restrict(const Aabb& box) const override {
     FieldPtr ra = a_->restrict(box);
-    FieldPtr rb = b_->restrict(box);
+    FieldPtr rb = b_ == a_ ? ra : b_->restrict(box);
     if (ra == a_ && rb == b_) return shared_from_this();
     return std::make_shared<DifferenceField>(*this, std::move(ra), std::move(rb));
   }
@@ -179,10 +299,17 @@ class DifferenceField final : public Field {
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
                    std::span<Vec3> gradients, const Context* ctx) const override {
+    check_cancel(ctx);
     a_->evaluate(points, values, gradients, ctx);
     std::vector<double> v(points.size());
     std::vector<Vec3> g(gradients.empty() ? 0 : points.size());
-    b_->evaluate(points, v, g, ctx);
+    if (b_ == a_) {
+      std::copy(values.begin(), values.end(), v.begin());
+      std::copy(gradients.begin(), gradients.end(), g.begin());
+    } else {
+      check_cancel(ctx);
+      b_->evaluate(points, v, g, ctx);
+    }
     const double sb = iso() - b_->iso();
     for (std::size_t i = 0; i < points.size(); ++i) {
       const double nb = 2 * iso() - (v[i] + sb);
@@ -197,14 +324,17 @@ class DifferenceField final : public Field {
   FieldPtr a_, b_;
 };
 
-class TransformField final : public Field {
+class TransformField final : public CompositeField {
  public:
   TransformField(FieldPtr child, const Affine3& t)
-      : Field(child->iso()), child_(std::move(child)), forward_(t), inverse_(t.inverse()) {
+      : CompositeField(child->iso(), std::span<const FieldPtr>(&child, 1), "transform"),
+        child_(std::move(child)),
+        forward_(t),
+        inverse_(t.inverse()) {
     linear_inverse_t_ = inverse_.linear().transpose();
   }
   TransformField(const TransformField& s, FieldPtr child)
-      : Field(s.iso(), s),
+      : CompositeField(s.iso(), s),
         child_(std::move(child)),
         forward_(s.forward_),
         inverse_(s.inverse_),
@@ -217,7 +347,9 @@ class TransformField final : public Field {
     if (r == child_) return shared_from_this();
     return std::make_shared<TransformField>(*this, std::move(r));
   }
-  std::string describe() const override { return "transform of (" + child_->describe() + ")"; }
+  std::string describe() const override {
+    return "transform of (" + short_description(*child_) + ")";
+  }
 
  protected:
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,

@@ -5,12 +5,23 @@
 // time to the best instruction set of the machine (no -march flags). Each point is computed by
 // the same lane-wise code whatever batch it arrives in, so a point's value never depends on the
 // batch, the chunking or the thread count.
+//
+// Nor on the CPU: every target (the plain C++ fallback EMU128 or SCALAR, SSSE3, SSE4, AVX2,
+// AVX-512) performs the same IEEE operations in the same order, so values are bit-identical on
+// all of them. Hence no hn::MulAdd
+// and relatives (a true fused multiply-add on AVX2/AVX-512, two roundings elsewhere; the
+// build's -ffp-contract=off does not reach intrinsics), no Approximate* ops, no reductions
+// across lanes, and no hwy/contrib/math (its Exp/Log/Atan fuse internally): exp, log and atan
+// below are ramiform's own, from correctly rounded operations only (+ - * / sqrt, min/max with a
+// non-NaN second operand, compares, selects and integer bit operations).
+// tests/field/simd_targets_test.cpp forces each target and compares values and meshes bytewise.
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "field/skeleton_field_simd.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
-#include <hwy/contrib/math/math-inl.h>
+
+#include <limits>
 
 #include "field/skeleton_field_simd.h"
 
@@ -21,6 +32,126 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::ScalableTag<double>;
 using V = hn::Vec<D>;
+using DI = hn::RebindToSigned<D>;
+
+// a * b + c, rounded twice on every target.
+HWY_INLINE V mul_add(V a, V b, V c) { return hn::Add(hn::Mul(a, b), c); }
+// c - a * b, rounded twice on every target.
+HWY_INLINE V neg_mul_add(V a, V b, V c) { return hn::Sub(c, hn::Mul(a, b)); }
+
+// c[0] + c[1] x + ... + c[N-1] x^(N-1), Horner's rule.
+template <std::size_t N>
+HWY_INLINE V horner(D d, V x, const double (&c)[N]) {
+  V p = hn::Set(d, c[N - 1]);
+  for (std::size_t k = N - 1; k-- > 0;) p = mul_add(p, x, hn::Set(d, c[k]));
+  return p;
+}
+
+// The polynomials below are Chebyshev fits (mpmath 1.3 chebyfit at 50 digits, coefficients
+// rounded to double) of the remainder of each function's series on its reduced range. With
+// the evaluation order of this file (checked in double arithmetic against mpmath on 1e5
+// arguments) exp is within 0.92 ulp, log within 1.04 ulp and cauchy_angle within 2.2 ulp.
+
+// (e^r - 1 - r) / r^2 on |r| <= ln 2 / 2, 11 terms (fit error 1.4e-18).
+constexpr double kExpPoly[] = {0.5,
+                               0.1666666666666667,
+                               0.04166666666666667,
+                               0.008333333333326141,
+                               0.0013888888888883752,
+                               0.00019841269874800493,
+                               2.4801587325533363e-05,
+                               2.7557255425746435e-06,
+                               2.7557273661348637e-07,
+                               2.510520637395701e-08,
+                               2.0914679376583935e-09};
+// (2 atanh(s) - 2 s) / s^3 in z = s^2 on |s| <= (sqrt 2 - 1) / (sqrt 2 + 1), 7 terms (3.1e-16,
+// scaled by z / 2 <= 0.015 in the result).
+constexpr double kLogPoly[] = {0.666666666666667,  0.39999999999899505, 0.28571428625975487,
+                               0.2222221113479508, 0.18182889125261723, 0.15331721600556042,
+                               0.14616449685043406};
+// (atan(t) / t - 1) / t^2 in w = t^2 on |t| <= tan(pi / 8), 11 terms (3.2e-17, scaled by
+// w <= 0.17 in the result).
+constexpr double kAtanPoly[] = {-0.3333333333333333,  0.1999999999999552,   -0.14285714284666542,
+                                0.11111111015256361,  -0.09090904578123903, 0.07692183190826087,
+                                -0.06664511447381948, 0.0585814891280221,   -0.0508544973794026,
+                                0.03923165829558719,  -0.01917688711906226};
+
+// 1.5 * 2^52: x + kRoundMagic - kRoundMagic rounds |x| < 2^51 to the nearest integer (ties to
+// even), and the low bits of x + kRoundMagic hold that integer in two's complement.
+constexpr double kRoundMagic = 6755399441055744.0;
+// ln 2 split so that k * kLn2Hi is exact for |k| < 2^21 (fdlibm's split).
+constexpr double kLn2Hi = 6.93147180369123816490e-01;
+constexpr double kLn2Lo = 1.90821492927058770002e-10;
+constexpr double kInvLn2 = 1.44269504088896338700;
+
+// 2^k for an integer-valued k + kRoundMagic (k in [-1022, 1023]), from the exponent bits.
+HWY_INLINE V pow2_of_rounded(D d, V k_plus_magic) {
+  const DI di;
+  return hn::BitCast(d,
+                     hn::ShiftLeft<52>(hn::Add(hn::BitCast(di, k_plus_magic), hn::Set(di, 1023))));
+}
+
+// e^x; 0 below -746 (where e^x rounds to 0) and inf above 710; NaN stays NaN.
+HWY_INLINE V exp_det(D d, V x) {
+  const V magic = hn::Set(d, kRoundMagic);
+  const V xc = hn::Min(hn::Max(x, hn::Set(d, -746.0)), hn::Set(d, 710.0));
+  const V k = hn::Sub(mul_add(xc, hn::Set(d, kInvLn2), magic), magic);
+  const V r = neg_mul_add(k, hn::Set(d, kLn2Lo), neg_mul_add(k, hn::Set(d, kLn2Hi), xc));
+  const V p = hn::Add(hn::Set(d, 1.0), mul_add(hn::Mul(r, r), horner(d, r, kExpPoly), r));
+  // 2^k in two factors, so that k down to -1076 (subnormal results) and up to 1024 (overflow
+  // to inf) stay in the exponent range; the first product is exact.
+  const V half_k = mul_add(k, hn::Set(d, 0.5), magic);
+  const V rest_k = hn::Add(hn::Sub(k, hn::Sub(half_k, magic)), magic);
+  const V y = hn::Mul(hn::Mul(p, pow2_of_rounded(d, half_k)), pow2_of_rounded(d, rest_k));
+  return hn::IfThenElse(hn::IsNaN(x), x, y);
+}
+
+// ln x for normal x > 0 (and inf for inf); callers keep x >= 1e-12.
+HWY_INLINE V log_det(D d, V x) {
+  const DI di;
+  // x = 2^e m with m in [sqrt(2)/2, sqrt(2)): shift the exponent field so that its carry
+  // decides e, then put m's mantissa under the exponent of sqrt(2)/2 (as musl's log does).
+  const auto bits =
+      hn::Add(hn::BitCast(di, x), hn::Set(di, 0x3ff0000000000000LL - 0x3fe6a09e00000000LL));
+  const V two52 = hn::Set(d, 4503599627370496.0);
+  const V biased_e =
+      hn::BitCast(d, hn::Or(hn::ShiftRight<52>(hn::BitCast(hn::RebindToUnsigned<D>(), bits)),
+                            hn::BitCast(hn::RebindToUnsigned<D>(), two52)));
+  const V e = hn::Sub(biased_e, hn::Set(d, 4503599627370496.0 + 1023.0));  // exact
+  const V m = hn::BitCast(d, hn::Add(hn::And(bits, hn::Set(di, 0x000fffffffffffffLL)),
+                                     hn::Set(di, 0x3fe6a09e00000000LL)));
+  const V f = hn::Sub(m, hn::Set(d, 1.0));  // exact (Sterbenz)
+  // ln(1 + f) = 2 atanh(s), s = f / (2 + f); 2 s = f - s f keeps the leading term exact.
+  const V s = hn::Div(f, hn::Add(hn::Set(d, 2.0), f));
+  const V z = hn::Mul(s, s);
+  const V ln_m = neg_mul_add(s, neg_mul_add(z, horner(d, z, kLogPoly), f), f);
+  const V y = mul_add(e, hn::Set(d, kLn2Hi), mul_add(e, hn::Set(d, kLn2Lo), ln_m));
+  return hn::IfThenElse(hn::Eq(x, hn::Set(d, std::numeric_limits<double>::infinity())), x, y);
+}
+
+// pi/2 - atan(num / den) for den > 0, in (0, pi), without forming num / den: one division by
+// the larger of |num| and den, reduced to |t| <= tan(pi/8). Far from a segment (num >> den) the
+// small angle comes out with full relative precision.
+HWY_INLINE V cauchy_angle(D d, V num, V den) {
+  const V a = hn::Abs(num);
+  const auto big = hn::Gt(a, den);  // |atan| > pi/4: use atan(den / a)
+  // 0 <= p <= q; mid: p / q above tan(pi/8).
+  const V p = hn::IfThenElse(big, den, a);
+  const V q = hn::IfThenElse(big, a, den);
+  const auto mid = hn::Gt(p, hn::Mul(hn::Set(d, 0.41421356237309503), q));
+  // atan(p/q) = pi/4 + atan((p - q) / (p + q)) above tan(pi/8).
+  const V t = hn::Div(hn::IfThenElse(mid, hn::Sub(p, q), p), hn::IfThenElse(mid, hn::Add(p, q), q));
+  const V w = hn::Mul(t, t);
+  const V at = mul_add(hn::Mul(t, w), horner(d, w, kAtanPoly), t);
+  // atan(p / q)
+  const V core = hn::IfThenElse(mid, hn::Add(hn::Set(d, 0.78539816339744828), at), at);
+  const V pi = hn::Set(d, 3.1415926535897931);
+  const V half_pi = hn::Set(d, 1.5707963267948966);
+  // |num| <= den: pi/2 - sign(num) core; |num| > den: core for num > 0, pi - core for num < 0.
+  const V small_angle = hn::Sub(half_pi, hn::CopySignToAbs(core, num));
+  const V big_angle = hn::IfThenElse(hn::Lt(num, hn::Zero(d)), hn::Sub(pi, core), core);
+  return hn::IfThenElse(big, big_angle, small_angle);
+}
 
 // C1 fade window of infinite kernels (tolerances.h: kFadeStart = 0.8 in distance, so 0.64 in
 // squared distance): w = 1 for v <= 0.64, 1 - s^2 (3 - 2 s) with s = (v - 0.64) / 0.36 up to
@@ -34,7 +165,7 @@ HWY_INLINE void fade(D d, V v, V& w, V& dw) {
 }
 
 HWY_INLINE V dot3(V ax, V ay, V az, V bx, V by, V bz) {
-  return hn::MulAdd(az, bz, hn::MulAdd(ay, by, hn::Mul(ax, bx)));
+  return mul_add(az, bz, mul_add(ay, by, hn::Mul(ax, bx)));
 }
 
 // Distance-surface modes: value = weight * k(y) (* fade), y = d^2 / R^2.
@@ -56,23 +187,23 @@ HWY_INLINE void distance_primitive(const PrimitiveTable& t, const ModeParams& m,
     const V wz = hn::Sub(hn::Load(d, c.pz + j), az);
     const V traw = dot3(wx, wy, wz, ux, uy, uz);
     const V tt = hn::Min(hn::Max(traw, zero), len);
-    const V qx = hn::NegMulAdd(tt, ux, wx);
-    const V qy = hn::NegMulAdd(tt, uy, wy);
-    const V qz = hn::NegMulAdd(tt, uz, wz);
+    const V qx = neg_mul_add(tt, ux, wx);
+    const V qy = neg_mul_add(tt, uy, wy);
+    const V qz = neg_mul_add(tt, uz, wz);
     const V d2 = dot3(qx, qy, qz, qx, qy, qz);
-    const V R = hn::MulAdd(tt, dr, r0);
+    const V R = mul_add(tt, dr, r0);
     const V inv_r2 = hn::Div(one, hn::Mul(R, R));
     const V y = hn::Mul(d2, inv_r2);
     V k, dkdy;
     if constexpr (kMode == static_cast<int>(PrimitiveMode::kWyvill)) {
       const auto inside = y < one;
       const V a = hn::Set(d, -4.0 / 9.0), b = hn::Set(d, 17.0 / 9.0), cc = hn::Set(d, -22.0 / 9.0);
-      k = hn::IfThenElseZero(inside, hn::MulAdd(y, hn::MulAdd(y, hn::MulAdd(y, a, b), cc), one));
+      k = hn::IfThenElseZero(inside, mul_add(y, mul_add(y, mul_add(y, a, b), cc), one));
       dkdy = hn::IfThenElseZero(
-          inside, hn::MulAdd(y, hn::MulAdd(y, hn::Mul(hn::Set(d, 3.0), a), hn::Add(b, b)), cc));
+          inside, mul_add(y, mul_add(y, hn::Mul(hn::Set(d, 3.0), a), hn::Add(b, b)), cc));
     } else if constexpr (kMode == static_cast<int>(PrimitiveMode::kBlinn)) {
       const V B = hn::Set(d, m.shape);
-      k = hn::CallExp(d, hn::Neg(hn::Mul(B, y)));
+      k = exp_det(d, hn::Neg(hn::Mul(B, y)));
       dkdy = hn::Neg(hn::Mul(B, k));
     } else if constexpr (kMode == static_cast<int>(PrimitiveMode::kMetaball)) {
       const V x = hn::Sqrt(y);
@@ -83,13 +214,15 @@ HWY_INLINE void distance_primitive(const PrimitiveTable& t, const ModeParams& m,
       // -3 (1 - x) / (2 x); x > 1/3 wherever this branch is taken.
       const V safe_x = hn::Max(x, hn::Set(d, 1.0 / 3.0));
       const V outer_d = hn::IfThenElseZero(inside, hn::Div(hn::Mul(hn::Set(d, -1.5), omx), safe_x));
-      k = hn::IfThenElse(near, hn::NegMulAdd(hn::Set(d, 3.0), y, one), outer_k);
+      k = hn::IfThenElse(near, neg_mul_add(hn::Set(d, 3.0), y, one), outer_k);
       dkdy = hn::IfThenElse(near, hn::Set(d, -3.0), outer_d);
     } else if constexpr (kMode == static_cast<int>(PrimitiveMode::kInversePower)) {
       const V ymin = hn::Set(d, 1e-12);  // x >= 1e-6, see kernels.cpp
       const V ym = hn::Max(y, ymin);
-      const V e = hn::Set(d, -(m.shape - 1) / 2);
-      k = hn::CallExp(d, hn::Mul(e, hn::CallLog(d, ym)));
+      const double exponent = -(m.shape - 1) / 2;
+      const V e = hn::Set(d, exponent);
+      // The default alpha = 3 is y^-1: one correctly rounded division instead of exp(e log y).
+      k = exponent == -1.0 ? hn::Div(one, ym) : exp_det(d, hn::Mul(e, log_det(d, ym)));
       dkdy = hn::IfThenElseZero(y > ymin, hn::Div(hn::Mul(e, k), ym));
     } else {  // kCauchyPoint: k = 1 / (1 + y)^2
       const V q = hn::Add(one, y);
@@ -102,7 +235,7 @@ HWY_INLINE void distance_primitive(const PrimitiveTable& t, const ModeParams& m,
     if (m.fades) {
       V w, dw;
       fade(d, hn::Mul(y, inv_cut), w, dw);
-      g = hn::MulAdd(g, w, hn::Mul(value, hn::Mul(dw, inv_cut)));
+      g = mul_add(g, w, hn::Mul(value, hn::Mul(dw, inv_cut)));
       value = hn::Mul(value, w);
     }
     hn::Store(hn::Add(hn::Load(d, c.value + j), value), d, c.value + j);
@@ -111,9 +244,9 @@ HWY_INLINE void distance_primitive(const PrimitiveTable& t, const ModeParams& m,
       const auto interior = hn::And(traw > zero, traw < len);
       const V c_t = hn::IfThenElseZero(interior, hn::Mul(hn::Mul(y, R), dr));
       const V f = hn::Mul(g, hn::Mul(two, inv_r2));
-      hn::Store(hn::MulAdd(f, hn::NegMulAdd(c_t, ux, qx), hn::Load(d, c.gx + j)), d, c.gx + j);
-      hn::Store(hn::MulAdd(f, hn::NegMulAdd(c_t, uy, qy), hn::Load(d, c.gy + j)), d, c.gy + j);
-      hn::Store(hn::MulAdd(f, hn::NegMulAdd(c_t, uz, qz), hn::Load(d, c.gz + j)), d, c.gz + j);
+      hn::Store(mul_add(f, neg_mul_add(c_t, ux, qx), hn::Load(d, c.gx + j)), d, c.gx + j);
+      hn::Store(mul_add(f, neg_mul_add(c_t, uy, qy), hn::Load(d, c.gy + j)), d, c.gy + j);
+      hn::Store(mul_add(f, neg_mul_add(c_t, uz, qz), hn::Load(d, c.gz + j)), d, c.gz + j);
     }
   }
 }
@@ -131,61 +264,57 @@ HWY_INLINE void cauchy_segment(const PrimitiveTable& t, std::uint32_t i, Chunk& 
   const V weight = hn::Set(d, t.weight[i]);
   const V inv_cut = hn::Set(d, t.inv_cut[i]);
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0), half = hn::Set(d, 0.5);
-  const V half_pi = hn::Set(d, 1.57079632679489661923);
   const V s_len = hn::Mul(s, len);
   for (std::size_t j = 0; j < c.padded; j += lanes) {
     const V wx = hn::Sub(hn::Load(d, c.px + j), ax);
     const V wy = hn::Sub(hn::Load(d, c.py + j), ay);
     const V wz = hn::Sub(hn::Load(d, c.pz + j), az);
     const V x = dot3(wx, wy, wz, ux, uy, uz);
-    const V qx = hn::NegMulAdd(x, ux, wx);
-    const V qy = hn::NegMulAdd(x, uy, wy);
-    const V qz = hn::NegMulAdd(x, uz, wz);
+    const V qx = neg_mul_add(x, ux, wx);
+    const V qy = neg_mul_add(x, uy, wy);
+    const V qz = neg_mul_add(x, uz, wz);
     const V h2 = dot3(qx, qy, qz, qx, qy, qz);
-    const V P = hn::MulAdd(s2, h2, one);
+    const V P = mul_add(s2, h2, one);
     const V root_p = hn::Sqrt(P);
     const V u1 = hn::Sub(len, x);
-    const V d1 = hn::MulAdd(s2, hn::Mul(u1, u1), P);
-    const V d0 = hn::MulAdd(s2, hn::Mul(x, x), P);
+    const V d1 = mul_add(s2, hn::Mul(u1, u1), P);
+    const V d0 = mul_add(s2, hn::Mul(x, x), P);
     const V inv_p = hn::Div(one, P);
     const V inv_d1 = hn::Div(one, d1);
     const V inv_d0 = hn::Div(one, d0);
     // u1 / (2 P d1) + x / (2 P d0)
-    const V rational = hn::Mul(hn::Mul(half, inv_p), hn::MulAdd(u1, inv_d1, hn::Mul(x, inv_d0)));
-    const V inv_root_p = hn::Div(one, root_p);
-    const V A = hn::Mul(hn::Mul(s, u1), inv_root_p);
-    const V B = hn::Mul(hn::Mul(s, x), inv_root_p);
-    const V sum_ab = hn::Mul(s_len, inv_root_p);  // A + B exactly, > 0
-    const V angle = hn::Sub(half_pi, hn::CallAtan(d, hn::Div(hn::NegMulAdd(A, B, one), sum_ab)));
-    const V F = hn::MulAdd(angle, hn::Div(hn::Mul(half, inv_p), hn::Mul(s, root_p)), rational);
+    const V rational = hn::Mul(hn::Mul(half, inv_p), mul_add(u1, inv_d1, hn::Mul(x, inv_d0)));
+    // atan(A) + atan(B) with A = s u1 / sqrt(P), B = s x / sqrt(P): pi/2 - atan((1 - A B) /
+    // (A + B)), A + B = s len / sqrt(P) > 0; numerator and denominator scaled by P.
+    const V angle = cauchy_angle(d, neg_mul_add(s2, hn::Mul(u1, x), P), hn::Mul(s_len, root_p));
+    const V F = mul_add(angle, hn::Div(hn::Mul(half, inv_p), hn::Mul(s, root_p)), rational);
     // Fade by the squared distance to the segment.
     const V tc = hn::Min(hn::Max(x, zero), len);
-    const V ex = hn::NegMulAdd(tc, ux, wx);
-    const V ey = hn::NegMulAdd(tc, uy, wy);
-    const V ez = hn::NegMulAdd(tc, uz, wz);
+    const V ex = neg_mul_add(tc, ux, wx);
+    const V ey = neg_mul_add(tc, uy, wy);
+    const V ez = neg_mul_add(tc, uz, wz);
     V w, dw;
     fade(d, hn::Mul(dot3(ex, ey, ez, ex, ey, ez), inv_cut), w, dw);
     const V wf = hn::Mul(weight, F);
-    hn::Store(hn::MulAdd(wf, w, hn::Load(d, c.value + j)), d, c.value + j);
+    hn::Store(mul_add(wf, w, hn::Load(d, c.value + j)), d, c.value + j);
     if constexpr (kGrad) {
       const V dfdx = hn::Sub(hn::Mul(inv_d0, inv_d0), hn::Mul(inv_d1, inv_d1));
       // j = u1 / (4 P d1^2) + x / (4 P d0^2) + 3 F / (4 P); dF/dq-direction = -4 s^2 j
       const V quarter_inv_p = hn::Mul(hn::Set(d, 0.25), inv_p);
-      const V jj = hn::Mul(quarter_inv_p,
-                           hn::MulAdd(hn::Set(d, 3.0), F,
-                                      hn::MulAdd(u1, hn::Mul(inv_d1, inv_d1),
-                                                 hn::Mul(x, hn::Mul(inv_d0, inv_d0)))));
+      const V jj = hn::Mul(quarter_inv_p, mul_add(hn::Set(d, 3.0), F,
+                                                  mul_add(u1, hn::Mul(inv_d1, inv_d1),
+                                                          hn::Mul(x, hn::Mul(inv_d0, inv_d0)))));
       const V cq = hn::Mul(hn::Set(d, -4.0), hn::Mul(s2, jj));
       // total = weight * (w * grad F + F * dw * 2 inv_cut * e)
       const V a_u = hn::Mul(weight, hn::Mul(w, dfdx));
       const V a_q = hn::Mul(weight, hn::Mul(w, cq));
       const V a_e = hn::Mul(wf, hn::Mul(dw, hn::Add(inv_cut, inv_cut)));
-      hn::Store(hn::MulAdd(a_e, ex, hn::MulAdd(a_q, qx, hn::MulAdd(a_u, ux, hn::Load(d, c.gx + j)))),
-                d, c.gx + j);
-      hn::Store(hn::MulAdd(a_e, ey, hn::MulAdd(a_q, qy, hn::MulAdd(a_u, uy, hn::Load(d, c.gy + j)))),
-                d, c.gy + j);
-      hn::Store(hn::MulAdd(a_e, ez, hn::MulAdd(a_q, qz, hn::MulAdd(a_u, uz, hn::Load(d, c.gz + j)))),
-                d, c.gz + j);
+      hn::Store(mul_add(a_e, ex, mul_add(a_q, qx, mul_add(a_u, ux, hn::Load(d, c.gx + j)))), d,
+                c.gx + j);
+      hn::Store(mul_add(a_e, ey, mul_add(a_q, qy, mul_add(a_u, uy, hn::Load(d, c.gy + j)))), d,
+                c.gy + j);
+      hn::Store(mul_add(a_e, ez, mul_add(a_q, qz, mul_add(a_u, uz, hn::Load(d, c.gz + j)))), d,
+                c.gz + j);
     }
   }
 }
@@ -229,6 +358,8 @@ void Accumulate(const PrimitiveTable& t, const ModeParams& m, const std::uint32_
   }
 }
 
+std::int64_t DispatchedTarget() { return HWY_TARGET; }
+
 }  // namespace HWY_NAMESPACE
 }  // namespace ramiform::detail
 HWY_AFTER_NAMESPACE();
@@ -242,6 +373,10 @@ void accumulate(const PrimitiveTable& table, const ModeParams& mode, const std::
                 std::size_t count, Chunk& chunk, bool with_gradient) {
   HWY_DYNAMIC_DISPATCH(Accumulate)(table, mode, ids, count, chunk, with_gradient);
 }
+
+HWY_EXPORT(DispatchedTarget);
+
+std::int64_t dispatched_target() { return HWY_DYNAMIC_DISPATCH(DispatchedTarget)(); }
 
 }  // namespace ramiform::detail
 #endif  // HWY_ONCE

@@ -53,4 +53,8 @@ struct alignas(64) Chunk {
 void accumulate(const PrimitiveTable& table, const ModeParams& mode, const std::uint32_t* ids,
                 std::size_t count, Chunk& chunk, bool with_gradient);
 
+/// The Highway target (an HWY_* bit) that accumulate() dispatches to now: the best one the CPU
+/// supports, or the one a test forced with hwy::SetSupportedTargetsForTest.
+[[nodiscard]] std::int64_t dispatched_target();
+
 }  // namespace ramiform::detail

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/field/operators.h"
 
 namespace ramiform {
 namespace {
@@ -96,12 +97,15 @@ class WarpMap {
   virtual std::string describe() const = 0;
 };
 
-class WarpField final : public Field {
+// A CompositeField: warps count towards the nesting depth limit of operators.h.
+class WarpField final : public CompositeField {
  public:
-  WarpField(FieldPtr child, std::shared_ptr<const WarpMap> map)
-      : Field(child->iso()), child_(std::move(child)), map_(std::move(map)) {}
+  WarpField(FieldPtr child, std::shared_ptr<const WarpMap> map, const char* what)
+      : CompositeField(child->iso(), std::span<const FieldPtr>(&child, 1), what),
+        child_(std::move(child)),
+        map_(std::move(map)) {}
   WarpField(const WarpField& source, FieldPtr child)
-      : Field(source.iso(), source), child_(std::move(child)), map_(source.map_) {}
+      : CompositeField(source.iso(), source), child_(std::move(child)), map_(source.map_) {}
 
   Interval bound(const Aabb& box) const override {
     if (box.isEmpty()) return child_->bound(box);
@@ -119,7 +123,14 @@ class WarpField final : public Field {
     return std::make_shared<WarpField>(*this, std::move(r));
   }
   std::string describe() const override {
-    return map_->describe() + " of (" + child_->describe() + ")";
+    // The child's description cut short: a chain of warps stays linear in its length.
+    constexpr std::size_t kMaxChildText = 200;
+    std::string child = child_->describe();
+    if (child.size() > kMaxChildText) {
+      child.resize(kMaxChildText);
+      child += "...";
+    }
+    return map_->describe() + " of (" + child + ")";
   }
 
  protected:
@@ -565,7 +576,8 @@ FieldPtr make_taper(FieldPtr child, const TaperOptions& options) {
                             format_number(v));
     }
   }
-  return std::make_shared<WarpField>(std::move(child), std::make_shared<TaperMap>(options));
+  return std::make_shared<WarpField>(std::move(child), std::make_shared<TaperMap>(options),
+                                     "taper");
 }
 
 FieldPtr make_twist(FieldPtr child, const TwistOptions& options) {
@@ -573,7 +585,8 @@ FieldPtr make_twist(FieldPtr child, const TwistOptions& options) {
   check_axis(options.axis, "twist: axis");
   check_finite(options.rate, "twist: rate");
   check_finite(options.origin, "twist: origin");
-  return std::make_shared<WarpField>(std::move(child), std::make_shared<TwistMap>(options));
+  return std::make_shared<WarpField>(std::move(child), std::make_shared<TwistMap>(options),
+                                     "twist");
 }
 
 FieldPtr make_bend(FieldPtr child, const BendOptions& options) {
@@ -587,7 +600,7 @@ FieldPtr make_bend(FieldPtr child, const BendOptions& options) {
                           ", center " + format_number(options.center) + ", max " +
                           format_number(options.max));
   }
-  return std::make_shared<WarpField>(std::move(child), std::make_shared<BendMap>(options));
+  return std::make_shared<WarpField>(std::move(child), std::make_shared<BendMap>(options), "bend");
 }
 
 }  // namespace ramiform

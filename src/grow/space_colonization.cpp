@@ -30,6 +30,8 @@ constexpr double kCancelFraction = 1e-9;
 constexpr double kDuplicateFraction = 1e-6;
 // Upper bound on the number of cells of the point grid, as a multiple of the point count.
 constexpr double kCellsPerPoint = 2.0;
+// Upper bound on the rounds that enlarge the grid's cells (a handful in practice).
+constexpr int kMaxGridRounds = 200;
 
 void check(bool ok, const std::string& what) {
   if (!ok) throw InvalidArgument("space colonization: " + what);
@@ -164,10 +166,48 @@ struct SpaceColonization::Impl {
     return (z * dims[1] + y) * dims[0] + x;
   }
 
+  // Cell coordinates of `p`, clamped to [-2, dims + 1]: callers only ask whether a position is
+  // in the grid or at most one cell outside it, and a far node (or a tiny cell) must not convert
+  // an out-of-range double to an integer.
   std::array<std::int64_t, 3> raw_cell(const Vec3& p) const {
     const Vec3 c = (p - origin) / cell;
-    return {static_cast<std::int64_t>(std::floor(c.x())), static_cast<std::int64_t>(std::floor(c.y())),
-            static_cast<std::int64_t>(std::floor(c.z()))};
+    std::array<std::int64_t, 3> out;
+    for (int a = 0; a < 3; ++a)
+      out[a] = static_cast<std::int64_t>(
+          std::clamp(std::floor(c[a]), -2.0, static_cast<double>(dims[a] + 1)));
+    return out;
+  }
+
+  // The point grid is sized from the points' extent and the accumulators quantize directions
+  // between points and nodes, so every point must be finite and the extent must have a finite
+  // length (the rule of skeleton validate()). The roots are held to the same rule together with
+  // the points: the trunk's stop test measures their distance to the points' box.
+  static void check_extent(std::span<const Vec3> pts, const std::vector<Vec3>& roots) {
+    Aabb all;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      if (!is_finite(pts[i]))
+        throw InvalidArgument("space colonization: attraction point " + std::to_string(i) +
+                              " is not finite");
+      all.extend(pts[i]);
+      if (!std::isfinite(all.diagonal().norm()))
+        throw InvalidArgument(
+            "space colonization: the attraction points' coordinates span more than double "
+            "precision can hold (with point " +
+            std::to_string(i) + " they range from " + format_number(all.min().minCoeff()) + " to " +
+            format_number(all.max().maxCoeff()) + ")");
+    }
+    if (pts.empty()) return;
+    for (std::size_t r = 0; r < roots.size(); ++r) {
+      Aabb with_root = all;
+      with_root.extend(roots[r]);
+      if (!std::isfinite(with_root.diagonal().norm()))
+        throw InvalidArgument(
+            "space colonization: root " + std::to_string(r) +
+            " is too far from the attraction points: together they span more than double "
+            "precision can hold (from " +
+            format_number(with_root.min().minCoeff()) + " to " +
+            format_number(with_root.max().maxCoeff()) + ")");
+    }
   }
 
   void build_grid() {
@@ -179,14 +219,23 @@ struct SpaceColonization::Impl {
       return;
     }
     origin = box.min();
-    const Vec3 ext = box.max() - box.min();
+    const Vec3 ext = box.max() - box.min();  // finite: check_extent ran
     cell = opt.influence;
     const double max_cells = std::max(1.0, kCellsPerPoint * static_cast<double>(n));
-    for (;;) {
+    // At this size the grid is one cell (and it is >= d_i): where the enlarging stops at the
+    // latest. Every round multiplies the cell by >= 1.01 and a product of the ratio that
+    // overflows jumps straight to it, so the loop ends; the round cap bounds it regardless.
+    const double widest = std::max(cell, 2.0 * ext.maxCoeff());
+    for (int round = 0;; ++round) {
+      check_cancel(ctx);
       double total = 1;
       for (int a = 0; a < 3; ++a) total *= std::floor(ext[a] / cell) + 1;
-      if (total <= max_cells) break;
-      cell *= std::max(1.01, std::cbrt(total / max_cells));
+      if (total <= max_cells || cell >= widest) break;
+      if (!std::isfinite(total) || round >= kMaxGridRounds) {
+        cell = widest;
+        continue;
+      }
+      cell = std::min(widest, cell * std::max(1.01, std::cbrt(total / max_cells)));
     }
     for (int a = 0; a < 3; ++a) dims[a] = static_cast<std::int64_t>(std::floor(ext[a] / cell)) + 1;
     const auto cells = static_cast<std::size_t>(dims[0] * dims[1] * dims[2]);
@@ -327,10 +376,14 @@ struct SpaceColonization::Impl {
 
   // ---- nodes ---------------------------------------------------------------------------------
 
+  // Hash-grid cell of a (finite) node position. Clamped so that a far node never converts an
+  // out-of-range double: clamped cells only share a hash bucket, is_duplicate compares distances.
   std::array<std::int64_t, 3> node_cell(const Vec3& p) const {
-    return {static_cast<std::int64_t>(std::floor(p.x() / opt.step)),
-            static_cast<std::int64_t>(std::floor(p.y() / opt.step)),
-            static_cast<std::int64_t>(std::floor(p.z() / opt.step))};
+    constexpr double kLimit = 0x1p62;
+    std::array<std::int64_t, 3> out;
+    for (int a = 0; a < 3; ++a)
+      out[a] = static_cast<std::int64_t>(std::clamp(std::floor(p[a] / opt.step), -kLimit, kLimit));
+    return out;
   }
 
   bool is_duplicate(const Vec3& q) const {
@@ -500,8 +553,7 @@ struct SpaceColonization::Impl {
     infl2 = opt.influence * opt.influence;
     dup = kDuplicateFraction * opt.step;
     dir0 = opt.direction.normalized();
-    for (std::size_t i = 0; i < pts.size(); ++i)
-      check(is_finite(pts[i]), "attraction point " + std::to_string(i) + " is not finite");
+    check_extent(pts, opt.roots);
     points.assign(pts.begin(), pts.end());
     alive.assign(points.size(), 1);
     node_of.assign(points.size(), kNone);
@@ -561,14 +613,19 @@ struct SpaceColonization::Impl {
 
     const auto first_new = static_cast<std::uint32_t>(pos.size());
     for (const Proposal& p : props) {
-      const bool ok = !p.rejected && !is_duplicate(p.position);
+      // A position past the largest double (a huge step near the end of the range) is refused
+      // like a duplicate: nodes stay finite, so their cells and distances do.
+      const bool finite = is_finite(p.position);
+      const bool ok = !p.rejected && finite && !is_duplicate(p.position);
       Tree& tree = trees[tree_of[p.parent]];
       if (!ok) {
         ++report.nodes_blocked;
         blocked[p.parent] = 1;
         if (p.trunk) {
           tree.trunk = TrunkState::kStopped;
-          tree.stop_reason = p.rejected ? "it would enter the obstacle" : "it would duplicate a node";
+          tree.stop_reason = p.rejected ? "it would enter the obstacle"
+                             : !finite  ? "its next node would not be finite"
+                                        : "it would duplicate a node";
         }
         continue;
       }

@@ -49,6 +49,14 @@ fs::path create_temporary(const std::string& path, const fs::path& dir, const st
   fail(path, "cannot find a free temporary file name in '" + dir.string() + "'", 0);
 }
 
+// The staged-file registry: fixed slots, claimed by compare-and-swap, so that a signal handler
+// can walk it without locks or allocation. State: 0 free, 1 being written, 2 registered.
+struct StagedSlot {
+  std::atomic<int> state{0};
+  char path[kMaxStagedPath + 1] = {};
+};
+StagedSlot staged_slots[kMaxStagedFiles];
+
 void remove_quietly(const fs::path& p) {
   std::error_code ec;
   fs::remove(p, ec);
@@ -67,6 +75,40 @@ int sync_file(const fs::path& p) {
 
 }  // namespace
 
+void register_staged_file(const std::string& path) {
+  if (path.size() > static_cast<std::size_t>(kMaxStagedPath)) return;
+  for (StagedSlot& slot : staged_slots) {
+    int expected = 0;
+    if (!slot.state.compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) continue;
+    std::memcpy(slot.path, path.c_str(), path.size() + 1);
+    slot.state.store(2, std::memory_order_release);
+    return;
+  }
+}
+
+void unregister_staged_file(const std::string& path) {
+  for (StagedSlot& slot : staged_slots) {
+    if (slot.state.load(std::memory_order_acquire) != 2 || path != slot.path) continue;
+    int expected = 2;
+    if (slot.state.compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) {
+      slot.path[0] = '\0';
+      slot.state.store(0, std::memory_order_release);
+      return;
+    }
+  }
+}
+
+void remove_staged_files_for_signal() noexcept {
+  for (StagedSlot& slot : staged_slots) {
+    int expected = 2;
+    if (slot.state.compare_exchange_strong(expected, 1, std::memory_order_acq_rel)) {
+      ::unlink(slot.path);
+      slot.path[0] = '\0';
+      slot.state.store(0, std::memory_order_release);
+    }
+  }
+}
+
 void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& writer, FileMode mode) {
   if (path.empty()) fail(path, "the path is empty", 0);
@@ -82,6 +124,7 @@ void write_file_atomically(const std::string& path,
   if (fs::is_directory(target, ec)) fail(path, "it is a directory", 0);
 
   const fs::path tmp = create_temporary(path, dir, name);
+  register_staged_file(tmp.string());
   try {
     std::ios::openmode flags = std::ios::out | std::ios::trunc;
     if (mode == FileMode::kBinary) flags |= std::ios::binary;
@@ -98,8 +141,10 @@ void write_file_atomically(const std::string& path,
       fail(path, "cannot rename temporary file", errno);
   } catch (...) {
     remove_quietly(tmp);
+    unregister_staged_file(tmp.string());
     throw;
   }
+  unregister_staged_file(tmp.string());
 }
 
 }  // namespace ramiform

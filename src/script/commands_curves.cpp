@@ -74,7 +74,7 @@ CommandResult run_curve(Call& c) {
   o.summary = c.arg(1).text + (o.curve2.closed ? " closed" : "") + " 2-D curve, " +
               std::to_string(o.curve2.points.size()) + " points";
   c.define(name, std::move(o));
-  return {c.spec().name, name + ": " + c.session().objects.at(name).summary, false};
+  return {c.spec().name, name + ": " + summary_text(c.session().objects.at(name)), false};
 }
 
 CommandResult run_path(Call& c) {
@@ -89,7 +89,7 @@ CommandResult run_path(Call& c) {
   o.curve3 = std::move(curve);
   o.summary = c.arg(1).text + " 3-D path, " + std::to_string(o.curve3.points.size()) + " points";
   c.define(name, std::move(o));
-  return {c.spec().name, name + ": " + c.session().objects.at(name).summary, false};
+  return {c.spec().name, name + ": " + summary_text(c.session().objects.at(name)), false};
 }
 
 CurveSurfaceOptions surface_options(const Call& c) {
@@ -113,7 +113,7 @@ CommandResult shape_result(Call& c, const std::string& name, FieldPtr field, std
   o.field = std::move(field);
   o.summary = std::move(summary);
   c.define(name, std::move(o));
-  return {c.spec().name, name + ": " + c.session().objects.at(name).summary, false};
+  return {c.spec().name, name + ": " + summary_text(c.session().objects.at(name)), false};
 }
 
 CommandResult run_revolve(Call& c) {

@@ -175,7 +175,7 @@ CommandResult run_grow(Call& c) {
     c.fail("grew no branch: " +
            (r.stall_reason.empty() ? std::string("no growth") : r.stall_reason));
   c.define(name, tree_object(r.skeleton, summary));
-  return {c.spec().name, name + ": " + summary, true};
+  return {c.spec().name, name + ": " + summary_text(c.session().objects.at(name)), true};
 }
 
 CommandResult run_lsystem(Call& c) {
@@ -223,7 +223,7 @@ CommandResult run_lsystem(Call& c) {
   const std::string summary = "L-system " + c.arg(1).text + ", " + std::to_string(o.iterations) +
                               " iterations, " + std::to_string(skeleton.node_count()) + " nodes";
   c.define(name, tree_object(std::move(skeleton), summary));
-  return {c.spec().name, name + ": " + c.session().objects.at(name).summary, false};
+  return {c.spec().name, name + ": " + summary_text(c.session().objects.at(name)), false};
 }
 
 CommandResult run_save_skeleton(Call& c) {

@@ -3,6 +3,7 @@
 // Session commands: parameters, meshing and evaluation outputs, inspection and help, and the
 // point-set commands that arrive with a later stage (they fail with a clear message).
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -31,9 +32,17 @@ CommandResult run_param(Call& c) {
   s.declared.insert(name);
   const auto set = s.options.params.find(name);
   const std::string value = set != s.options.params.end() ? set->second : c.arg(1).text;
+  if (value.size() > kMaxParameterBytes - std::min(s.param_bytes, kMaxParameterBytes)) {
+    c.fail(c.arg(1), "the parameters' values would hold more than " +
+                         std::to_string(kMaxParameterBytes) + " bytes (kMaxParameterBytes)");
+  }
+  s.param_bytes += value.size();
   s.params[name] = value;
+  // The message shows a long value's start only: results are kept for the whole run.
+  const std::string head =
+      value.size() > kMaxSummary ? value.substr(0, kMaxSummary) + "..." : value;
   return {c.spec().name,
-          name + " = " + value + (set != s.options.params.end() ? " (from --set)" : ""), false};
+          name + " = " + head + (set != s.options.params.end() ? " (from --set)" : ""), false};
 }
 
 std::string count_text(std::size_t n) {
@@ -163,7 +172,7 @@ CommandResult run_info(Call& c) {
   const auto it = c.session().objects.find(c.arg(0).text);
   if (it == c.session().objects.end()) (void)c.object(0, ObjectKind::kShape);  // throws with a hint
   const Object& o = it->second;
-  std::string text = c.arg(0).text + ": " + o.summary;
+  std::string text = c.arg(0).text + ": " + summary_text(o);
   if (o.kind == ObjectKind::kShape) {
     const Aabb b = o.field->bounds();
     text += "; iso " + format_number(o.field->iso());
@@ -175,8 +184,13 @@ CommandResult run_info(Call& c) {
 CommandResult run_list(Call& c) {
   c.expect_count(0, 0, "no arguments");
   std::string text;
+  std::size_t listed = 0;
   for (const auto& [name, o] : c.session().objects) {
-    text += (text.empty() ? "" : "\n") + name + " (" + kind_name(o.kind) + "): " + o.summary;
+    if (listed++ == kMaxListed) {
+      text += "\n... and " + std::to_string(c.session().objects.size() - kMaxListed) + " more";
+      break;
+    }
+    text += (text.empty() ? "" : "\n") + name + " (" + kind_name(o.kind) + "): " + summary_text(o);
   }
   if (text.empty()) text = "no objects yet";
   return {c.spec().name, text, true};

@@ -71,7 +71,7 @@ Object shape(FieldPtr field, std::string summary) {
 }
 
 CommandResult defined(const Call& call, const std::string& name) {
-  return {call.spec().name, name + ": " + call.session().objects.at(name).summary, false};
+  return {call.spec().name, name + ": " + summary_text(call.session().objects.at(name)), false};
 }
 
 // Reads three positional numbers starting at `first` as a vector.
@@ -277,7 +277,13 @@ CommandResult rebind(Call& c, FieldPtr field, const std::string& what) {
   Object& obj = c.session().objects.at(name);
   obj.field = std::move(field);
   obj.skeleton.reset();
-  obj.summary += ", " + what;
+  // The summary keeps the first transforms while it has room and counts the rest, so that a
+  // long chain of transforms does not grow it (and every result that copies it) without limit.
+  if (obj.more_transforms == 0 && obj.summary.size() + 2 + what.size() <= kMaxSummary) {
+    obj.summary += ", " + what;
+  } else {
+    ++obj.more_transforms;
+  }
   return defined(c, name);
 }
 

@@ -14,6 +14,7 @@
 
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
+#include "ramiform/io/atomic_file.h"
 
 namespace ramiform {
 namespace script {
@@ -50,14 +51,23 @@ std::string shown(const std::string& text) {
   return out;
 }
 
+// A library message without a leading "COMMAND: " that the location prefix repeats
+// ("union: union: ..." reads "union: ...").
+std::string without_prefix(const std::string& message, const std::string& command) {
+  const std::string prefix = command + ": ";
+  return message.compare(0, prefix.size(), prefix) == 0 ? message.substr(prefix.size()) : message;
+}
+
 std::string hint(const std::string& word, const std::vector<std::string>& candidates) {
   const std::string best = closest_name(word, candidates);
   return best.empty() ? std::string() : " (did you mean '" + best + "'?)";
 }
 
-// Replaces $NAME and ${NAME} by declared parameter values.
+// Replaces $NAME and ${NAME} by declared parameter values. `room`: how many bytes the
+// substituted token may have, so that the whole line stays within kMaxSubstitutedLine.
 std::string substitute(const Token& token, const ScriptSession::Impl& session,
-                       const std::string& file, std::size_t line) {
+                       const std::string& command, const std::string& file, std::size_t line,
+                       std::size_t room) {
   const std::string& t = token.text;
   if (t.find('$') == std::string::npos) return t;
   std::string out;
@@ -89,6 +99,12 @@ std::string substitute(const Token& token, const ScriptSession::Impl& session,
                        "unknown parameter '$" + name + "'" + hint(name, known) +
                            "; declare it first with 'param " + (name.empty() ? "NAME" : name) +
                            " VALUE'");
+    }
+    if (it->second.size() > room || out.size() > room - it->second.size()) {
+      throw InputError(file, line, token.column + i,
+                       command + ": line " + std::to_string(line) + " grows beyond the limit of " +
+                           std::to_string(kMaxSubstitutedLine) +
+                           " bytes (kMaxSubstitutedLine) when its parameters are substituted");
     }
     out += it->second;
     i = braced ? end + 1 : end;
@@ -173,9 +189,12 @@ Call::Call(ScriptSession::Impl& session, const CommandSpec& spec, std::vector<To
       command_(tokens.front()),
       file_(std::move(file)),
       line_(line) {
+  std::size_t line_size = 0;  // the substituted tokens' sizes so far
   for (std::size_t i = 1; i < tokens.size(); ++i) {
     Token token = tokens[i];
-    token.text = substitute(token, session, file_, line_);
+    const std::size_t room = kMaxSubstitutedLine - std::min(line_size, kMaxSubstitutedLine);
+    token.text = substitute(token, session, spec.name, file_, line_, room);
+    line_size += token.text.size();
     const std::size_t eq = token.text.find('=');
     if (eq != std::string::npos && eq > 0) {
       const std::string key = token.text.substr(0, eq);
@@ -220,6 +239,10 @@ void Call::expect_count(std::size_t min, std::size_t max, const std::string& wha
 
 std::string Call::new_name(std::size_t i) const {
   const Token& t = arg(i);
+  if (t.text.size() > kMaxNameLength) {
+    fail(t, "an object name is at most " + std::to_string(kMaxNameLength) + " characters, got " +
+                std::to_string(t.text.size()) + " ('" + shown(t.text) + "')");
+  }
   const bool ok = !t.text.empty() && std::isdigit(static_cast<unsigned char>(t.text[0])) == 0 &&
                   t.text[0] != '-' && t.text[0] != '.' &&
                   std::all_of(t.text.begin(), t.text.end(), is_name_char);
@@ -342,6 +365,7 @@ std::string Call::output_path(std::size_t i) {
   const fs::path staged = dir / (".rf-staged-" + std::to_string(session_.staged.size()) + "-" +
                                  final_path.filename().string());
   session_.staged.push_back({final_path.string(), staged.string()});
+  register_staged_file(staged.string());  // removed if the run is stopped by a signal
   return staged.string();
 }
 
@@ -395,7 +419,17 @@ std::string Call::option_word(const std::string& key, const std::string& fallbac
 }
 
 void Call::define(const std::string& name, Object object) {
+  if (object.summary.size() > kMaxSummary) {
+    object.summary.resize(kMaxSummary - 3);
+    object.summary += "...";
+  }
   session_.objects[name] = std::move(object);
+}
+
+std::string summary_text(const Object& object) {
+  if (object.more_transforms == 0) return object.summary;
+  return object.summary + ", ... (" + std::to_string(object.more_transforms) + " more transform" +
+         (object.more_transforms == 1 ? ")" : "s)");
 }
 
 }  // namespace script
@@ -463,9 +497,9 @@ CommandResult ScriptSession::execute_line(std::string_view text, const std::stri
   } catch (const Cancelled&) {
     throw;
   } catch (const InvalidArgument& e) {
-    call.fail(e.what());
+    call.fail(script::without_prefix(e.what(), it->second->name));
   } catch (const Failure& e) {
-    call.fail(e.what());
+    call.fail(script::without_prefix(e.what(), it->second->name));
   }
 }
 
@@ -516,6 +550,7 @@ std::vector<std::string> ScriptSession::commit() {
     if (ec)
       throw Failure("cannot move '" + s.staged_path + "' to '" + s.final_path +
                     "': " + ec.message());
+    unregister_staged_file(s.staged_path);
     done.push_back(s.final_path);
   }
   impl_->staged.clear();
@@ -527,6 +562,7 @@ void ScriptSession::discard() noexcept {
   for (const script::Staged& s : impl_->staged) {
     std::error_code ec;
     std::filesystem::remove(s.staged_path, ec);
+    unregister_staged_file(s.staged_path);
   }
   impl_->staged.clear();
 }

@@ -6,6 +6,7 @@
 // which a command reads its arguments. Commands live in commands_*.cpp, one group per file,
 // each registering its specs in `command_table()`.
 
+#include <cstddef>
 #include <functional>
 #include <map>
 #include <optional>
@@ -22,6 +23,21 @@
 #include "ramiform/skeleton/skeleton.h"
 
 namespace ramiform::script {
+
+// Limits that keep a hostile script from asking for unbounded memory (docs/language.md,
+// "Limits"). The nesting depth of shapes is the library's kMaxFieldDepth (field/operators.h).
+
+/// Longest a line may grow to when its `$NAME` parameters are substituted (bytes).
+constexpr std::size_t kMaxSubstitutedLine = std::size_t{1} << 20;
+/// Most bytes all `param` values of a session may hold together.
+constexpr std::size_t kMaxParameterBytes = std::size_t{16} << 20;
+/// Longest object name (bytes).
+constexpr std::size_t kMaxNameLength = 256;
+/// Longest summary an object keeps (bytes); a longer one is cut and ends in "...". Transforms
+/// append to the summary while it has room, and are only counted after that.
+constexpr std::size_t kMaxSummary = 240;
+/// Most objects `list` names; the rest are counted.
+constexpr std::size_t kMaxListed = 1000;
 
 struct Token {
   std::string text;
@@ -42,8 +58,12 @@ struct Object {
   std::optional<Skeleton> skeleton;  // kShape straight from `skeleton` (for method=tets)
   Curve2 curve2;                     // kCurve2
   Curve3 curve3;                     // kCurve3
-  std::string summary;               // one line for `info` and `list`
+  std::string summary;               // one line for `info` and `list` (<= kMaxSummary bytes)
+  std::size_t more_transforms = 0;   // transforms left out of the full summary
 };
+
+/// The object's summary as shown by `info`, `list` and the commands that define it.
+std::string summary_text(const Object& object);
 
 struct Staged {
   std::string final_path;
@@ -59,6 +79,7 @@ struct ScriptSession::Impl {
   Context* ctx = nullptr;
   std::map<std::string, script::Object> objects;
   std::map<std::string, std::string> params;  // declared parameters and their values
+  std::size_t param_bytes = 0;                // their values' sizes added up
   std::set<std::string> declared;
   std::vector<script::Staged> staged;
   std::map<std::string, PointSet> point_sets;  // by name (point_set_gen names them after the shape)

@@ -5,12 +5,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "field/field_test_util.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/parallel.h"
 #include "ramiform/field/skeleton_field.h"
+#include "ramiform/field/warps.h"
 #include "support/fixtures.h"
 
 namespace ramiform {
@@ -315,6 +319,199 @@ TEST(Operators, DeepTreeStillPrunes) {
   // A box around one sphere's surface does straddle.
   const Interval on = tree->bound(Aabb(Vec3(100.5, -0.5, -0.5), Vec3(101.5, 0.5, 0.5)));
   EXPECT_TRUE(on.straddles(tree->iso()));
+}
+
+// ---- nesting depth -------------------------------------------------------------------------
+
+const std::vector<std::string> kNestingKinds = {"union",     "blend", "intersection", "difference",
+                                                "transform", "taper", "twist",        "bend"};
+
+// `f` one level deeper under the operator or warp `kind` (a second child, where there is one, is
+// the shared point field `other`).
+FieldPtr nest(const std::string& kind, const FieldPtr& f, const FieldPtr& other) {
+  if (kind == "union") return make_union({f, other});
+  if (kind == "blend") return make_sum({f, other});
+  if (kind == "intersection") return make_intersection({f, other});
+  if (kind == "difference") return make_difference(f, other);
+  if (kind == "transform") return make_transform(f, Affine3(Eigen::Translation3d(1e-4, 0, 0)));
+  if (kind == "taper") {
+    TaperOptions o;
+    o.scale_end = 0.9999;
+    return make_taper(f, o);
+  }
+  if (kind == "twist") {
+    TwistOptions o;
+    o.rate = 1e-4;
+    return make_twist(f, o);
+  }
+  BendOptions o;
+  o.rate = 1e-4;
+  return make_bend(f, o);
+}
+
+// A chain `depth` deep (the point field at its bottom has depth 1).
+FieldPtr chain(const std::string& kind, std::size_t depth, const FieldPtr& other) {
+  FieldPtr f = make_point_field(Vec3::Zero(), 1.0, wyvill());
+  for (std::size_t d = 1; d < depth; ++d) f = nest(kind, f, other);
+  return f;
+}
+
+TEST(Operators, NestingBeyondTheMaximumDepthIsRefused) {
+  const FieldPtr other = make_point_field(Vec3(0.2, 0, 0), 1.0, wyvill());
+  EXPECT_EQ(field_depth(*other), 1U);
+  EXPECT_EQ(field_depth(*make_union({other, other})), 2U);
+  for (const std::string& kind : kNestingKinds) {
+    const FieldPtr deepest = chain(kind, kMaxFieldDepth, other);
+    EXPECT_EQ(field_depth(*deepest), kMaxFieldDepth) << kind;
+    try {
+      (void)nest(kind, deepest, other);
+      ADD_FAILURE() << kind << " nested " << kMaxFieldDepth + 1 << " deep was accepted";
+    } catch (const InvalidArgument& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(std::to_string(kMaxFieldDepth + 1) + " deep"), std::string::npos) << what;
+      EXPECT_NE(what.find("maximum depth " + std::to_string(kMaxFieldDepth)), std::string::npos)
+          << what;
+    }
+    // A shallow field under the deep one's parent is no deeper than the deep one.
+    EXPECT_EQ(field_depth(*make_union({other, chain(kind, 3, other)})), 4U) << kind;
+  }
+}
+
+TEST(Operators, EveryRecursiveCallSurvivesTheMaximumDepth) {
+  // evaluate, bound, bounds, restrict, describe and the destruction all recurse; at the maximum
+  // depth each must run, on the calling thread and on the worker threads that polygonizers use.
+  const FieldPtr other = make_point_field(Vec3(0.2, 0, 0), 1.0, wyvill());
+  const Aabb box(Vec3(-1, -1, -1), Vec3(1, 1, 1));
+  const std::vector<Vec3> points = {Vec3(0.1, 0.2, 0), Vec3(0.5, 0, 0.3), Vec3(3, 0, 0)};
+  for (const std::string& kind : kNestingKinds) {
+    FieldPtr f = chain(kind, kMaxFieldDepth, other);
+    auto calls = [&](bool with_bounds) {
+      std::vector<double> v(points.size());
+      std::vector<Vec3> g(points.size());
+      f->evaluate(points, v, g);
+      for (double x : v) EXPECT_TRUE(std::isfinite(x)) << kind;
+      EXPECT_TRUE(f->bound(box).lo <= f->bound(box).hi) << kind;
+      if (with_bounds) (void)f->bounds();
+      const FieldPtr r = f->restrict(box);
+      r->evaluate(points, v);
+      // A chain of transforms or warps cuts its children's descriptions short.
+      EXPECT_LT(f->describe().size(), 1000U) << kind;
+    };
+    calls(true);
+    // A sum chain's bounds() is quadratic in its depth (every level bounds its subtree to grow
+    // the box): once is enough.
+    Context two(2);
+    parallel::for_chunks(
+        2, 1, [&](std::size_t, std::size_t) { calls(kind != "blend"); }, &two);
+    f.reset();  // the last reference: the whole chain is destroyed here
+  }
+}
+
+// ---- shared children -----------------------------------------------------------------------
+
+TEST(Operators, SharedChildrenAreEvaluatedOncePerBatch) {
+  // Ten levels of `union x x x x x x x x y` (each level's result used 8 times by the next): one
+  // evaluation per distinct child, not 8^10 through every path. The values are those of
+  // union(x0, y), since max(v, v) = v.
+  const std::vector<Vec3> points = {Vec3(0.1, 0.2, 0), Vec3(0.4, 0, 0.3), Vec3(-0.6, 0.1, 0),
+                                    Vec3(0.9, 0.9, 0.9), Vec3(2, 0, 0)};
+  const std::size_t n = points.size();
+  using Make = std::function<FieldPtr(std::vector<FieldPtr>)>;
+  for (const auto& [name, make] :
+       {std::pair<std::string, Make>{"union", make_union},
+        std::pair<std::string, Make>{"intersection", make_intersection}}) {
+    const FieldPtr x0 = make_point_field(Vec3::Zero(), 1.0, wyvill());
+    const FieldPtr y = make_point_field(Vec3(0.3, 0, 0), 1.0, wyvill());
+    FieldPtr x = x0;
+    for (int level = 0; level < 10; ++level) {
+      std::vector<FieldPtr> kids(9, x);
+      kids.back() = y;
+      x = make(kids);
+    }
+    const FieldPtr plain = make({x0, y});
+    std::vector<double> v(n), pv(n);
+    std::vector<Vec3> g(n), pg(n);
+    x0->reset_evaluations();
+    y->reset_evaluations();
+    x->evaluate(points, v, g);
+    EXPECT_EQ(x0->evaluations(), n) << name;
+    EXPECT_EQ(y->evaluations(), 10 * n) << name;
+    plain->evaluate(points, pv, pg);
+    for (std::size_t i = 0; i < n; ++i) {
+      EXPECT_EQ(v[i], pv[i]) << name << " " << i;
+      EXPECT_TRUE(g[i] == pg[i]) << name << " " << i;
+    }
+    // bound, bounds and restrict visit each distinct child once too (8^10 calls otherwise).
+    const Aabb box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5));
+    EXPECT_EQ(x->bound(box).lo, plain->bound(box).lo) << name;
+    EXPECT_EQ(x->bound(box).hi, plain->bound(box).hi) << name;
+    EXPECT_TRUE(x->bounds().min() == plain->bounds().min()) << name;
+    EXPECT_TRUE(x->bounds().max() == plain->bounds().max()) << name;
+    const FieldPtr r = x->restrict(box);
+    x0->reset_evaluations();
+    r->evaluate(std::span<const Vec3>(points).first(2), std::span<double>(v).first(2));
+    EXPECT_EQ(x0->evaluations(), 2U) << name << ": the restricted copies stay shared";
+    EXPECT_EQ(v[0], pv[0]) << name;
+    EXPECT_EQ(v[1], pv[1]) << name;
+  }
+}
+
+// Three levels: a blend of 4 x, then a union of 4 and a difference x minus x; `shared` uses one
+// node per level, otherwise every occurrence is a separate copy (4^3 leaves).
+FieldPtr sharing_tree(int level, bool shared) {
+  if (level == 0) return make_point_field(Vec3(0.1, 0, 0), 1.0, power());
+  auto child = [&] { return sharing_tree(level - 1, shared); };
+  const FieldPtr one = child();
+  std::vector<FieldPtr> kids = {one};
+  for (int k = 1; k < 4; ++k) kids.push_back(shared ? one : child());
+  kids.push_back(make_segment_field(Vec3(0, 0, -1), 0.3, Vec3(0, 0, 1), 0.3, power()));
+  if (level == 1) return make_sum(kids);
+  if (level == 2) return make_union(kids);
+  return make_difference(make_intersection(kids), shared ? one : child());
+}
+
+TEST(Operators, SharedChildrenGiveTheValuesOfTheUnsharedTree) {
+  const FieldPtr shared = sharing_tree(3, true);
+  const FieldPtr copies = sharing_tree(3, false);
+  Rng rng(11);
+  const Aabb sample(Vec3(-2, -2, -2), Vec3(2, 2, 2));
+  std::vector<Vec3> points;
+  for (int i = 0; i < 200; ++i) points.push_back(random_point(rng, sample));
+  std::vector<double> v(points.size()), cv(points.size());
+  std::vector<Vec3> g(points.size()), cg(points.size());
+  shared->evaluate(points, v, g);
+  copies->evaluate(points, cv, cg);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    ASSERT_EQ(v[i], cv[i]) << i;  // bit for bit: the same additions and comparisons, in order
+    ASSERT_TRUE(g[i] == cg[i]) << i;
+  }
+  for (int b = 0; b < 20; ++b) {
+    const Vec3 c = random_point(rng, sample);
+    const Aabb box(c - Vec3::Constant(0.3), c + Vec3::Constant(0.3));
+    EXPECT_EQ(shared->bound(box).lo, copies->bound(box).lo);
+    EXPECT_EQ(shared->bound(box).hi, copies->bound(box).hi);
+    const FieldPtr r = shared->restrict(box);
+    for (int i = 0; i < 5; ++i) {
+      const Vec3 p = random_point(rng, box);
+      ASSERT_EQ(r->value(p), copies->value(p));
+    }
+  }
+  EXPECT_TRUE(shared->bounds().min() == copies->bounds().min());
+  EXPECT_TRUE(shared->bounds().max() == copies->bounds().max());
+}
+
+TEST(Operators, EvaluationChecksCancellationPerChild) {
+  const FieldPtr a = make_point_field(Vec3::Zero(), 1.0, wyvill());
+  const FieldPtr b = make_point_field(Vec3(0.5, 0, 0), 1.0, wyvill());
+  Context ctx;
+  ctx.cancel();
+  const std::vector<Vec3> points(3, Vec3::Zero());
+  std::vector<double> v(points.size());
+  for (const FieldPtr& f : {make_union({a, b}), make_sum({a, b}), make_difference(a, b)}) {
+    a->reset_evaluations();
+    EXPECT_THROW(f->evaluate(points, v, {}, &ctx), Cancelled) << f->describe();
+    EXPECT_EQ(a->evaluations(), 0U) << f->describe();
+  }
 }
 
 }  // namespace

@@ -4,7 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -15,6 +19,17 @@
 
 namespace ramiform {
 namespace {
+
+// Expects `stmt` to throw InvalidArgument whose message contains `text`.
+#define EXPECT_THAT_THROWS_WITH(stmt, text)                                       \
+  do {                                                                            \
+    try {                                                                         \
+      (void)(stmt);                                                               \
+      ADD_FAILURE() << #stmt " did not throw";                                    \
+    } catch (const InvalidArgument& e) {                                          \
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what(); \
+    }                                                                             \
+  } while (0)
 
 // Uniform points in a ball (rejection sampling from the cube).
 std::vector<Vec3> ball_points(std::uint64_t seed, std::size_t n, const Vec3& center, double radius) {
@@ -295,6 +310,87 @@ TEST(Colonization, EmptyPointsAndBadInput) {
   EXPECT_EQ(r.skeleton.node_count(), 1u);
   std::vector<Vec3> bad{Vec3(0, 0, std::nan(""))};
   EXPECT_THROW((void)grow_space_colonization(bad, o), InvalidArgument);
+}
+
+TEST(Colonization, OverflowingExtentIsRefusedNotHung) {
+  // Points at +-1e308: max - min is inf, the grid's cell count was NaN and the loop enlarging
+  // its cells never ended. Run in a child process with an alarm so that a hang fails the test.
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  const auto refused = [](bool step_api) {
+    alarm(20);
+    const std::vector<Vec3> pts{Vec3(0, 0, 5), Vec3(0, 0, 1e308), Vec3(1, 1, -1e308)};
+    try {
+      if (step_api) {
+        SpaceColonization sc(pts, ColonizationOptions{});
+      } else {
+        (void)grow_space_colonization(pts, ColonizationOptions{});
+      }
+    } catch (const InvalidArgument& e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      std::_Exit(0);
+    }
+    std::_Exit(1);
+  };
+  for (const bool step_api : {false, true}) {
+    EXPECT_EXIT(refused(step_api), ::testing::ExitedWithCode(0),
+                "coordinates span more than double precision can hold \\(with point 1 ");
+  }
+}
+
+TEST(Colonization, PointsAreCheckedBeforeTheGrid) {
+  const ColonizationOptions o;
+  const std::vector<Vec3> nan{Vec3(0, 0, 1), Vec3(0, 0, 2), Vec3(0, std::nan(""), 3)};
+  EXPECT_THAT_THROWS_WITH(grow_space_colonization(nan, o), "attraction point 2 is not finite");
+  // Each coordinate fits, the diagonal's length does not (the rule of skeleton validate()).
+  const std::vector<Vec3> diag{Vec3(1e200, 0, 0), Vec3(0, 1e200, 0)};
+  EXPECT_THAT_THROWS_WITH(grow_space_colonization(diag, o), "span more than double precision");
+  // The points fit together but the root is too far from them: the trunk's distance to their
+  // box was inf, so it never stopped and grew max_iterations nodes toward nothing.
+  const std::vector<Vec3> far{Vec3(1e200, 0, 0), Vec3(1e200, 0, 1)};
+  EXPECT_THAT_THROWS_WITH(grow_space_colonization(far, o), "root 0 is too far");
+}
+
+TEST(Colonization, CancelledContextStopsConstruction) {
+  // Checked from the first round of the grid sizing on (and by the association that follows).
+  Context ctx;
+  ctx.cancel();
+  EXPECT_THROW(SpaceColonization(ball_points(1, 50, Vec3(0, 0, 5), 2), ColonizationOptions{}, &ctx),
+               Cancelled);
+}
+
+TEST(Colonization, HugeFiniteExtentsGrowNormally) {
+  // A span of 1e150 with d_i = 10: the grid must be sized in a few rounds (and stay >= d_i).
+  const std::vector<Vec3> pts{Vec3(0, 0, 5), Vec3(1e150, 0, 0), Vec3(0, -1e150, 1e150)};
+  ColonizationOptions o;
+  o.kill = 1;
+  const auto r = grow_space_colonization(pts, o);
+  EXPECT_EQ(r.points_reached, 1u);
+  EXPECT_EQ(r.status, ColonizationStatus::kStalled);
+  expect_forest(r.skeleton, 1, o.step);
+  // A tiny d_i makes the cell count overflow (5e249 per axis): one big cell, still correct.
+  o.step = 1e-100;
+  o.kill = 1e-100;
+  o.influence = 2e-100;
+  o.max_iterations = 3;
+  const auto t = grow_space_colonization(pts, o);
+  EXPECT_EQ(t.points_reached, 0u);
+  EXPECT_EQ(t.skeleton.node_count(), 4u) << t.stall_reason;  // the trunk's 3 steps
+}
+
+TEST(Colonization, NodesPastTheDoubleRangeAreNotCreated) {
+  // A trunk one step from the end of the double range: its next node would be at +inf.
+  ColonizationOptions o;
+  o.roots = {Vec3(1.7e308, 0, 0)};
+  o.direction = Vec3::UnitX();
+  o.step = 1e308;
+  o.influence = 10;
+  o.kill = 1;
+  const std::vector<Vec3> pts{Vec3(1.7e308, 0, 1e150)};
+  const auto r = grow_space_colonization(pts, o);
+  EXPECT_EQ(r.status, ColonizationStatus::kStalled);
+  EXPECT_EQ(r.skeleton.node_count(), 1u);
+  for (const auto& n : r.skeleton.nodes) EXPECT_TRUE(is_finite(n.position));
+  EXPECT_NE(r.stall_reason.find("would not be finite"), std::string::npos) << r.stall_reason;
 }
 
 TEST(Colonization, OptionsValidate) {

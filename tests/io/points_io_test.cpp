@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 
 #include "io/io_test_util.h"
 #include "ramiform/core/errors.h"
@@ -20,7 +21,9 @@ bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.da
 
 PointSet awkward_points(bool normals) {
   PointSet p;
-  p.positions = {Vec3(0.1, -0.0, 1e-320), Vec3(1.0 / 3.0, 1e300, -2.0), Vec3(M_PI, 1, 2)};
+  // 1e150: as large as a coordinate can be here while the set's span stays readable (see
+  // PointsIo.ExtremeCoordinatesRoundTripWhileTheSpanFits for larger ones).
+  p.positions = {Vec3(0.1, -0.0, 1e-320), Vec3(1.0 / 3.0, 1e150, -2.0), Vec3(M_PI, 1, 2)};
   if (normals) p.normals = {Vec3(1, 0, 0), Vec3(0.6, -0.8, 0), Vec3(1, 1, 1).normalized()};
   return p;
 }
@@ -45,6 +48,19 @@ TEST(PointsIo, RoundTripsAreBitExact) {
       write_points(p, dir.file(name));
       expect_identical(read_points(dir.file(name)), p);
     }
+  }
+}
+
+TEST(PointsIo, ExtremeCoordinatesRoundTripWhileTheSpanFits) {
+  // Huge coordinates are fine; only a span whose length overflows is refused (see below).
+  TempDir dir;
+  PointSet p;
+  p.positions = {Vec3(-std::numeric_limits<double>::max(), 1e300, 5e-324),
+                 Vec3(-std::numeric_limits<double>::max(), 1e300, 1.0)};
+  for (const char* name : {"x.xyz", "x.ply"}) {
+    SCOPED_TRACE(name);
+    write_points(p, dir.file(name));
+    expect_identical(read_points(dir.file(name)), p);
   }
 }
 
@@ -96,6 +112,63 @@ TEST(PointsText, ErrorsNameTheLine) {
   EXPECT_INPUT_ERROR_AT(parse_points_text("", "empty.xyz"), "empty.xyz", 0, "empty");
   EXPECT_INPUT_ERROR_AT(parse_points_text("# only a comment\n", "none.xyz"), "none.xyz", 0,
                         "no points");
+}
+
+TEST(PointsText, SpansThatOverflowAreRefusedAtTheFirstOffendingLine) {
+  // max - min of +-1e308 is inf: fields then compute inf and NaN (eval printed -nan). The rule is
+  // the skeleton reader's: the bounding box's diagonal length must be finite.
+  EXPECT_INPUT_ERROR_AT(parse_points_text("0 0 0\n1 2 3\n-1e308 0 0\n1e308 5 5\n", "wide.xyz"),
+                        "wide.xyz", 3,
+                        "span more than double precision can hold (from -1e+308 to 3)");
+  EXPECT_INPUT_ERROR_AT(parse_points_text("# a\n1 1 -1e308 0 0 1\n\n1 1 1e308 0 0 1\n", "n.pwn"),
+                        "n.pwn", 4, "(from -1e+308 to 1e+308)");
+  // Each coordinate is small enough, the diagonal's length is not.
+  EXPECT_INPUT_ERROR_AT(parse_points_text("1e200,0,0\n0,1e200,0\n", "diag.csv"), "diag.csv", 2,
+                        "span more than double precision");
+  // Just inside the rule.
+  EXPECT_EQ(parse_points_text("1e150 0 0\n-1e150 0 0\n", "ok.xyz").size(), 2U);
+}
+
+TEST(PointsPly, NoVerticesIsNoPoints) {
+  // Refused as the text reader refuses a file without point lines, at the 'element' line.
+  for (const char* format : {"ascii", "binary_little_endian", "binary_big_endian"}) {
+    SCOPED_TRACE(format);
+    const std::string ply = std::string("ply\nformat ") + format +
+                            " 1.0\ncomment nothing\nelement vertex 0\nproperty float x\n"
+                            "property float y\nproperty float z\nend_header\n";
+    EXPECT_INPUT_ERROR_AT(parse_points_ply(ply, "none.ply"), "none.ply", 4, "no points");
+  }
+  // With another element that has data: still no points.
+  const std::string with_other =
+      "ply\nformat ascii 1.0\nelement vertex 0\nproperty double x\nproperty double y\n"
+      "property double z\nproperty double nx\nproperty double ny\nproperty double nz\n"
+      "element note 1\nproperty int id\nend_header\n7\n";
+  EXPECT_INPUT_ERROR_AT(parse_points_ply(with_other, "faces.ply"), "faces.ply", 3, "no points");
+  TempDir dir;
+  const std::string path = dir.file("EMPTY.PLY");
+  write_bytes(path,
+              "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n"
+              "property float y\nproperty float z\nend_header\n");
+  EXPECT_INPUT_ERROR_AT(read_points(path), path, 3, "no points");
+}
+
+TEST(PointsPly, SpansThatOverflowAreRefusedAtTheFirstOffendingVertex) {
+  std::string le =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty double x\n"
+      "property double y\nproperty double z\nend_header\n";
+  for (const double z : {0.0, 1.0, -1e308}) {
+    put<double>(le, 1.0, false);
+    put<double>(le, 2.0, false);
+    put<double>(le, z, false);
+  }
+  EXPECT_INPUT_ERROR_AT(
+      parse_points_ply(le, "wide.ply"), "wide.ply", 0,
+      "vertex 2: with this point the coordinates span more than double precision");
+  const std::string ascii =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "property double z\nend_header\n0 0 -1.7e308\n0 0 1.7e308\n";
+  EXPECT_INPUT_ERROR_AT(parse_points_ply(ascii, "wide_ascii.ply"), "wide_ascii.ply", 0,
+                        "vertex 1: with this point");
 }
 
 TEST(PointsPly, AsciiAndBigEndianWithExtraProperties) {

@@ -36,9 +36,11 @@
 ///    every node, or blocked nodes), or after `max_iterations` (stalled, reason says so).
 ///
 /// Every new node lies exactly D from its parent (up to rounding), so the output has no
-/// zero-length edges. Work is incremental: only the nodes created in an iteration can change
-/// associations or kill points, so each iteration visits only the live points of a uniform grid
-/// (cells >= d_i) around the new nodes. Results are identical for any thread count.
+/// zero-length edges. A proposal whose position would not be finite (a huge D near the end of
+/// the double range) is refused like a duplicate, so every node is finite. Work is incremental:
+/// only the nodes created in an iteration can change associations or kill points, so each
+/// iteration visits only the live points of a uniform grid (cells >= d_i) around the new nodes.
+/// Results are identical for any thread count.
 
 #include <cstddef>
 #include <cstdint>
@@ -111,9 +113,14 @@ struct ColonizationResult {
 class SpaceColonization {
  public:
   /// Validates `options` (InvalidArgument), checks that every point is finite (InvalidArgument
-  /// naming the index) and that no root lies inside the obstacle (InvalidArgument), and
-  /// associates the points with the roots. `ctx` (may be null) must outlive this object; it
-  /// gives the thread count, progress ("grow", fraction of points reached) and cancellation.
+  /// naming the index), that the points' coordinates, and each root together with them, span no
+  /// more than double precision can hold (the bounding box's diagonal length is finite, the rule
+  /// of skeleton `validate()`; InvalidArgument naming the point or root and the range), and that
+  /// no root lies inside the obstacle (InvalidArgument), then associates the points with the
+  /// roots. Sizing the point grid takes a bounded number of rounds on any finite input.
+  /// `ctx` (may be null) must outlive this object; it gives the thread count, progress ("grow",
+  /// fraction of points reached) and cancellation (checked here per round of the grid sizing,
+  /// and once per step()).
   SpaceColonization(std::span<const Vec3> points, const ColonizationOptions& options,
                     Context* ctx = nullptr);
   ~SpaceColonization();
@@ -146,7 +153,8 @@ class SpaceColonization {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Grows until done() and returns the tree with pipe-model radii (see SpaceColonization).
+/// Grows until done() and returns the tree with pipe-model radii (see SpaceColonization; the
+/// same checks, InvalidArgument, and Cancelled when `ctx` is cancelled).
 [[nodiscard]] ColonizationResult grow_space_colonization(std::span<const Vec3> points,
                                                          const ColonizationOptions& options,
                                                          Context* ctx = nullptr);

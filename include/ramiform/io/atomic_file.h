@@ -31,4 +31,19 @@ void write_file_atomically(const std::string& path,
                            const std::function<void(std::ostream&)>& writer,
                            FileMode mode = FileMode::kText);
 
+/// Staged files: files a run has written but not yet published (write_file_atomically's
+/// temporary files while they are written, a script's outputs until the script has succeeded).
+/// Registering them lets a signal handler remove them, so that a run stopped by SIGTERM or
+/// SIGINT leaves nothing behind. Thread-safe; at most kMaxStagedFiles are registered at once
+/// (beyond that a file is simply not registered) and paths longer than kMaxStagedPath bytes are
+/// not registered.
+inline constexpr int kMaxStagedFiles = 256;
+inline constexpr int kMaxStagedPath = 4095;
+void register_staged_file(const std::string& path);
+/// Forgets `path` (after it was renamed into place or removed); unknown paths are ignored.
+void unregister_staged_file(const std::string& path);
+/// Removes every registered staged file (unlink) and forgets them. Async-signal-safe: meant for
+/// a SIGTERM/SIGINT handler (the CLI installs one); uses no lock and allocates nothing.
+void remove_staged_files_for_signal() noexcept;
+
 }  // namespace ramiform

@@ -1,0 +1,146 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+// Hostile point sets given to `ramiform eval` and `ramiform grow` (issue 15): each is bad input
+// (exit 2) with a message naming the file and the line or element, and leaves no output behind.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli/cli_run.h"
+
+namespace ramiform::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+// run_cli under `timeout`: before the fixes `grow` on points at +-1e308 never returned, and a
+// regression must fail the test rather than hang the suite.
+CliRun run_bounded(const std::string& args) {
+  const std::string cmd =
+      "timeout -s KILL 30 " + std::string(RAMIFORM_BINARY) + " " + args + " 2>&1";
+  CliRun r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return r;
+  char buf[4096];
+  std::size_t n = 0;
+  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.out.append(buf, n);
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string ply_header(const char* format, std::size_t vertices, const char* type) {
+  return std::string("ply\nformat ") + format + " 1.0\nelement vertex " + std::to_string(vertices) +
+         "\nproperty " + type + " x\nproperty " + type + " y\nproperty " + type +
+         " z\nend_header\n";
+}
+
+std::string le_doubles(const std::vector<double>& values) {
+  std::string out;
+  for (const double v : values) {
+    char b[8];
+    std::memcpy(b, &v, 8);
+    out.append(b, 8);  // the test machines are little-endian (x86-64, aarch64)
+  }
+  return out;
+}
+
+struct Hostile {
+  const char* name;      // file name in the test's directory
+  std::string content;   // its bytes
+  std::string location;  // expected after the path: ":LINE: " or ": vertex K: "
+  const char* problem;   // expected in the message
+};
+
+std::vector<Hostile> hostile_point_sets() {
+  return {
+      // `element vertex 0` was an empty point set: eval printed nothing and exited 0.
+      {"none.ply", ply_header("ascii", 0, "float"), ":3: ", "no points"},
+      {"none_binary.ply", ply_header("binary_little_endian", 0, "double"), ":3: ", "no points"},
+      // A span that overflows (max - min = inf): eval printed -nan, grow never returned.
+      {"wide.xyz", "0 0 5\n# far away\n0 0 1e308\n1 1 -1e308\n",
+       ":3: ", "span more than double precision can hold"},
+      {"wide_normals.txt", "1 1 1 0 0 1\n-1.7e308,0,0,1,0,0\n1.7e308,0,0,1,0,0\n",
+       ":2: ", "span more than double precision can hold"},
+      {"wide.ply",
+       ply_header("binary_little_endian", 3, "double") +
+           le_doubles({0, 0, 5, 0, 0, 6, 1, 1, -1e308}),
+       ": vertex 2: ", "span more than double precision can hold"},
+      {"wide_ascii.ply", ply_header("ascii", 2, "double") + "0 0 -1e308\n0 0 1e308\n",
+       ": vertex 1: ", "span more than double precision can hold"},
+  };
+}
+
+class HostileInputs : public CliDirTest {
+ protected:
+  // Exit 2, one error line naming the file at the expected place, and the directory holding the
+  // input files alone (no output, no stats, no staged file).
+  void expect_refused(const std::string& args, const Hostile& h, std::size_t inputs) {
+    const CliRun r = run_bounded(args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+    const std::string where = path(h.name) + h.location;
+    EXPECT_NE(r.out.find(where), std::string::npos) << "expected '" << where << "' in\n" << r.out;
+    EXPECT_NE(r.out.find(h.problem), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.rfind("ramiform: error: ", 0), 0U) << r.out;  // nothing printed before it
+    EXPECT_EQ(r.out.find('\n'), r.out.size() - 1) << "one line expected:\n" << r.out;
+    EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+    EXPECT_EQ(files_in_dir(), inputs) << args;
+  }
+};
+
+TEST_F(HostileInputs, EvalRefusesThemWithNoOutput) {
+  const std::string skel = y_fork();
+  for (const Hostile& h : hostile_point_sets()) {
+    SCOPED_TRACE(h.name);
+    const std::string pts = write(h.name, h.content);
+    expect_refused("eval " + skel + " --points " + pts + " --stats " + path("stats.json"), h, 2);
+    fs::remove(pts);
+  }
+}
+
+TEST_F(HostileInputs, GrowRefusesThemWithNoOutput) {
+  for (const Hostile& h : hostile_point_sets()) {
+    SCOPED_TRACE(h.name);
+    const std::string pts = write(h.name, h.content);
+    expect_refused(
+        "grow --points " + pts + " -o " + path("tree.json") + " --stats " + path("stats.json"), h,
+        1);
+    fs::remove(pts);
+  }
+}
+
+TEST_F(HostileInputs, GrowRefusesARootTooFarFromThePoints) {
+  // The points are readable; the root 1e200 away from them is not usable (its distance to the
+  // points' box is inf): the library's InvalidArgument, exit 2, no output.
+  const std::string pts = write("crown.xyz", "0 0 5\n1 0 5\n0 1 6\n");
+  const CliRun r = run_bounded("grow --points " + pts + " --root 1e200,0,0 -o " +
+                               path("tree.json") + " --stats " + path("stats.json"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("root 0 is too far from the attraction points"), std::string::npos) << r.out;
+  EXPECT_EQ(files_in_dir(), 1U);
+}
+
+TEST_F(HostileInputs, TheSameFilesWithinTheLimitsAreAccepted) {
+  // Control: large coordinates whose span fits, and one vertex, are read and evaluated.
+  const std::string skel = y_fork();
+  const std::string big = write("big.xyz", "0 0 5\n0 0 1e150\n1 1 -1e150\n");
+  const CliRun a = run_bounded("eval " + skel + " --points " + big);
+  ASSERT_EQ(a.code, 0) << a.out;
+  EXPECT_EQ(std::count(a.out.begin(), a.out.end(), '\n'), 3) << a.out;
+  EXPECT_EQ(a.out.find("nan"), std::string::npos) << a.out;
+  const std::string one = write("one.ply", ply_header("ascii", 1, "float") + "0 0 1\n");
+  const CliRun b = run_bounded("eval " + skel + " --points " + one);
+  ASSERT_EQ(b.code, 0) << b.out;
+  EXPECT_EQ(std::count(b.out.begin(), b.out.end(), '\n'), 1) << b.out;
+}
+
+}  // namespace
+}  // namespace ramiform::test

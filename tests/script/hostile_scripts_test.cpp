@@ -1,0 +1,222 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+//
+// Hostile scripts (issue 15): each asks for unbounded stack, time or memory and must instead be
+// refused with a located script error, or run within fixed bounds.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "ramiform/core/errors.h"
+#include "ramiform/field/operators.h"
+#include "ramiform/script/script.h"
+#include "script/session.h"
+#include "support/fixtures.h"
+
+namespace ramiform::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+class HostileScripts : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = temp_dir(std::string("hostile-") +
+                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    options_.out_dir = dir_.string();
+    options_.input_dir = dir_.string();
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // The InputError a script raises (fails the test if it runs).
+  InputError error_of(const std::string& text) {
+    ScriptSession s(options_);
+    try {
+      s.run_text(text, "t.rf");
+    } catch (const InputError& e) {
+      return e;
+    }
+    ADD_FAILURE() << "script ran without error";
+    return InputError("", 0, "none");
+  }
+
+  fs::path dir_;
+  ScriptOptions options_;
+};
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+TEST_F(HostileScripts, FiftyThousandDeepUnionChainIsAScriptError) {
+  // `union a b c1`, `union c1 b c2`, ...: c_k is nested k + 1 deep, so the line making
+  // c_kMaxFieldDepth is refused and nothing later runs (the chain once crashed the evaluation).
+  std::string text = "sphere a\nsphere b 0.5 center=0.3,0,0\nunion a b c1\n";
+  for (int k = 2; k <= 50000; ++k) {
+    text += "union c" + std::to_string(k - 1) + " b c" + std::to_string(k) + "\n";
+  }
+  const InputError e = error_of(text);
+  EXPECT_EQ(e.file(), "t.rf");
+  EXPECT_EQ(e.line(), 2 + kMaxFieldDepth);
+  EXPECT_EQ(e.column(), 1U);
+  EXPECT_EQ(e.problem().rfind("union: the fields would be nested", 0), 0U) << e.problem();
+  EXPECT_TRUE(contains(e.problem(), "maximum depth " + std::to_string(kMaxFieldDepth)))
+      << e.problem();
+}
+
+TEST_F(HostileScripts, DeepestAllowedChainEvaluatesAndDescribes) {
+  std::string text = "sphere a\nsphere b 0.5 center=0.3,0,0\nunion a b c1\n";
+  for (std::size_t k = 2; k + 1 < kMaxFieldDepth; ++k) {
+    text += "union c" + std::to_string(k - 1) + " b c" + std::to_string(k) + "\n";
+  }
+  const std::string top = "c" + std::to_string(kMaxFieldDepth - 2);
+  text += "translate " + top + " 0 0 0.5\n";  // one level more would be refused
+  text += "eval " + top + " 0.1 0 0.5\ninfo " + top + "\n";
+  ScriptSession s(options_);
+  const auto results = s.run_text(text, "t.rf");
+  EXPECT_TRUE(contains(results[results.size() - 2].message, "(inside")) << results.back().message;
+  const InputError e = error_of(text + "translate " + top + " 0 0 1\n");
+  EXPECT_EQ(e.line(), kMaxFieldDepth + 4);
+  EXPECT_EQ(e.problem().rfind("translate: transform: the fields would be nested", 0), 0U)
+      << e.problem();
+}
+
+// Runs script lines the way ScriptSession::execute_line does, on a session state the test can
+// look into (the objects' fields and their evaluation counters).
+void run_lines(ScriptSession::Impl& session, const std::vector<std::string>& lines) {
+  std::size_t line = 0;
+  for (const std::string& text : lines) {
+    std::vector<script::Token> tokens = script::tokenize(text, "t.rf", ++line);
+    const script::CommandSpec& spec = *script::command_table().at(tokens.front().text);
+    script::Call call(session, spec, std::move(tokens), "t.rf", line);
+    (void)spec.run(call);
+  }
+}
+
+TEST_F(HostileScripts, SharedSubExpressionsAreEvaluatedOnce) {
+  // Ten lines of `union x x x x x x x x y`: each result used 8 times by the next. Every path
+  // through the DAG would make 8^10 (about 10^9) evaluations of x0 per point; each distinct
+  // child is evaluated once per batch.
+  ScriptSession::Impl session;
+  session.options = options_;
+  std::vector<std::string> lines = {"sphere x0", "line y"};
+  for (int k = 1; k <= 10; ++k) {
+    const std::string x = "x" + std::to_string(k - 1);
+    std::string line = "union";
+    for (int i = 0; i < 8; ++i) line += " " + x;
+    lines.push_back(line + " y x" + std::to_string(k));
+  }
+  lines.push_back("union x0 y plain");  // the same shape without sharing: max(v, v) = v
+  run_lines(session, lines);
+  const Field& x0 = *session.objects.at("x0").field;
+  const Field& y = *session.objects.at("y").field;
+  const Field& top = *session.objects.at("x10").field;
+  const Field& plain = *session.objects.at("plain").field;
+  const std::vector<Vec3> points = {Vec3(0.1, 0.2, 0), Vec3(0.5, 0, 1.2), Vec3(0, 0, 1.6),
+                                    Vec3(0.9, 0.5, 0.1), Vec3(3, 0, 0)};
+  x0.reset_evaluations();
+  y.reset_evaluations();
+  std::vector<double> v(points.size()), pv(points.size());
+  std::vector<Vec3> g(points.size()), pg(points.size());
+  top.evaluate(points, v, g);
+  EXPECT_EQ(x0.evaluations(), points.size());
+  EXPECT_EQ(y.evaluations(), 10 * points.size());
+  plain.evaluate(points, pv, pg);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(v[i], pv[i]) << i;
+    EXPECT_TRUE(g[i] == pg[i]) << i;
+  }
+  // info bounds the shape, save_mesh restricts it: both visit each distinct child once too.
+  x0.reset_evaluations();
+  run_lines(session, {"info x10", "save_mesh x10 m.ply resolution=16"});
+  EXPECT_LT(x0.evaluations(), 100000U);
+}
+
+TEST_F(HostileScripts, NestedParamsAreCappedBeforeTheyAllocate) {
+  // Each parameter ten times the last: 10^k bytes on line k; 10^6 fits in
+  // kMaxSubstitutedLine (1 MiB), 10^7 does not (this script once asked for 17 GB).
+  std::string text = "param p1 0123456789\n";
+  for (int k = 2; k <= 11; ++k) {
+    const std::string prev = "$p" + std::to_string(k - 1);
+    std::string value;
+    for (int i = 0; i < 10; ++i) value += prev;
+    text += "param p" + std::to_string(k) + " " + value + "\n";
+  }
+  ASSERT_LT(text.size(), 500U);
+  const InputError e = error_of(text);
+  EXPECT_EQ(e.line(), 7U);
+  EXPECT_TRUE(contains(e.problem(), "param: line 7 grows beyond the limit of " +
+                                        std::to_string(script::kMaxSubstitutedLine) + " bytes"))
+      << e.problem();
+
+  // Many lines that each stay within the line limit cannot pile up more than
+  // kMaxParameterBytes.
+  std::string many = text.substr(0, text.find("param p7"));
+  for (int k = 0; k < 40; ++k) many += "param q" + std::to_string(k) + " $p6\n";
+  const InputError total = error_of(many);
+  EXPECT_EQ(total.line(), 6 + script::kMaxParameterBytes / 1000000);
+  EXPECT_TRUE(contains(total.problem(), "kMaxParameterBytes")) << total.problem();
+  // A long value is shown cut short in the result that is kept.
+  ScriptSession s(options_);
+  const auto results = s.run_text(text.substr(0, text.find("param p7")), "t.rf");
+  for (const CommandResult& r : results) EXPECT_LT(r.message.size(), 300U);
+}
+
+TEST_F(HostileScripts, TwentyThousandTranslatesKeepBoundedText) {
+  // Every transform used to append to its object's summary and every result copied it: the
+  // text kept grew with the square of the chain's length (8 GB for 200,000 lines).
+  std::string text;
+  for (int s = 0; s < 20; ++s) text += "sphere s" + std::to_string(s) + "\n";
+  for (int k = 0; k < 1000; ++k) {
+    for (int s = 0; s < 20; ++s) text += "translate s" + std::to_string(s) + " 0 0 0.001\n";
+  }
+  text += "info s0\nlist\n";
+  ScriptSession session(options_);
+  const auto results = session.run_text(text, "t.rf");
+  ASSERT_EQ(results.size(), 20U + 20000U + 2U);
+  std::size_t total = 0;
+  for (std::size_t i = 0; i + 1 < results.size(); ++i) {
+    ASSERT_LE(results[i].message.size(), script::kMaxSummary + 80) << i;
+    total += results[i].message.size();
+  }
+  EXPECT_LT(total, 20022U * (script::kMaxSummary + 80));
+  const std::string& info = results[results.size() - 2].message;
+  EXPECT_EQ(info.rfind("s0: sphere, radius 1 at 0,0,0, translated by 0,0,0.001", 0), 0U) << info;
+  EXPECT_TRUE(contains(info, " more transforms)")) << info;
+  EXPECT_LT(results.back().message.size(), 20 * (script::kMaxSummary + 80));
+}
+
+TEST_F(HostileScripts, ListNamesAtMostKMaxListedObjects) {
+  std::string text;
+  for (std::size_t k = 0; k < script::kMaxListed + 5; ++k)
+    text += "sphere s" + std::to_string(k) + "\n";
+  ScriptSession session(options_);
+  session.run_text(text, "t.rf");
+  const std::string list = session.execute_line("list").message;
+  EXPECT_EQ(static_cast<std::size_t>(std::count(list.begin(), list.end(), '\n')),
+            script::kMaxListed);
+  EXPECT_TRUE(list.ends_with("\n... and 5 more")) << list.substr(list.size() - 40);
+}
+
+TEST_F(HostileScripts, LongNamesAndSummariesAreRefusedOrCut) {
+  const std::string name(script::kMaxNameLength + 1, 'n');
+  const InputError e = error_of("sphere " + name + "\n");
+  EXPECT_TRUE(contains(e.problem(), "at most " + std::to_string(script::kMaxNameLength)))
+      << e.problem();
+  // A union of many inputs names them all in its summary: cut to kMaxSummary.
+  std::string text = "sphere a\n";
+  std::string line = "union";
+  for (int i = 0; i < 200; ++i) line += " a";
+  text += line + " u\ninfo u\n";
+  ScriptSession session(options_);
+  const auto results = session.run_text(text, "t.rf");
+  EXPECT_LE(results[1].message.size(), script::kMaxSummary + 3);
+  EXPECT_TRUE(results[1].message.ends_with("...")) << results[1].message;
+}
+
+}  // namespace
+}  // namespace ramiform::test
