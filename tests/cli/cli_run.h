@@ -25,8 +25,12 @@ struct CliRun {
 };
 
 /// Runs `RAMIFORM_BINARY args` through the shell (args are not quoted) and collects its output.
-inline CliRun run_cli(const std::string& args) {
-  const std::string cmd = std::string(RAMIFORM_BINARY) + " " + args + " 2>&1";
+/// With `kill_after_seconds` > 0 the run is killed (SIGKILL, code -1) when it takes longer, so
+/// that a hang fails a test instead of stalling the suite.
+inline CliRun run_cli(const std::string& args, int kill_after_seconds = 0) {
+  const std::string limit =
+      kill_after_seconds > 0 ? "timeout -s KILL " + std::to_string(kill_after_seconds) + " " : "";
+  const std::string cmd = limit + std::string(RAMIFORM_BINARY) + " " + args + " 2>&1";
   CliRun r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (pipe == nullptr) return r;

@@ -23,19 +23,7 @@ namespace fs = std::filesystem;
 
 // run_cli under `timeout`: before the fixes `grow` on points at +-1e308 never returned, and a
 // regression must fail the test rather than hang the suite.
-CliRun run_bounded(const std::string& args) {
-  const std::string cmd =
-      "timeout -s KILL 30 " + std::string(RAMIFORM_BINARY) + " " + args + " 2>&1";
-  CliRun r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buf[4096];
-  std::size_t n = 0;
-  while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) r.out.append(buf, n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+CliRun run_bounded(const std::string& args) { return run_cli(args, 30); }
 
 std::string ply_header(const char* format, std::size_t vertices, const char* type) {
   return std::string("ply\nformat ") + format + " 1.0\nelement vertex " + std::to_string(vertices) +

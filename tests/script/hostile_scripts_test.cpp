@@ -15,6 +15,7 @@
 #include "ramiform/field/operators.h"
 #include "ramiform/script/script.h"
 #include "script/session.h"
+#include "script/script_fixture.h"
 #include "support/fixtures.h"
 
 namespace ramiform::test {
@@ -22,31 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class HostileScripts : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = temp_dir(std::string("hostile-") +
-                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    options_.out_dir = dir_.string();
-    options_.input_dir = dir_.string();
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  // The InputError a script raises (fails the test if it runs).
-  InputError error_of(const std::string& text) {
-    ScriptSession s(options_);
-    try {
-      s.run_text(text, "t.rf");
-    } catch (const InputError& e) {
-      return e;
-    }
-    ADD_FAILURE() << "script ran without error";
-    return InputError("", 0, "none");
-  }
-
-  fs::path dir_;
-  ScriptOptions options_;
-};
+class HostileScripts : public ScriptDirTest {};
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;

@@ -17,6 +17,7 @@
 #include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/script/script.h"
+#include "script/script_fixture.h"
 #include "support/fixtures.h"
 
 namespace ramiform::test {
@@ -37,40 +38,14 @@ double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b) {
   return (p - (a + t * ab)).norm();
 }
 
-class ScriptTest : public ::testing::Test {
+class ScriptTest : public ScriptDirTest {
  protected:
-  void SetUp() override {
-    dir_ = temp_dir(std::string("script-") +
-                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    options_.out_dir = dir_.string();
-    options_.input_dir = dir_.string();
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::size_t files() const {
-    return static_cast<std::size_t>(
-        std::distance(fs::directory_iterator(dir_), fs::directory_iterator()));
-  }
-  // The InputError a script raises (fails the test if it runs).
-  InputError error_of(const std::string& text) {
-    ScriptSession s(options_);
-    try {
-      s.run_text(text, "t.rf");
-    } catch (const InputError& e) {
-      return e;
-    }
-    ADD_FAILURE() << "script ran without error:\n" << text;
-    return InputError("", 0, "none");
-  }
   double value(ScriptSession& s, const std::string& name, const Vec3& p) {
     const CommandResult r = s.execute_line("eval " + name + " " + std::to_string(p.x()) + " " +
                                            std::to_string(p.y()) + " " + std::to_string(p.z()));
     const std::size_t eq = r.message.find("= ");
     return std::stod(r.message.substr(eq + 2));
   }
-
-  fs::path dir_;
-  ScriptOptions options_;
 };
 
 TEST_F(ScriptTest, ThesisDifferenceListingRunsVerbatimAndMatchesTheFormula) {
