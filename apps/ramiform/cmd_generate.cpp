@@ -62,14 +62,14 @@ void register_generate(CLI::App& root, Action& action) {
                 with_default("child/parent edge length", t.length_ratio, Tree::kMinLengthRatio,
                              Tree::kMaxLengthRatio))
       ->check(CLI::Range(Tree::kMinLengthRatio, Tree::kMaxLengthRatio));
-  c->add_option("--branch-angle", t.branch_angle_deg,
-                with_default("child/parent angle, degrees, below " +
-                                 format_number(Tree::kMaxBranchAngleDeg),
-                             t.branch_angle_deg))
+  c->add_option(
+       "--branch-angle", t.branch_angle_deg,
+       with_default("child/parent angle, degrees, below " + format_number(Tree::kMaxBranchAngleDeg),
+                    t.branch_angle_deg))
       ->check(CLI::Range(0.0, Tree::kMaxBranchAngleDeg));
-  c->add_option("--jitter", t.jitter_deg,
-                with_default("random direction deviation, degrees", t.jitter_deg, 0.0,
-                             Tree::kMaxJitterDeg))
+  c->add_option(
+       "--jitter", t.jitter_deg,
+       with_default("random direction deviation, degrees", t.jitter_deg, 0.0, Tree::kMaxJitterDeg))
       ->check(CLI::Range(0.0, Tree::kMaxJitterDeg));
   c->add_option("--tip-radius", t.tip_radius, with_default("radius of every tip", t.tip_radius))
       ->check(CLI::PositiveNumber);

@@ -14,7 +14,8 @@
 namespace ramiform::cli {
 
 void add_common_options(CLI::App& app, CommonOptions& options) {
-  app.add_option("--threads", options.threads, "worker threads (0 = all cores); results never depend on it")
+  app.add_option("--threads", options.threads,
+                 "worker threads (0 = all cores); results never depend on it")
       ->check(CLI::Range(0, Context::kMaxThreads));
   app.add_option("--stats", options.stats_path,
                  "write run statistics (per-stage seconds, counts, field_evals) to this JSON file");

@@ -3,9 +3,9 @@
 #pragma once
 
 // Internal: the path of sweep and skin surfaces (sweep.h; Kochhar 2010, "Application of implicit
-// methods to the interactive modeling of trees" (M.Sc. thesis), §4.1–4.2): the exact curve, its flattened polyline with curve
-// parameters and normalized arc lengths, the projection of points on it and its
-// rotation-minimizing frames.
+// methods to the interactive modeling of trees" (M.Sc. thesis), §4.1–4.2): the exact curve, its
+// flattened polyline with curve parameters and normalized arc lengths, the projection of points on
+// it and its rotation-minimizing frames.
 
 #include <cmath>
 #include <cstddef>

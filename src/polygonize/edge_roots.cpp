@@ -73,12 +73,15 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
     return 1.0 - 1.0 / (c * c);
   };
   std::vector<RootBracket> brackets(n);
-  parallel::for_each(n, kGrain, [&](std::size_t e) {
-    // A zero end (beyond a truncated or compactly supported kernel) is floored, see kFloor.
-    transformed[e] = use_transform && fa[e] >= 0 && fb[e] >= 0 && fa[e] + fb[e] > 0 ? 1 : 0;
-    brackets[e] = RootBracket(0.0, g_of(e, fa[e]), 1.0, g_of(e, fb[e]),
-                              transformed[e] != 0 ? kVanished : kNeverVanished);
-  }, ctx);
+  parallel::for_each(
+      n, kGrain,
+      [&](std::size_t e) {
+        // A zero end (beyond a truncated or compactly supported kernel) is floored, see kFloor.
+        transformed[e] = use_transform && fa[e] >= 0 && fb[e] >= 0 && fa[e] + fb[e] > 0 ? 1 : 0;
+        brackets[e] = RootBracket(0.0, g_of(e, fa[e]), 1.0, g_of(e, fb[e]),
+                                  transformed[e] != 0 ? kVanished : kNeverVanished);
+      },
+      ctx);
   std::vector<std::uint32_t> active(n);
   for (std::size_t e = 0; e < n; ++e) active[e] = static_cast<std::uint32_t>(e);
   std::vector<double> t(n, 0.0);
@@ -95,29 +98,36 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
     active.resize(keep);
     if (active.empty()) break;
     points.resize(active.size());
-    parallel::for_each(active.size(), kGrain, [&](std::size_t q) {
-      const std::uint32_t e = active[q];
-      const RootBracket& r = brackets[e];
-      const std::optional<double> first =
-          transformed[e] != 0 && step == 0 && !r.is_vanished() ? log_secant(r) : std::nullopt;
-      t[e] = first ? r.safeguard(*first) : r.probe();
-      points[q] = a[e] + t[e] * d[e];
-    }, ctx);
+    parallel::for_each(
+        active.size(), kGrain,
+        [&](std::size_t q) {
+          const std::uint32_t e = active[q];
+          const RootBracket& r = brackets[e];
+          const std::optional<double> first =
+              transformed[e] != 0 && step == 0 && !r.is_vanished() ? log_secant(r) : std::nullopt;
+          t[e] = first ? r.safeguard(*first) : r.probe();
+          points[q] = a[e] + t[e] * d[e];
+        },
+        ctx);
     values.resize(points.size());
     field.evaluate(points, values, {}, ctx);
     evaluations += points.size();
-    parallel::for_each(active.size(), kGrain, [&](std::size_t q) {
-      const std::uint32_t e = active[q];
-      if (std::isnan(values[q]) || std::abs(values[q] - iso) <= tol::kRootValue * std::abs(iso)) {
-        brackets[e].collapse(t[e]);  // on the surface
-      } else {
-        brackets[e].update(t[e], g_of(e, values[q]));
-      }
-    }, ctx);
+    parallel::for_each(
+        active.size(), kGrain,
+        [&](std::size_t q) {
+          const std::uint32_t e = active[q];
+          if (std::isnan(values[q]) ||
+              std::abs(values[q] - iso) <= tol::kRootValue * std::abs(iso)) {
+            brackets[e].collapse(t[e]);  // on the surface
+          } else {
+            brackets[e].update(t[e], g_of(e, values[q]));
+          }
+        },
+        ctx);
   }
   std::vector<Vec3> out(n);
-  parallel::for_each(n, kGrain,
-                     [&](std::size_t e) { out[e] = a[e] + brackets[e].estimate() * d[e]; }, ctx);
+  parallel::for_each(
+      n, kGrain, [&](std::size_t e) { out[e] = a[e] + brackets[e].estimate() * d[e]; }, ctx);
   return out;
 }
 

@@ -318,9 +318,10 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
        "lsystem TREE EXAMPLE|FILE [iterations=N] [angle=DEG] [step=L] [width=W] [radii=width|pipe]",
        "A skeleton from a bracketed parametric L-system (docs/growth.md): one of the built-in "
        "examples or a file, derived `iterations`" +
-           default_text(ls.iterations, 0, LSystemOptions::kMaxIterations) + " times; the turtle turns by `angle`" +
-           default_text(ls.angle_deg) + " degrees, moves by `step`" + default_text(ls.step) +
-           " and starts with `width`" + default_text(ls.width) + ".",
+           default_text(ls.iterations, 0, LSystemOptions::kMaxIterations) +
+           " times; the turtle turns by `angle`" + default_text(ls.angle_deg) +
+           " degrees, moves by `step`" + default_text(ls.step) + " and starts with `width`" +
+           default_text(ls.width) + ".",
        "lsystem plant abop_fig1_24a iterations=4\nsave_skeleton plant plant.json",
        {"iterations", "angle", "step", "width", "radii", "tip_radius", "pipe_exponent"},
        run_lsystem,

@@ -50,8 +50,8 @@ void KillSafety::stop_with(int sig) const {
   const std::string script = write("slow.rf", kSlowScript);
   const fs::path out = path("out");
   fs::create_directories(out);
-  std::vector<std::string> args = {RAMIFORM_BINARY, "run", script, "--out", out.string(),
-                                   "--quiet"};
+  std::vector<std::string> args = {RAMIFORM_BINARY, "run",        script,
+                                   "--out",         out.string(), "--quiet"};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);

@@ -14,8 +14,8 @@
 #include "ramiform/core/errors.h"
 #include "ramiform/field/operators.h"
 #include "ramiform/script/script.h"
-#include "script/session.h"
 #include "script/script_fixture.h"
+#include "script/session.h"
 #include "support/fixtures.h"
 
 namespace ramiform::test {

@@ -54,7 +54,7 @@ struct LSystemOptions {
   static constexpr double kMaxPipeExponent = 3.0;  ///< largest `pipe_exponent`
 
   static constexpr int kMaxIterations = 100;  ///< most `iterations` (max_modules stops far earlier)
-  int iterations = 5;       ///< derivation steps, 0..kMaxIterations
+  int iterations = 5;                         ///< derivation steps, 0..kMaxIterations
   double angle_deg = 25;    ///< default turn angle of + - & ^ \ / (degrees), finite
   double step = 1;          ///< default length of F and f, model units, finite
   double width = 0.1;       ///< initial width (diameter), model units, > 0

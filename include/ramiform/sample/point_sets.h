@@ -241,9 +241,8 @@ struct NearMeshOptions {
 /// with `seed` (partial Fisher-Yates), so the thinned region keeps its distribution. The
 /// survivors keep their order (and normals). `percent` in [0, 100] (InvalidArgument otherwise).
 /// `secondary` is evaluated on `ctx`'s threads (nullptr: all cores).
-[[nodiscard]] PointSet thin_points(const PointSet& points, const Field& secondary,
-                                   double percent, std::uint64_t seed,
-                                   const Context* ctx = nullptr);
+[[nodiscard]] PointSet thin_points(const PointSet& points, const Field& secondary, double percent,
+                                   std::uint64_t seed, const Context* ctx = nullptr);
 
 /// The distribution names: "uniform", "stratified", "poisson", "lane", "field" (density from
 /// field values), "boundary" (denser near the surface, Figure 6.3a), "near_surface"

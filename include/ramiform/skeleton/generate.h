@@ -16,10 +16,10 @@ namespace ramiform {
 struct BranchingTreeOptions {
   static constexpr double kMinPipeExponent = 1.0;  ///< smallest `pipe_exponent`
   static constexpr double kMaxPipeExponent = 4.0;  ///< largest `pipe_exponent`
-  static constexpr std::size_t kMinSegments = 1;           ///< fewest `segments`
+  static constexpr std::size_t kMinSegments = 1;   ///< fewest `segments`
   static constexpr std::size_t kMaxSegments = 10'000'000;  ///< most `segments` (memory guard)
-  static constexpr double kMinLengthRatio = 1e-3;  ///< smallest `length_ratio`
-  static constexpr double kMaxLengthRatio = 1.0;   ///< largest `length_ratio`
+  static constexpr double kMinLengthRatio = 1e-3;          ///< smallest `length_ratio`
+  static constexpr double kMaxLengthRatio = 1.0;           ///< largest `length_ratio`
   static constexpr double kMaxBranchAngleDeg = 90;  ///< `branch_angle_deg` must stay below it
   static constexpr double kMaxJitterDeg = 45;       ///< largest `jitter_deg`
 
@@ -29,7 +29,7 @@ struct BranchingTreeOptions {
   double length_ratio = 0.8;    ///< child / parent edge length, kMinLengthRatio..kMaxLengthRatio
   /// Angle between a child and its parent's direction, degrees, in [0, kMaxBranchAngleDeg).
   double branch_angle_deg = 32;
-  double jitter_deg = 6;  ///< random deviation of each direction, degrees, 0..kMaxJitterDeg
+  double jitter_deg = 6;        ///< random deviation of each direction, degrees, 0..kMaxJitterDeg
   double tip_radius = 0.02;     ///< radius of every tip node, model units, > 0
   /// Pipe model exponent n of r^n = sum r_child^n, kMinPipeExponent..kMaxPipeExponent.
   double pipe_exponent = 2.0;
