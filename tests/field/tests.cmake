@@ -13,12 +13,6 @@ set(RAMIFORM_field_TESTS
   field/sweep_region_test.cpp
   field/sweep_interpolation_test.cpp
   field/simd_targets_test.cpp)
-# The sweep surfaces' 2-D distance and interpolation are internal (src/field/); their tests
-# reach them directly.
-set_source_files_properties(field/sweep_region_test.cpp field/sweep_interpolation_test.cpp
-                            PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/src)
 # The SIMD-target test forces Highway targets (hwy/targets.h; libhwy comes with the field
 # library) and asks the internal kernels (src/field/skeleton_field_simd.h) which one they
-# dispatch to.
-set_source_files_properties(field/simd_targets_test.cpp
-                            PROPERTIES INCLUDE_DIRECTORIES ${PROJECT_SOURCE_DIR}/src)
+# dispatch to. Internal headers are reachable from every test program (tests/CMakeLists.txt).

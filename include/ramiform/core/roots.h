@@ -41,7 +41,8 @@ namespace ramiform {
 /// the signs first (find_root() does). Plain value type; copyable.
 class RootBracket {
  public:
-  /// An empty bracket at 0 (width 0): a placeholder to assign to.
+  /// The bracket [0, 0] (width 0, already converged); for containers of brackets that are
+  /// assigned before use.
   RootBracket() = default;
   /// The bracket [a, b] (a <= b) with g(a) = ga, g(b) = gb. A zero at an end is the root: the
   /// bracket collapses onto that end (onto b when both are 0, with width a - b < 0 then).
