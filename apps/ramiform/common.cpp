@@ -6,8 +6,10 @@
 #include <cctype>
 #include <charconv>
 #include <filesystem>
+#include <optional>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/memory.h"
 #include "ramiform/core/numbers.h"
 #include "ramiform/io/atomic_file.h"
 
@@ -19,9 +21,24 @@ void add_common_options(CLI::App& app, CommonOptions& options) {
       ->check(CLI::Range(0, Context::kMaxThreads));
   app.add_option("--stats", options.stats_path,
                  "write run statistics (per-stage seconds, counts, field_evals) to this JSON file");
+  app.add_option_function<std::string>(
+         "--max-memory",
+         [&options](const std::string& text) {
+           const std::optional<std::uint64_t> bytes = parse_memory_size(text);
+           if (!bytes) {
+             throw CLI::ValidationError(
+                 "--max-memory", "expected a size such as 512M, 8G or 2GiB, got '" + text + "'");
+           }
+           options.max_memory = *bytes;
+         },
+         "memory budget: a run whose estimated peak exceeds it is refused before it starts "
+         "(exit 2); e.g. 512M, 8G, 2GiB (default: the memory available when the run starts)")
+      ->type_name("SIZE");
 }
 
-RunScope::RunScope(const CommonOptions& options) : context_(options.threads) {}
+RunScope::RunScope(const CommonOptions& options) : context_(options.threads) {
+  context_.set_max_memory(options.max_memory);
+}
 
 RunScope::~RunScope() = default;
 
@@ -46,7 +63,8 @@ SkeletonFieldOptions field_options(const FieldFlags& flags) {
   if (!flags.kernel.empty()) {
     o.kernel = parse_kernel(flags.kernel);
   } else {
-    o.kernel = Kernel{o.surface == SurfaceKind::kDistance ? KernelKind::kWyvill : KernelKind::kCauchy, 0.0};
+    o.kernel = Kernel{
+        o.surface == SurfaceKind::kDistance ? KernelKind::kWyvill : KernelKind::kCauchy, 0.0};
   }
   if (o.surface == SurfaceKind::kConvolution && o.kernel.kind != KernelKind::kCauchy) {
     throw InvalidArgument("--kernel " + flags.kernel +
@@ -87,8 +105,7 @@ nlohmann::json StageTimer::seconds() const {
 
 void write_stats(const std::string& path, const nlohmann::json& stats) {
   if (path.empty()) return;
-  write_file_atomically(
-      path, [&](std::ostream& out) { out << stats.dump(2) << '\n'; });
+  write_file_atomically(path, [&](std::ostream& out) { out << stats.dump(2) << '\n'; });
 }
 
 void check_output_path(const std::string& path, std::span<const char* const> extensions) {

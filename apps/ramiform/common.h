@@ -9,6 +9,7 @@
 
 #include <array>
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <span>
@@ -24,10 +25,11 @@ namespace ramiform::cli {
 struct CommonOptions {
   int threads = 0;         ///< --threads N (0 = all cores)
   std::string stats_path;  ///< --stats FILE.json
+  std::uint64_t max_memory = 0;  ///< --max-memory SIZE in bytes (0 = the available memory)
 };
 void add_common_options(CLI::App& app, CommonOptions& options);
 
-/// The Context of one command run: --threads, passed to every library call (no global setting).
+/// The Context of one command run: --threads and --max-memory, passed to every library call (no global setting).
 class RunScope {
  public:
   explicit RunScope(const CommonOptions& options);

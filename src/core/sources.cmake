@@ -1,6 +1,7 @@
 set(RAMIFORM_CORE_SOURCES
   src/core/context.cpp
   src/core/errors.cpp
+  src/core/memory.cpp
   src/core/nnls.cpp
   src/core/numbers.cpp
   src/core/parallel.cpp

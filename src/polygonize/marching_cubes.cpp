@@ -13,6 +13,7 @@
 
 #include "polygonize/edge_roots.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/memory.h"
 #include "ramiform/core/numbers.h"
 #include "ramiform/core/parallel.h"
 
@@ -506,6 +507,15 @@ TriMesh marching_cubes(const Field& field, const MarchingCubesOptions& options, 
   const double iso = field.iso();
   const i64 nblocks = g.block_count();
   const auto nbu = static_cast<std::size_t>(nblocks);
+  // The least this run holds at once: a state and a wake flag per block, and three slabs of
+  // block records (the values, cases and vertices of active blocks come on top).
+  check_memory(ctx,
+               2.0 * static_cast<double>(nblocks) +
+                   3.0 * static_cast<double>(g.nb[0] * g.nb[1]) * sizeof(BlockData),
+               "marching_cubes: a grid of " + std::to_string(g.n[0]) + " x " +
+                   std::to_string(g.n[1]) + " x " + std::to_string(g.n[2]) + " cells",
+               "use a lower resolution or a larger cell size");
+  const auto start_budget = static_cast<double>(memory_budget(ctx));
   auto progress = [&](double f) {
     if (ctx != nullptr) ctx->report("marching cubes", f);
   };
@@ -599,6 +609,14 @@ TriMesh marching_cubes(const Field& field, const MarchingCubesOptions& options, 
     active_blocks += static_cast<i64>(list.size());
     if (nverts >= std::numeric_limits<std::uint32_t>::max()) {
       throw Failure("marching_cubes: more than 2^32 - 1 vertices; use a coarser cell size");
+    }
+    // The mesh so far (a position and about two triangles per vertex) against the budget of
+    // the start: a surface too fine for the memory stops here, not in the system's OOM killer.
+    const double mesh_bytes = 48.0 * static_cast<double>(nverts);
+    if (start_budget > 0 && mesh_bytes > start_budget) {
+      check_memory(ctx, mesh_bytes,
+                   "marching_cubes: the mesh of " + std::to_string(nverts) + " vertices so far",
+                   "use a lower resolution or a larger cell size");
     }
   };
   auto finish_slab = [&](i64 z) {

@@ -2,12 +2,11 @@
 // Copyright (c) 2026 the ramiform authors
 #include "polygonize/tetrahedral_checks.h"
 
-#include <unistd.h>
-
 #include <cmath>
 #include <string>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/memory.h"
 #include "ramiform/core/numbers.h"
 
 namespace ramiform::detail::tets {
@@ -59,16 +58,6 @@ void validate_station_count(const Skeleton& s, const TetrahedralOptions& o) {
   }
 }
 
-// The physical memory of this machine in bytes (0 when unknown).
-double physical_memory() {
-#if defined(_SC_PHYS_PAGES) && defined(_SC_PAGE_SIZE)
-  const long pages = sysconf(_SC_PHYS_PAGES);
-  const long page = sysconf(_SC_PAGE_SIZE);
-  if (pages > 0 && page > 0) return static_cast<double>(pages) * static_cast<double>(page);
-#endif
-  return 0;
-}
-
 }  // namespace
 
 void validate_options(const TetrahedralOptions& o) {
@@ -97,16 +86,12 @@ void validate_resolution(const Skeleton& s, const TetrahedralOptions& o) {
 // The peak was measured on generated trees of 1,500 and 20,000 segments: 1.6, 3.7, 12.8 and
 // 54 KB per point at levels 0 to 3. A run that cannot fit is refused up front instead of being
 // killed by the system after minutes of work.
-void check_memory(std::size_t points, const TetrahedralOptions& o) {
+void check_memory(std::size_t points, const TetrahedralOptions& o, const Context* ctx) {
   const double need = static_cast<double>(points) * 600.0 * std::pow(4.0, o.levels);
-  const double have = physical_memory();
-  if (have > 0 && need > have) {
-    throw InvalidArgument("tetrahedral polygonizer: " + std::to_string(points) +
-                          " bounding points at --levels " + std::to_string(o.levels) +
-                          " need at least " + format_number(need / 1e9) +
-                          " GB, more than this machine's " + format_number(have / 1e9) +
-                          " GB (use fewer levels, or check the radii's units)");
-  }
+  ramiform::check_memory(ctx, need,
+                         "tetrahedral polygonizer: " + std::to_string(points) +
+                             " bounding points at --levels " + std::to_string(o.levels),
+                         "use fewer levels, or check the radii's units");
 }
 
 }  // namespace ramiform::detail::tets

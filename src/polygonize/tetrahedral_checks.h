@@ -21,9 +21,9 @@ void validate_options(const TetrahedralOptions& options);
 /// in all. `skeleton` must be valid (validate()).
 void validate_resolution(const Skeleton& skeleton, const TetrahedralOptions& options);
 
-/// Throws InvalidArgument when `points` bounding points at `options.levels` would need more
-/// memory than the machine has (about 600 * 4^levels bytes per point at the peak); does nothing
-/// where the machine's memory is unknown.
-void check_memory(std::size_t points, const TetrahedralOptions& options);
+/// Throws ResourceLimit when `points` bounding points at `options.levels` would need more memory
+/// than memory_budget(ctx) (about 600 * 4^levels bytes per point at the peak); does nothing
+/// where the budget is unknown.
+void check_memory(std::size_t points, const TetrahedralOptions& options, const Context* ctx);
 
 }  // namespace ramiform::detail::tets

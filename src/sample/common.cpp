@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <span>
+#include <string>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/memory.h"
 #include "ramiform/core/parallel.h"
 
 namespace ramiform::sample_detail {
@@ -44,6 +46,11 @@ StatsScope::~StatsScope() {
   stats.seconds = watch_.seconds();
   if (field_ != nullptr) stats.field_evals = field_->evaluations() - evals0_;
   *out_ = stats;
+}
+
+void check_point_memory(std::size_t count, const Context* ctx, const std::string& fn) {
+  check_memory(ctx, 64.0 * static_cast<double>(count),
+               fn + ": " + std::to_string(count) + " points", "ask for fewer points");
 }
 
 void require(bool ok, const std::string& message) {

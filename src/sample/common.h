@@ -37,6 +37,11 @@ void evaluate_parallel(const Field& field, const std::vector<Vec3>& points,
                        std::vector<double>& values, std::vector<Vec3>* gradients,
                        const Context* ctx);
 
+/// Throws ResourceLimit (core/memory.h) when `count` points, with their normals and the
+/// samplers' bookkeeping (about 64 bytes a point), exceed the memory budget of `ctx`; `fn`
+/// names the sampler in the message.
+void check_point_memory(std::size_t count, const Context* ctx, const std::string& fn);
+
 /// The open set of field values {lo < f < hi} a sampler keeps.
 struct Target {
   double lo = -kInf;  ///< exclusive

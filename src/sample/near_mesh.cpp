@@ -75,6 +75,7 @@ PointSet sample_near_mesh(const TriMesh& mesh, const NearMeshOptions& options, s
   require(options.min_offset <= options.max_offset,
           "sample_near_mesh: min_offset " + format_number(options.min_offset) + " > max_offset " +
               format_number(options.max_offset));
+  check_point_memory(options.count, nullptr, "sample_near_mesh");
   const AreaTable a = area_table(mesh);
   if (!(a.total > 0.0)) {
     throw InputError("", 0, "sample_near_mesh: the mesh has no triangle of positive area");

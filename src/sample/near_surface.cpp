@@ -112,6 +112,7 @@ PointSet near_by_rejection(const Field& field, const NearSurfaceOptions& options
 PointSet sample_near_surface(const Field& field, const NearSurfaceOptions& options,
                              std::uint64_t seed, Context* ctx, SampleStats* stats) {
   throw_if(check(options), "sample_near_surface");
+  check_point_memory(options.count, ctx, "sample_near_surface");
   StatsScope scope(&field, stats);
   const Aabb box = options.box.isEmpty() ? band_box(field, options.epsilon) : options.box;
   check_box(box, "sample_near_surface");

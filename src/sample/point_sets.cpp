@@ -33,6 +33,7 @@ DartSpec inside_spec(const Field& field, std::size_t count, std::size_t max_atte
 
 PointSet sample_uniform(const Field& field, const UniformOptions& options, std::uint64_t seed,
                         Context* ctx, SampleStats* stats) {
+  check_point_memory(options.count, ctx, "sample_uniform");
   return sample_in_bounds(field, "sample_uniform", stats, [&](const Aabb& box, SampleStats& st) {
     const DartSpec spec = inside_spec(field, options.count, options.max_attempts);
     const Region region(field, box, spec.target, kRegionInside, ctx);
@@ -43,6 +44,7 @@ PointSet sample_uniform(const Field& field, const UniformOptions& options, std::
 PointSet sample_poisson(const Field& field, const PoissonOptions& options, std::uint64_t seed,
                         Context* ctx, SampleStats* stats) {
   throw_if(check(options), "sample_poisson");
+  check_point_memory(options.count, ctx, "sample_poisson");
   return sample_in_bounds(field, "sample_poisson", stats, [&](const Aabb& box, SampleStats& st) {
     DartSpec spec = inside_spec(field, options.count, options.max_attempts);
     const Region region(field, box, spec.target, kRegionInside, ctx);
@@ -61,6 +63,7 @@ PointSet sample_poisson(const Field& field, const PoissonOptions& options, std::
 PointSet sample_lane(const Field& field, const LaneOptions& options, std::uint64_t seed,
                      Context* ctx, SampleStats* stats) {
   throw_if(check(options), "sample_lane");
+  check_point_memory(options.count, ctx, "sample_lane");
   return sample_in_bounds(field, "sample_lane", stats, [&](const Aabb& box, SampleStats& st) {
     LaneSpec spec;
     spec.target = inside_target(field);
@@ -76,6 +79,7 @@ PointSet sample_lane(const Field& field, const LaneOptions& options, std::uint64
 PointSet sample_field_density(const Field& field, const FieldDensityOptions& options,
                               std::uint64_t seed, Context* ctx, SampleStats* stats) {
   throw_if(check(options, field.iso()), "sample_field_density");
+  check_point_memory(options.count, ctx, "sample_field_density");
   const auto body = [&](const Aabb& box, SampleStats& st) {
     DartSpec spec = inside_spec(field, options.count, options.max_attempts);
     const Region region(field, box, spec.target, kRegionInside, ctx);
@@ -91,6 +95,7 @@ PointSet sample_field_density(const Field& field, const FieldDensityOptions& opt
 PointSet sample_boundary(const Field& field, const BoundaryOptions& options, std::uint64_t seed,
                          Context* ctx, SampleStats* stats) {
   throw_if(check(options), "sample_boundary");
+  check_point_memory(options.count, ctx, "sample_boundary");
   return sample_in_bounds(field, "sample_boundary", stats, [&](const Aabb& box, SampleStats& st) {
     const double iso = field.iso();
     const double width =

@@ -89,6 +89,7 @@ PointSet random_subset(const std::vector<Vec3>& all, std::size_t count, std::uin
 
 PointSet sample_stratified(const Field& field, const StratifiedOptions& options, std::uint64_t seed,
                            Context* ctx, SampleStats* stats) {
+  check_point_memory(options.count, ctx, "sample_stratified");
   return sample_in_bounds(
       field, "sample_stratified", stats, [&](const Aabb& box, SampleStats& st) -> PointSet {
         if (options.count == 0) return {};

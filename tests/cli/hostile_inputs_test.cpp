@@ -130,5 +130,43 @@ TEST_F(HostileInputs, TheSameFilesWithinTheLimitsAreAccepted) {
   EXPECT_EQ(std::count(b.out.begin(), b.out.end(), '\n'), 1) << b.out;
 }
 
+TEST_F(HostileInputs, RunsAboveTheMemoryBudgetAreRefusedBeforeTheyStart) {
+  // --max-memory: the estimate is checked before the work; exit 2, the estimate and the budget
+  // in the message, nothing written.
+  const std::string skel = y_fork();
+  const std::string out = path("fork.ply");
+  const std::string stats = " --stats " + path("stats.json");
+  for (const std::string& job :
+       {std::string("mesh ") + skel + " -o " + out + " --levels 3",
+        std::string("mesh ") + skel + " -o " + out + " --method mc --resolution 400"}) {
+    SCOPED_TRACE(job);
+    const CliRun r = run_bounded(job + " --max-memory 100k" + stats);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_EQ(r.out.rfind("ramiform: error: ", 0), 0U) << r.out;
+    EXPECT_NE(r.out.find("need at least "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("more than the budget of 100 kB (the max_memory set for this run)"),
+              std::string::npos)
+        << r.out;
+    EXPECT_EQ(files_in_dir(), 1U);
+    // Within a budget of a gigabyte the same run succeeds.
+    const CliRun ok = run_bounded(job + " --max-memory 1GiB");
+    EXPECT_EQ(ok.code, 0) << ok.out;
+    EXPECT_TRUE(fs::exists(out));
+    fs::remove(out);
+  }
+  const std::string script =
+      write("many.rf", "sphere s 1\npoint_set_gen s uniform count=100000\nsave_point_set p.txt\n");
+  const CliRun r = run_bounded("run " + script + " --out " + dir_.string() + " --max-memory 1M");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("100000 points need at least 6.4 MB"), std::string::npos) << r.out;
+  EXPECT_EQ(files_in_dir(), 2U);  // the fork and the script
+  // A size that is not one is a usage error naming the option.
+  const CliRun bad = run_bounded("mesh " + skel + " -o " + out + " --max-memory 12X");
+  EXPECT_NE(bad.code, 0) << bad.out;
+  EXPECT_NE(bad.out.find("--max-memory"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("expected a size such as 512M"), std::string::npos) << bad.out;
+  EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace
 }  // namespace ramiform::test

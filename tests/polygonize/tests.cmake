@@ -4,7 +4,8 @@ set(RAMIFORM_polygonize_TESTS
   polygonize/marching_cubes_skeleton_test.cpp
   polygonize/tetrahedral_test.cpp
   polygonize/delaunay_test.cpp
-  polygonize/edge_roots_test.cpp)
+  polygonize/edge_roots_test.cpp
+  polygonize/memory_budget_test.cpp)
 
 # The generator of src/polygonize/mc_tables.inc (header-only logic in tools/mc_table_generator.h,
 # which mc_tables_test.cpp also uses). Regenerate with:

@@ -3,11 +3,13 @@
 #pragma once
 
 /// \file
-/// `Context`: progress reporting, cancellation and the thread count of long operations.
+/// `Context`: progress reporting, cancellation, the thread count and the memory budget of long
+/// operations.
 /// Every long operation takes `Context*`; nullptr costs nothing and means "all cores, no
 /// progress, never cancelled". Operations check it once per chunk of work, never per sample.
 
 #include <atomic>
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -28,6 +30,11 @@ class Context {
   [[nodiscard]] int threads() const { return threads_; }
   void set_threads(int threads) { threads_ = threads; }
 
+  /// The most memory, in bytes, a long operation may plan to use (core/memory.h); 0, the
+  /// default, means the memory available on the machine when the operation starts.
+  [[nodiscard]] std::uint64_t max_memory() const { return max_memory_; }
+  void set_max_memory(std::uint64_t bytes) { max_memory_ = bytes; }
+
   void set_progress(ProgressFn fn) { progress_ = std::move(fn); }
   /// Reports progress (no-op without a callback).
   void report(const std::string& stage, double fraction) const {
@@ -42,6 +49,7 @@ class Context {
 
  private:
   int threads_ = 0;
+  std::uint64_t max_memory_ = 0;
   ProgressFn progress_;
   std::atomic<bool> cancelled_{false};
 };

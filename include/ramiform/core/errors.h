@@ -43,6 +43,21 @@ class InputError : public std::runtime_error {
   std::string problem_;
 };
 
+/// A request that would need more memory than the budget allows (core/memory.h). It is an
+/// InvalidArgument (the caller asked for too much), so the CLI exits with 2.
+class ResourceLimit : public InvalidArgument {
+ public:
+  /// `needed` and `budget` in bytes.
+  ResourceLimit(const std::string& message, double needed, double budget)
+      : InvalidArgument(message), needed_(needed), budget_(budget) {}
+  [[nodiscard]] double needed() const { return needed_; }  ///< estimated peak, bytes
+  [[nodiscard]] double budget() const { return budget_; }  ///< the budget it exceeds, bytes
+
+ private:
+  double needed_;
+  double budget_;
+};
+
 /// A long operation was cancelled through its Context.
 class Cancelled : public std::runtime_error {
  public:
