@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "ramiform/core/portable_math.h"
+
 namespace ramiform {
 namespace {
 
@@ -66,7 +68,7 @@ double Rng::normal() {
     const double u = 2.0 * uniform() - 1.0;
     const double v = 2.0 * uniform() - 1.0;
     const double s = u * u + v * v;
-    if (s > 0.0 && s < 1.0) return u * std::sqrt(-2.0 * std::log(s) / s);
+    if (s > 0.0 && s < 1.0) return u * std::sqrt(-2.0 * pm::log(s) / s);
   }
 }
 

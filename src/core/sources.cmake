@@ -5,5 +5,6 @@ set(RAMIFORM_CORE_SOURCES
   src/core/nnls.cpp
   src/core/numbers.cpp
   src/core/parallel.cpp
+  src/core/portable_math.cpp
   src/core/random.cpp
   src/core/roots.cpp)

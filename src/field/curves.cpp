@@ -9,6 +9,7 @@
 #include <string>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/portable_math.h"
 
 namespace ramiform {
 namespace {
@@ -214,7 +215,7 @@ class CurveEval {
         d[k] = (1 - alpha) * d[k - 1] + alpha * d[k];
       }
     }
-    const double chain = std::pow(u1 - u0, order);
+    const double chain = pm::pow(u1 - u0, order);
     return chain * d[deg];
   }
 

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "ramiform/core/portable_math.h"
+
 namespace ramiform::detail {
 
 /// The C1 fade window of an infinite-support kernel at v = (distance / cut-off distance)^2:
@@ -27,7 +29,7 @@ inline double cauchy_segment_reach(double s, double len, double weight, double l
   const double r_len = weight * len / level;                         // q^2 = r_len
   const double r_inf = weight * std::numbers::pi / (2 * s * level);  // q^(3/2) = r_inf
   const double q_len = std::sqrt(r_len);
-  const double q_inf = std::cbrt(r_inf * r_inf);
+  const double q_inf = pm::cbrt(r_inf * r_inf);
   const double q = std::min(q_len, q_inf);
   return q <= 1 ? 0.0 : std::sqrt(q - 1) / s;
 }

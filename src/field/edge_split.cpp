@@ -8,6 +8,7 @@
 
 #include "field/radius_fit_detail.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/field/radius_fit.h"
 
 namespace ramiform {
@@ -47,11 +48,11 @@ int piece_count(const SkeletonNode& na, const SkeletonNode& nb, double len,
   const bool tapered = is_tapered(na, nb);
   auto length_ratio = [&](int k) {
     if (!tapered) return len / (k * na.radius);
-    const double q = std::pow(nb.radius / na.radius, 1.0 / k);
+    const double q = pm::pow(nb.radius / na.radius, 1.0 / k);
     return len * 2 * std::abs(q - 1) / ((q + 1) * std::abs(nb.radius - na.radius));
   };
   int pieces = tapered ? static_cast<int>(std::ceil(
-                             std::log(ratio) / -std::log1p(-options.max_taper) - kCountSlack))
+                             pm::log(ratio) / -pm::log1p(-options.max_taper) - kCountSlack))
                        : 1;
   pieces = std::max(pieces, 1);
   while (pieces < options.max_pieces && length_ratio(pieces) > options.max_length) ++pieces;
@@ -75,7 +76,7 @@ SplitSkeleton split_edges(const Skeleton& skeleton, const EdgeSplitOptions& opti
     for (int k = 1; k < pieces; ++k) {
       double t = static_cast<double>(k) / pieces;
       if (tapered) {  // the node where the radius has changed by the k-th power of q
-        const double r = na.radius * std::pow(nb.radius / na.radius, t);
+        const double r = na.radius * pm::pow(nb.radius / na.radius, t);
         t = (r - na.radius) / (nb.radius - na.radius);
       }
       out.skeleton.nodes.push_back(

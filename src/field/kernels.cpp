@@ -9,6 +9,7 @@
 
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/tolerances.h"
 
 namespace ramiform {
@@ -65,12 +66,12 @@ double Kernel::value(double x) const {
       const double y = x * x;
       return 1 + y * (kWyvillC + y * (kWyvillB + y * kWyvillA));
     }
-    case KernelKind::kBlinn: return std::exp(-shape() * x * x);
+    case KernelKind::kBlinn: return pm::exp(-shape() * x * x);
     case KernelKind::kMetaball:
       if (x <= 1.0 / 3.0) return 1 - 3 * x * x;
       if (x < 1) return 1.5 * (1 - x) * (1 - x);
       return 0;
-    case KernelKind::kInversePower: return std::pow(std::max(x, kInversePowerMinX), -(shape() - 1));
+    case KernelKind::kInversePower: return pm::pow(std::max(x, kInversePowerMinX), -(shape() - 1));
     case KernelKind::kCauchy: {
       const double q = 1 + x * x;
       return 1 / (q * q);
@@ -86,14 +87,14 @@ double Kernel::derivative(double x) const {
       const double y = x * x;
       return 2 * x * (kWyvillC + y * (2 * kWyvillB + 3 * kWyvillA * y));
     }
-    case KernelKind::kBlinn: return -2 * shape() * x * std::exp(-shape() * x * x);
+    case KernelKind::kBlinn: return -2 * shape() * x * pm::exp(-shape() * x * x);
     case KernelKind::kMetaball:
       if (x <= 1.0 / 3.0) return -6 * x;
       if (x < 1) return -3 * (1 - x);
       return 0;
     case KernelKind::kInversePower:
       if (x < kInversePowerMinX) return 0;
-      return -(shape() - 1) * std::pow(x, -shape());
+      return -(shape() - 1) * pm::pow(x, -shape());
     case KernelKind::kCauchy: {
       const double q = 1 + x * x;
       return -4 * x / (q * q * q);
@@ -118,12 +119,12 @@ double Kernel::x_at(double iso) const {
     }
     case KernelKind::kBlinn:
       if (iso >= 1) break;
-      return std::sqrt(-std::log(iso) / shape());
+      return std::sqrt(-pm::log(iso) / shape());
     case KernelKind::kMetaball:
       if (iso >= 1) break;
       if (iso >= 2.0 / 3.0) return std::sqrt((1 - iso) / 3);
       return 1 - std::sqrt(iso / 1.5);
-    case KernelKind::kInversePower: return std::pow(iso, -1 / (shape() - 1));
+    case KernelKind::kInversePower: return pm::pow(iso, -1 / (shape() - 1));
     case KernelKind::kCauchy:
       if (iso >= 1) break;
       return std::sqrt(1 / std::sqrt(iso) - 1);
@@ -137,8 +138,8 @@ double Kernel::support(double iso) const {
   switch (kind) {
     case KernelKind::kWyvill:
     case KernelKind::kMetaball: return 1.0;
-    case KernelKind::kBlinn: return floor_value >= 1 ? 0.0 : std::sqrt(-std::log(floor_value) / shape());
-    case KernelKind::kInversePower: return std::pow(floor_value, -1 / (shape() - 1));
+    case KernelKind::kBlinn: return floor_value >= 1 ? 0.0 : std::sqrt(-pm::log(floor_value) / shape());
+    case KernelKind::kInversePower: return pm::pow(floor_value, -1 / (shape() - 1));
     case KernelKind::kCauchy: return floor_value >= 1 ? 0.0 : std::sqrt(1 / std::sqrt(floor_value) - 1);
   }
   return 1.0;
@@ -215,7 +216,7 @@ double cauchy_segment_integral(const Vec3& p, const Vec3& a, const Vec3& b, doub
   // A + B = s len / sqrt(P) > 0, so atan2(A + B, 1 - AB) = pi/2 - atan((1 - AB) / (A + B)).
   const double A = s * u1 / root_p;
   const double B = s * x / root_p;
-  const double angle = std::numbers::pi / 2 - std::atan((1 - A * B) / (A + B));
+  const double angle = std::numbers::pi / 2 - pm::atan((1 - A * B) / (A + B));
   const double F = rational + angle / (2 * s * P * root_p);
   if (gradient != nullptr) {
     // dF/dx = k(|p-a|) - k(|p-b|); dF/dP = -2 int (P + s^2 u^2)^-3 du, by the reduction formula

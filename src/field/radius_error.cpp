@@ -16,6 +16,7 @@
 #include "field/radius_fit_detail.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/roots.h"
 #include "ramiform/field/radius_fit.h"
 
@@ -75,7 +76,7 @@ std::vector<Ray> candidate_rays(const std::vector<EdgeGeometry>& edges,
       for (int d = 0; d < options.directions; ++d) {
         const double angle =
             2 * std::numbers::pi * (d + kAnglePhase + 0.5 * (k % 2)) / options.directions;
-        rays.push_back({o, std::cos(angle) * g.e1 + std::sin(angle) * g.e2, r,
+        rays.push_back({o, pm::cos(angle) * g.e1 + pm::sin(angle) * g.e2, r,
                         static_cast<std::uint32_t>(e), options.search_factor});
       }
     }

@@ -13,6 +13,7 @@
 #include "field/radius_fit_detail.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/tolerances.h"
 #include "ramiform/field/radius_fit.h"
 
@@ -43,7 +44,7 @@ Candidates constraint_candidates(const Skeleton& skeleton, const std::vector<Edg
                         double phase) {
     for (int m = 0; m < per_circle; ++m) {
       const double angle = 2 * std::numbers::pi * (m + phase) / per_circle;
-      c.points.push_back(centre + r * (std::cos(angle) * g.e1 + std::sin(angle) * g.e2));
+      c.points.push_back(centre + r * (pm::cos(angle) * g.e1 + pm::sin(angle) * g.e2));
       c.owner.push_back(e);
     }
   };
@@ -114,7 +115,7 @@ Primitives edge_primitives(const std::vector<EdgeGeometry>& edges, const Skeleto
     EdgePrimitive& pr = out.prims[e];
     const double r = 0.5 * (g.ra + g.rb);
     pr.s = c / r;
-    pr.lambda = 2 * c * fo.iso * std::pow(1 + c * c, 1.5) / (std::numbers::pi * r);
+    pr.lambda = 2 * c * fo.iso * pm::pow(1 + c * c, 1.5) / (std::numbers::pi * r);
     const double reach = cauchy_segment_reach(pr.s, g.len, pr.lambda, floor_value);
     // The near part: where the edge's upper bound reaches near_level * iso.
     const double near = std::min(reach, cauchy_segment_reach(pr.s, g.len, pr.lambda, near_value));

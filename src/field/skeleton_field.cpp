@@ -13,6 +13,7 @@
 #include "field/skeleton_field_simd.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/tolerances.h"
 
 namespace ramiform {
@@ -268,7 +269,7 @@ class SkeletonField final : public Field {
     if (mode_.mode == PrimitiveMode::kCauchySegment && len > 0) {
       const double r = 0.5 * (p.ra + p.rb);
       s = c / r;
-      weight *= 2 * c * iso() * std::pow(1 + c * c, 1.5) / (std::numbers::pi * r);
+      weight *= 2 * c * iso() * pm::pow(1 + c * c, 1.5) / (std::numbers::pi * r);
       reach = cauchy_segment_reach(s, len, weight, floor_value);
       if (reach <= 0) return;
       inv_cut = 1 / (reach * reach);

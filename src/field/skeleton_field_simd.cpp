@@ -24,6 +24,7 @@
 #include <limits>
 
 #include "field/skeleton_field_simd.h"
+#include "ramiform/core/portable_math.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace ramiform::detail {
@@ -47,42 +48,16 @@ HWY_INLINE V horner(D d, V x, const double (&c)[N]) {
   return p;
 }
 
-// The polynomials below are Chebyshev fits (mpmath 1.3 chebyfit at 50 digits, coefficients
-// rounded to double) of the remainder of each function's series on its reduced range. With
-// the evaluation order of this file (checked in double arithmetic against mpmath on 1e5
-// arguments) exp is within 0.92 ulp, log within 1.04 ulp and cauchy_angle within 2.2 ulp.
-
-// (e^r - 1 - r) / r^2 on |r| <= ln 2 / 2, 11 terms (fit error 1.4e-18).
-constexpr double kExpPoly[] = {0.5,
-                               0.1666666666666667,
-                               0.04166666666666667,
-                               0.008333333333326141,
-                               0.0013888888888883752,
-                               0.00019841269874800493,
-                               2.4801587325533363e-05,
-                               2.7557255425746435e-06,
-                               2.7557273661348637e-07,
-                               2.510520637395701e-08,
-                               2.0914679376583935e-09};
-// (2 atanh(s) - 2 s) / s^3 in z = s^2 on |s| <= (sqrt 2 - 1) / (sqrt 2 + 1), 7 terms (3.1e-16,
-// scaled by z / 2 <= 0.015 in the result).
-constexpr double kLogPoly[] = {0.666666666666667,  0.39999999999899505, 0.28571428625975487,
-                               0.2222221113479508, 0.18182889125261723, 0.15331721600556042,
-                               0.14616449685043406};
-// (atan(t) / t - 1) / t^2 in w = t^2 on |t| <= tan(pi / 8), 11 terms (3.2e-17, scaled by
-// w <= 0.17 in the result).
-constexpr double kAtanPoly[] = {-0.3333333333333333,  0.1999999999999552,   -0.14285714284666542,
-                                0.11111111015256361,  -0.09090904578123903, 0.07692183190826087,
-                                -0.06664511447381948, 0.0585814891280221,   -0.0508544973794026,
-                                0.03923165829558719,  -0.01917688711906226};
-
-// 1.5 * 2^52: x + kRoundMagic - kRoundMagic rounds |x| < 2^51 to the nearest integer (ties to
-// even), and the low bits of x + kRoundMagic hold that integer in two's complement.
-constexpr double kRoundMagic = 6755399441055744.0;
-// ln 2 split so that k * kLn2Hi is exact for |k| < 2^21 (fdlibm's split).
-constexpr double kLn2Hi = 6.93147180369123816490e-01;
-constexpr double kLn2Lo = 1.90821492927058770002e-10;
-constexpr double kInvLn2 = 1.44269504088896338700;
+// The polynomials and constants are those of the scalar functions (core/portable_math.h), in
+// the same evaluation order: checked in double arithmetic against mpmath on 1e5 arguments, exp
+// is within 0.92 ulp, log within 1.04 ulp and cauchy_angle within 2.2 ulp.
+using pm::detail::kAtanPoly;
+using pm::detail::kExpPoly;
+using pm::detail::kInvLn2;
+using pm::detail::kLn2Hi;
+using pm::detail::kLn2Lo;
+using pm::detail::kLogPoly;
+using pm::detail::kRoundMagic;
 
 // 2^k for an integer-valued k + kRoundMagic (k in [-1022, 1023]), from the exponent bits.
 HWY_INLINE V pow2_of_rounded(D d, V k_plus_magic) {

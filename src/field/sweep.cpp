@@ -5,6 +5,7 @@
 // part (sweep_falloff.h), the 2-D distance to sections and profiles (sweep_region.h), the path
 // with its projection and frames (sweep_path.h) and the interpolation along it
 // (sweep_interpolation.h); this file puts them together as fields.
+#include "ramiform/core/portable_math.h"
 #include "ramiform/field/sweep.h"
 
 #include <algorithm>
@@ -45,8 +46,8 @@ class RevolutionField final : public detail::PointwiseField {
     // The (r, z) image of the box lies in [rlo, rhi] x [zlo, zhi]; and d is 1-Lipschitz in p.
     const double dx = std::max({0.0, box.min().x(), -box.max().x()});
     const double dy = std::max({0.0, box.min().y(), -box.max().y()});
-    const double rlo = std::hypot(dx, dy);
-    const double rhi = std::hypot(std::max(std::abs(box.min().x()), std::abs(box.max().x())),
+    const double rlo = pm::hypot(dx, dy);
+    const double rhi = pm::hypot(std::max(std::abs(box.min().x()), std::abs(box.max().x())),
                                   std::max(std::abs(box.min().y()), std::abs(box.max().y())));
     const Box2 rect(Vec2(rlo, box.min().z()), Vec2(rhi, box.max().z()));
     const double dmin =
@@ -69,7 +70,7 @@ class RevolutionField final : public detail::PointwiseField {
   }
 
  private:
-  static Vec2 to_rz(const Vec3& p) { return {std::hypot(p.x(), p.y()), p.z()}; }
+  static Vec2 to_rz(const Vec3& p) { return {pm::hypot(p.x(), p.y()), p.z()}; }
 
   double at(const Vec3& p, Vec3* grad) const override {
     const Vec2 q = to_rz(p);
@@ -123,7 +124,7 @@ class SkinField final : public detail::PointwiseField {
   Aabb bounds() const override {
     if (falloff_.d_inside < 0) return Aabb();
     const double pad =
-        std::hypot(falloff_.d_inside + spread_, falloff_.d_inside) * (1 + kReachMargin);
+        pm::hypot(falloff_.d_inside + spread_, falloff_.d_inside) * (1 + kReachMargin);
     return Aabb(path_.box().min() - Vec3::Constant(pad), path_.box().max() + Vec3::Constant(pad));
   }
 
@@ -171,7 +172,7 @@ class SkinField final : public detail::PointwiseField {
       if (grad != nullptr) g2 += w.w[c] * gk;
     }
     const double dplane = std::max(dint, 0.0);
-    const double d = std::hypot(dplane, a);
+    const double d = pm::hypot(dplane, a);
     double dfdd = 0;
     const double f = falloff_.value(d, grad != nullptr ? &dfdd : nullptr);
     if (grad != nullptr) {

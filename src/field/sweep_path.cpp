@@ -7,6 +7,7 @@
 
 #include "field/sweep_common.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/tolerances.h"
 
 namespace ramiform::detail::sweep {
@@ -215,13 +216,13 @@ void Path::polyline_frame(Projection& pr, std::size_t j, double u, const Vec3* p
       pr.normal = pn_[v - 1];
     } else {
       e /= en;
-      const double theta = std::atan2(en, b.dot(a));
+      const double theta = pm::atan2(en, b.dot(a));
       double phi = 0.5 * theta;
       if (p != nullptr) {
         const Vec3 r = *p - v_[v];
-        phi = std::clamp(std::atan2(r.dot(a), -r.dot(e)), 0.0, theta);
+        phi = std::clamp(pm::atan2(r.dot(a), -r.dot(e)), 0.0, theta);
       }
-      pr.tangent = std::cos(phi) * a + std::sin(phi) * e;
+      pr.tangent = pm::cos(phi) * a + pm::sin(phi) * e;
       pr.normal = rotate_between(a, pr.tangent, pn_[v - 1]);
       pr.normal = (pr.normal - pr.normal.dot(pr.tangent) * pr.tangent).normalized();
     }
@@ -289,7 +290,7 @@ void Path::sample_smooth_frames() {
   fp_.clear();
   ftan_.clear();
   for (std::size_t j = 0; j + 1 < n; ++j) {
-    const double angle = std::acos(std::clamp(vt_[j].dot(vt_[j + 1]), -1.0, 1.0));
+    const double angle = pm::acos(std::clamp(vt_[j].dot(vt_[j + 1]), -1.0, 1.0));
     const int k = std::max(1, static_cast<int>(std::ceil(angle / kFrameAngle)));
     for (int i = 0; i < k; ++i) {
       if (i == 0) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/field/operators.h"
 
 namespace ramiform {
@@ -41,7 +42,7 @@ Aabb padded(Aabb b) {
 
 // Rotation of (x, y) by phi (counter-clockwise).
 Vec2 rotate(const Vec2& p, double phi) {
-  const double c = std::cos(phi), s = std::sin(phi);
+  const double c = pm::cos(phi), s = pm::sin(phi);
   return {c * p.x() - s * p.y(), s * p.x() + c * p.y()};
 }
 
@@ -58,7 +59,7 @@ Box2 arc_box(const Vec2& p, double phi0, double phi1) {
   box.extend(rotate(p, phi0));
   box.extend(rotate(p, phi1));
   if (rho == 0) return box;
-  const double alpha = std::atan2(p.y(), p.x());
+  const double alpha = pm::atan2(p.y(), p.x());
   const double quarter = kPi / 2;
   // Every multiple of pi/2 in [alpha + phi0, alpha + phi1] (widened by rounding: extra axis
   // points only make the box larger).
@@ -230,7 +231,7 @@ class TwistMap final : public WarpMap {
     if (jacobian != nullptr) {
       const int t = o_.axis, u = (t + 1) % 3, v = (t + 2) % 3;
       const double theta = o_.rate * (p[t] - o_.origin);
-      const double c = std::cos(theta), s = std::sin(theta);
+      const double c = pm::cos(theta), s = pm::sin(theta);
       Mat3& J = *jacobian;
       J.setZero();
       J(u, u) = c;
@@ -296,9 +297,9 @@ BendParts bend_parts(double y_hat, const BendOptions& o) {
   BendParts b;
   const double k = o.rate;
   b.theta = k * (y_hat - o.center);
-  b.c = std::cos(b.theta);
-  b.s = std::sin(b.theta);
-  const double h = std::sin(0.5 * b.theta);
+  b.c = pm::cos(b.theta);
+  b.s = pm::sin(b.theta);
+  const double h = pm::sin(0.5 * b.theta);
   b.s_over_k = b.s / k;
   b.one_minus_c_over_k = 2 * h * h / k;
   return b;
@@ -312,8 +313,8 @@ double bend_angle(double Y, double Z, const BendOptions& o) {
   const double s = k * (Y - o.center);  // m k sin(theta), m = 1/k - z
   const double c = 1 - k * Z;           // m k cos(theta)
   const double mid = k * (0.5 * (o.min + o.max) - o.center);
-  const double cm = std::cos(mid), sm = std::sin(mid);
-  return mid + std::atan2(s * cm - c * sm, c * cm + s * sm);
+  const double cm = pm::cos(mid), sm = pm::sin(mid);
+  return mid + pm::atan2(s * cm - c * sm, c * cm + s * sm);
 }
 
 // The inverse with a fixed (clamped or not) y^.
@@ -529,7 +530,7 @@ Vec3 twist_by(const Vec3& p, const TwistOptions& options, double sign) {
   if (options.rate == 0) return p;
   const int t = options.axis, u = (t + 1) % 3, v = (t + 2) % 3;
   const double theta = options.rate * (p[t] - options.origin);
-  const double c = std::cos(theta), s = sign * std::sin(theta);
+  const double c = pm::cos(theta), s = sign * pm::sin(theta);
   Vec3 q = p;
   q[u] = c * p[u] - s * p[v];
   q[v] = s * p[u] + c * p[v];

@@ -11,6 +11,7 @@
 
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/types.h"
 #include "ramiform/grow/space_colonization.h"
 
@@ -45,7 +46,7 @@ double eval(const Expr& e, std::span<const double> params) {
     case Op::kSub: return a(0) - a(1);
     case Op::kMul: return a(0) * a(1);
     case Op::kDiv: return a(0) / a(1);
-    case Op::kPow: return std::pow(a(0), a(1));
+    case Op::kPow: return pm::pow(a(0), a(1));
     case Op::kLt: return a(0) < a(1) ? 1 : 0;
     case Op::kLe: return a(0) <= a(1) ? 1 : 0;
     case Op::kGt: return a(0) > a(1) ? 1 : 0;
@@ -55,9 +56,9 @@ double eval(const Expr& e, std::span<const double> params) {
     case Op::kAnd: return (a(0) != 0 && a(1) != 0) ? 1 : 0;
     case Op::kOr: return (a(0) != 0 || a(1) != 0) ? 1 : 0;
     case Op::kSqrt: return std::sqrt(a(0));
-    case Op::kSin: return std::sin(a(0) * deg);
-    case Op::kCos: return std::cos(a(0) * deg);
-    case Op::kTan: return std::tan(a(0) * deg);
+    case Op::kSin: return pm::sin(a(0) * deg);
+    case Op::kCos: return pm::cos(a(0) * deg);
+    case Op::kTan: return pm::tan(a(0) * deg);
     case Op::kAbs: return std::abs(a(0));
     case Op::kFloor: return std::floor(a(0));
     case Op::kMin: return std::min(a(0), a(1));
@@ -377,7 +378,7 @@ std::pair<double, double> cos_sin_deg(double a) {
   if (r == 180) return {-1, 0};
   if (r == 270) return {0, -1};
   const double rad = r * std::numbers::pi / 180;
-  return {std::cos(rad), std::sin(rad)};
+  return {pm::cos(rad), pm::sin(rad)};
 }
 
 // Rotates a toward b by angle (degrees) in the plane of the orthonormal pair (a, b).

@@ -15,6 +15,7 @@
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
 #include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
 
 namespace ramiform {
 namespace {
@@ -44,9 +45,9 @@ void pipe_radii(std::vector<SkeletonNode>& nodes, const std::vector<std::uint32_
   std::vector<double> sum(nodes.size(), 0.0);
   for (std::size_t k = order.size(); k-- > 0;) {
     const std::uint32_t i = order[k];
-    const double r = sum[i] > 0 ? std::pow(sum[i], 1.0 / exponent) : tip_radius;
+    const double r = sum[i] > 0 ? pm::pow(sum[i], 1.0 / exponent) : tip_radius;
     nodes[i].radius = r;
-    if (parent[i] != kNone) sum[parent[i]] += std::pow(r, exponent);
+    if (parent[i] != kNone) sum[parent[i]] += pm::pow(r, exponent);
   }
 }
 
@@ -235,7 +236,7 @@ struct SpaceColonization::Impl {
         cell = widest;
         continue;
       }
-      cell = std::min(widest, cell * std::max(1.01, std::cbrt(total / max_cells)));
+      cell = std::min(widest, cell * std::max(1.01, pm::cbrt(total / max_cells)));
     }
     for (int a = 0; a < 3; ++a) dims[a] = static_cast<std::int64_t>(std::floor(ext[a] / cell)) + 1;
     const auto cells = static_cast<std::size_t>(dims[0] * dims[1] * dims[2]);

@@ -11,6 +11,7 @@
 #include "mesh/mesh_indices.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/tolerances.h"
 
 namespace ramiform {
@@ -211,7 +212,7 @@ std::array<double, 3> corner_angles(const TriMesh& mesh, const std::array<std::u
   const double cross = ab.cross(-ca).norm();
   zero_area = has_repeated_index(t) || !(cross > tol::kCoincident * longest2);
   if (zero_area) return {0.0, 0.0, 0.0};
-  auto angle = [cross](const Vec3& u, const Vec3& v) { return std::atan2(cross, u.dot(v)); };
+  auto angle = [cross](const Vec3& u, const Vec3& v) { return pm::atan2(cross, u.dot(v)); };
   return {angle(ab, -ca), angle(bc, -ab), angle(ca, -bc)};
 }
 

@@ -13,6 +13,7 @@
 #include "mesh/mesh_indices.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/tolerances.h"
 
 namespace ramiform {
@@ -59,9 +60,9 @@ class Collapser {
         head_(mesh.positions.size(), kNone),
         next_(std::make_unique_for_overwrite<std::uint32_t[]>(3 * mesh.triangles.size())),
         touched_(mesh.positions.size(), 0),
-        min_angle_(std::sin(o.min_angle_deg * kDeg)),
+        min_angle_(pm::sin(o.min_angle_deg * kDeg)),
         max_edge_ratio_(o.max_edge_ratio),
-        cos_turn_(std::cos(o.max_normal_turn_deg * kDeg)),
+        cos_turn_(pm::cos(o.max_normal_turn_deg * kDeg)),
         keep_(o.keep_sides.begin(), o.keep_sides.end()) {
     std::sort(keep_.begin(), keep_.end(),
               [](const Vec3& a, const Vec3& b) { return a.x() < b.x(); });
@@ -579,7 +580,7 @@ AngleSummary angle_summary(const TriMesh& mesh, const Context* ctx) {
             ++part.count[angle_bucket(q)];
             if (q < part.min_pseudo) {
               part.min_pseudo = q;
-              part.min_deg = std::atan2(sine, cosine) / kDeg;
+              part.min_deg = pm::atan2(sine, cosine) / kDeg;
             }
           });
         }
@@ -610,7 +611,7 @@ AngleSummary angle_summary(const TriMesh& mesh, const Context* ctx) {
         for (std::size_t i = b; i < e; ++i) {
           for_corners(mesh, i, [&](double sine, double cosine) {
             const std::size_t k = angle_bucket(pseudo_angle(sine, cosine));
-            if (k >= first && k <= last) out.push_back(std::atan2(sine, cosine) / kDeg);
+            if (k >= first && k <= last) out.push_back(pm::atan2(sine, cosine) / kDeg);
           });
         }
       },

@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "ramiform/core/geometry.h"
+#include "ramiform/core/portable_math.h"
 
 namespace ramiform::detail {
 
@@ -25,7 +26,7 @@ inline double solid_angle_fraction(const Vec3& a, const Vec3& b, const Vec3& c) 
   const double lc = c.norm();
   const double num = a.dot(b.cross(c));
   const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
-  return std::atan2(num, den) / (2 * std::numbers::pi);
+  return pm::atan2(num, den) / (2 * std::numbers::pi);
 }
 
 }  // namespace ramiform::detail

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/roots.h"
 #include "ramiform/core/tolerances.h"
 
@@ -33,8 +34,8 @@ constexpr double kNeverVanished = -std::numeric_limits<double>::infinity();
 // The secant of log f = -3/2 log(1 - g) between the ends of a fresh bracket (over a whole
 // edge log f is closer to linear than g); none when log f is equal or not finite at the ends.
 std::optional<double> log_secant(const RootBracket& r) {
-  const double la = -1.5 * std::log1p(-r.lower_value());
-  const double lb = -1.5 * std::log1p(-r.upper_value());
+  const double la = -1.5 * pm::log1p(-r.lower_value());
+  const double lb = -1.5 * pm::log1p(-r.upper_value());
   if (la != lb && std::isfinite(la) && std::isfinite(lb))
     return (r.lower() * lb - r.upper() * la) / (lb - la);
   return std::nullopt;
@@ -69,7 +70,7 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
   std::vector<char> transformed(n, 0);
   auto g_of = [&](std::size_t e, double f) {
     if (transformed[e] == 0) return f - iso;
-    const double c = std::cbrt(std::max(f, kFloor * iso) / iso);
+    const double c = pm::cbrt(std::max(f, kFloor * iso) / iso);
     return 1.0 - 1.0 / (c * c);
   };
   std::vector<RootBracket> brackets(n);

@@ -8,6 +8,7 @@
 #include "ramiform/core/errors.h"
 #include "ramiform/core/memory.h"
 #include "ramiform/core/numbers.h"
+#include "ramiform/core/portable_math.h"
 
 namespace ramiform::detail::tets {
 namespace {
@@ -87,7 +88,7 @@ void validate_resolution(const Skeleton& s, const TetrahedralOptions& o) {
 // 54 KB per point at levels 0 to 3. A run that cannot fit is refused up front instead of being
 // killed by the system after minutes of work.
 void check_memory(std::size_t points, const TetrahedralOptions& o, const Context* ctx) {
-  const double need = static_cast<double>(points) * 600.0 * std::pow(4.0, o.levels);
+  const double need = static_cast<double>(points) * 600.0 * pm::pow(4.0, o.levels);
   ramiform::check_memory(ctx, need,
                          "tetrahedral polygonizer: " + std::to_string(points) +
                              " bounding points at --levels " + std::to_string(o.levels),

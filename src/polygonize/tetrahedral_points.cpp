@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/random.h"
 
 namespace ramiform::detail::tets {
@@ -54,7 +55,7 @@ std::vector<char> section_nodes(const Skeleton& s, const Adjacency& adjacent,
   const std::size_t n = s.nodes.size();
   std::vector<char> section(n, 1);
   std::vector<char> visited(n, 0);
-  const double cos_bend = std::cos(kMaxBendDeg * std::numbers::pi / 180.0);
+  const double cos_bend = pm::cos(kMaxBendDeg * std::numbers::pi / 180.0);
   for (std::uint32_t i = 0; i < n; ++i) {
     if (adjacent[i].size() == 2) continue;
     for (const std::uint32_t first : adjacent[i]) {

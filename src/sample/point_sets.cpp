@@ -4,6 +4,7 @@
 // The inside samplers, each a thin set-up of one of the engines: dart throwing (sample/dart.h)
 // or Lane's method (sample/lane.h). Stratified sampling, the near-surface band, meshes,
 // thinning and the props entry point have files of their own.
+#include "ramiform/core/portable_math.h"
 #include "ramiform/sample/point_sets.h"
 
 #include <cmath>
@@ -52,7 +53,7 @@ PointSet sample_poisson(const Field& field, const PoissonOptions& options, std::
     if (r == 0.0 && options.count > 0) {
       // About the spacing of `count` points in the volume: dense enough to reach the count.
       r = 0.75 *
-          std::cbrt(estimate_volume(field, region, spec.target, seed, ctx) / double(options.count));
+          pm::cbrt(estimate_volume(field, region, spec.target, seed, ctx) / double(options.count));
     }
     spec.min_distance = r;
     spec.max_failures = options.max_failures;
@@ -85,7 +86,7 @@ PointSet sample_field_density(const Field& field, const FieldDensityOptions& opt
     const Region region(field, box, spec.target, kRegionInside, ctx);
     const double iso = field.iso();
     const double exponent = options.exponent;
-    spec.density = [iso, exponent](double f) { return std::pow(iso / f, exponent); };
+    spec.density = [iso, exponent](double f) { return pm::pow(iso / f, exponent); };
     spec.min_distance = options.min_distance;
     return run_dart(field, region, box, spec, seed, ctx, st);
   };

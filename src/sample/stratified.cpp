@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/sample/point_sets.h"
 #include "sample/common.h"
 #include "sample/dart.h"
@@ -101,14 +102,14 @@ PointSet sample_stratified(const Field& field, const StratifiedOptions& options,
           return {};
         }
         // A cell a bit smaller than the volume per point, so the first grid usually suffices.
-        double h = std::cbrt(volume / (1.1 * double(options.count)));
+        double h = pm::cbrt(volume / (1.1 * double(options.count)));
         for (int round = 0; round < kStratifiedRounds; ++round) {
           check_cancel(ctx);
           const VoxelGrid grid(box, h);
           const std::vector<Vec3> all = jittered_inside(field, grid, target, seed, round, ctx);
           st.attempts += grid.size();
           if (all.size() >= options.count) return random_subset(all, options.count, seed);
-          h *= all.empty() ? 0.5 : 0.98 * std::cbrt(double(all.size()) / double(options.count));
+          h *= all.empty() ? 0.5 : 0.98 * pm::cbrt(double(all.size()) / double(options.count));
         }
         st.saturated = true;
         return {};

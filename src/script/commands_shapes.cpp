@@ -11,6 +11,7 @@
 
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/field/operators.h"
 #include "ramiform/field/primitives.h"
 #include "ramiform/field/rbf.h"
@@ -314,7 +315,7 @@ CommandResult run_rotate(Call& c) {
   const Vec3 center = c.option_vec3("center", Vec3::Zero());
   Affine3 m = Affine3::Identity();
   m.translate(center);
-  m.rotate(Eigen::AngleAxisd(deg * std::numbers::pi / 180.0, axis));
+  m.rotate(pm::rotation(deg * std::numbers::pi / 180.0, axis));
   m.translate(-center);
   return rebind(c, make_transform(f, m),
                 "rotated " + format_number(deg) + " degrees about " + format_vec3(axis));

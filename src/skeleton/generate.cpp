@@ -9,6 +9,7 @@
 
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/random.h"
 
 namespace ramiform {
@@ -57,16 +58,16 @@ Skeleton branching_tree(const BranchingTreeOptions& o) {
     const Bud bud = buds.front();
     buds.pop_front();
     // Jitter the direction by a small random rotation.
-    const Vec3 axis = Eigen::AngleAxisd(rng.uniform(0, 2 * std::numbers::pi), bud.direction) *
+    const Vec3 axis = pm::rotation(rng.uniform(0, 2 * std::numbers::pi), bud.direction) *
                       perpendicular(bud.direction);
-    const Vec3 dir = (Eigen::AngleAxisd(o.jitter_deg * deg * rng.uniform(), axis) * bud.direction).normalized();
+    const Vec3 dir = (pm::rotation(o.jitter_deg * deg * rng.uniform(), axis) * bud.direction).normalized();
     const auto node = static_cast<std::uint32_t>(s.nodes.size());
     s.nodes.push_back({s.nodes[bud.node].position + bud.length * dir, o.tip_radius});
     s.edges.push_back({bud.node, node});
     parent.push_back(bud.node);
-    const Vec3 fork_axis = Eigen::AngleAxisd(rng.uniform(0, 2 * std::numbers::pi), dir) * perpendicular(dir);
+    const Vec3 fork_axis = pm::rotation(rng.uniform(0, 2 * std::numbers::pi), dir) * perpendicular(dir);
     for (const double side : {-1.0, 1.0}) {
-      const Vec3 child = (Eigen::AngleAxisd(side * o.branch_angle_deg * deg, fork_axis) * dir).normalized();
+      const Vec3 child = (pm::rotation(side * o.branch_angle_deg * deg, fork_axis) * dir).normalized();
       buds.push_back({node, child, bud.length * o.length_ratio});
     }
   }
@@ -74,9 +75,9 @@ Skeleton branching_tree(const BranchingTreeOptions& o) {
   // sees every child before its parent.
   std::vector<double> sum(s.nodes.size(), 0.0);
   for (std::size_t i = s.nodes.size(); i-- > 0;) {
-    const double r = sum[i] > 0 ? std::pow(sum[i], 1 / o.pipe_exponent) : o.tip_radius;
+    const double r = sum[i] > 0 ? pm::pow(sum[i], 1 / o.pipe_exponent) : o.tip_radius;
     s.nodes[i].radius = r;
-    if (parent[i] != UINT32_MAX) sum[parent[i]] += std::pow(r, o.pipe_exponent);
+    if (parent[i] != UINT32_MAX) sum[parent[i]] += pm::pow(r, o.pipe_exponent);
   }
   return s;
 }

@@ -1,6 +1,7 @@
 set(RAMIFORM_core_TESTS
   core/random_test.cpp
   core/parallel_test.cpp
+  core/portable_math_test.cpp
   core/errors_test.cpp
   core/memory_test.cpp
   core/nnls_test.cpp
