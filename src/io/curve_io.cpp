@@ -14,7 +14,9 @@ using namespace io_detail;
 
 template <class V>
 std::vector<V> parse_points(const std::string& path, int dim) {
-  const std::string text = read_whole_file(path);
+  const std::string data = read_whole_file(path);
+  // A UTF-8 byte order mark is not part of the first line (it would hide its first field).
+  const std::string_view text = skip_bom(data);
   LineCursor cursor(text);
   std::string_view line;
   std::vector<std::string_view> f;

@@ -206,6 +206,8 @@ TriMesh parse_mesh_ply(std::string_view bytes, const std::string& source_name) {
 
 TriMesh parse_mesh_obj(std::string_view text, const std::string& source_name) {
   const std::string& source = source_name;
+  // A UTF-8 byte order mark is not part of the first line (it would hide its first field).
+  text = skip_bom(text);
   if (is_blank(text)) throw InputError(source, 0, "file is empty");
   TriMesh mesh;
   std::vector<Vec3> normals;
@@ -256,6 +258,8 @@ TriMesh parse_mesh_obj(std::string_view text, const std::string& source_name) {
 
 TriMesh parse_mesh_off(std::string_view text, const std::string& source_name) {
   const std::string& source = source_name;
+  // A UTF-8 byte order mark is not part of the first line (it would hide its first field).
+  text = skip_bom(text);
   if (is_blank(text)) throw InputError(source, 0, "file is empty");
   LineCursor cursor(text);
   std::vector<std::string_view> f;

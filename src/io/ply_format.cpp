@@ -418,7 +418,7 @@ PlyHeader parse_ply_header(std::string_view data, const std::string& source) {
     }
   }
   PlyHeader header;
-  bool has_format = false;
+  std::size_t format_line = 0;  // line of the 'format' line, 0 before it
   std::vector<std::string_view> f;
   while (cursor.next(line)) {
     const std::size_t ln = cursor.line_number();
@@ -428,12 +428,18 @@ PlyHeader parse_ply_header(std::string_view data, const std::string& source) {
     if (key == "comment" || key == "obj_info") continue;
     if (key == "end_header") {
       if (f.size() != 1) throw InputError(source, ln, "unexpected text after 'end_header'");
-      if (!has_format) throw InputError(source, ln, "the header has no 'format' line");
+      if (format_line == 0) throw InputError(source, ln, "the header has no 'format' line");
       header.body_offset = cursor.offset();
       header.end_header_line = ln;
       return header;
     }
     if (key == "format") {
+      // A second format line would silently decide the encoding of the whole body.
+      if (format_line != 0) {
+        throw InputError(
+            source, ln,
+            "duplicate 'format' line (first on line " + std::to_string(format_line) + ")");
+      }
       if (f.size() != 3) {
         throw InputError(source, ln,
                          "expected 'format <ascii|binary_little_endian|"
@@ -454,15 +460,24 @@ PlyHeader parse_ply_header(std::string_view data, const std::string& source) {
       if (f[2] != "1.0") {
         throw InputError(source, ln, "unsupported PLY version " + quote(f[2]) + " (expected 1.0)");
       }
-      has_format = true;
+      format_line = ln;
       continue;
     }
     if (key == "element") {
       if (f.size() != 3) throw InputError(source, ln, "expected 'element <name> <count>'");
       const std::int64_t count = to_int64(f[2], source, ln, "element count");
       if (count < 0) throw InputError(source, ln, "negative element count");
+      // Readers use the first element of a name; a second one would be skipped unread.
+      const std::string name = printable(f[1]);
+      if (const auto first = header.find(name)) {
+        throw InputError(source, ln,
+                         "duplicate element '" + name + "' (first on line " +
+                             std::to_string(header.elements[*first].header_line) + ")");
+      }
       PlyElement e;
-      e.name = std::string(f[1]);
+      // Names are kept as printable() text: they appear in messages, and the names readers
+      // look for ("vertex", "x") are printable already.
+      e.name = name;
       e.count = static_cast<std::size_t>(count);
       e.header_line = ln;
       header.elements.push_back(std::move(e));
@@ -487,13 +502,13 @@ PlyHeader parse_ply_header(std::string_view data, const std::string& source) {
         p.is_list = true;
         p.count_type = *count_type;
         p.type = *item_type;
-        p.name = std::string(f[4]);
+        p.name = printable(f[4]);
       } else {
         if (f.size() != 3) throw InputError(source, ln, "expected 'property <type> <name>'");
         const auto type = type_from_name(f[1]);
         if (!type) throw InputError(source, ln, "unknown PLY type " + quote(f[1]));
         p.type = *type;
-        p.name = std::string(f[2]);
+        p.name = printable(f[2]);
       }
       PlyElement& e = header.elements.back();
       if (e.find(p.name)) {

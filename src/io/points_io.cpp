@@ -59,6 +59,8 @@ class ExtentCheck {
 
 PointSet parse_points_text(std::string_view text, const std::string& source_name) {
   const std::string& source = source_name;
+  // A UTF-8 byte order mark is not part of the first line (it would hide its first field).
+  text = skip_bom(text);
   if (is_blank(text)) throw InputError(source, 0, "file is empty");
   PointSet points;
   points.positions.reserve(text.size() / 24);
@@ -76,9 +78,14 @@ PointSet parse_points_text(std::string_view text, const std::string& source_name
     if (f.empty()) continue;
     if (columns == 0) {
       if (f.size() != 3 && f.size() != 6) {
+        // A file with lone '\r' line breaks arrives here as one line of many points.
+        const bool has_cr = strip_comment(line).find('\r') != std::string_view::npos;
         throw InputError(source, ln,
                          "expected 3 numbers (x y z) or 6 (x y z nx ny nz), got " +
-                             std::to_string(f.size()) + " fields");
+                             std::to_string(f.size()) + " fields" +
+                             (has_cr ? " (the line holds carriage returns: lines must end in "
+                                       "'\\n' or '\\r\\n', not '\\r' alone)"
+                                     : ""));
       }
       columns = f.size();
       first_line = ln;

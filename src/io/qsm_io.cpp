@@ -367,6 +367,8 @@ std::string lower(std::string_view s) {
 Skeleton parse_treeqsm(std::string_view text, const std::string& source_name,
                        QsmImportReport* report) {
   const std::string& source = source_name;
+  // A UTF-8 byte order mark is not part of the first line (it would hide its first field).
+  text = io_detail::skip_bom(text);
   if (io_detail::is_blank(text)) throw InputError(source, 0, "file is empty");
   std::vector<Cylinder> cyl;
   LineCursor cursor(text);
@@ -393,7 +395,7 @@ Skeleton parse_treeqsm(std::string_view text, const std::string& source_name,
     }
     c.start = to_point(f, 2, source, ln, "start point");
     const Vec3 axis = to_point(f, 5, source, ln, "axis direction");
-    const double norm = axis.norm();
+    const double norm = axis.stableNorm();  // no overflow to inf for large components
     if (!(norm > 0.0) || !std::isfinite(norm)) {
       throw InputError(source, ln, "the axis direction must be a non-zero vector");
     }
@@ -418,7 +420,7 @@ Skeleton parse_treeqsm(std::string_view text, const std::string& source_name,
 }
 
 bool looks_like_simpleforest(std::string_view text) {
-  LineCursor cursor(text);
+  LineCursor cursor(io_detail::skip_bom(text));
   std::string_view line;
   std::vector<std::string_view> f;
   while (cursor.next(line)) {
@@ -439,6 +441,8 @@ bool looks_like_simpleforest(std::string_view text) {
 Skeleton parse_simpleforest(std::string_view text, const std::string& source_name,
                             QsmImportReport* report) {
   const std::string& source = source_name;
+  // A UTF-8 byte order mark is not part of the first line (it would hide its first field).
+  text = io_detail::skip_bom(text);
   if (io_detail::is_blank(text)) throw InputError(source, 0, "file is empty");
   static constexpr const char* kColumns[] = {"ID",   "parentID", "startX", "startY", "startZ",
                                              "endX", "endY",     "endZ",   "radius"};

@@ -37,17 +37,63 @@ void locate(std::string_view text, std::size_t byte, std::size_t& line, std::siz
   column = stop - line_start + 1;
 }
 
-// The part of nlohmann's message after its "[json.exception...] parse error at ...: " prefix.
+// nlohmann's message without its "[json.exception.KIND.ID] " and "parse error at ...: "
+// prefixes, as printable text (the "last read" part can hold any bytes of the file).
 std::string json_detail(const char* what) {
   std::string s(what);
-  const std::size_t p = s.find(": ");
-  return p == std::string::npos ? s : s.substr(p + 2);
+  if (s.rfind("[json.exception.", 0) == 0) {
+    const std::size_t p = s.find("] ");
+    if (p != std::string::npos) s.erase(0, p + 2);
+  }
+  if (s.rfind("parse error", 0) == 0) {
+    const std::size_t p = s.find(": ");
+    if (p != std::string::npos) s.erase(0, p + 2);
+  }
+  return io_detail::printable(s);
+}
+
+// Where the parser stopped on an error that nlohmann reports without a position (a number too
+// large for a double, out_of_range 406): the byte position from a second, SAX-only parse.
+class ErrorPosition : public json::json_sax_t {
+ public:
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t position, const std::string&,
+                   const nlohmann::detail::exception&) override {
+    position_ = position;
+    return false;
+  }
+  [[nodiscard]] std::size_t position() const { return position_; }
+
+ private:
+  std::size_t position_ = 0;
+};
+
+// A JSON value for a message: a scalar as JSON text (non-ASCII escaped), shortened when long;
+// an array or object by its kind and size only. (Dumping a deeply nested value recurses once
+// per level: 100,000 levels overflow the stack.)
+std::string shown(const json& value) {
+  if (value.is_array()) return "an array of " + std::to_string(value.size()) + " element(s)";
+  if (value.is_object()) return "an object of " + std::to_string(value.size()) + " member(s)";
+  std::string text = value.dump(-1, ' ', true);
+  if (text.size() > 40) text = text.substr(0, 37) + "...";
+  return text;
 }
 
 double json_number(const json& value, const std::string& source, const char* element,
                    std::size_t index, const std::string& what) {
   if (!value.is_number()) {
-    throw InputError(source, element, index, what + " must be a number, got " + value.dump());
+    throw InputError(source, element, index, what + " must be a number, got " + shown(value));
   }
   const double v = value.get<double>();
   if (!std::isfinite(v)) throw InputError(source, element, index, what + " is not finite");
@@ -59,10 +105,10 @@ std::uint32_t json_index(const json& value, const std::string& source, std::size
     return static_cast<std::uint32_t>(value.get<std::uint64_t>());
   }
   if (value.is_number_integer() && !value.is_number_unsigned()) {
-    throw InputError(source, "edge", edge, "negative node index " + value.dump());
+    throw InputError(source, "edge", edge, "negative node index " + shown(value));
   }
   throw InputError(source, "edge", edge,
-                   "node indices must be integers in [0, 4294967295], got " + value.dump());
+                   "node indices must be integers in [0, 4294967295], got " + shown(value));
 }
 
 Skeleton validated(Skeleton s, const std::string& source) {
@@ -101,7 +147,15 @@ Skeleton parse_skeleton_json(std::string_view text, const std::string& source_na
         source, line,
         "JSON syntax error at column " + std::to_string(column) + ": " + json_detail(e.what()));
   } catch (const json::exception& e) {
-    throw InputError(source, 0, "invalid JSON: " + json_detail(e.what()));
+    ErrorPosition where;
+    json::sax_parse(text.begin(), text.end(), &where);
+    std::size_t line = 0;
+    std::size_t column = 0;
+    if (where.position() > 0) locate(text, where.position(), line, column);
+    throw InputError(source, line,
+                     (line > 0 ? "invalid JSON at column " + std::to_string(column) + ": "
+                               : std::string("invalid JSON: ")) +
+                         json_detail(e.what()));
   }
   if (!doc.is_object()) {
     throw InputError(source, 0, "the top level must be an object with a \"nodes\" array");
@@ -174,7 +228,7 @@ Skeleton parse_skeleton_ply(std::string_view bytes, const std::string& source_na
       for (int c = 0; c < 2; ++c) {
         const double idx = data[1].scalars[k * 2 + static_cast<std::size_t>(c)];
         if (idx < 0.0 || idx > static_cast<double>(kMaxIndex) || idx != std::floor(idx)) {
-          throw InputError(source, "edge", k, "invalid node index " + std::to_string(idx));
+          throw InputError(source, "edge", k, "invalid node index " + format_number(idx));
         }
         s.edges[k][static_cast<std::size_t>(c)] = static_cast<std::uint32_t>(idx);
       }
@@ -193,6 +247,8 @@ Skeleton parse_skeleton_obj(std::string_view text, const std::string& source_nam
         "skeleton (OBJ stores no radii), got " +
         std::to_string(options.obj_radius));
   }
+  // A UTF-8 byte order mark is not part of the first line (it would hide its first field).
+  text = skip_bom(text);
   if (is_blank(text)) throw InputError(source, 0, "file is empty");
   Skeleton s;
   LineCursor cursor(text);

@@ -86,19 +86,30 @@ bool next_content(LineCursor& cursor, std::vector<std::string_view>& fields) {
   return false;
 }
 
+std::string_view skip_bom(std::string_view text) {
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  if (text.substr(0, kBom.size()) == kBom) text.remove_prefix(kBom.size());
+  return text;
+}
+
 bool split_fields(std::string_view line, std::vector<std::string_view>& fields, bool allow_commas) {
   fields.clear();
+  // Only a carriage return at the end of the line is line-break debris; inside the line it
+  // belongs to a field, so that "0 0 0\r1 1 1" (lone '\r' line breaks) is not read as one
+  // point with a normal.
+  const auto separates = [](char c) { return is_space(c) && c != '\r'; };
+  while (!line.empty() && is_space(line.back())) line.remove_suffix(1);
   const char* p = line.data();
   const char* const end = p + line.size();
   bool need_field = false;  // a comma was just read: the next field must not be empty
   for (;;) {
-    while (p < end && is_space(*p)) ++p;
+    while (p < end && separates(*p)) ++p;
     if (p == end) return !need_field;
     if (allow_commas && *p == ',') return false;  // empty field before this comma
     const char* start = p;
-    while (p < end && !is_space(*p) && !(allow_commas && *p == ',')) ++p;
+    while (p < end && !separates(*p) && !(allow_commas && *p == ',')) ++p;
     fields.emplace_back(start, static_cast<std::size_t>(p - start));
-    while (p < end && is_space(*p)) ++p;
+    while (p < end && separates(*p)) ++p;
     need_field = false;
     if (allow_commas && p < end && *p == ',') {
       ++p;
@@ -107,9 +118,26 @@ bool split_fields(std::string_view line, std::vector<std::string_view>& fields, 
   }
 }
 
+std::string printable(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7f) {
+      out += c;
+    } else {
+      static constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[byte >> 4U];
+      out += kHex[byte & 0xfU];
+    }
+  }
+  return out;
+}
+
 std::string quote(std::string_view token) {
-  if (token.size() > 40) return "'" + std::string(token.substr(0, 37)) + "...'";
-  return "'" + std::string(token) + "'";
+  if (token.size() > 40) return "'" + printable(token.substr(0, 37)) + "...'";
+  return "'" + printable(token) + "'";
 }
 
 double to_double(std::string_view token, const std::string& source, std::size_t line,

@@ -47,9 +47,15 @@ std::string_view strip_comment(std::string_view line);
 /// True when the text holds only spaces, tabs, line breaks, '\f' and '\v' (or nothing).
 bool is_blank(std::string_view line);
 
+/// The text without a leading UTF-8 byte order mark (EF BB BF), which some editors and
+/// spreadsheets write at the start of text files.
+std::string_view skip_bom(std::string_view text);
+
 /// Splits `line` into fields separated by runs of spaces and tabs, and, when `allow_commas`, by
 /// single commas (with optional blanks around them). Returns false when a comma leaves an empty
-/// field ("1,,2", "1,2,", ",1"). `fields` is cleared first.
+/// field ("1,,2", "1,2,", ",1"). `fields` is cleared first. Blanks and carriage returns at the
+/// ends of the line are dropped; a carriage return inside it is part of a field (a file with
+/// lone '\r' line breaks is one long line, not one line of many fields).
 bool split_fields(std::string_view line, std::vector<std::string_view>& fields,
                   bool allow_commas = false);
 
@@ -65,7 +71,12 @@ double to_double(std::string_view token, const std::string& source, std::size_t 
 std::int64_t to_int64(std::string_view token, const std::string& source, std::size_t line,
                       std::string_view what);
 
-/// The token in quotes for an error message, shortened when long.
+/// The text with every byte outside printable ASCII (control characters, DEL, bytes >= 0x80)
+/// written as "\xNN", so that a message about a binary or mis-encoded file shows what is there
+/// (an invisible byte order mark, a NUL) and cannot send control sequences to a terminal.
+std::string printable(std::string_view text);
+
+/// The token in quotes for an error message, shortened when long, as printable() text.
 std::string quote(std::string_view token);
 
 /// Appends the shortest decimal text that reads back as exactly `value` (core/numbers.h).
