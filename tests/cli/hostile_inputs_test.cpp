@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli/cli_run.h"
@@ -166,6 +167,38 @@ TEST_F(HostileInputs, RunsAboveTheMemoryBudgetAreRefusedBeforeTheyStart) {
   EXPECT_NE(bad.out.find("--max-memory"), std::string::npos) << bad.out;
   EXPECT_NE(bad.out.find("expected a size such as 512M"), std::string::npos) << bad.out;
   EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(HostileInputs, HugeResolutionsAndLevelsAreRefusedBeforeTheWork) {
+  // A resolution of 100000 and levels 6 on a 1,500-segment tree, from the command line and from
+  // a script: refused at once (exit 2, the reason in the message), nothing written. The kill
+  // timeout fails the test if any of them starts the work instead.
+  const std::string tree = path("tree.json");
+  ASSERT_EQ(run_bounded("generate " + tree + " --segments 1500 --seed 2").code, 0);
+  const std::string script = write("huge.rf", "skeleton t " + tree +
+                                                  " surface=convolution\n"
+                                                  "save_mesh t mc.ply resolution=100000\n");
+  const std::string script6 =
+      write("levels.rf", "skeleton t " + tree + "\nsave_mesh t tets.ply method=tets levels=6\n");
+  const std::string out = " --stats " + path("stats.json");
+  const std::vector<std::pair<std::string, std::string>> jobs = {
+      {"mesh " + tree + " -o " + path("mc.ply") + " --method mc --resolution 100000" + out,
+       "the grid needs more than MarchingCubesOptions.max_cells"},
+      {"mesh " + tree + " -o " + path("tets.ply") + " --levels 6" + out,
+       "bounding points at --levels 6 need at least "},
+      {"run " + script + " --out " + dir_.string() + out,
+       "huge.rf:2:1: save_mesh: marching_cubes: the grid needs more than"},
+      {"run " + script6 + " --out " + dir_.string() + out,
+       "levels.rf:2:1: save_mesh: tetrahedral polygonizer: "},
+  };
+  for (const auto& [job, expected] : jobs) {
+    SCOPED_TRACE(job);
+    const CliRun r = run_bounded(job);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_EQ(r.out.rfind("ramiform: error: ", 0), 0U) << r.out;
+    EXPECT_NE(r.out.find(expected), std::string::npos) << r.out;
+    EXPECT_EQ(files_in_dir(), 3U);  // the tree and the two scripts
+  }
 }
 
 }  // namespace
