@@ -3,10 +3,13 @@
 // `ramiform grow --points FILE ... -o TREE.json`, `ramiform sample SCRIPT NAME --dist KIND ...`,
 // `ramiform lsystem EXAMPLE|FILE -o TREE.json`.
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
+#include <vector>
 
 #include "commands.h"
 #include "common.h"
@@ -44,6 +47,30 @@ std::string vec3_text(const Vec3& v) {
   return format_shortest(v.x()) + "," + format_shortest(v.y()) + "," + format_shortest(v.z());
 }
 
+// Why a growth made no edge. A stalled growth says why; a completed one reached every point
+// from the root itself: all lie within the kill distance d_k of it, so no node ever had a
+// point to grow toward (grow_space_colonization kills them before the first iteration).
+std::string no_branch_reason(const ColonizationResult& r, const std::vector<Vec3>& points,
+                             const ColonizationOptions& o) {
+  if (!r.stall_reason.empty()) return r.stall_reason;
+  double farthest = 0.0;
+  for (const Vec3& p : points) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Vec3& root : o.roots) nearest = std::min(nearest, (p - root).norm());
+    farthest = std::max(farthest, nearest);
+  }
+  const std::string root =
+      o.roots.size() == 1 ? "the root (" + vec3_text(o.roots.front()) + ")" : "a root";
+  const bool one = points.size() == 1;
+  return (one ? "the one attraction point lies"
+              : "all " + std::to_string(points.size()) + " attraction points lie") +
+         " within the kill distance d_k = " + format_number(o.kill) + " of " + root + " (" +
+         (one ? "at distance " : "the farthest at distance ") + format_number(farthest) + "), so " +
+         (one ? "it was" : "they were") +
+         " reached before any branch grew; move --root away from the points or use a smaller "
+         "--kill";
+}
+
 struct GrowArgs {
   std::string points_path;
   std::string out_path;
@@ -70,7 +97,8 @@ int run_grow(const GrowArgs& args) {
   const ColonizationResult r = grow_space_colonization(points.positions, o, &scope.context());
   timer.lap("grow");
   if (r.skeleton.edge_count() == 0) {
-    throw InvalidArgument("grew no branch from " + args.points_path + ": " + r.stall_reason);
+    throw InvalidArgument("grew no branch from " + args.points_path + ": " +
+                          no_branch_reason(r, points.positions, o));
   }
   write_skeleton(r.skeleton, args.out_path);
   timer.lap("write");
@@ -177,7 +205,7 @@ int run_lsystem(const LSystemArgs& args) {
   }
   LSystemOptions o = args.options;
   o.radius = args.radii == "pipe" ? LSystemRadius::kPipe : LSystemRadius::kWidth;
-  const Skeleton skeleton = lsystem_skeleton(text, source, o);
+  const Skeleton skeleton = lsystem_skeleton(text, source, o, &scope.context());
   if (skeleton.edge_count() == 0)
     throw InvalidArgument(args.source + ": the L-system draws no segment");
   write_skeleton(skeleton, args.out_path);

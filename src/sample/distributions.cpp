@@ -111,6 +111,32 @@ NearSurfaceOptions near_surface_options(const OptionReader& r, std::size_t count
   return o;
 }
 
+// Reads the options of distribution `name` and samples.
+PointSet sample_with(const Field& field, const std::string& name, const OptionReader& r,
+                     std::size_t count, std::uint64_t seed, Context* ctx, SampleStats* stats) {
+  if (name == "uniform") {
+    UniformOptions o;
+    o.count = count;
+    o.max_attempts = r.in().count("max_attempts", 0);
+    return sample_uniform(field, o, seed, ctx, stats);
+  }
+  if (name == "stratified") {
+    StratifiedOptions o;
+    o.count = count;
+    return sample_stratified(field, o, seed, ctx, stats);
+  }
+  if (name == "poisson") return sample_poisson(field, poisson_options(r, count), seed, ctx, stats);
+  if (name == "lane") return sample_lane(field, lane_options(r, count), seed, ctx, stats);
+  if (name == "field") {
+    return sample_field_density(field, field_options(r, count, field.iso()), seed, ctx, stats);
+  }
+  if (name == "boundary") {
+    return sample_boundary(field, boundary_options(r, count), seed, ctx, stats);
+  }
+  // near_surface (distribution_keys rejected every other name)
+  return sample_near_surface(field, near_surface_options(r, count), seed, ctx, stats);
+}
+
 }  // namespace
 
 std::vector<std::string> distribution_names() {
@@ -143,28 +169,16 @@ PointSet generate_points(const Field& field, const std::string& name, const Prop
                          std::uint64_t seed, std::size_t count_override, Context* ctx,
                          SampleStats* stats) {
   const OptionReader r(props, name);
+  const bool count_from_props = count_override == 0 && r.in().has("count");
   const std::size_t count = count_override > 0 ? count_override : r.in().count("count", 1000);
-  if (name == "uniform") {
-    UniformOptions o;
-    o.count = count;
-    o.max_attempts = r.in().count("max_attempts", 0);
-    return sample_uniform(field, o, seed, ctx, stats);
+  try {
+    return sample_with(field, name, r, count, seed, ctx, stats);
+  } catch (const ResourceLimit& e) {
+    // The samplers refuse a count above the memory budget (check_point_memory); that count
+    // was set at a line of the props file, so the message starts there like any bad option.
+    if (!count_from_props) throw;
+    r.in().fail("count", e.what());
   }
-  if (name == "stratified") {
-    StratifiedOptions o;
-    o.count = count;
-    return sample_stratified(field, o, seed, ctx, stats);
-  }
-  if (name == "poisson") return sample_poisson(field, poisson_options(r, count), seed, ctx, stats);
-  if (name == "lane") return sample_lane(field, lane_options(r, count), seed, ctx, stats);
-  if (name == "field") {
-    return sample_field_density(field, field_options(r, count, field.iso()), seed, ctx, stats);
-  }
-  if (name == "boundary") {
-    return sample_boundary(field, boundary_options(r, count), seed, ctx, stats);
-  }
-  // near_surface (distribution_keys rejected every other name)
-  return sample_near_surface(field, near_surface_options(r, count), seed, ctx, stats);
 }
 
 }  // namespace ramiform

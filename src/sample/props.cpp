@@ -27,6 +27,35 @@ bool is_key_char(char c, bool first) {
   return !first && (std::isdigit(u) || c == '-' || c == '.');
 }
 
+// Text for a message with every byte outside printable ASCII as "\xNN" (an invisible byte
+// order mark, or control bytes that would reach the terminal). The io readers do the same
+// (io_detail::printable), but sample may not include io's headers.
+std::string escaped(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7f) {
+      out += c;
+    } else {
+      static constexpr char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[byte >> 4U];
+      out += kHex[byte & 0xfU];
+    }
+  }
+  return out;
+}
+
+// File text for a message: escaped(), shortened when long (a line can be megabytes).
+std::string printable(std::string_view text) {
+  constexpr std::size_t kMax = 40;
+  if (text.size() <= kMax) return escaped(text);
+  return escaped(text.substr(0, kMax - 3)) + "...";
+}
+
+std::string quote(std::string_view text) { return "'" + printable(text) + "'"; }
+
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
@@ -67,6 +96,9 @@ std::string closest_key(const std::string& word, const std::vector<std::string>&
 Props parse_props(std::string_view text, const std::string& source) {
   Props props;
   props.source = source;
+  // A UTF-8 byte order mark (written by some editors) is not part of the first key.
+  constexpr std::string_view kBom = "\xEF\xBB\xBF";
+  if (text.substr(0, kBom.size()) == kBom) text.remove_prefix(kBom.size());
   std::size_t line_no = 0;
   std::size_t pos = 0;
   while (pos <= text.size()) {
@@ -84,24 +116,24 @@ Props parse_props(std::string_view text, const std::string& source) {
     }
     const auto eq = line.find('=');
     if (eq == std::string_view::npos) {
-      throw InputError(source, line_no, "expected 'key = value', got '" + std::string(line) + "'");
+      throw InputError(source, line_no, "expected 'key = value', got " + quote(line));
     }
     const std::string_view key = trim(line.substr(0, eq));
     const std::string_view value = trim(line.substr(eq + 1));
     if (key.empty()) throw InputError(source, line_no, "missing key before '='");
     for (std::size_t i = 0; i < key.size(); ++i) {
       if (!is_key_char(key[i], i == 0)) {
-        throw InputError(source, line_no, "malformed key '" + std::string(key) + "'");
+        throw InputError(source, line_no, "malformed key " + quote(key));
       }
     }
     if (value.empty()) {
-      throw InputError(source, line_no, "key '" + std::string(key) + "' has no value");
+      throw InputError(source, line_no, "key " + quote(key) + " has no value");
     }
     const std::string k(key);
     if (const auto it = props.values.find(k); it != props.values.end()) {
-      throw InputError(
-          source, line_no,
-          "key '" + k + "' given twice (first on line " + std::to_string(it->second.second) + ")");
+      throw InputError(source, line_no,
+                       "key " + quote(k) + " given twice (first on line " +
+                           std::to_string(it->second.second) + ")");
     }
     props.values.emplace(k, std::make_pair(std::string(value), line_no));
     if (end == text.size()) break;
@@ -129,7 +161,7 @@ PropsReader::PropsReader(const Props& props, std::vector<std::string> valid_keys
     if (first == props_.values.end() || it->second.second < first->second.second) first = it;
   }
   if (first != props_.values.end()) {
-    std::string msg = "unknown key '" + first->first + "' for " + what_;
+    std::string msg = "unknown key " + quote(first->first) + " for " + what_;
     const std::string hint = closest_key(first->first, valid_keys_);
     if (!hint.empty()) msg += " (did you mean '" + hint + "'?)";
     msg += "; valid keys:";
@@ -142,9 +174,11 @@ bool PropsReader::has(const std::string& key) const { return props_.values.count
 
 void PropsReader::fail(const std::string& key, const std::string& problem) const {
   const auto it = props_.values.find(key);
-  if (it == props_.values.end()) throw InputError(props_.source, 0, key + ": " + problem);
-  throw InputError(props_.source, it->second.second,
-                   key + " = " + it->second.first + ": " + problem + " (" + what_ + ")");
+  if (it == props_.values.end()) throw InputError(props_.source, 0, key + ": " + escaped(problem));
+  // The problem may quote the value too (e.g. LaneKernel::parse), so it is escaped as well.
+  throw InputError(
+      props_.source, it->second.second,
+      key + " = " + printable(it->second.first) + ": " + escaped(problem) + " (" + what_ + ")");
 }
 
 double PropsReader::number(const std::string& key, double fallback) const {

@@ -41,12 +41,16 @@ void validate(const Skeleton& skeleton, const std::string& source) {
     if (n.radius <= 0.0) {
       throw InputError(source, "node", i, "radius must be > 0, got " + fmt(n.radius));
     }
+    // The box grows node by node so that the message names the first node that makes the
+    // span overflow (the rule of the point readers).
     box.extend(n.position);
-  }
-  if (!std::isfinite(box.diagonal().norm())) {
-    throw InputError(source, 0,
-                     "the nodes' coordinates span more than double precision can hold (from " +
-                         fmt(box.min().minCoeff()) + " to " + fmt(box.max().maxCoeff()) + ")");
+    if (!std::isfinite(box.diagonal().norm())) {
+      throw InputError(source, "node", i,
+                       "with this node the coordinates span more than double precision can hold "
+                       "(from " +
+                           format_number(box.min().minCoeff()) + " to " +
+                           format_number(box.max().maxCoeff()) + ")");
+    }
   }
   const double scale = std::max(box.diagonal().norm(), 1.0);
   std::unordered_set<std::uint64_t> seen;

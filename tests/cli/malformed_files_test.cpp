@@ -152,6 +152,10 @@ std::vector<Case> skeleton_json_cases() {
       c("top level nested 100,000 arrays deep", deep, ": "),
       c("no \"nodes\" key", R"({"edges":[]})", ": "),
       c("empty \"nodes\" array", R"({"nodes":[]})", ": "),
+      c("coordinates spanning more than a double",
+        R"({"nodes":[{"position":[0,0,0],"radius":1},{"position":[-1e308,0,0],"radius":1},)"
+        R"({"position":[1e308,0,0],"radius":1}]})",
+        ": node 1:"),
       c("binary garbage", garbage(3000), ":1:"),
       c("UTF-16 text", std::string("\xFF\xFE{\0\"\0n\0", 8), ":1:"),
       c("a second document after the first",
@@ -283,6 +287,8 @@ std::vector<Case> treeqsm_cases() {
       c("length 1e999", child({"0.1", "1e999", "0", "0", "1", "0", "0", "1", "1"}), ":2:"),
       c("end beyond double range", child({"0.1", "1e308", "0", "0", "1e308", "0", "0", "1", "1"}),
         ":2:"),
+      c("cylinder ending at 1e308 (a span beyond double range)",
+        qsm_row({"0.2", "1e308", "0", "0", "0", "0", "0", "1", "0"}), ": node 1:"),
       c("empty file", "", ": "),
       c("header line only", "radius length start_x start_y start_z\n", ": "),
       c("binary garbage", garbage(3000), ":2:"),
@@ -530,6 +536,9 @@ std::vector<Case> point_cases() {
       c(pt, "coordinates spanning more than a double", "p.xyz", "0 0 0\n0 0 1e308\n1 1 -1e308\n",
         grow, ":2:"),
       c(pt, "one 50 MB line", "p.xyz", repeat("0 ", k50MB / 2), grow, ":1:"),
+      c(pt, "every point within the kill distance of the root", "p.xyz", "0 0 0\n1 1 1\n", grow,
+        ": "),
+      c(pt, "one point, at the root", "p.xyz", "0 0 0\n", grow, ": "),
       c(pp, "header claims 4,000,000,000 vertices", "p.ply",
         ply("ascii", element("vertex", "4000000000", kMeshVertex), "0 0 0\n"), eval, ": vertex 1:"),
       c(pp, "no z property", "p.ply",
@@ -589,6 +598,17 @@ std::vector<Case> props_cases() {
       c("no key before '='", "uniform", "= 10\n", ":1:"),
       c("key without a value", "uniform", "count =\n", ":1:"),
       c("key starting with a digit", "uniform", "9count = 1\n", ":1:"),
+      c("UTF-8 byte order mark before a line without '='", "uniform", kBom + "count 100\n", ":1:"),
+      c("terminal escape sequence in a key", "uniform", "cou\x1b[2Jnt = 5\n", ":1:"),
+      c("control byte in a value", "uniform", "count = 5\x07\n", ":1:"),
+      c("binary garbage", "uniform", garbage(3000), ":1:"),
+      Case{".props",
+           "count 4,000,000,000,000, beyond the memory budget",
+           {{"scene.rf", kStaging + "point_set_gen s uniform p.props\n"},
+            {"p.props", "# many\ncount = 4000000000000\n"}},
+           "run @scene.rf --out @. --stats @stats.json --max-memory 1G",
+           "p.props",
+           ":2:"},
       Case{".props",
            "count 'x', read by sample --props",
            {{"scene.rf", "sphere s 1\n"}, {"p.props", "count = x\n"}},
@@ -799,7 +819,8 @@ TEST(MalformedFiles, EveryReaderRefusesThemCleanly) {
 
 // Controls, kept out of the table: files that only look malformed are read in full. A UTF-8 byte
 // order mark used to hide the first line of OBJ and TreeQSM files (a vertex or the root
-// cylinder was dropped without a word); CRLF line ends are allowed everywhere.
+// cylinder was dropped without a word) and to spoil the first key of a props file; CRLF line
+// ends are allowed everywhere.
 TEST(MalformedFiles, LookalikesAreReadInFull) {
   const fs::path dir = temp_dir("malformed-lookalikes");
   const auto write = [&](const std::string& name, const std::string& bytes) {
@@ -836,6 +857,14 @@ TEST(MalformedFiles, LookalikesAreReadInFull) {
   const CliRun two =
       run_cli("eval " + (dir / "fork.json").string() + " --points " + (dir / "bom.xyz").string());
   EXPECT_EQ(std::count(two.out.begin(), two.out.end(), '\n'), 2) << two.out;
+  // A props file with a byte order mark and CRLF line ends: its count is read (5 points).
+  const std::string sampled = (dir / "sampled.txt").string();
+  const CliRun props = run_cli(
+      "sample " + write("s.rf", "sphere s 1\n") + " s --dist uniform --props " +
+      write("bom.props", kBom + "count = 5\r\nmax_attempts = 100000\r\n") + " -o " + sampled);
+  EXPECT_EQ(props.code, 0) << props.out;
+  const std::string points = read_file(sampled);
+  EXPECT_EQ(std::count(points.begin(), points.end(), '\n'), 5) << points;
   fs::remove_all(dir);
 }
 

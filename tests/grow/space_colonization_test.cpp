@@ -312,6 +312,24 @@ TEST(Colonization, EmptyPointsAndBadInput) {
   EXPECT_THROW((void)grow_space_colonization(bad, o), InvalidArgument);
 }
 
+// Points within the kill distance of the root are reached before the first iteration: growth
+// completes (not stalled, no reason) with the root alone. `ramiform grow` explains this case
+// itself, since there is no stall reason to show.
+TEST(Colonization, PointsWithinKillOfTheRootCompleteWithoutABranch) {
+  ColonizationOptions o;  // kill 2, root at the origin
+  for (const std::vector<Vec3>& pts :
+       {std::vector<Vec3>{Vec3(0, 0, 0), Vec3(1, 1, 1)}, std::vector<Vec3>{Vec3::Zero()}}) {
+    const auto r = grow_space_colonization(pts, o);
+    EXPECT_EQ(r.status, ColonizationStatus::kCompleted);
+    EXPECT_FALSE(r.stalled);
+    EXPECT_TRUE(r.stall_reason.empty());
+    EXPECT_EQ(r.iterations, 0u);
+    EXPECT_EQ(r.points_reached, pts.size());
+    EXPECT_EQ(r.skeleton.node_count(), 1u);
+    EXPECT_EQ(r.skeleton.edge_count(), 0u);
+  }
+}
+
 TEST(Colonization, OverflowingExtentIsRefusedNotHung) {
   // Points at +-1e308: max - min is inf, the grid's cell count was NaN and the loop enlarging
   // its cells never ended. Run in a child process with an alarm so that a hang fails the test.

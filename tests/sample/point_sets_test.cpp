@@ -768,6 +768,63 @@ TEST(SampleProps, UnknownAndBadKeysNameLineAndClosestKey) {
   }
 }
 
+TEST(SampleProps, SkipsAByteOrderMarkAndEscapesFileBytesInMessages) {
+  // A UTF-8 byte order mark is not part of the first key.
+  const std::string bom_bytes = "\xEF\xBB\xBF";
+  const Props bom = parse_props(bom_bytes + "count = 5\r\n", "p.props");
+  ASSERT_EQ(bom.values.count("count"), 1U);
+  EXPECT_EQ(bom.values.at("count"), std::make_pair(std::string("5"), std::size_t{1}));
+  auto e = input_error([&] { (void)parse_props(bom_bytes + "count 5\n", "p.props"); });
+  EXPECT_STREQ(e.what(), "p.props:1: expected 'key = value', got 'count 5'");
+  // Bytes outside printable ASCII are written as \xNN, never copied to the message.
+  e = input_error([] { (void)parse_props("cou\x1b[2Jnt = 5\n", "p.props"); });
+  EXPECT_STREQ(e.what(), "p.props:1: malformed key 'cou\\x1b[2Jnt'");
+  e = input_error([] { (void)parse_props("\x01\xff\n", "p.props"); });
+  EXPECT_STREQ(e.what(), "p.props:1: expected 'key = value', got '\\x01\\xff'");
+  const FieldPtr f = sphere(1.0);
+  const Props bell = parse_props("count = 5\x07\n", "p.props");
+  e = input_error([&] { (void)generate_points(*f, "uniform", bell, 1); });
+  EXPECT_STREQ(e.what(),
+               "p.props:1: count = 5\\x07: expected a non-negative integer (distribution "
+               "'uniform')");
+  const std::string esc = "\x1b";
+  const Props kernel = parse_props("kernel = " + esc + "disk 1\n", "p.props");
+  e = input_error([&] { (void)generate_points(*f, "lane", kernel, 1); });
+  const std::string what = e.what();
+  EXPECT_EQ(what.find('\x1b'), std::string::npos) << what;
+  EXPECT_NE(what.find("unknown kernel '\\x1bdisk"), std::string::npos) << what;
+  // A long line is shortened.
+  e = input_error([] { (void)parse_props(std::string(1000, 'a') + "\n", "p.props"); });
+  EXPECT_STREQ(
+      e.what(),
+      ("p.props:1: expected 'key = value', got '" + std::string(37, 'a') + "...'").c_str());
+}
+
+TEST(SampleProps, ACountAboveTheMemoryBudgetNamesItsLine) {
+  const FieldPtr f = sphere(1.0);
+  Context ctx;
+  ctx.set_max_memory(1'000'000);  // 1 MB: 64 bytes a point allows 15625 points
+  const Props props = parse_props("# many\ncount = 4000000000000\n", "p.props");
+  for (const std::string name : {"uniform", "stratified", "poisson", "near_surface"}) {
+    SCOPED_TRACE(name);
+    const InputError e = input_error([&] { (void)generate_points(*f, name, props, 1, 0, &ctx); });
+    EXPECT_EQ(e.file(), "p.props");
+    EXPECT_EQ(e.line(), 2U);
+    const std::string what = e.what();
+    EXPECT_EQ(what.rfind("p.props:2: count = 4000000000000: sample_" + name +
+                             ": 4000000000000 points need at least 256 TB of memory, more than "
+                             "the budget of 1 MB",
+                         0),
+              0U)
+        << what;
+  }
+  // A count from the caller (count_override) is not the file's: the ResourceLimit stays.
+  EXPECT_THROW((void)generate_points(*f, "uniform", Props{}, 1, 4'000'000'000'000, &ctx),
+               ResourceLimit);
+  EXPECT_THROW((void)generate_points(*f, "uniform", props, 1, 4'000'000'000'000, &ctx),
+               ResourceLimit);
+}
+
 TEST(SampleProps, GeneratePointsRunsEveryDistributionFromAFile) {
   const FieldPtr f = fork();
   const auto dir = test::temp_dir("sample_props");

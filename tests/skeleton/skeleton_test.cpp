@@ -73,6 +73,22 @@ TEST(SkeletonValidate, RejectsCoordinatesWhoseSpanOverflows) {
   s.nodes[0].position = Vec3(0, 0, -1e308);
   s.nodes[1].position = Vec3(0, 0, 1e308);
   expect_rejected(s, {"span more than double precision"});
+  // The message names the first node that makes the span overflow, and the range so far.
+  s = chain();
+  s.nodes[2].position = Vec3(1e308, 0, 9);
+  try {
+    validate(s, "tree.json");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "tree.json");
+    EXPECT_STREQ(e.what(),
+                 "tree.json: node 2: with this node the coordinates span more than double "
+                 "precision can hold (from 0 to 1e+308)");
+  }
+  // A span just below the limit (a diagonal of about 1.5e151) is fine.
+  s = chain();
+  for (auto& n : s.nodes) n.position *= 1e150;
+  EXPECT_NO_THROW(validate(s));
 }
 
 TEST(SkeletonValidate, RejectsBadRadius) {
