@@ -340,6 +340,9 @@ class TransformField final : public CompositeField {
         inverse_(s.inverse_),
         linear_inverse_t_(s.linear_inverse_t_) {}
 
+  [[nodiscard]] const FieldPtr& child() const { return child_; }
+  [[nodiscard]] const Affine3& forward() const { return forward_; }
+
   Interval bound(const Aabb& box) const override { return child_->bound(map_box(inverse_, box)); }
   Aabb bounds() const override { return map_box(forward_, child_->bounds()); }
   FieldPtr restrict(const Aabb& box) const override {
@@ -405,13 +408,29 @@ FieldPtr make_difference(FieldPtr a, FieldPtr b) {
   return std::make_shared<DifferenceField>(std::move(a), std::move(b));
 }
 
+namespace {
+
+bool invertible(const Affine3& t) {
+  if (!t.matrix().allFinite()) return false;
+  const double scale = t.linear().norm();
+  return std::abs(t.linear().determinant()) > 1e-12 * scale * scale * scale;
+}
+
+}  // namespace
+
 FieldPtr make_transform(FieldPtr child, const Affine3& transform) {
   if (!child) throw InvalidArgument("transform: null child");
   if (!transform.matrix().allFinite()) throw InvalidArgument("transform: matrix is not finite");
-  const double det = transform.linear().determinant();
-  const double scale = transform.linear().norm();
-  if (!(std::abs(det) > 1e-12 * scale * scale * scale)) {
-    throw InvalidArgument("transform: matrix is singular (determinant " + std::to_string(det) + ")");
+  if (!invertible(transform)) {
+    throw InvalidArgument("transform: matrix is singular (determinant " +
+                          std::to_string(transform.linear().determinant()) + ")");
+  }
+  // A transform of a transform is one transform (the maps composed): a chain of moves, however
+  // long, stays one level deep and costs one matrix product per point. Where the composed map
+  // is numerically singular (a long chain of shrinking scales) the transforms stay nested.
+  if (const auto* inner = dynamic_cast<const TransformField*>(child.get())) {
+    const Affine3 composed = transform * inner->forward();
+    if (invertible(composed)) return std::make_shared<TransformField>(inner->child(), composed);
   }
   return std::make_shared<TransformField>(std::move(child), transform);
 }

@@ -658,7 +658,9 @@ std::vector<Case> script_cases() {
                 "scene.rf",         std::move(location)};
   };
   std::string deep = "sphere a\n";
-  for (int i = 0; i < 2000; ++i) deep += "translate a 0 0 0\n";
+  // kMaxFieldDepth = 500: the union on line 501 would nest 501 deep (a chain of moves would
+  // not: transforms of transforms compose into one).
+  for (int i = 0; i < 500; ++i) deep += "union a a a\n";
   return {
       c("NUL byte in a command", kStaging + std::string("sphere\0 t\n", 10), ":3:"),
       c("terminal escape sequence", kStaging + "\x1b[2Jsphere t\n", ":3:"),
@@ -671,7 +673,7 @@ std::vector<Case> script_cases() {
       c("option given twice", kStaging + "save_mesh s a.ply resolution=8 resolution=9\n", ":3:"),
       c("misspelt option", kStaging + "sphere t 1 centre=0,0,0\n", ":3:"),
       c("output outside --out", kStaging + "save_mesh s ../x.ply\n", ":3:"),
-      c("shapes nested 2,001 deep", deep, ":2001:"),
+      c("shapes nested 501 deep", deep, ":501:"),
       c("one 50 MB line", kStaging + "sphere t " + std::string(k50MB, '1'), ":3:"),
       Case{"RBF constraints (script rbf)",
            "3 numbers on a line",

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -323,8 +324,9 @@ TEST(Operators, DeepTreeStillPrunes) {
 
 // ---- nesting depth -------------------------------------------------------------------------
 
-const std::vector<std::string> kNestingKinds = {"union",     "blend", "intersection", "difference",
-                                                "transform", "taper", "twist",        "bend"};
+// (A transform of a transform merges into one: TransformChainsAreOneLevel.)
+const std::vector<std::string> kNestingKinds = {"union", "blend", "intersection", "difference",
+                                                "taper", "twist", "bend"};
 
 // `f` one level deeper under the operator or warp `kind` (a second child, where there is one, is
 // the shared point field `other`).
@@ -333,7 +335,6 @@ FieldPtr nest(const std::string& kind, const FieldPtr& f, const FieldPtr& other)
   if (kind == "blend") return make_sum({f, other});
   if (kind == "intersection") return make_intersection({f, other});
   if (kind == "difference") return make_difference(f, other);
-  if (kind == "transform") return make_transform(f, Affine3(Eigen::Translation3d(1e-4, 0, 0)));
   if (kind == "taper") {
     TaperOptions o;
     o.scale_end = 0.9999;
@@ -375,6 +376,35 @@ TEST(Operators, NestingBeyondTheMaximumDepthIsRefused) {
     // A shallow field under the deep one's parent is no deeper than the deep one.
     EXPECT_EQ(field_depth(*make_union({other, chain(kind, 3, other)})), 4U) << kind;
   }
+}
+
+TEST(Operators, TransformChainsAreOneLevel) {
+  // 5,000 moves of 1e-4 along x, 10 times the depth limit, are one transform by 0.5: depth 2,
+  // and the values and gradients of the point field moved by 0.5 (up to rounding).
+  const FieldPtr point = make_point_field(Vec3(0.2, 0, 0), 1.0, wyvill());
+  FieldPtr f = point;
+  for (int k = 0; k < 5000; ++k) f = make_transform(f, Affine3(Eigen::Translation3d(1e-4, 0, 0)));
+  EXPECT_EQ(field_depth(*f), 2U);
+  const FieldPtr once = make_transform(point, Affine3(Eigen::Translation3d(0.5, 0, 0)));
+  const std::vector<Vec3> points = {Vec3(0.7, 0.1, 0), Vec3(0.2, 0.3, 0.1), Vec3(1.1, 0, -0.2)};
+  std::vector<double> a(points.size()), b(points.size());
+  std::vector<Vec3> ga(points.size()), gb(points.size());
+  f->evaluate(points, a, ga);
+  once->evaluate(points, b, gb);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    EXPECT_NEAR(a[i], b[i], 1e-12) << i;
+    EXPECT_LT((ga[i] - gb[i]).norm(), 1e-11) << i;
+  }
+  // Rotations and scales compose too: a quarter turn four times is the identity.
+  FieldPtr r = point;
+  const Affine3 quarter(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitZ()));
+  for (int k = 0; k < 4; ++k) r = make_transform(r, quarter);
+  EXPECT_EQ(field_depth(*r), 2U);
+  std::vector<double> c(points.size());
+  r->evaluate(points, c);
+  std::vector<double> d(points.size());
+  point->evaluate(points, d);
+  for (std::size_t i = 0; i < points.size(); ++i) EXPECT_NEAR(c[i], d[i], 1e-12) << i;
 }
 
 TEST(Operators, EveryRecursiveCallSurvivesTheMaximumDepth) {

@@ -32,9 +32,11 @@ namespace ramiform {
 /// throws InvalidArgument beyond this depth. Measured on x86-64 (Release build): the first of
 /// those calls to overflow, over every operator kind, does so at a depth of about 14,600 on a
 /// 4 MiB stack (oneTBB's worker threads, where polygonizers evaluate) and 29,000 on 8 MiB (a
-/// main thread); this limit leaves a factor of 7 for larger frames (debug and sanitizer builds).
-/// A long chain of unions is better written as one n-ary union.
-inline constexpr std::size_t kMaxFieldDepth = 2000;
+/// main thread), about 290 bytes a level. Under AddressSanitizer a level takes about 4.2 KB
+/// (measured: 3,952 bytes for an n-ary operator's evaluate frame, which overflowed 8 MiB at
+/// about 2,000 levels); this limit keeps a factor of 2 on a 4 MiB worker there and of 29 in a
+/// Release build. A long chain of unions is better written as one n-ary union.
+inline constexpr std::size_t kMaxFieldDepth = 500;
 
 /// Base of the fields built from other fields (the operators here, the warps of warps.h): it
 /// records the nesting depth when the field is built and refuses depths beyond kMaxFieldDepth.
@@ -71,7 +73,9 @@ class CompositeField : public Field {
 [[nodiscard]] FieldPtr make_difference(FieldPtr a, FieldPtr b);
 /// Affine transform: the shape of `child` moved by `transform` (any invertible affine map,
 /// non-uniform scale included): f(p) = f_child(T^-1 p), grad = T^-T grad f_child.
-/// Throws InvalidArgument for a singular or non-finite map.
+/// Throws InvalidArgument for a singular or non-finite map. A transform of a transform is one
+/// transform whose map is the composition (so a chain of moves is one level deep); its values
+/// differ from those of the nested pair only by rounding.
 [[nodiscard]] FieldPtr make_transform(FieldPtr child, const Affine3& transform);
 
 }  // namespace ramiform
