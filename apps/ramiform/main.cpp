@@ -36,8 +36,9 @@ void restart_with_huge_pages(char** argv) {
 #endif
 }
 
-// A run stopped from outside leaves no staged file (io/atomic_file.h), then ends by the same
-// signal with its default action, so the caller sees that it was interrupted.
+// A run stopped from outside leaves no staged file (io/atomic_file.h): the unnamed ones vanish
+// with the process (so also after SIGKILL), the named ones are removed here. It then ends by the
+// same signal with its default action, so the caller sees that it was interrupted.
 void on_stop_signal(int sig) {
   ramiform::remove_staged_files_for_signal();
   ::signal(sig, SIG_DFL);

@@ -19,6 +19,7 @@ namespace ramiform {
 namespace {
 
 constexpr std::uint32_t kNone = UINT32_MAX;
+constexpr std::size_t kModulesPerCancelCheck = std::size_t{1} << 16;
 
 // ---- expressions ---------------------------------------------------------------------------
 
@@ -419,7 +420,8 @@ void LSystemOptions::validate() const {
 }
 
 std::vector<LSystemModule> lsystem_derive(std::string_view text, const std::string& source,
-                                          int iterations, std::size_t max_modules) {
+                                          int iterations, std::size_t max_modules,
+                                          const Context* ctx) {
   check_option(iterations >= 0, "iterations must be >= 0");
   const Grammar g = parse(text, source);
   std::vector<LSystemModule> cur;
@@ -429,7 +431,9 @@ std::vector<LSystemModule> lsystem_derive(std::string_view text, const std::stri
   for (int it = 0; it < iterations; ++it) {
     std::vector<LSystemModule> next;
     next.reserve(cur.size() * 2);
-    for (auto& m : cur) {
+    for (std::size_t k = 0; k < cur.size(); ++k) {
+      if (k % kModulesPerCancelCheck == 0) check_cancel(ctx);
+      LSystemModule& m = cur[k];
       const Production* use = nullptr;
       if (auto f = by_symbol.find(m.symbol); f != by_symbol.end())
         for (const Production* p : f->second)
@@ -462,7 +466,8 @@ std::string lsystem_string(std::span<const LSystemModule> modules) {
   return s.str();
 }
 
-Skeleton lsystem_interpret(std::span<const LSystemModule> modules, const LSystemOptions& options) {
+Skeleton lsystem_interpret(std::span<const LSystemModule> modules, const LSystemOptions& options,
+                           const Context* ctx) {
   options.validate();
   Skeleton s;
   std::vector<std::uint32_t> starts;
@@ -477,6 +482,7 @@ Skeleton lsystem_interpret(std::span<const LSystemModule> modules, const LSystem
     return static_cast<std::uint32_t>(s.nodes.size() - 1);
   };
   for (std::size_t k = 0; k < modules.size(); ++k) {
+    if (k % kModulesPerCancelCheck == 0) check_cancel(ctx);
     const LSystemModule& m = modules[k];
     const auto arg = [&](std::size_t i, double fallback) {
       return m.params.size() > i ? m.params[i] : fallback;
@@ -558,10 +564,10 @@ Skeleton lsystem_interpret(std::span<const LSystemModule> modules, const LSystem
 }
 
 Skeleton lsystem_skeleton(std::string_view text, const std::string& source,
-                          const LSystemOptions& options) {
+                          const LSystemOptions& options, const Context* ctx) {
   options.validate();
-  const auto modules = lsystem_derive(text, source, options.iterations, options.max_modules);
-  return lsystem_interpret(modules, options);
+  const auto modules = lsystem_derive(text, source, options.iterations, options.max_modules, ctx);
+  return lsystem_interpret(modules, options, ctx);
 }
 
 std::vector<std::pair<std::string, std::string>> lsystem_examples() {

@@ -30,6 +30,8 @@ constexpr std::size_t kGrain = 16384;
 constexpr int kBlockBits = 13;
 // The second round's blocks are the cells of a grid with this many cells along each axis.
 constexpr std::size_t kGridCells = 16;
+// A block of a round looks at its cancellation once per this many needles.
+constexpr std::size_t kNeedlesPerCancelCheck = 4096;
 
 // The sine of the smallest corner angle of the triangle a, b, c (the corner opposite the
 // shortest edge, at most 60 degrees, where the sine is increasing: a cheap stand-in for the
@@ -53,9 +55,11 @@ double min_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c) {
 // operations run and in which order depends on the mesh only, never on the threads.
 class Collapser {
  public:
-  Collapser(TriMesh& mesh, const NeedleCleanupOptions& o, const Context* ctx)
+  // `ctx` gives the threads; a cancellation of `cancel` stops the rounds between needles.
+  Collapser(TriMesh& mesh, const NeedleCleanupOptions& o, const Context* ctx, const Context* cancel)
       : mesh_(mesh),
         ctx_(ctx),
+        cancel_(cancel),
         alive_(mesh.triangles.size(), 1),
         head_(mesh.positions.size(), kNone),
         next_(std::make_unique_for_overwrite<std::uint32_t[]>(3 * mesh.triangles.size())),
@@ -200,6 +204,7 @@ class Collapser {
     return 0;
   }
 
+  bool is_cancelled() const { return cancel_ != nullptr && cancel_->is_cancelled(); }
   const Vec3& pos(std::uint32_t v) const { return mesh_.positions[v]; }
   double angle_of(const Tri& f) const { return min_angle_sine(pos(f[0]), pos(f[1]), pos(f[2])); }
   static bool has(const Tri& f, std::uint32_t v) { return f[0] == v || f[1] == v || f[2] == v; }
@@ -229,6 +234,7 @@ class Collapser {
           r.split = split;
           r.id = b;
           for (std::size_t i = start[b]; i < start[b + 1]; ++i) {
+            if ((i - start[b]) % kNeedlesPerCancelCheck == 0 && is_cancelled()) break;
             if (!visit(order[i], r)) r.deferred.push_back(order[i]);
           }
         },
@@ -510,6 +516,7 @@ class Collapser {
 
   TriMesh& mesh_;
   const Context* ctx_;
+  const Context* cancel_;
   std::vector<char> alive_;
   // Corner chains: head_[v] is v's first corner, next_[c] the next corner of the same vertex
   // (kNone ends a chain); they list exactly the alive triangles around each vertex.
@@ -641,16 +648,23 @@ void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& o, NeedleCleanupSt
                           std::to_string(o.max_edge_ratio));
   }
   check_cancel(ctx);
-  // Only the thread count is passed on: a cancellation half way would leave a broken mesh.
+  // The loops that change the mesh get only the thread count: a cancellation inside them would
+  // leave a broken mesh. The sweeps stop between needles instead, and the mesh is compacted
+  // (valid, cleaned less) before Cancelled is thrown.
   const Context threads(ctx != nullptr ? ctx->threads() : 0);
   NeedleCleanupStats st;
-  const AngleSummary before = angle_summary(mesh, &threads);
+  const AngleSummary before = angle_summary(mesh, ctx);
   st.min_angle_before = before.min_deg;
   st.median_angle_before = before.median_deg;
-  Collapser c(mesh, o, &threads);
+  Collapser c(mesh, o, &threads, ctx);
+  check_cancel(ctx);  // building the corner chains changed nothing yet
   for (int pass = 0; pass < o.passes; ++pass) {
     const std::size_t n = c.sweep(pass == 0);
     st.collapsed_edges += n;
+    if (ctx != nullptr && ctx->is_cancelled()) {
+      c.compact();
+      ctx->check();
+    }
     if (n == 0) break;
   }
   st.removed_triangles = c.removed_triangles;

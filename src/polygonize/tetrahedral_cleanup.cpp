@@ -44,6 +44,7 @@ std::size_t drop_strays(TriMesh& mesh, const Skeleton& skeleton, Context* ctx) {
   std::size_t dropped = 0;
   for (std::uint32_t c = 0; c < comps.count; ++c) {
     if (100 * size[c] >= mesh.triangles.size()) continue;
+    check_cancel(ctx);  // each test copies the mesh's positions
     if (!encloses_a_node(mesh, comps, c, skeleton, ctx)) {
       keep[c] = 0;
       ++dropped;
@@ -81,6 +82,7 @@ void clean_needles_keeping_nodes(TriMesh& mesh, const Skeleton& skeleton, Contex
 void clean_up(TriMesh& mesh, const Skeleton& skeleton, const TetrahedralOptions& options,
               Context* ctx, TetrahedralStats& st) {
   if (options.cleanup) clean_needles_keeping_nodes(mesh, skeleton, ctx, st);
+  check_cancel(ctx);
   if (options.drop_strays) st.stray_components = drop_strays(mesh, skeleton, ctx);
 }
 

@@ -11,6 +11,8 @@
 namespace ramiform::detail::tets {
 namespace {
 
+constexpr std::size_t kBucketsPerCancelCheck = std::size_t{1} << 16;
+
 // The distinct crossing edges: their end points and values, and per record its edge.
 struct CrossingEdges {
   std::vector<Vec3> inside, outside;
@@ -33,6 +35,7 @@ CrossingEdges unique_crossings(const std::vector<std::uint64_t>& records, const 
   CrossingEdges ce;
   ce.edge_of.resize(records.size());
   for (std::size_t in = 0; in + 1 < bucket_start.size(); ++in) {
+    if (in % kBucketsPerCancelCheck == 0) check_cancel(ctx);  // serial, seconds on big trees
     const auto first = by_inside.begin() + bucket_start[in];
     const auto last = by_inside.begin() + bucket_start[in + 1];
     for (auto it = first; it != last; ++it) {

@@ -216,7 +216,7 @@ CommandResult run_lsystem(Call& c) {
   o.radius = radii == "pipe" ? LSystemRadius::kPipe : LSystemRadius::kWidth;
   o.tip_radius = c.option_positive("tip_radius", o.tip_radius);
   o.pipe_exponent = c.option_number("pipe_exponent", o.pipe_exponent);
-  Skeleton skeleton = lsystem_skeleton(text, source, o);
+  Skeleton skeleton = lsystem_skeleton(text, source, o, c.session().ctx);
   if (skeleton.edge_count() == 0)
     c.fail(c.arg(1), "the L-system draws no segment (no F) after " + std::to_string(o.iterations) +
                          " iterations");

@@ -325,9 +325,13 @@ const Object& Call::object(std::size_t i, ObjectKind kind) const {
 std::string Call::input_path(const Token& token) const {
   fs::path p(token.text);
   if (p.is_relative()) p = fs::path(session_.input_dir) / p;
-  // A file written earlier in this script is still staged.
+  // A file written earlier in this script is still staged, without a name where Linux allows:
+  // it gets its staging name until this command ends (~Call).
   for (const Staged& s : session_.staged) {
-    if (fs::path(s.final_path).lexically_normal() == p.lexically_normal()) return s.staged_path;
+    if (fs::path(s.final_path).lexically_normal() != p.lexically_normal()) continue;
+    show_held_file(s.staged_path);
+    session_.shown.push_back(s.staged_path);
+    return s.staged_path;
   }
   std::error_code ec;
   if (!fs::exists(p, ec)) fail(token, "cannot read '" + p.string() + "': no such file");
@@ -365,8 +369,13 @@ std::string Call::output_path(std::size_t i) {
   const fs::path staged = dir / (".rf-staged-" + std::to_string(session_.staged.size()) + "-" +
                                  final_path.filename().string());
   session_.staged.push_back({final_path.string(), staged.string()});
-  register_staged_file(staged.string());  // removed if the run is stopped by a signal
+  hold_file(staged.string());  // unnamed where Linux allows, else removed by a stop signal
   return staged.string();
+}
+
+Call::~Call() {
+  for (const std::string& path : session_.shown) hide_held_file(path);
+  session_.shown.clear();
 }
 
 const Token* Call::option_token(const std::string& key) const {
@@ -545,12 +554,7 @@ std::vector<CommandResult> ScriptSession::run_file(const std::string& path) {
 std::vector<std::string> ScriptSession::commit() {
   std::vector<std::string> done;
   for (const script::Staged& s : impl_->staged) {
-    std::error_code ec;
-    std::filesystem::rename(s.staged_path, s.final_path, ec);
-    if (ec)
-      throw Failure("cannot move '" + s.staged_path + "' to '" + s.final_path +
-                    "': " + ec.message());
-    unregister_staged_file(s.staged_path);
+    publish_held_file(s.staged_path, s.final_path);
     done.push_back(s.final_path);
   }
   impl_->staged.clear();
@@ -559,11 +563,7 @@ std::vector<std::string> ScriptSession::commit() {
 
 void ScriptSession::discard() noexcept {
   if (!impl_) return;
-  for (const script::Staged& s : impl_->staged) {
-    std::error_code ec;
-    std::filesystem::remove(s.staged_path, ec);
-    unregister_staged_file(s.staged_path);
-  }
+  for (const script::Staged& s : impl_->staged) drop_held_file(s.staged_path);
   impl_->staged.clear();
 }
 

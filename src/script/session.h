@@ -82,6 +82,7 @@ struct ScriptSession::Impl {
   std::size_t param_bytes = 0;                // their values' sizes added up
   std::set<std::string> declared;
   std::vector<script::Staged> staged;
+  std::vector<std::string> shown;  // staged outputs named for the current command to read back
   std::map<std::string, PointSet> point_sets;  // by name (point_set_gen names them after the shape)
   std::string current_points;                  // the point set made or changed last
   std::string input_dir;                       // resolved base of relative input paths
@@ -119,6 +120,10 @@ class Call {
  public:
   Call(ScriptSession::Impl& session, const CommandSpec& spec, std::vector<Token> tokens,
        std::string file, std::size_t line);
+  /// Takes away the names that input_path gave staged outputs read back by this command.
+  ~Call();
+  Call(const Call&) = delete;
+  Call& operator=(const Call&) = delete;
 
   ScriptSession::Impl& session() const { return session_; }
   const CommandSpec& spec() const { return spec_; }
@@ -141,7 +146,8 @@ class Call {
   std::string input_path(std::size_t i) const;
   std::string input_path(const Token& token) const;
   /// An output path resolved against out_dir (inside it unless allow_any_path), staged: the
-  /// returned path is where to write now; commit() renames it to the final path.
+  /// returned path is where to write now (a held file, io/atomic_file.h: unnamed until read
+  /// back or published); commit() publishes it under the final path.
   std::string output_path(std::size_t i);
 
   bool has_option(const std::string& key) const;

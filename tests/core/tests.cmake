@@ -7,4 +7,5 @@ set(RAMIFORM_core_TESTS
   core/nnls_test.cpp
   core/numbers_test.cpp
   core/roots_test.cpp
-  core/types_test.cpp)
+  core/types_test.cpp
+  core/cancel_latency_test.cpp)

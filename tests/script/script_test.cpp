@@ -67,7 +67,7 @@ TEST_F(ScriptTest, ThesisDifferenceListingRunsVerbatimAndMatchesTheFormula) {
 TEST_F(ScriptTest, DrilledSphereMeshIsWatertightWithTheNapkinRingVolume) {
   ScriptSession s(options_);
   s.run_text("sphere s1\nline s2\ndiff s1 s2 s3\nsave_mesh s3 s3.ply resolution=128\n", "t.rf");
-  EXPECT_EQ(files(), 1u);  // staged, not yet committed
+  EXPECT_LE(files(), 1u);  // staged (unnamed where Linux allows), not yet committed
   EXPECT_FALSE(fs::exists(dir_ / "s3.ply"));
   s.commit();
   const TriMesh mesh = read_mesh((dir_ / "s3.ply").string());

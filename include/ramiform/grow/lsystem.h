@@ -38,6 +38,7 @@
 #include <utility>
 #include <vector>
 
+#include "ramiform/core/context.h"
 #include "ramiform/skeleton/skeleton.h"
 
 namespace ramiform {
@@ -75,10 +76,12 @@ struct LSystemModule {
 
 /// Parses `text` and derives `iterations` steps. Throws InputError "source:line:column: problem"
 /// on a syntax error, an undefined name or a wrong argument count, InvalidArgument when
-/// iterations < 0 or the derivation exceeds `max_modules`.
+/// iterations < 0 or the derivation exceeds `max_modules`, Cancelled when `ctx` is cancelled
+/// (checked once per step and per 65536 modules).
 [[nodiscard]] std::vector<LSystemModule> lsystem_derive(std::string_view text,
                                                         const std::string& source, int iterations,
-                                                        std::size_t max_modules = 20'000'000);
+                                                        std::size_t max_modules = 20'000'000,
+                                                        const Context* ctx = nullptr);
 
 /// The derivation as text: symbols with their parameters, e.g. "F(1,0.5)[+(30)A(0.7)]".
 /// Parameters are printed with up to 6 significant digits.
@@ -87,13 +90,15 @@ struct LSystemModule {
 /// Interprets a derivation with the turtle. Every F of non-zero length adds an edge; nodes are
 /// shared where a branch starts ([ keeps the node the turtle stands on). Node 0 is the start of
 /// the first F. Throws InvalidArgument when nothing is drawn, on bad options, or on unbalanced
-/// brackets.
+/// brackets; Cancelled when `ctx` is cancelled (checked per 65536 modules).
 [[nodiscard]] Skeleton lsystem_interpret(std::span<const LSystemModule> modules,
-                                         const LSystemOptions& options);
+                                         const LSystemOptions& options,
+                                         const Context* ctx = nullptr);
 
 /// Parses, derives options.iterations steps and interprets (the errors of the three calls above).
 [[nodiscard]] Skeleton lsystem_skeleton(std::string_view text, const std::string& source,
-                                        const LSystemOptions& options);
+                                        const LSystemOptions& options,
+                                        const Context* ctx = nullptr);
 
 /// Ready-made systems from ABOP as name -> text (the same texts as in docs/growth.md). Each
 /// text's first comment line gives the recommended iterations.

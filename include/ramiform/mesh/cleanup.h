@@ -74,7 +74,9 @@ struct AngleSummary {
 
 /// Collapses needle edges of `mesh` in place (see the file comment); unused vertices are
 /// removed and the rest keep their relative order (with their normals, if the mesh has them).
-/// `ctx` gives the thread count; cancellation is checked only before the mesh is changed.
+/// `ctx` gives the thread count and cancellation (Cancelled): checked before the mesh is changed
+/// and, while sweeps change it, between needles; a cancelled call leaves a valid mesh with the
+/// changes made so far.
 void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& options = {},
                    NeedleCleanupStats* stats = nullptr, const Context* ctx = nullptr);
 
