@@ -2,10 +2,19 @@
 // Copyright (c) 2026 the ramiform authors
 #include "ramiform/core/parallel.h"
 
+#if defined(RAMIFORM_PARALLEL_STD_THREADS)
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+#else
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
+#endif
 
 namespace ramiform::parallel {
 namespace {
@@ -51,6 +60,37 @@ void for_chunks(std::size_t n, std::size_t grain,
     run_chunk(0);
     return;
   }
+#if defined(RAMIFORM_PARALLEL_STD_THREADS)
+  // The ThreadSanitizer build (`make tsan`): Debian's oneTBB is not instrumented, so the
+  // synchronization inside it is invisible to TSan and every loop would look racy. Here plain
+  // threads take the same fixed chunks from a shared counter and are joined; loops nested in a
+  // chunk run serially on its thread. The chunks, and so the results, are those of oneTBB.
+  const unsigned hardware = std::max(1U, std::thread::hardware_concurrency());
+  const std::size_t workers =
+      std::min<std::size_t>(chunks, threads > 1 ? static_cast<std::size_t>(threads) : hardware);
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto work = [&] {
+    const SerialScope serial;
+    for (std::size_t c = next++; c < chunks && !failed.load(); c = next++) {
+      try {
+        run_chunk(c);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        failed.store(true);
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  pool.reserve(workers - 1);
+  for (std::size_t w = 1; w < workers; ++w) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+#else
   auto run = [&] {
     // simple_partitioner with grain 1 over chunk indices: the chunk boundaries are fixed above,
     // only their assignment to threads varies.
@@ -67,6 +107,7 @@ void for_chunks(std::size_t n, std::size_t grain,
   } else {
     run();
   }
+#endif
 }
 
 std::size_t exclusive_scan(std::vector<std::size_t>& counts) {
