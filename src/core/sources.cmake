@@ -7,4 +7,5 @@ set(RAMIFORM_CORE_SOURCES
   src/core/parallel.cpp
   src/core/portable_math.cpp
   src/core/random.cpp
-  src/core/roots.cpp)
+  src/core/roots.cpp
+  src/core/text.cpp)

@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/text.h"
 
 namespace ramiform::io_detail {
 namespace {
@@ -86,11 +87,7 @@ bool next_content(LineCursor& cursor, std::vector<std::string_view>& fields) {
   return false;
 }
 
-std::string_view skip_bom(std::string_view text) {
-  constexpr std::string_view kBom = "\xEF\xBB\xBF";
-  if (text.substr(0, kBom.size()) == kBom) text.remove_prefix(kBom.size());
-  return text;
-}
+std::string_view skip_bom(std::string_view text) { return skip_utf8_bom(text); }
 
 bool split_fields(std::string_view line, std::vector<std::string_view>& fields, bool allow_commas) {
   fields.clear();
@@ -118,27 +115,9 @@ bool split_fields(std::string_view line, std::vector<std::string_view>& fields, 
   }
 }
 
-std::string printable(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte < 0x7f) {
-      out += c;
-    } else {
-      static constexpr char kHex[] = "0123456789abcdef";
-      out += "\\x";
-      out += kHex[byte >> 4U];
-      out += kHex[byte & 0xfU];
-    }
-  }
-  return out;
-}
+std::string printable(std::string_view text) { return printable_text(text); }
 
-std::string quote(std::string_view token) {
-  if (token.size() > 40) return "'" + printable(token.substr(0, 37)) + "...'";
-  return "'" + printable(token) + "'";
-}
+std::string quote(std::string_view token) { return quoted_text(token); }
 
 double to_double(std::string_view token, const std::string& source, std::size_t line,
                  std::string_view what) {

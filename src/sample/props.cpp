@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/text.h"
 #include "ramiform/core/numbers.h"
 
 namespace ramiform {
@@ -27,34 +28,13 @@ bool is_key_char(char c, bool first) {
   return !first && (std::isdigit(u) || c == '-' || c == '.');
 }
 
-// Text for a message with every byte outside printable ASCII as "\xNN" (an invisible byte
-// order mark, or control bytes that would reach the terminal). The io readers do the same
-// (io_detail::printable), but sample may not include io's headers.
-std::string escaped(std::string_view text) {
-  std::string out;
-  out.reserve(text.size());
-  for (const char c : text) {
-    const auto byte = static_cast<unsigned char>(c);
-    if (byte >= 0x20 && byte < 0x7f) {
-      out += c;
-    } else {
-      static constexpr char kHex[] = "0123456789abcdef";
-      out += "\\x";
-      out += kHex[byte >> 4U];
-      out += kHex[byte & 0xfU];
-    }
-  }
-  return out;
-}
-
-// File text for a message: escaped(), shortened when long (a line can be megabytes).
+// File text for a message (core/text.h): non-printable bytes as "\xNN", shortened when long.
 std::string printable(std::string_view text) {
-  constexpr std::size_t kMax = 40;
-  if (text.size() <= kMax) return escaped(text);
-  return escaped(text.substr(0, kMax - 3)) + "...";
+  const std::string q = quoted_text(text);
+  return q.substr(1, q.size() - 2);
 }
 
-std::string quote(std::string_view text) { return "'" + printable(text) + "'"; }
+std::string quote(std::string_view text) { return quoted_text(text); }
 
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -97,8 +77,7 @@ Props parse_props(std::string_view text, const std::string& source) {
   Props props;
   props.source = source;
   // A UTF-8 byte order mark (written by some editors) is not part of the first key.
-  constexpr std::string_view kBom = "\xEF\xBB\xBF";
-  if (text.substr(0, kBom.size()) == kBom) text.remove_prefix(kBom.size());
+  text = skip_utf8_bom(text);
   std::size_t line_no = 0;
   std::size_t pos = 0;
   while (pos <= text.size()) {
@@ -174,11 +153,11 @@ bool PropsReader::has(const std::string& key) const { return props_.values.count
 
 void PropsReader::fail(const std::string& key, const std::string& problem) const {
   const auto it = props_.values.find(key);
-  if (it == props_.values.end()) throw InputError(props_.source, 0, key + ": " + escaped(problem));
+  if (it == props_.values.end()) throw InputError(props_.source, 0, key + ": " + printable_text(problem));
   // The problem may quote the value too (e.g. LaneKernel::parse), so it is escaped as well.
   throw InputError(
       props_.source, it->second.second,
-      key + " = " + printable(it->second.first) + ": " + escaped(problem) + " (" + what_ + ")");
+      key + " = " + printable(it->second.first) + ": " + printable_text(problem) + " (" + what_ + ")");
 }
 
 double PropsReader::number(const std::string& key, double fallback) const {
