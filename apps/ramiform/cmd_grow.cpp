@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -47,30 +46,6 @@ std::string vec3_text(const Vec3& v) {
   return format_shortest(v.x()) + "," + format_shortest(v.y()) + "," + format_shortest(v.z());
 }
 
-// Why a growth made no edge. A stalled growth says why; a completed one reached every point
-// from the root itself: all lie within the kill distance d_k of it, so no node ever had a
-// point to grow toward (grow_space_colonization kills them before the first iteration).
-std::string no_branch_reason(const ColonizationResult& r, const std::vector<Vec3>& points,
-                             const ColonizationOptions& o) {
-  if (!r.stall_reason.empty()) return r.stall_reason;
-  double farthest = 0.0;
-  for (const Vec3& p : points) {
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const Vec3& root : o.roots) nearest = std::min(nearest, (p - root).norm());
-    farthest = std::max(farthest, nearest);
-  }
-  const std::string root =
-      o.roots.size() == 1 ? "the root (" + vec3_text(o.roots.front()) + ")" : "a root";
-  const bool one = points.size() == 1;
-  return (one ? "the one attraction point lies"
-              : "all " + std::to_string(points.size()) + " attraction points lie") +
-         " within the kill distance d_k = " + format_number(o.kill) + " of " + root + " (" +
-         (one ? "at distance " : "the farthest at distance ") + format_number(farthest) + "), so " +
-         (one ? "it was" : "they were") +
-         " reached before any branch grew; move --root away from the points or use a smaller "
-         "--kill";
-}
-
 struct GrowArgs {
   std::string points_path;
   std::string out_path;
@@ -97,8 +72,11 @@ int run_grow(const GrowArgs& args) {
   const ColonizationResult r = grow_space_colonization(points.positions, o, &scope.context());
   timer.lap("grow");
   if (r.skeleton.edge_count() == 0) {
+    const std::string advice = r.stalled ? std::string()
+                                         : "; move --root away from the points or use a "
+                                           "smaller --kill";
     throw InvalidArgument("grew no branch from " + args.points_path + ": " +
-                          no_branch_reason(r, points.positions, o));
+                          no_branch_reason(r, points.positions, o) + advice);
   }
   write_skeleton(r.skeleton, args.out_path);
   timer.lap("write");

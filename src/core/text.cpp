@@ -4,10 +4,14 @@
 
 namespace ramiform {
 
-std::string printable_text(std::string_view text) {
+std::string printable_text(std::string_view text, std::size_t max_chars) {
   std::string out;
-  out.reserve(text.size());
+  out.reserve(text.size() < max_chars ? text.size() : max_chars + 3);
   for (const char c : text) {
+    if (out.size() >= max_chars) {
+      out += "...";
+      break;
+    }
     const auto byte = static_cast<unsigned char>(c);
     if (byte >= 0x20 && byte < 0x7f) {
       out += c;

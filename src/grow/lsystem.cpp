@@ -12,6 +12,7 @@
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
 #include "ramiform/core/portable_math.h"
+#include "ramiform/core/text.h"
 #include "ramiform/core/types.h"
 #include "ramiform/grow/space_colonization.h"
 
@@ -100,7 +101,7 @@ class LineParser {
         params_(std::move(params)) {}
 
   [[noreturn]] void fail(const std::string& problem, std::size_t at) const {
-    throw InputError(source_, line_, at + 1, problem);
+    throw InputError(source_, line_, at + 1, printable_text(problem));
   }
   [[noreturn]] void fail(const std::string& problem) const { fail(problem, i_); }
 
@@ -284,6 +285,9 @@ Grammar parse(std::string_view text, const std::string& source) {
   Grammar g;
   std::map<std::string, double> constants;
   bool have_axiom = false;
+  // A UTF-8 byte order mark, which some editors write at the start of a text file, is no part
+  // of the first line; columns count from after it.
+  text = skip_utf8_bom(text);
   std::size_t line_no = 0, start = 0;
   while (start <= text.size()) {
     std::size_t end = text.find('\n', start);

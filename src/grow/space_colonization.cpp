@@ -8,7 +8,9 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <sstream>
+#include <string>
 #include <unordered_map>
 #include <utility>
 
@@ -707,6 +709,31 @@ ColonizationResult grow_space_colonization(std::span<const Vec3> points,
   r.stall_reason = sc.stall_reason();
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
+}
+
+std::string no_branch_reason(const ColonizationResult& result, std::span<const Vec3> points,
+                             const ColonizationOptions& options) {
+  if (result.skeleton.edge_count() > 0) return {};
+  if (!result.stall_reason.empty()) return result.stall_reason;
+  // Completed without an edge: the constructor killed every point within d_k of a root, so no
+  // node ever had a point to grow toward.
+  double farthest = 0.0;
+  for (const Vec3& p : points) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Vec3& root : options.roots) nearest = std::min(nearest, (p - root).norm());
+    farthest = std::max(farthest, nearest);
+  }
+  const Vec3& r0 = options.roots.front();
+  const std::string root = options.roots.size() == 1
+                               ? "the root (" + format_shortest(r0.x()) + "," +
+                                     format_shortest(r0.y()) + "," + format_shortest(r0.z()) + ")"
+                               : "a root";
+  const bool one = points.size() == 1;
+  return (one ? "the one attraction point lies"
+              : "all " + std::to_string(points.size()) + " attraction points lie") +
+         " within the kill distance d_k = " + format_number(options.kill) + " of " + root + " (" +
+         (one ? "at distance " : "the farthest at distance ") + format_number(farthest) + "), so " +
+         (one ? "it was" : "they were") + " reached before any branch grew";
 }
 
 void assign_pipe_radii(Skeleton& skeleton, std::span<const std::uint32_t> roots, double tip_radius,

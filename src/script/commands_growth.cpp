@@ -45,7 +45,7 @@ const PointSet& point_set(const Call& c, const Token& token) {
     std::vector<std::string> known;
     for (const auto& [name, p] : sets) known.push_back(name);
     const std::string best = closest_name(token.text, known);
-    c.fail(token, "no point set '" + token.text + "'" +
+    c.fail(token, "no point set '" + shown(token.text) + "'" +
                       (best.empty() ? "" : " (did you mean '" + best + "'?)") +
                       (known.empty() ? "; make one with point_set_gen or load_point_set" : ""));
   }
@@ -68,7 +68,7 @@ CommandResult run_point_set_gen(Call& c) {
     const std::string best = closest_name(dist.text, names);
     std::string list;
     for (const std::string& n : names) list += (list.empty() ? "" : ", ") + n;
-    c.fail(dist, "unknown distribution '" + dist.text + "'" +
+    c.fail(dist, "unknown distribution '" + shown(dist.text) + "'" +
                      (best.empty() ? "" : " (did you mean '" + best + "'?)") + "; known: " + list);
   }
   Props props;
@@ -147,7 +147,7 @@ CommandResult run_grow(Call& c) {
   c.expect_count(3, 3, "TREE from POINTS");
   const std::string name = c.new_name(0);
   if (c.arg(1).text != "from")
-    c.fail(c.arg(1), "expected the word 'from', got '" + c.arg(1).text + "'");
+    c.fail(c.arg(1), "expected the word 'from', got '" + shown(c.arg(1).text) + "'");
   const PointSet& points = point_set(c, c.arg(2));
   ColonizationOptions o;
   o.step = c.option_positive("step", o.step);
@@ -171,9 +171,12 @@ CommandResult run_grow(Call& c) {
                         std::to_string(r.points_reached) + " of " + std::to_string(r.points_total) +
                         " points reached";
   if (r.stalled) summary += "; stopped early: " + r.stall_reason;
-  if (r.skeleton.edge_count() == 0)
-    c.fail("grew no branch: " +
-           (r.stall_reason.empty() ? std::string("no growth") : r.stall_reason));
+  if (r.skeleton.edge_count() == 0) {
+    const std::string advice =
+        r.stalled ? std::string() : "; move root= away from the points or use a smaller kill=";
+    c.fail("grew no branch from " + shown(c.arg(2).text) + ": " +
+           no_branch_reason(r, points.positions, o) + advice);
+  }
   c.define(name, tree_object(r.skeleton, summary));
   return {c.spec().name, name + ": " + summary_text(c.session().objects.at(name)), true};
 }
@@ -197,7 +200,7 @@ CommandResult run_lsystem(Call& c) {
       const std::string best = closest_name(c.arg(1).text, known);
       std::string list;
       for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-      c.fail(c.arg(1), "no L-system example '" + c.arg(1).text + "'" +
+      c.fail(c.arg(1), "no L-system example '" + shown(c.arg(1).text) + "'" +
                            (best.empty() ? "" : " (did you mean '" + best + "'?)") +
                            "; examples: " + list + "; or give a file path");
     }
@@ -230,7 +233,8 @@ CommandResult run_save_skeleton(Call& c) {
   c.expect_count(2, 2, "TREE FILE");
   const Object& obj = c.object(0, ObjectKind::kShape);
   if (!obj.skeleton)
-    c.fail(c.arg(0), "'" + c.arg(0).text + "' has no skeleton (made by grow, lsystem or skeleton)");
+    c.fail(c.arg(0),
+           "'" + shown(c.arg(0).text) + "' has no skeleton (made by grow, lsystem or skeleton)");
   const std::string path = c.output_path(1);
   write_skeleton(*obj.skeleton, path);
   return {c.spec().name,

@@ -237,8 +237,8 @@ CommandResult run_nary(Call& c, const std::string& op) {
   if (op == "blend") {
     for (std::size_t i = 1; i < kids.size(); ++i) {
       if (kids[i]->iso() != kids[0]->iso()) {
-        c.fail(c.arg(i), "cannot blend '" + c.arg(i).text + "' (iso " +
-                             format_number(kids[i]->iso()) + ") with '" + c.arg(0).text +
+        c.fail(c.arg(i), "cannot blend '" + shown(c.arg(i).text) + "' (iso " +
+                             format_number(kids[i]->iso()) + ") with '" + shown(c.arg(0).text) +
                              "' (iso " + format_number(kids[0]->iso()) +
                              "): a sum blend needs equal iso values; use union instead");
       }
@@ -399,8 +399,7 @@ CommandResult run_rbf(Call& c) {
       const std::string_view word = std::string_view(text).substr(at, end - at);
       double x = 0;
       if (parse_number(word, x) != NumberStatus::kOk) {
-        throw InputError(path, line_no,
-                         "expected a finite number, got '" + std::string(word) + "'");
+        throw InputError(path, line_no, "expected a finite number, got '" + shown(word) + "'");
       }
       v.push_back(x);
       at = end == std::string::npos ? end : text.find_first_not_of(kBlanks, end);

@@ -14,6 +14,7 @@
 
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
+#include "ramiform/core/text.h"
 #include "ramiform/io/atomic_file.h"
 
 namespace ramiform {
@@ -29,25 +30,6 @@ bool is_name_char(char c) {
 std::string join(const std::vector<std::string>& words, const std::string& sep) {
   std::string out;
   for (std::size_t i = 0; i < words.size(); ++i) out += (i > 0 ? sep : "") + words[i];
-  return out;
-}
-
-// A token as shown in messages: control bytes escaped, at most 48 characters.
-std::string shown(const std::string& text) {
-  std::string out;
-  for (unsigned char ch : text) {
-    if (out.size() >= 48) {
-      out += "...";
-      break;
-    }
-    if (ch < 0x20 || ch == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", ch);
-      out += buf;
-    } else {
-      out += static_cast<char>(ch);
-    }
-  }
   return out;
 }
 
@@ -82,7 +64,7 @@ std::string substitute(const Token& token, const ScriptSession::Impl& session,
     if (braced) {
       end = t.find('}', start);
       if (end == std::string::npos) {
-        throw InputError(file, line, token.column + i, "unterminated '${' in '" + t + "'");
+        throw InputError(file, line, token.column + i, "unterminated '${' in '" + shown(t) + "'");
       }
       ++start;
     } else {
@@ -96,9 +78,9 @@ std::string substitute(const Token& token, const ScriptSession::Impl& session,
       std::vector<std::string> known;
       for (const auto& [k, v] : session.params) known.push_back(k);
       throw InputError(file, line, token.column + i,
-                       "unknown parameter '$" + name + "'" + hint(name, known) +
-                           "; declare it first with 'param " + (name.empty() ? "NAME" : name) +
-                           " VALUE'");
+                       "unknown parameter '$" + shown(name) + "'" + hint(name, known) +
+                           "; declare it first with 'param " +
+                           (name.empty() ? "NAME" : shown(name)) + " VALUE'");
     }
     if (it->second.size() > room || out.size() > room - it->second.size()) {
       throw InputError(file, line, token.column + i,
@@ -113,6 +95,10 @@ std::string substitute(const Token& token, const ScriptSession::Impl& session,
 }
 
 }  // namespace
+
+std::string shown(std::string_view text) { return printable_text(text, 48); }
+
+std::string_view without_bom(std::string_view text) { return skip_utf8_bom(text); }
 
 std::vector<Token> tokenize(std::string_view text, const std::string& file, std::size_t line) {
   std::vector<Token> out;
@@ -201,11 +187,11 @@ Call::Call(ScriptSession::Impl& session, const CommandSpec& spec, std::vector<To
       const bool any =
           std::find(spec.options.begin(), spec.options.end(), "*") != spec.options.end();
       if (!any && std::find(spec.options.begin(), spec.options.end(), key) == spec.options.end()) {
-        fail(token, "unknown option '" + key + "'" + hint(key, spec.options) +
+        fail(token, "unknown option '" + shown(key) + "'" + hint(key, spec.options) +
                         (spec.options.empty() ? "; it takes no options"
                                               : "; options: " + join(spec.options, ", ")));
       }
-      if (has_option(key)) fail(token, "option '" + key + "' given twice");
+      if (has_option(key)) fail(token, "option '" + shown(key) + "' given twice");
       Token value{token.text.substr(eq + 1), token.column + eq + 1};
       options_.emplace_back(key, std::move(value));
     } else {
@@ -215,7 +201,10 @@ Call::Call(ScriptSession::Impl& session, const CommandSpec& spec, std::vector<To
 }
 
 void Call::fail(const Token& token, const std::string& problem) const {
-  throw InputError(file_, line_, token.column, spec_.name + ": " + problem);
+  // Commands quote their tokens with shown(); escaping the whole problem as well keeps a
+  // message printable when a library message or a command echoes text unescaped.
+  throw InputError(file_, line_, token.column,
+                   spec_.name + ": " + printable_text(problem));
 }
 
 void Call::fail(const std::string& problem) const { fail(command_, problem); }
@@ -232,8 +221,8 @@ void Call::expect_count(std::size_t min, std::size_t max, const std::string& wha
          " argument(s); usage: " + spec_.synopsis);
   }
   if (positional_.size() > max) {
-    fail(positional_[max], "unexpected argument '" + positional_[max].text + "': expected " + what +
-                               "; usage: " + spec_.synopsis);
+    fail(positional_[max], "unexpected argument '" + shown(positional_[max].text) + "': expected " +
+                               what + "; usage: " + spec_.synopsis);
   }
 }
 
@@ -247,7 +236,7 @@ std::string Call::new_name(std::size_t i) const {
                   t.text[0] != '-' && t.text[0] != '.' &&
                   std::all_of(t.text.begin(), t.text.end(), is_name_char);
   if (!ok) {
-    fail(t, "'" + t.text +
+    fail(t, "'" + shown(t.text) +
                 "' is not a valid object name (letters, digits, '_', '-', '.'; not starting with a "
                 "digit)");
   }
@@ -291,7 +280,7 @@ Vec3 Call::parse_vec3(const Token& token, const std::string& what) const {
     const std::size_t comma = token.text.find(',', start);
     if ((k < 2) != (comma != std::string::npos)) {
       fail(token, "expected X,Y,Z (three numbers separated by commas) for " + what + ", got '" +
-                      token.text + "'");
+                      shown(token.text) + "'");
     }
     const std::size_t stop = k < 2 ? comma : token.text.size();
     const Token part{token.text.substr(start, stop - start), token.column + start};
@@ -312,7 +301,7 @@ const Object& Call::object_named(const Token& token, ObjectKind kind) const {
                     (known.empty() ? "; none is defined yet" : ""));
   }
   if (it->second.kind != kind) {
-    fail(token, "'" + token.text + "' is a " + kind_name(it->second.kind) + ", expected a " +
+    fail(token, "'" + shown(token.text) + "' is a " + kind_name(it->second.kind) + ", expected a " +
                     kind_name(kind));
   }
   return it->second;
@@ -334,9 +323,9 @@ std::string Call::input_path(const Token& token) const {
     return s.staged_path;
   }
   std::error_code ec;
-  if (!fs::exists(p, ec)) fail(token, "cannot read '" + p.string() + "': no such file");
+  if (!fs::exists(p, ec)) fail(token, "cannot read '" + shown(p.string()) + "': no such file");
   if (!fs::is_regular_file(p, ec))
-    fail(token, "cannot read '" + p.string() + "': not a regular file");
+    fail(token, "cannot read '" + shown(p.string()) + "': not a regular file");
   return p.string();
 }
 
@@ -350,17 +339,17 @@ std::string Call::output_path(std::size_t i) {
     const fs::path norm = rel.lexically_normal();
     const bool escapes = rel.is_absolute() || norm.empty() || *norm.begin() == "..";
     if (escapes) {
-      fail(t, "output '" + t.text +
+      fail(t, "output '" + shown(t.text) +
                   "' is outside the output directory; use a path inside --out "
                   "or pass --allow-any-path");
     }
   }
   const fs::path final_path = rel.is_absolute() ? rel : out / rel;
-  if (final_path.filename().empty()) fail(t, "output '" + t.text + "' names no file");
+  if (final_path.filename().empty()) fail(t, "output '" + shown(t.text) + "' names no file");
   std::error_code ec;
   const fs::path dir = final_path.parent_path().empty() ? fs::path(".") : final_path.parent_path();
   if (!fs::is_directory(dir, ec)) {
-    fail(t, "cannot write '" + final_path.string() + "': directory '" + dir.string() +
+    fail(t, "cannot write '" + shown(final_path.string()) + "': directory '" + shown(dir.string()) +
                 "' does not exist");
   }
   for (const Staged& s : session_.staged) {
@@ -421,7 +410,7 @@ std::string Call::option_word(const std::string& key, const std::string& fallbac
   const Token* t = option_token(key);
   if (t == nullptr) return fallback;
   if (std::find(allowed.begin(), allowed.end(), t->text) == allowed.end()) {
-    fail(*t, key + " must be one of " + join(allowed, ", ") + ", got '" + t->text + "'" +
+    fail(*t, key + " must be one of " + join(allowed, ", ") + ", got '" + shown(t->text) + "'" +
                  hint(t->text, allowed));
   }
   return t->text;
@@ -485,6 +474,9 @@ ScriptSession::~ScriptSession() { discard(); }
 
 CommandResult ScriptSession::execute_line(std::string_view text, const std::string& file,
                                           std::size_t line) {
+  // A UTF-8 byte order mark that an editor wrote at the start of a script (run_text's line 1,
+  // or the shell's first line) is no part of the first command.
+  if (line == 1) text = script::without_bom(text);
   std::vector<script::Token> tokens = script::tokenize(text, file, line);
   if (tokens.empty()) return {};
   const auto& table = script::command_table();
@@ -529,8 +521,9 @@ std::vector<CommandResult> ScriptSession::run_text(std::string_view text, const 
     if (impl_->declared.count(name) == 0) {
       std::vector<std::string> known(impl_->declared.begin(), impl_->declared.end());
       throw InputError(file, 0,
-                       "--set " + name + "=" + value + ": the script declares no parameter '" +
-                           name + "'" + script::hint(name, known) +
+                       "--set " + script::shown(name) + "=" + script::shown(value) +
+                           ": the script declares no parameter '" + script::shown(name) + "'" +
+                           script::hint(name, known) +
                            (known.empty() ? "" : "; it declares: " + script::join(known, ", ")));
     }
   }
@@ -579,7 +572,8 @@ std::string ScriptSession::command_help(const std::string& name) {
   const auto& table = script::command_table();
   const auto it = table.find(name);
   if (it == table.end()) {
-    throw InvalidArgument("unknown command '" + name + "'" + script::hint(name, command_names()));
+    throw InvalidArgument("unknown command '" + script::shown(name) + "'" +
+                          script::hint(name, command_names()));
   }
   const script::CommandSpec& s = *it->second;
   std::string text = s.synopsis + "\n  " + s.description;

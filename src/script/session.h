@@ -12,6 +12,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ramiform/core/geometry.h"
@@ -43,6 +44,14 @@ struct Token {
   std::string text;
   std::size_t column = 1;  // 1-based, of the token's first character in the source line
 };
+
+/// A token of the script as shown in messages: every byte outside printable ASCII (control
+/// bytes, DEL, bytes >= 0x80 such as UTF-8 or a byte order mark) as "\xNN", cut after 48
+/// characters with "...".
+std::string shown(std::string_view text);
+
+/// The text without a leading UTF-8 byte order mark (EF BB BF).
+std::string_view without_bom(std::string_view text);
 
 /// Splits a line into whitespace-separated tokens; `"..."` quotes keep spaces, `#` outside
 /// quotes starts a comment. Throws InputError on an unterminated quote.

@@ -567,6 +567,13 @@ std::vector<Case> point_via_script_cases() {
            "p.xyz",
            ":1:"},
       Case{"points text",
+           "every point within the kill distance of the root, grown by the script command grow",
+           {{"scene.rf", kStaging + "load_point_set p.xyz\ngrow t from points\n"},
+            {"p.xyz", "0 0 0\n1 1 1\n"}},
+           cmd,
+           "scene.rf",
+           ":4:"},
+      Case{"points text",
            "2 numbers on line 2, read by the script command eval_points",
            {{"scene.rf", kStaging + "eval_points s p.xyz values.txt\n"}, {"p.xyz", "1 2 3\n4 5\n"}},
            cmd,
@@ -665,6 +672,10 @@ std::vector<Case> script_cases() {
       c("NUL byte in a command", kStaging + std::string("sphere\0 t\n", 10), ":3:"),
       c("terminal escape sequence", kStaging + "\x1b[2Jsphere t\n", ":3:"),
       c("unknown command", kStaging + "spere t\n", ":3:"),
+      c("UTF-8 byte order mark, then an unknown command on line 3", kBom + kStaging + "spere t\n",
+        ":3:"),
+      c("UTF-8 letter in a command", kStaging + "sph\xC3\xA8re t\n", ":3:"),
+      c("UTF-8 letter in an option", kStaging + "sphere t 1 c\xC3\xA9nter=0,0,0\n", ":3:"),
       c("unterminated quote", kStaging + "save_mesh s \"a.ply\n", ":3:"),
       c("undeclared parameter", kStaging + "sphere t $r\n", ":3:"),
       c("nan radius", kStaging + "sphere t nan\n", ":3:"),
@@ -691,6 +702,24 @@ std::vector<Case> script_cases() {
            "unfinished module, read by the script command lsystem",
            {{"scene.rf", kStaging + "lsystem t l.txt\n"}, {"l.txt", "axiom: F(\n"}},
            cmd,
+           "l.txt",
+           ":1:"},
+      Case{"L-system file",
+           "UTF-8 byte order mark, 'axiom' without ':', read by the script command lsystem",
+           {{"scene.rf", kStaging + "lsystem t l.txt\n"}, {"l.txt", kBom + "axiom F\n"}},
+           cmd,
+           "l.txt",
+           ":1:"},
+      Case{"L-system file",
+           "UTF-8 byte order mark before an unfinished module",
+           {{"l.txt", kBom + "axiom: F(\n"}},
+           "lsystem @l.txt -o @tree.json --stats @stats.json",
+           "l.txt",
+           ":1:"},
+      Case{"L-system file",
+           "UTF-8 letter as a module",
+           {{"l.txt", "axiom: F\xC3\xA8\nF -> FF\n"}},
+           "lsystem @l.txt -o @tree.json --stats @stats.json",
            "l.txt",
            ":1:"},
       Case{"L-system file",
@@ -856,6 +885,15 @@ TEST(MalformedFiles, LookalikesAreReadInFull) {
     EXPECT_EQ(r.code, 0) << c.args << "\n" << r.out;
     EXPECT_NE(r.out.find(c.expected), std::string::npos) << c.args << "\n" << r.out;
   }
+  // A script and an L-system file with a byte order mark: their first line is a command.
+  const CliRun script = run_cli("run " + write("bom.rf", kBom + "sphere s 1\r\ninfo s\r\n") +
+                                " --out " + dir.string());
+  EXPECT_EQ(script.code, 0) << script.out;
+  EXPECT_NE(script.out.find("s: sphere"), std::string::npos) << script.out;
+  const CliRun lsystem = run_cli("lsystem " + write("bom.lsys", kBom + "axiom: F\r\nF -> FF\r\n") +
+                                 " --iterations 2 -o " + (dir / "l.json").string());
+  EXPECT_EQ(lsystem.code, 0) << lsystem.out;
+  EXPECT_NE(lsystem.out.find("4 edges"), std::string::npos) << lsystem.out;
   const CliRun two =
       run_cli("eval " + (dir / "fork.json").string() + " --points " + (dir / "bom.xyz").string());
   EXPECT_EQ(std::count(two.out.begin(), two.out.end(), '\n'), 2) << two.out;

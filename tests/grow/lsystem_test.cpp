@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "ramiform/core/errors.h"
 
@@ -166,6 +168,35 @@ TEST(LSystem, ParseErrorsNameLineAndColumn) {
   EXPECT_EQ(where("#define\naxiom: F").first, 1u);
   EXPECT_EQ(where("axiom: A(foo(1))").second, 10u);
   EXPECT_EQ(where("F -> FF").first, 1u);  // no axiom
+}
+
+// A UTF-8 byte order mark at the start is skipped (columns count from after it); bytes outside
+// printable ASCII appear in messages as \xNN.
+TEST(LSystem, ByteOrderMarkIsSkippedAndBytesAreEscaped) {
+  const std::string bom = "\xEF\xBB\xBF";
+  EXPECT_EQ(derive(bom + "axiom: F\r\nF -> FF\r\n", 2), "FFFF");
+  try {
+    (void)lsystem_derive(bom + "axiom: F(", "bad.ls", 1);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 1u);
+    EXPECT_EQ(e.column(), 10u);
+  }
+  // Only at the start: a byte order mark elsewhere is an unexpected byte, shown escaped.
+  for (const auto& [text, problem] :
+       {std::pair<std::string, std::string>{"axiom: F\xC3\xA8", "unexpected '\\xc3'"},
+        {"axiom: F\n" + bom + "F -> FF", "expected a module symbol"},
+        {"axiom: F\n" + bom + "F",
+         "expected 'axiom: ...', '#define NAME VALUE' or a production "
+         "'A -> ...'"},
+        {"axiom: F\nF -> F(\x1b)", "unexpected '\\x1b' in expression"}}) {
+    try {
+      (void)lsystem_derive(text, "bad.ls", 1);
+      ADD_FAILURE() << "no InputError for: " << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.problem(), problem);
+    }
+  }
 }
 
 TEST(LSystem, InterpretErrorsAndLimits) {

@@ -313,8 +313,7 @@ TEST(Colonization, EmptyPointsAndBadInput) {
 }
 
 // Points within the kill distance of the root are reached before the first iteration: growth
-// completes (not stalled, no reason) with the root alone. `ramiform grow` explains this case
-// itself, since there is no stall reason to show.
+// completes (not stalled, no reason) with the root alone; no_branch_reason explains it.
 TEST(Colonization, PointsWithinKillOfTheRootCompleteWithoutABranch) {
   ColonizationOptions o;  // kill 2, root at the origin
   for (const std::vector<Vec3>& pts :
@@ -328,6 +327,35 @@ TEST(Colonization, PointsWithinKillOfTheRootCompleteWithoutABranch) {
     EXPECT_EQ(r.skeleton.node_count(), 1u);
     EXPECT_EQ(r.skeleton.edge_count(), 0u);
   }
+}
+
+// no_branch_reason explains the case with numbers; a stalled growth gives its stall reason, and
+// a growth with an edge needs no explanation.
+TEST(Colonization, NoBranchReasonExplainsPointsWithinKillOfTheRoot) {
+  ColonizationOptions o;  // kill 2, root at the origin
+  const std::vector<Vec3> two{Vec3(0, 0, 0), Vec3(1, 1, 1)};
+  EXPECT_EQ(no_branch_reason(grow_space_colonization(two, o), two, o),
+            "all 2 attraction points lie within the kill distance d_k = 2 of the root (0,0,0) (the "
+            "farthest at distance 1.73205), so they were reached before any branch grew");
+  const std::vector<Vec3> one{Vec3(0.5, 0, 0)};
+  o.roots = {Vec3(0, 0, 0.25)};
+  EXPECT_EQ(no_branch_reason(grow_space_colonization(one, o), one, o),
+            "the one attraction point lies within the kill distance d_k = 2 of the root "
+            "(0,0,0.25) (at distance 0.559017), so it was reached before any branch grew");
+  o.roots = {Vec3(0, 0, 0), Vec3(10, 0, 0)};
+  const std::vector<Vec3> near_each{Vec3(1, 0, 0), Vec3(10, 0, 1.5)};
+  EXPECT_EQ(no_branch_reason(grow_space_colonization(near_each, o), near_each, o),
+            "all 2 attraction points lie within the kill distance d_k = 2 of a root (the farthest "
+            "at distance 1.5), so they were reached before any branch grew");
+
+  ColonizationOptions d;
+  const auto empty = grow_space_colonization({}, d);
+  EXPECT_EQ(no_branch_reason(empty, {}, d), empty.stall_reason);
+  EXPECT_FALSE(empty.stall_reason.empty());
+  const std::vector<Vec3> ahead{Vec3(0, 0, 5)};
+  const auto grown = grow_space_colonization(ahead, d);
+  ASSERT_GT(grown.skeleton.edge_count(), 0u);
+  EXPECT_EQ(no_branch_reason(grown, ahead, d), "");
 }
 
 TEST(Colonization, OverflowingExtentIsRefusedNotHung) {

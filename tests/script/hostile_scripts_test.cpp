@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -195,6 +196,76 @@ TEST_F(HostileScripts, LongNamesAndSummariesAreRefusedOrCut) {
   const auto results = session.run_text(text, "t.rf");
   EXPECT_LE(results[1].message.size(), script::kMaxSummary + 3);
   EXPECT_TRUE(results[1].message.ends_with("...")) << results[1].message;
+}
+
+// A UTF-8 byte order mark that an editor wrote before the first command is skipped (in a file,
+// and on the first line given to execute_line, as the shell does).
+TEST_F(HostileScripts, ByteOrderMarkBeforeTheFirstCommandIsSkipped) {
+  const std::string bom = "\xEF\xBB\xBF";
+  ScriptSession session(options_);
+  const auto results = session.run_text(bom + "sphere s 1\r\ninfo s\n", "t.rf");
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_EQ(results[0].command, "sphere");
+  ScriptSession shell(options_);
+  EXPECT_EQ(shell.execute_line(bom + "sphere s 1", "<shell>", 1).command, "sphere");
+  // Elsewhere it is part of a token, and shown escaped.
+  const InputError e = error_of("sphere s 1\n" + bom + "sphere t 1\n");
+  EXPECT_EQ(e.line(), 2u);
+  EXPECT_TRUE(
+      contains(e.problem(), "unknown command '\\xef\\xbb\\xbfsphere' (did you mean 'sphere'?)"))
+      << e.problem();
+}
+
+// Every byte outside printable ASCII in a token a message quotes appears as \xNN: UTF-8 letters
+// (bytes >= 0x80) as well as control bytes.
+TEST_F(HostileScripts, MessagesShowNonAsciiBytesEscaped) {
+  EXPECT_EQ(script::shown("a\xC3\xA9\x1b\x7f~"), "a\\xc3\\xa9\\x1b\\x7f~");
+  EXPECT_EQ(script::shown(std::string(60, 'x')), std::string(48, 'x') + "...");
+  std::ofstream(dir_ / "c.txt", std::ios::binary) << "0 0 0 1\n1 1 \xC3\xA9 1\n";
+  const struct {
+    std::string script;
+    std::string part;  // of the problem
+  } cases[] = {
+      {"sph\xC3\xA8re s\n", "unknown command 'sph\\xc3\\xa8re'"},
+      {"sphere s 1 c\xC3\xA9nter=0,0,0\n", "unknown option 'c\\xc3\\xa9nter'"},
+      {"sphere s\xC3\xA9 1\n", "'s\\xc3\\xa9' is not a valid object name"},
+      {"sphere s 1\ntranslate s\xC3\xA9 1 0 0\n", "unknown shape 's\\xc3\\xa9'"},
+      {"sphere s 1\ntranslate s 1 \xC3\xA9 0\n", "got '\\xc3\\xa9'"},
+      {"sphere s 1 \xC3\xA9\n", "unexpected argument '\\xc3\\xa9'"},
+      // A message of a command that quotes its token unescaped is escaped as a whole.
+      {"sphere s 1\nsave_mesh s a.\xC3\xA9\n", "got 'a.\\xc3\\xa9'"},
+      {"rbf b c.txt\n", "got '\\xc3\\xa9'"},
+      {"sphere s 1\ngrow t fr\xC3\xB6m s\n", "got 'fr\\xc3\\xb6m'"},
+      {"sphere s 1\nlsystem t \xC3\xA9\n", "no L-system example '\\xc3\\xa9'"},
+  };
+  for (const auto& c : cases) {
+    const InputError e = error_of(c.script);
+    EXPECT_TRUE(contains(e.problem(), c.part)) << e.problem();
+    const std::string what = e.what();
+    EXPECT_TRUE(std::all_of(what.begin(), what.end(), [](char ch) {
+      return ch >= 0x20 && ch < 0x7f;
+    })) << what;
+  }
+}
+
+// grow explains a growth that reached every point from the root, with numbers and the options
+// to change.
+TEST_F(HostileScripts, GrowExplainsPointsWithinKillOfTheRoot) {
+  std::ofstream(dir_ / "p.xyz", std::ios::binary) << "0 0 0\n1 1 1\n";
+  const InputError e = error_of("load_point_set p.xyz\ngrow t from points\n");
+  EXPECT_EQ(e.line(), 2u);
+  EXPECT_EQ(e.problem(),
+            "grow: grew no branch from points: all 2 attraction points lie within the kill "
+            "distance d_k = 2 of the root (0,0,0) (the farthest at distance 1.73205), so they were "
+            "reached before any branch grew; move root= away from the points or use a smaller "
+            "kill=");
+  // A stalled growth keeps its own reason, without that advice.
+  const InputError stalled = error_of(
+      "load_point_set p.xyz\ngrow t from points max_iterations=0 "
+      "root=0,0,-10\n");
+  EXPECT_TRUE(contains(stalled.problem(), "grew no branch from points: max_iterations (0)"))
+      << stalled.problem();
+  EXPECT_FALSE(contains(stalled.problem(), "smaller kill=")) << stalled.problem();
 }
 
 }  // namespace

@@ -16,7 +16,10 @@ namespace ramiform {
 
 /// The text with every byte outside printable ASCII (control characters, DEL, bytes >= 0x80)
 /// written as "\xNN" (lower-case hex): an invisible byte order mark shows as "\xef\xbb\xbf".
-[[nodiscard]] std::string printable_text(std::string_view text);
+/// With `max_chars`, the output stops with "..." once it holds that many characters (whole
+/// escapes only).
+[[nodiscard]] std::string printable_text(std::string_view text,
+                                         std::size_t max_chars = std::string_view::npos);
 
 /// printable_text() in single quotes, shortened to its first `max_chars - 3` bytes and "..."
 /// when the text is longer than `max_chars` bytes (a line can be megabytes).

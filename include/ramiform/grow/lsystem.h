@@ -74,10 +74,12 @@ struct LSystemModule {
   std::vector<double> params;
 };
 
-/// Parses `text` and derives `iterations` steps. Throws InputError "source:line:column: problem"
-/// on a syntax error, an undefined name or a wrong argument count, InvalidArgument when
-/// iterations < 0 or the derivation exceeds `max_modules`, Cancelled when `ctx` is cancelled
-/// (checked once per step and per 65536 modules).
+/// Parses `text` and derives `iterations` steps. A leading UTF-8 byte order mark is skipped
+/// (columns count from after it). Throws InputError "source:line:column: problem" on a syntax
+/// error, an undefined name or a wrong argument count (bytes of the text outside printable ASCII
+/// appear in `problem` as "\xNN"), InvalidArgument when iterations < 0 or the derivation
+/// exceeds `max_modules`, Cancelled when `ctx` is cancelled (checked once per step and per 65536
+/// modules).
 [[nodiscard]] std::vector<LSystemModule> lsystem_derive(std::string_view text,
                                                         const std::string& source, int iterations,
                                                         std::size_t max_modules = 20'000'000,

@@ -159,6 +159,17 @@ class SpaceColonization {
                                                          const ColonizationOptions& options,
                                                          Context* ctx = nullptr);
 
+/// Why a growth produced no edge (`result.skeleton.edge_count() == 0`), as a clause for a
+/// message. A stalled growth gives its `stall_reason`; a completed one reached every point from
+/// the roots themselves, before the first iteration, and the text says so with the kill distance
+/// and the distance of the farthest point from its nearest root, e.g. "all 2 attraction points
+/// lie within the kill distance d_k = 2 of the root (0,0,0) (the farthest at distance 1.73205),
+/// so they were reached before any branch grew". `points` and `options` are those `result` was
+/// grown with. Empty when the result has an edge.
+[[nodiscard]] std::string no_branch_reason(const ColonizationResult& result,
+                                           std::span<const Vec3> points,
+                                           const ColonizationOptions& options);
+
 /// Pipe-model radii (Kochhar 2010 eq. 2.1): every tip (a node without children) gets `tip_radius`,
 /// every other node r with r^n = sum over its children of r_child^n, n = `exponent`. Children are
 /// determined by orienting every edge away from the given roots (breadth first). Works on any
