@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <cstdlib>
 #include <system_error>
 
 namespace ramiform::fuzz {
@@ -23,8 +24,17 @@ const fs::path& scratch_dir() {
   // Never destroyed: the atexit handler that removes it runs after static destructors.
   static const fs::path* const dir = [] {
     std::error_code ec;
-    fs::path base = fs::temp_directory_path(ec);
-    if (ec) base = "/tmp";
+    // A file written and read back on every execution: on a disk-backed /tmp the block writes
+    // cost ten times the harness itself (measured: 1.8 k against 25 k executions per second for
+    // curve2), so without an explicit TMPDIR the scratch goes to the RAM-backed /dev/shm.
+    fs::path base;
+    const char* tmpdir = std::getenv("TMPDIR");
+    if ((tmpdir == nullptr || *tmpdir == '\0') && ::access("/dev/shm", W_OK | X_OK) == 0) {
+      base = "/dev/shm";
+    } else {
+      base = fs::temp_directory_path(ec);
+      if (ec) base = "/tmp";
+    }
     fs::path d = base / ("ramiform-fuzz-" + std::to_string(::getpid()));
     fs::remove_all(d, ec);
     fs::create_directories(d, ec);

@@ -1,14 +1,16 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
-// `ramiform check MESH [--skeleton SKELETON] [--json]`
+// `ramiform check MESH [--skeleton SKELETON] [--deviation SKELETON [field options]] [--json]`
 
 #include <cstdio>
 #include <iostream>
 
 #include "commands.h"
 #include "common.h"
+#include "mesh_job.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/mesh/checks.h"
+#include "ramiform/mesh/deviation.h"
 #include "ramiform/mesh/winding.h"
 
 namespace ramiform::cli {
@@ -17,10 +19,37 @@ namespace {
 struct CheckArgs {
   std::string mesh_path;
   std::string skeleton_path;
+  std::string deviation_path;  // --deviation: the skeleton whose surface the mesh approximates
+  bool fit_radii = false;
+  DeviationOptions deviation;
   bool json = false;
-  double obj_radius = 0.0;
+  FieldFlags field;
   CommonOptions common;
 };
+
+double share(std::size_t part, std::size_t whole) {
+  return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
+}
+
+/// The deviation figures under `prefix` ("deviation_" for the samples, "vertex_deviation_").
+void put_summary(nlohmann::json& j, const std::string& prefix, const DeviationSummary& s) {
+  j[prefix + "points"] = s.points;
+  j[prefix + "unresolved"] = s.unresolved;
+  j[prefix + "p50"] = s.p50;
+  j[prefix + "p99"] = s.p99;
+  j[prefix + "max"] = s.max;
+  j[prefix + "abs_p50"] = s.abs_p50;
+  j[prefix + "abs_p99"] = s.abs_p99;
+  j[prefix + "abs_max"] = s.abs_max;
+  j[prefix + "worst"] = {s.worst.x(), s.worst.y(), s.worst.z()};
+}
+
+void print_summary(const char* what, const DeviationSummary& s) {
+  std::printf("%s p50 %.4g, p99 %.4g, max %.4g of the local radius (%zu points", what, s.p50,
+              s.p99, s.max, s.points);
+  if (s.unresolved > 0) std::printf(", %zu unresolved", s.unresolved);
+  std::printf(")\n");
+}
 
 int run_check(const CheckArgs& args) {
   check_output_path(args.common.stats_path);
@@ -40,10 +69,12 @@ int run_check(const CheckArgs& args) {
   j["euler"] = r.euler;
   j["min_angle_deg"] = r.min_angle_deg;
   j["median_angle_deg"] = r.median_angle_deg;
+  j["triangles_below_10_deg"] = share(r.triangles_below_10_deg, r.triangles);
+  j["triangles_below_1_deg"] = share(r.triangles_below_1_deg, r.triangles);
   std::size_t inside = 0, nodes = 0;
   if (!args.skeleton_path.empty()) {
     SkeletonReadOptions ro;
-    ro.obj_radius = args.obj_radius;
+    ro.obj_radius = args.field.obj_radius;
     const Skeleton skeleton = read_skeleton(args.skeleton_path, ro);
     std::vector<Vec3> points;
     points.reserve(skeleton.nodes.size());
@@ -53,6 +84,19 @@ int run_check(const CheckArgs& args) {
     nodes = points.size();
     j["skeleton_nodes_inside"] = nodes == 0 ? 0.0 : static_cast<double>(inside) / static_cast<double>(nodes);
     timer.lap("inside");
+  }
+  DeviationReport dev;
+  if (!args.deviation_path.empty()) {
+    const SkeletonFieldOptions options = field_options(args.field);
+    const Skeleton skeleton = read_skeleton(args.deviation_path, read_options(args.field));
+    const SkeletonSurface surface =
+        build_surface(skeleton, options, args.fit_radii, timer, scope.context());
+    timer.lap("field");
+    dev = measure_deviation(mesh, *surface.field, &surface.skeleton, args.deviation,
+                            &scope.context());
+    put_summary(j, "deviation_", dev.samples);
+    put_summary(j, "vertex_deviation_", dev.vertices);
+    timer.lap("deviation");
   }
   if (args.json) {
     std::cout << j.dump(2) << '\n';
@@ -66,9 +110,16 @@ int run_check(const CheckArgs& args) {
     std::printf("manifold    %s (%zu non-manifold vertices, %zu degenerate triangles)\n",
                 yes(r.manifold), r.nonmanifold_vertices, r.degenerate_triangles);
     std::printf("components  %zu\neuler       %lld\n", r.components, r.euler);
-    std::printf("angles      min %.3f deg, median %.3f deg\n", r.min_angle_deg, r.median_angle_deg);
+    std::printf("angles      min %.3f deg, median %.3f deg; %.2f %% of triangles below 10 deg, "
+                "%.2f %% below 1 deg\n",
+                r.min_angle_deg, r.median_angle_deg, 100.0 * share(r.triangles_below_10_deg, r.triangles),
+                100.0 * share(r.triangles_below_1_deg, r.triangles));
     if (!args.skeleton_path.empty()) {
       std::printf("skeleton    %zu of %zu nodes inside\n", inside, nodes);
+    }
+    if (!args.deviation_path.empty()) {
+      print_summary("deviation  ", dev.samples);
+      print_summary("  vertices ", dev.vertices);
     }
   }
   nlohmann::json stats = j;
@@ -84,15 +135,42 @@ void register_check(CLI::App& root, Action& action) {
   CLI::App* c = root.add_subcommand(
       "check", "Check a mesh: watertight, oriented, manifold, components, Euler characteristic, "
                "triangle angles; optionally which skeleton nodes lie inside (generalized winding "
-               "number). Exit 0 even when a check fails.");
+               "number); optionally how far the mesh lies from a skeleton's surface (deviation "
+               "relative to the local radius). Exit 0 even when a check fails.");
   c->add_option("MESH", args->mesh_path, "mesh file (.ply, .obj, .off)")->required();
   c->add_option("--skeleton", args->skeleton_path,
                 "skeleton whose nodes must lie inside (reports skeleton_nodes_inside, 0..1)");
-  c->add_flag("--json", args->json, "print the report as JSON");
-  c->add_option("--obj-radius", args->obj_radius, "node radius for an OBJ skeleton")
+  c->add_option("--deviation", args->deviation_path,
+                "skeleton whose implicit surface the mesh approximates (field options as for "
+                "mesh): reports deviation_p50, _p99, _max relative to the local radius, for "
+                "area-weighted points and for the vertices");
+  c->add_flag("--fit-radii", args->fit_radii,
+              "--deviation: the surface with fitted radii, as `mesh --fit-radii` builds it");
+  DeviationOptions& d = args->deviation;
+  c->add_option("--samples", d.samples,
+                with_default("--deviation: area-weighted points on the mesh", static_cast<double>(d.samples)));
+  c->add_option("--seed", d.seed,
+                with_default("--deviation: seed of the points", static_cast<double>(d.seed)));
+  c->add_option("--search-radii", d.search_radii,
+                with_default("--deviation: how far to look for the surface, in local radii; a "
+                             "point without surface that near is counted as that far "
+                             "(unresolved)",
+                             d.search_radii))
       ->check(CLI::PositiveNumber);
+  c->add_flag("--json", args->json, "print the report as JSON");
+  add_field_options(*c, args->field);
   add_common_options(*c, args->common);
-  c->callback([args, &action] { action = [args] { return run_check(*args); }; });
+  c->callback([args, c, &action] {
+    if (args->deviation_path.empty()) {
+      for (const char* flag : {"--fit-radii", "--samples", "--seed", "--search-radii", "--surface",
+                               "--kernel", "--iso"}) {
+        if (c->get_option(flag)->count() > 0) {
+          throw CLI::ValidationError(flag, "applies to --deviation only");
+        }
+      }
+    }
+    action = [args] { return run_check(*args); };
+  });
 }
 
 }  // namespace ramiform::cli

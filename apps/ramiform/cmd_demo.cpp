@@ -12,6 +12,7 @@
 #include "common.h"
 #include "demo_scene.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/polygonize/refine.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/script/script.h"
 
@@ -20,7 +21,8 @@ namespace {
 
 struct DemoArgs {
   std::string out_dir = "out";
-  int levels = 2;  ///< the demo's mesh levels (examples/demo.rf's `param levels`)
+  int levels = 1;  ///< the base mesh's levels (examples/demo.rf's `param levels`)
+  double tolerance = ToleranceOptions{}.tolerance;  ///< examples/demo.rf's `param tolerance`
   int points = 2500;
   std::uint64_t seed = ScriptOptions{}.seed;
   CommonOptions common;
@@ -37,6 +39,7 @@ int run_demo(const DemoArgs& args) {
   options.out_dir = args.out_dir;
   options.seed = args.seed;
   options.params = {{"levels", std::to_string(args.levels)},
+                    {"tolerance", format_number(args.tolerance)},
                     {"points", std::to_string(args.points)}};
   ScriptSession session(options, &scope.context());
   nlohmann::json commands = nlohmann::json::array();
@@ -104,9 +107,14 @@ void register_demo(CLI::App& root, Action& action) {
       ->capture_default_str();
   // The demo's own default (a quick run); the range is the polygonizer's.
   c->add_option("--levels", args->levels,
-                with_default("tets: 1:8 subdivision levels of the tree mesh", args->levels,
+                with_default("tets: 1:8 subdivision levels of the tree's base mesh", args->levels,
                              TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels))
       ->check(CLI::Range(TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels));
+  c->add_option("--tolerance", args->tolerance,
+                with_default("tets: the tree mesh's deviation p99, relative to the local radius",
+                             args->tolerance, ToleranceOptions::kMinTolerance,
+                             ToleranceOptions::kMaxTolerance))
+      ->check(CLI::Range(ToleranceOptions::kMinTolerance, ToleranceOptions::kMaxTolerance));
   c->add_option("--points", args->points, "attraction points in the crown")
       ->check(CLI::Range(10, 10'000'000))
       ->capture_default_str();

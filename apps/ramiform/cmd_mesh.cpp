@@ -49,6 +49,14 @@ int run_mesh(MeshArgs& args) {
               << " connected skeleton part(s): branches thinner than the lattice came apart ("
               << (args.job.method == "mc" ? "use a smaller --cell" : "use more --levels") << ")\n";
   }
+  if (args.job.method != "mc" && args.job.to_tolerance && !stats.value("tolerance_reached", true)) {
+    std::cerr << "ramiform: warning: " << args.out_path << ": deviation p99 "
+              << stats.value("deviation_p99", 0.0) << " is above --tolerance "
+              << args.job.tolerance.tolerance << " (refinement stopped: "
+              << (stats["refine"].value("budget_reached", false) ? "triangle budget"
+                                                                   : "passes used up")
+              << ")\n";
+  }
   return 0;
 }
 
@@ -65,9 +73,22 @@ void register_mesh(CLI::App& root, Action& action) {
                 "cubes over the field's bounds)")
       ->check(CLI::IsMember({"tets", "mc"}));
   TetrahedralOptions& tets = args->job.tets;
+  tets.levels = args->job.tolerance.tets.levels;
+  ToleranceOptions& tol = args->job.tolerance;
+  auto* tolerance =
+      c->add_option("--tolerance", tol.tolerance,
+                    with_default("tets: the deviation p99 to reach, relative to the local "
+                                 "radius",
+                                 tol.tolerance, ToleranceOptions::kMinTolerance,
+                                 ToleranceOptions::kMaxTolerance) +
+                        "; the base mesh at --levels is refined where it is farther from the "
+                        "surface, then measured (deviation_p99 in --stats)")
+          ->check(CLI::Range(ToleranceOptions::kMinTolerance, ToleranceOptions::kMaxTolerance));
   c->add_option("--levels", tets.levels,
-                with_default("tets: 1:8 subdivision levels", tets.levels,
-                             TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels))
+                with_default("tets: 1:8 subdivision levels of the base mesh", tets.levels,
+                             TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels) +
+                    "; --levels without --tolerance meshes at exactly these levels, unrefined "
+                    "(the paper's uniform method)")
       ->check(CLI::Range(TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels));
   c->add_option(
        "--section-scale", tets.section_scale,
@@ -99,15 +120,18 @@ void register_mesh(CLI::App& root, Action& action) {
   auto* scale = c->get_option("--section-scale");
   add_field_options(*c, args->field);
   add_common_options(*c, args->common);
-  c->callback([args, cell, res, levels, scale, &action] {
+  c->callback([args, cell, res, levels, scale, tolerance, &action] {
     if (args->job.method != "mc" && (cell->count() > 0 || res->count() > 0)) {
       throw CLI::ValidationError(cell->count() > 0 ? "--cell" : "--resolution",
                                  "applies to --method mc only (the default method is tets)");
     }
-    if (args->job.method == "mc" && (levels->count() > 0 || scale->count() > 0)) {
-      throw CLI::ValidationError(levels->count() > 0 ? "--levels" : "--section-scale",
-                                 "applies to --method tets only");
+    if (args->job.method == "mc" &&
+        (levels->count() > 0 || scale->count() > 0 || tolerance->count() > 0)) {
+      throw CLI::ValidationError(
+          levels->count() > 0 ? "--levels" : (scale->count() > 0 ? "--section-scale" : "--tolerance"),
+          "applies to --method tets only");
     }
+    args->job.to_tolerance = tolerance->count() > 0 || levels->count() == 0;
     action = [args] { return run_mesh(*args); };
   });
 }

@@ -19,11 +19,7 @@ void polygonize_mc(const Field& field, const MeshJobOptions& options, Context& c
   r.stats["crossing_edges"] = st.crossing_edges;
 }
 
-void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJobOptions& options,
-                     Context& ctx, MeshJobResult& r) {
-  const TetrahedralOptions& o = options.tets;
-  TetrahedralStats st;
-  r.mesh = polygonize_tetrahedral(field, skeleton, o, &ctx, &st);
+void put_tets_stats(const TetrahedralOptions& o, const TetrahedralStats& st, MeshJobResult& r) {
   r.stats["levels"] = o.levels;
   r.stats["section_scale"] = o.section_scale;
   r.stats["polyhedron_points"] = st.polyhedron_points;
@@ -53,36 +49,81 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
                              {"cleanup", st.seconds_cleanup}};
 }
 
+void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJobOptions& options,
+                     Context& ctx, MeshJobResult& r) {
+  if (!options.to_tolerance) {
+    TetrahedralStats st;
+    r.mesh = polygonize_tetrahedral(field, skeleton, options.tets, &ctx, &st);
+    put_tets_stats(options.tets, st, r);
+    return;
+  }
+  ToleranceOptions o = options.tolerance;
+  o.tets = options.tets;
+  ToleranceStats st;
+  r.mesh = polygonize_to_tolerance(field, skeleton, o, &ctx, &st);
+  put_tets_stats(o.tets, st.tets, r);
+  const DeviationSummary& d = st.deviation.samples;
+  r.stats["tolerance"] = o.tolerance;
+  r.stats["tolerance_reached"] = st.reached;
+  r.stats["refine"] = {{"passes", st.passes},
+                       {"rounds", st.refine.rounds},
+                       {"split_edges", st.refine.split_edges},
+                       {"flat_splits", st.refine.flat_splits},
+                       {"unprojected", st.refine.unprojected},
+                       {"reverted", st.refine.reverted},
+                       {"halfway", st.refine.halfway},
+                       {"triangles_before", st.refine.triangles_before},
+                       {"triangles_after", st.refine.triangles_after},
+                       {"edge_tolerance", st.edge_tolerance},
+                       {"budget_reached", st.refine.budget_reached}};
+  r.stats["deviation_p50"] = d.p50;
+  r.stats["deviation_p99"] = d.p99;
+  r.stats["deviation_max"] = d.max;
+  r.stats["deviation_samples"] = d.points;
+  r.stats["deviation_unresolved"] = d.unresolved;
+}
+
 }  // namespace
 
-MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
-                            const MeshJobOptions& options, const std::string& out_path,
-                            StageTimer& timer, Context& ctx) {
-  MeshJobResult r;
-  // With --fit-radii the surface is the convolution surface of the split skeleton with fitted
+SkeletonSurface build_surface(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
+                              bool fit_radii, StageTimer& timer, Context& ctx) {
+  // With fit_radii the surface is the convolution surface of the split skeleton with fitted
   // per-piece weights (Zhu, Guo & Jin 2013, "Efficient polygonization of tree trunks modeled by
   // convolution surfaces", §2.2.2); the polygonizer follows the split skeleton too.
-  Skeleton meshed = skeleton;
+  SkeletonSurface s;
   std::vector<double> weights;
-  if (options.fit_radii) {
+  if (fit_radii) {
     if (field_options.surface != SurfaceKind::kConvolution) {
       throw InvalidArgument("--fit-radii needs a convolution surface (--surface convolution)");
     }
     SplitSkeleton split = split_edges(skeleton);
     const RadiusFitResult fit = fit_edge_weights(split.skeleton, field_options, {}, &ctx);
-    meshed = std::move(split.skeleton);
+    s.skeleton = std::move(split.skeleton);
     weights = fit.weights;
-    r.stats["fit"] = {{"edges", meshed.edge_count()},
-                      {"constraint_points", fit.constraint_points},
-                      {"residual_rms", fit.residual_rms},
-                      {"unit_residual_rms", fit.unit_residual_rms},
-                      {"converged", fit.converged},
-                      {"coverage_rounds", fit.coverage_rounds},
-                      {"coverage_raised", fit.coverage_raised},
-                      {"covered", fit.covered}};
+    s.fit_stats = {{"edges", s.skeleton.edge_count()},
+                   {"constraint_points", fit.constraint_points},
+                   {"residual_rms", fit.residual_rms},
+                   {"unit_residual_rms", fit.unit_residual_rms},
+                   {"converged", fit.converged},
+                   {"coverage_rounds", fit.coverage_rounds},
+                   {"coverage_raised", fit.coverage_raised},
+                   {"covered", fit.covered}};
     timer.lap("fit");
+  } else {
+    s.skeleton = skeleton;
   }
-  const FieldPtr field = make_skeleton_field(meshed, field_options, weights);
+  s.field = make_skeleton_field(s.skeleton, field_options, weights);
+  return s;
+}
+
+MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
+                            const MeshJobOptions& options, const std::string& out_path,
+                            StageTimer& timer, Context& ctx) {
+  MeshJobResult r;
+  SkeletonSurface surface = build_surface(skeleton, field_options, options.fit_radii, timer, ctx);
+  if (options.fit_radii) r.stats["fit"] = surface.fit_stats;
+  const Skeleton& meshed = surface.skeleton;
+  const FieldPtr field = surface.field;
   timer.lap("field");
   if (options.method == "mc") {
     polygonize_mc(*field, options, ctx, r);
@@ -114,6 +155,11 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
   r.stats["skeleton_components"] = connected_components(skeleton).count;
   r.stats["min_angle_deg"] = r.report.min_angle_deg;
   r.stats["median_angle_deg"] = r.report.median_angle_deg;
+  const auto share = [&](std::size_t n) {
+    return r.report.triangles == 0 ? 0.0 : static_cast<double>(n) / static_cast<double>(r.report.triangles);
+  };
+  r.stats["triangles_below_10_deg"] = share(r.report.triangles_below_10_deg);
+  r.stats["triangles_below_1_deg"] = share(r.report.triangles_below_1_deg);
   return r;
 }
 

@@ -11,6 +11,7 @@
 #include "ramiform/core/geometry.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/polygonize/marching_cubes.h"
+#include "ramiform/polygonize/refine.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/skeleton/skeleton.h"
 
@@ -21,6 +22,9 @@ struct MeshJobOptions {
   std::string method = "tets";  ///< "tets" (skeleton-bounded tetrahedra) or "mc"
   MarchingCubesOptions mc;      ///< --cell, --resolution
   TetrahedralOptions tets;      ///< --levels, --section-scale, --no-cleanup
+  /// tets to a deviation tolerance (--tolerance; its `tets` are taken from `tets` above)
+  ToleranceOptions tolerance;
+  bool to_tolerance = true;     ///< false: plain tets at `tets.levels` (--levels alone)
   bool fit_radii = false;       ///< split edges and fit per-edge weights (convolution only)
   bool radius_error = false;    ///< measure the radius error (always on with fit_radii)
 };
@@ -30,6 +34,19 @@ struct MeshJobResult {
   MeshReport report;
   nlohmann::json stats;  ///< vertices, triangles, field_evals, checks (no seconds)
 };
+
+/// The surface of a skeleton as `mesh` builds it: the field, and the skeleton the polygonizer
+/// follows (with `fit_radii`, the split skeleton whose per-piece weights were fitted).
+struct SkeletonSurface {
+  Skeleton skeleton;
+  FieldPtr field;
+  nlohmann::json fit_stats;  ///< the fit's figures (null without fit_radii)
+};
+
+/// Builds the field of `skeleton` (fitting radii if asked: InvalidArgument unless the surface is
+/// a convolution surface). Laps `timer` at "fit" after a fit.
+SkeletonSurface build_surface(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
+                              bool fit_radii, StageTimer& timer, Context& ctx);
 
 /// Builds the field (fitting radii if asked), polygonizes, checks and writes `out_path`
 /// (atomically). Laps `timer` at "field" (and "fit"), "polygonize", "check", "write".

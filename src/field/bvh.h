@@ -5,6 +5,7 @@
 // Internal: a bounding-volume hierarchy over boxes (primitive supports), for box queries.
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "ramiform/core/types.h"
@@ -19,6 +20,50 @@ class BoxBvh {
 
   /// Appends to `out` the ids of every item whose box intersects `query`, in no particular order.
   void query(const Aabb& query, std::vector<std::uint32_t>& out) const;
+
+  /// The item nearest to `p`: the one with the least `distance2(id)`, a squared distance from p
+  /// that is never below the squared distance from p to the item's box (ties: the lower id).
+  /// Best-first descent, pruning nodes whose box is farther than the best so far. Returns
+  /// UINT32_MAX without items; `best_d2` (may be null) receives the least distance2.
+  template <class Distance2>
+  [[nodiscard]] std::uint32_t nearest(const Vec3& p, Distance2&& distance2,
+                                      double* best_d2 = nullptr) const {
+    std::uint32_t best = UINT32_MAX;
+    double best_value = std::numeric_limits<double>::infinity();
+    if (!nodes_.empty()) {
+      std::uint32_t stack[64];
+      int top = 0;
+      stack[top++] = 0;
+      while (top > 0) {
+        const Node& n = nodes_[stack[--top]];
+        if (squared_distance(n.box, p) > best_value) continue;
+        if (n.count > 0) {
+          for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
+            const std::uint32_t id = order_[i];
+            if (squared_distance(boxes_[id], p) > best_value) continue;
+            const double d2 = distance2(id);
+            if (d2 < best_value || (d2 == best_value && id < best)) {
+              best_value = d2;
+              best = id;
+            }
+          }
+        } else {
+          // The nearer child is pushed last, so it is visited first.
+          const double dl = squared_distance(nodes_[n.first].box, p);
+          const double dr = squared_distance(nodes_[n.right].box, p);
+          if (dl <= dr) {
+            stack[top++] = n.right;
+            stack[top++] = n.first;
+          } else {
+            stack[top++] = n.first;
+            stack[top++] = n.right;
+          }
+        }
+      }
+    }
+    if (best_d2 != nullptr) *best_d2 = best_value;
+    return best;
+  }
 
   [[nodiscard]] const Aabb& item_box(std::uint32_t id) const { return boxes_[id]; }
   [[nodiscard]] std::size_t size() const { return boxes_.size(); }

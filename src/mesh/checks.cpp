@@ -273,6 +273,11 @@ MeshReport check_mesh(const TriMesh& mesh, Context* ctx) {
         },
         [](std::size_t a, std::size_t b) { return a + b; }, ctx);
     r.min_angle_deg = *std::min_element(angles.begin(), angles.end());
+    for (std::size_t t = 0; t < r.triangles; ++t) {
+      const double m = std::min({angles[3 * t], angles[3 * t + 1], angles[3 * t + 2]});
+      if (m < 10.0) ++r.triangles_below_10_deg;
+      if (m < 1.0) ++r.triangles_below_1_deg;
+    }
     const std::size_t n = angles.size();
     const auto mid = angles.begin() + static_cast<std::ptrdiff_t>(n / 2);
     std::nth_element(angles.begin(), mid, angles.end());

@@ -13,6 +13,7 @@
 #include "ramiform/io/points_io.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/polygonize/marching_cubes.h"
+#include "ramiform/polygonize/refine.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "session.h"
 
@@ -83,7 +84,9 @@ CommandResult run_save_mesh(Call& c) {
         c.fail(*t, std::string(key) + "= applies to method=mc");
     }
     using Tets = TetrahedralOptions;
-    Tets o;
+    using Tol = ToleranceOptions;
+    Tol t;
+    Tets& o = t.tets;
     o.levels = c.option_integer("levels", o.levels, Tets::kMinLevels, Tets::kMaxLevels);
     o.section_scale = c.option_number("section_scale", o.section_scale);
     if (!(o.section_scale >= Tets::kMinSectionScale && o.section_scale <= Tets::kMaxSectionScale)) {
@@ -91,10 +94,25 @@ CommandResult run_save_mesh(Call& c) {
              "section_scale= must be in " +
                  range_text(Tets::kMinSectionScale, Tets::kMaxSectionScale));
     }
-    mesh = polygonize_tetrahedral(*obj.field, *obj.skeleton, o, c.session().ctx);
-    how = "tets, " + std::to_string(o.levels) + " levels";
+    t.tolerance = c.option_number("tolerance", t.tolerance);
+    if (!(t.tolerance >= Tol::kMinTolerance && t.tolerance <= Tol::kMaxTolerance)) {
+      c.fail(*c.option_token("tolerance"),
+             "tolerance= must be in " + range_text(Tol::kMinTolerance, Tol::kMaxTolerance));
+    }
+    // levels= alone: the paper's uniform levels, unrefined; otherwise refined to the tolerance.
+    if (c.has_option("levels") && !c.has_option("tolerance")) {
+      mesh = polygonize_tetrahedral(*obj.field, *obj.skeleton, o, c.session().ctx);
+      how = "tets, " + std::to_string(o.levels) + " levels";
+    } else {
+      ToleranceStats st;
+      mesh = polygonize_to_tolerance(*obj.field, *obj.skeleton, t, c.session().ctx, &st);
+      how = "tets to tolerance " + format_number(t.tolerance) + ": deviation p99 " +
+            format_number(st.deviation.samples.p99) + ", max " +
+            format_number(st.deviation.samples.max) + " of the local radius" +
+            (st.reached ? "" : " (NOT reached)");
+    }
   } else {
-    for (const char* key : {"levels", "section_scale"}) {
+    for (const char* key : {"levels", "section_scale", "tolerance"}) {
       if (const Token* t = c.option_token(key))
         c.fail(*t, std::string(key) + "= applies to method=tets");
     }
@@ -217,8 +235,10 @@ CommandResult run_help(Call& c) {
 void add_output_commands(std::vector<CommandSpec>& out) {
   using Mc = MarchingCubesOptions;
   using Tets = TetrahedralOptions;
+  using Tol = ToleranceOptions;
   const Mc mc;
   const Tets tets;
+  const Tol tol;
   out.push_back(
       {"param",
        "param NAME VALUE",
@@ -230,19 +250,24 @@ void add_output_commands(std::vector<CommandSpec>& out) {
        {}});
   out.push_back(
       {"save_mesh",
-       "save_mesh NAME FILE [FILE ...] [resolution=N | cell=H] [method=mc|tets] [levels=N] "
-       "[section_scale=S]",
+       "save_mesh NAME FILE [FILE ...] [resolution=N | cell=H] [method=mc|tets] [tolerance=T] "
+       "[levels=N] [section_scale=S]",
        "Polygonizes a shape once and writes it to every FILE (.ply, .obj, .off, .glb) inside the "
        "output directory: marching cubes over the shape's bounds, `resolution` cells along the "
        "longest side" +
            default_text(mc.resolution, Mc::kMinResolution, Mc::kMaxResolution) +
            " or cells of size `cell`; or, for a shape made by skeleton, grow or lsystem, the "
-           "skeleton-bounded tetrahedral polygonizer with `levels` subdivisions" +
-           default_text(tets.levels, Tets::kMinLevels, Tets::kMaxLevels) +
+           "skeleton-bounded tetrahedral polygonizer refined until the deviation p99 is at most "
+           "`tolerance` local radii" +
+           default_text(tol.tolerance, Tol::kMinTolerance, Tol::kMaxTolerance) +
+           " (the message gives the measured p99 and max), from a base mesh of `levels` "
+           "subdivisions" +
+           default_text(tol.tets.levels, Tets::kMinLevels, Tets::kMaxLevels) +
            " and cross-section squares `section_scale` radii wide" +
-           default_text(tets.section_scale, Tets::kMinSectionScale, Tets::kMaxSectionScale) + ".",
+           default_text(tets.section_scale, Tets::kMinSectionScale, Tets::kMaxSectionScale) +
+           "; `levels` without `tolerance` gives the paper's uniform levels, unrefined.",
        "save_mesh s3 s3.ply resolution=128",
-       {"resolution", "cell", "method", "levels", "section_scale"},
+       {"resolution", "cell", "method", "tolerance", "levels", "section_scale"},
        run_save_mesh,
        {}});
   out.push_back({"eval",

@@ -59,7 +59,8 @@ TEST_F(CliTest, CheckJsonHasExactlyTheDocumentedKeys) {
   for (auto it = j.begin(); it != j.end(); ++it) keys.insert(it.key());
   const std::set<std::string> expected = {"vertices", "triangles", "watertight", "oriented",
                                           "manifold", "components", "euler", "min_angle_deg",
-                                          "median_angle_deg", "skeleton_nodes_inside"};
+                                          "median_angle_deg", "triangles_below_10_deg",
+                                          "triangles_below_1_deg", "skeleton_nodes_inside"};
   EXPECT_EQ(keys, expected);
   EXPECT_DOUBLE_EQ(j["skeleton_nodes_inside"].get<double>(), 1.0);
   EXPECT_EQ(j["euler"].get<int>(), 2);

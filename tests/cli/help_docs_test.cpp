@@ -24,12 +24,14 @@
 #include <vector>
 
 #include "cli/cli_run.h"
+#include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
 #include "ramiform/grow/lsystem.h"
 #include "ramiform/grow/space_colonization.h"
 #include "ramiform/io/points_io.h"
 #include "ramiform/io/skeleton_io.h"
 #include "ramiform/polygonize/marching_cubes.h"
+#include "ramiform/polygonize/refine.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/script/script.h"
 #include "ramiform/skeleton/generate.h"
@@ -73,16 +75,22 @@ std::vector<OptionCase> cases() {
   const Grow grow;
   const LSys ls;
   const ScriptOptions script;
-  const Value levels = def(tets.levels, Tets::kMinLevels, Tets::kMaxLevels);
+  using Tol = ToleranceOptions;
+  const Tol tol;
+  // The levels of the base mesh that `mesh` and `save_mesh` refine to the tolerance.
+  const Value levels = def(tol.tets.levels, Tets::kMinLevels, Tets::kMaxLevels);
+  const Value tolerance = def(tol.tolerance, Tol::kMinTolerance, Tol::kMaxTolerance);
   const Value scale = def(tets.section_scale, Tets::kMinSectionScale, Tets::kMaxSectionScale);
   const Value resolution = def(mc.resolution, Mc::kMinResolution, Mc::kMaxResolution);
   const Value grow_exponent =
       def(grow.pipe_exponent, Grow::kMinPipeExponent, Grow::kMaxPipeExponent);
   return {
       {"mesh", "--levels", "save_mesh", "levels", levels},
+      {"mesh", "--tolerance", "save_mesh", "tolerance", tolerance},
+      {"demo", "--tolerance", "", "", tolerance},
       {"mesh", "--section-scale", "save_mesh", "section_scale", scale},
       {"mesh", "--resolution", "save_mesh", "resolution", resolution},
-      {"demo", "--levels", "", "", def(2, Tets::kMinLevels, Tets::kMaxLevels), false},
+      {"demo", "--levels", "", "", def(1, Tets::kMinLevels, Tets::kMaxLevels), false},
       {"generate", "--segments", "", "",
        def(static_cast<double>(tree.segments), static_cast<double>(Tree::kMinSegments),
            static_cast<double>(Tree::kMaxSegments))},
@@ -256,16 +264,27 @@ class HelpDocsRunTest : public CliDirTest {};
 // struct's value, and the stats report it.
 TEST_F(HelpDocsRunTest, CliDefaultsAreTheStructs) {
   const std::string skel = y_fork();
-  const TetrahedralOptions tets;
+  const ToleranceOptions tol;
+  const TetrahedralOptions& tets = tol.tets;
   ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("t.ply") + " --stats " + path("t.json")).code,
             0);
   const std::string stats = read_file(path("t.json"));
   EXPECT_NE(stats.find("\"levels\": " + std::to_string(tets.levels)), std::string::npos) << stats;
-  const CliRun explicit_tets = run_cli("mesh " + skel + " -o " + path("t2.ply") + " --levels " +
-                                       std::to_string(tets.levels) + " --section-scale " +
-                                       std::to_string(tets.section_scale));
+  EXPECT_NE(stats.find("\"tolerance\": " + format_number(tol.tolerance)), std::string::npos)
+      << stats;
+  const CliRun explicit_tets =
+      run_cli("mesh " + skel + " -o " + path("t2.ply") + " --levels " +
+              std::to_string(tets.levels) + " --section-scale " +
+              std::to_string(tets.section_scale) + " --tolerance " + format_number(tol.tolerance));
   ASSERT_EQ(explicit_tets.code, 0) << explicit_tets.out;
   EXPECT_EQ(read_file(path("t.ply")), read_file(path("t2.ply")));
+  // --levels alone: the paper's uniform levels, unrefined (a different, coarser mesh).
+  ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("t3.ply") + " --levels " +
+                    std::to_string(tets.levels) + " --stats " + path("t3.json"))
+                .code,
+            0);
+  EXPECT_EQ(read_file(path("t3.json")).find("\"tolerance\""), std::string::npos);
+  EXPECT_LT(read_file(path("t3.ply")).size(), read_file(path("t.ply")).size());
 
   const MarchingCubesOptions mc;
   ASSERT_EQ(run_cli("mesh " + skel + " --method mc -o " + path("m.ply")).code, 0);
@@ -311,9 +330,12 @@ TEST_F(HelpDocsRunTest, SceneLanguageDefaultsAreTheStructs) {
   ScriptSession session(options);
   session.execute_line("skeleton t \"" + skel + "\" surface=convolution");
   const CommandResult tets = session.execute_line("save_mesh t t.ply method=tets");
-  EXPECT_NE(tets.message.find("(tets, " + std::to_string(TetrahedralOptions{}.levels) + " levels)"),
+  EXPECT_NE(tets.message.find("(tets to tolerance " + format_number(ToleranceOptions{}.tolerance) +
+                              ":"),
             std::string::npos)
       << tets.message;
+  const CommandResult uniform = session.execute_line("save_mesh t u.ply method=tets levels=2");
+  EXPECT_NE(uniform.message.find("(tets, 2 levels)"), std::string::npos) << uniform.message;
   session.execute_line("sphere s");
   const CommandResult mc = session.execute_line("save_mesh s s.ply");
   EXPECT_NE(

@@ -36,6 +36,10 @@ struct MeshReport {
   /// Median of all corner angles in degrees (mean of the two middle ones for an even count);
   /// a zero-area triangle contributes three 0 angles. 0 without triangles.
   double median_angle_deg = 0.0;
+  /// Triangles whose smallest corner angle is below 10 degrees, and below 1 degree (long narrow
+  /// "needles"; zero-area triangles included).
+  std::size_t triangles_below_10_deg = 0;
+  std::size_t triangles_below_1_deg = 0;
 
   std::size_t edges = 0;                 ///< distinct edges
   std::size_t boundary_edges = 0;        ///< edges in exactly one triangle

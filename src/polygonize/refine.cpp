@@ -1,0 +1,412 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/polygonize/refine.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "field/bvh.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
+#include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
+#include "ramiform/mesh/deviation.h"
+
+namespace ramiform {
+namespace {
+
+constexpr std::size_t kGrain = 4096;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+
+void validate(const RefineOptions& o) {
+  if (!(o.edge_tolerance > 0.0) || !std::isfinite(o.edge_tolerance)) {
+    throw InvalidArgument("refine: edge_tolerance must be finite and > 0, got " +
+                          format_number(o.edge_tolerance));
+  }
+  if (!(o.min_edge_radii >= 0.0) || !std::isfinite(o.min_edge_radii)) {
+    throw InvalidArgument("refine: min_edge_radii must be finite and >= 0, got " +
+                          format_number(o.min_edge_radii));
+  }
+  if (o.max_rounds < 0) {
+    throw InvalidArgument("refine: max_rounds must be >= 0, got " + std::to_string(o.max_rounds));
+  }
+  if (!(o.max_turn_deg > 0.0 && o.max_turn_deg < 180.0)) {
+    throw InvalidArgument("refine: max_turn_deg must be in (0, 180), got " +
+                          format_number(o.max_turn_deg));
+  }
+}
+
+/// The distinct edges of a mesh and, per triangle corner slot 3 t + k, the edge from corner k to
+/// corner k + 1.
+struct Edges {
+  std::vector<std::array<std::uint32_t, 2>> ends;
+  std::vector<std::uint32_t> of_slot;
+};
+
+Edges mesh_edges(const TriMesh& mesh) {
+  // Counting sort of the corner slots by their edge's lower vertex; within a vertex's bucket
+  // (a handful of slots) equal upper vertices are the same edge. Edges are numbered by lower
+  // vertex, then by first slot: deterministic and linear.
+  const std::size_t nv = mesh.positions.size();
+  const std::size_t slots = 3 * mesh.triangles.size();
+  std::vector<std::uint32_t> start(nv + 1, 0);
+  auto ends_of = [&](std::size_t slot) {
+    const auto& t = mesh.triangles[slot / 3];
+    const std::uint32_t a = t[slot % 3], b = t[(slot % 3 + 1) % 3];
+    return std::array<std::uint32_t, 2>{std::min(a, b), std::max(a, b)};
+  };
+  for (std::size_t s = 0; s < slots; ++s) ++start[ends_of(s)[0] + 1];
+  for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<std::uint32_t> bucket(slots);
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t s = 0; s < slots; ++s) bucket[fill[ends_of(s)[0]]++] = static_cast<std::uint32_t>(s);
+  }
+  Edges e;
+  e.of_slot.assign(slots, 0);
+  e.ends.reserve(slots / 2 + 1);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const std::size_t first_edge = e.ends.size();
+    for (std::uint32_t k = start[v]; k < start[v + 1]; ++k) {
+      const auto ab = ends_of(bucket[k]);
+      std::size_t id = first_edge;
+      while (id < e.ends.size() && e.ends[id][1] != ab[1]) ++id;
+      if (id == e.ends.size()) e.ends.push_back(ab);
+      e.of_slot[bucket[k]] = static_cast<std::uint32_t>(id);
+    }
+  }
+  return e;
+}
+
+Vec3 normal_of(const TriMesh& m, const std::array<std::uint32_t, 3>& t) {
+  return (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]);
+}
+
+/// True when p lies in the closed tetrahedron (a, b, c, d) (any orientation).
+bool in_tetrahedron(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const double v = (b - a).cross(c - a).dot(d - a);
+  if (v == 0.0) return false;
+  const double s = v > 0 ? 1.0 : -1.0;
+  return s * (b - p).cross(c - p).dot(d - p) >= 0 && s * (p - a).cross(c - a).dot(d - a) >= 0 &&
+         s * (b - a).cross(p - a).dot(d - a) >= 0 && s * (b - a).cross(c - a).dot(p - a) >= 0;
+}
+
+/// One round; returns the number of edges split (0: nothing to do or over budget).
+std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, const Field& field,
+                         const Skeleton& skeleton, const detail::BoxBvh& nodes,
+                         const RefineOptions& o, Context* ctx, RefineStats& st) {
+  const Edges edges = mesh_edges(mesh);
+  const std::size_t ne = edges.ends.size();
+  std::vector<Vec3> mid(ne);
+  parallel::for_each(
+      ne, kGrain,
+      [&](std::size_t e) {
+        mid[e] = 0.5 * (mesh.positions[edges.ends[e][0]] + mesh.positions[edges.ends[e][1]]);
+      },
+      ctx);
+  std::vector<double> value(ne);
+  std::vector<Vec3> grad(ne);
+  field.evaluate(mid, value, grad, ctx);
+  // An edge's radius: the smaller local radius of its end points (the one whose tolerance is
+  // stricter, e.g. a twig's beside the branch it leaves).
+  std::vector<double> radius(ne);
+  parallel::for_each(
+      ne, kGrain,
+      [&](std::size_t e) {
+        radius[e] = std::min(vradius[edges.ends[e][0]], vradius[edges.ends[e][1]]);
+      },
+      ctx);
+  const double iso = field.iso();
+  std::vector<char> split(ne, 0);
+  std::vector<double> estimate(ne);
+  parallel::for_each(
+      ne, kGrain,
+      [&](std::size_t e) {
+        const double gn = grad[e].norm();
+        estimate[e] = gn > 0.0 ? std::abs(value[e] - iso) / gn : std::numeric_limits<double>::infinity();
+        const double length =
+            (mesh.positions[edges.ends[e][0]] - mesh.positions[edges.ends[e][1]]).norm();
+        // An edge already short against the radius sags by less than the tolerance (L^2 / 8 r);
+        // a midpoint still far from the surface there is not a matter of chords.
+        split[e] = std::isfinite(value[e]) && estimate[e] > o.edge_tolerance * radius[e] &&
+                           length > o.min_edge_radii * radius[e]
+                       ? 1
+                       : 0;
+      },
+      ctx);
+  const std::size_t nt = mesh.triangles.size();
+  // The budget: each split edge of a triangle adds one triangle.
+  std::size_t added = 0;
+  for (std::size_t s = 0; s < 3 * nt; ++s) added += split[edges.of_slot[s]];
+  if (added == 0) return 0;
+  if (nt + added > o.max_triangles) {
+    st.budget_reached = true;
+    return 0;
+  }
+  // New vertices: the split edges' midpoints, taken onto the surface by batched Newton steps.
+  std::vector<std::uint32_t> new_id(ne, kNone);
+  std::vector<std::uint32_t> split_edges;
+  for (std::uint32_t e = 0; e < ne; ++e) {
+    if (split[e] != 0) {
+      new_id[e] = static_cast<std::uint32_t>(mesh.positions.size() + split_edges.size());
+      split_edges.push_back(e);
+    }
+  }
+  const std::size_t ns = split_edges.size();
+  std::vector<Vec3> z(ns), zmid(ns);
+  std::vector<double> zr(ns);
+  for (std::size_t i = 0; i < ns; ++i) {
+    zmid[i] = z[i] = mid[split_edges[i]];
+    zr[i] = radius[split_edges[i]];
+  }
+  std::vector<char> done(ns, 0), ok(ns, 0);
+  std::vector<std::size_t> active(ns);
+  for (std::size_t i = 0; i < ns; ++i) active[i] = i;
+  for (int step = 0; step < 8 && !active.empty(); ++step) {
+    std::vector<Vec3> pts(active.size());
+    for (std::size_t j = 0; j < active.size(); ++j) pts[j] = z[active[j]];
+    std::vector<double> v(active.size());
+    std::vector<Vec3> g(active.size());
+    field.evaluate(pts, v, g, ctx);
+    std::vector<std::size_t> next;
+    for (std::size_t j = 0; j < active.size(); ++j) {
+      const std::size_t i = active[j];
+      const double gg = g[j].squaredNorm();
+      if (!std::isfinite(v[j]) || !(gg > 0.0) || !std::isfinite(gg)) continue;  // stays flat
+      const double dist = std::abs(v[j] - iso) / std::sqrt(gg);
+      if (dist <= 1e-7 * zr[i]) {
+        ok[i] = 1;
+        continue;
+      }
+      z[i] -= ((v[j] - iso) / gg) * g[j];
+      next.push_back(i);
+    }
+    active = std::move(next);
+  }
+  std::vector<char> moved(ns, 0);
+  for (std::size_t i = 0; i < ns; ++i) {
+    // A converged point not far from its midpoint (a step that jumped to another part of the
+    // surface is not taken).
+    moved[i] = ok[i] != 0 && (z[i] - zmid[i]).norm() <= 0.5 * zr[i] +
+                                                           2.0 * estimate[split_edges[i]]
+                   ? 1
+                   : 0;
+    if (moved[i] == 0) {
+      z[i] = zmid[i];
+      ++st.unprojected;
+    }
+  }
+  // The new triangles, each remembering its parent.
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  std::vector<std::uint32_t> parent;
+  tris.reserve(nt + added);
+  parent.reserve(nt + added);
+  auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::size_t t) {
+    tris.push_back({a, b, c});
+    parent.push_back(static_cast<std::uint32_t>(t));
+  };
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& v = mesh.triangles[t];
+    std::array<std::uint32_t, 3> m{};
+    int count = 0;
+    for (int k = 0; k < 3; ++k) {
+      m[k] = new_id[edges.of_slot[3 * t + k]];  // on edge v[k] -> v[k + 1]
+      count += m[k] != kNone ? 1 : 0;
+    }
+    if (count == 0) {
+      emit(v[0], v[1], v[2], t);
+    } else if (count == 3) {
+      emit(v[0], m[0], m[2], t);
+      emit(m[0], v[1], m[1], t);
+      emit(m[1], v[2], m[2], t);
+      emit(m[0], m[1], m[2], t);
+    } else if (count == 1) {
+      const int k = m[0] != kNone ? 0 : (m[1] != kNone ? 1 : 2);
+      const std::uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
+      emit(a, m[k], c, t);
+      emit(m[k], b, c, t);
+    } else {
+      // The unsplit edge a -> b; m1 on b -> c, m2 on c -> a; cycle a, b, m1, c, m2.
+      const int k = m[0] == kNone ? 0 : (m[1] == kNone ? 1 : 2);
+      const std::uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
+      const std::uint32_t m1 = m[(k + 1) % 3], m2 = m[(k + 2) % 3];
+      emit(m1, c, m2, t);
+      auto pos = [&](std::uint32_t id) {
+        return id < mesh.positions.size() ? mesh.positions[id] : z[id - mesh.positions.size()];
+      };
+      if ((pos(a) - pos(m1)).squaredNorm() <= (pos(b) - pos(m2)).squaredNorm()) {
+        emit(a, b, m1, t);
+        emit(a, m1, m2, t);
+      } else {
+        emit(a, b, m2, t);
+        emit(b, m1, m2, t);
+      }
+    }
+  }
+  const std::size_t nv_old = mesh.positions.size();
+  std::vector<Vec3> parent_normal(nt);
+  parallel::for_each(
+      nt, kGrain, [&](std::size_t t) { parent_normal[t] = normal_of(mesh, mesh.triangles[t]); },
+      ctx);
+  mesh.positions.insert(mesh.positions.end(), z.begin(), z.end());
+  const std::vector<double> new_radius = local_radii(skeleton, z, ctx);
+  vradius.insert(vradius.end(), new_radius.begin(), new_radius.end());
+  mesh.triangles = std::move(tris);
+  // The fans of the new vertices (CSR), for the checks.
+  std::vector<std::size_t> fan_start(ns + 1, 0);
+  for (const auto& t : mesh.triangles)
+    for (const auto v : t)
+      if (v >= nv_old) ++fan_start[v - nv_old + 1];
+  for (std::size_t i = 0; i < ns; ++i) fan_start[i + 1] += fan_start[i];
+  std::vector<std::uint32_t> fan(fan_start[ns]);
+  {
+    std::vector<std::size_t> fill(fan_start.begin(), fan_start.end() - 1);
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+      for (const auto v : mesh.triangles[t])
+        if (v >= nv_old) fan[fill[v - nv_old]++] = t;
+  }
+  const double cos_turn = pm::cos(o.max_turn_deg * std::numbers::pi / 180.0);
+  // Revert moves, pass after pass, until no new triangle turns too far and no node is swept.
+  for (;;) {
+    std::vector<char> revert(ns, 0);
+    parallel::for_each(
+        ns, 256,
+        [&](std::size_t i) {
+          if (moved[i] == 0) return;
+          const std::uint32_t vid = static_cast<std::uint32_t>(nv_old + i);
+          Aabb box(zmid[i]);
+          box.extend(mesh.positions[vid]);
+          for (std::size_t f = fan_start[i]; f < fan_start[i + 1]; ++f) {
+            const auto& t = mesh.triangles[fan[f]];
+            const Vec3 n = normal_of(mesh, t);
+            const Vec3& np = parent_normal[parent[fan[f]]];
+            const double nn = n.norm() * np.norm();
+            if (!(nn > 0.0) || n.dot(np) < cos_turn * nn) {
+              revert[i] = 1;
+              return;
+            }
+            for (const auto v : t) box.extend(mesh.positions[v]);
+          }
+          std::vector<std::uint32_t> hits;
+          nodes.query(box, hits);
+          for (const std::uint32_t h : hits) {
+            const Vec3& p = skeleton.nodes[h].position;
+            for (std::size_t f = fan_start[i]; f < fan_start[i + 1]; ++f) {
+              const auto& t = mesh.triangles[fan[f]];
+              std::array<Vec3, 2> other;
+              int k = 0;
+              for (const auto v : t)
+                if (v != vid) other[k++ % 2] = mesh.positions[v];
+              if (in_tetrahedron(p, zmid[i], mesh.positions[vid], other[0], other[1])) {
+                revert[i] = 1;
+                return;
+              }
+            }
+          }
+        },
+        ctx);
+    // A vertex sent back goes half way first, then to the midpoint.
+    std::size_t reverted = 0;
+    for (std::size_t i = 0; i < ns; ++i) {
+      if (revert[i] != 0) {
+        ++reverted;
+        Vec3& p = mesh.positions[nv_old + i];
+        if (moved[i] == 1) {
+          moved[i] = 2;
+          p = 0.5 * (p + zmid[i]);
+        } else {
+          moved[i] = 0;
+          p = zmid[i];
+          ++st.reverted;
+        }
+      }
+    }
+    if (reverted == 0) break;
+  }
+  for (std::size_t i = 0; i < ns; ++i) {
+    st.flat_splits += moved[i] == 0 ? 1 : 0;
+    st.halfway += moved[i] == 2 ? 1 : 0;
+  }
+  return ns;
+}
+
+}  // namespace
+
+void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skeleton,
+                       const RefineOptions& options, Context* ctx, RefineStats* stats) {
+  validate(options);
+  if (skeleton.nodes.empty()) throw InvalidArgument("refine: the skeleton has no nodes");
+  RefineStats st;
+  st.triangles_before = mesh.triangles.size();
+  std::vector<Aabb> boxes;
+  boxes.reserve(skeleton.nodes.size());
+  for (const auto& n : skeleton.nodes) boxes.emplace_back(n.position, n.position);
+  const detail::BoxBvh nodes(std::move(boxes));
+  mesh.normals.clear();
+  std::vector<double> vradius = local_radii(skeleton, mesh.positions, ctx);
+  for (int round = 0; round < options.max_rounds; ++round) {
+    const std::size_t split = refine_round(mesh, vradius, field, skeleton, nodes, options, ctx, st);
+    if (split == 0) break;
+    ++st.rounds;
+    st.split_edges += split;
+    if (ctx != nullptr) ctx->report("refine", static_cast<double>(round + 1) / options.max_rounds);
+  }
+  st.triangles_after = mesh.triangles.size();
+  if (stats != nullptr) *stats = st;
+}
+
+TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,
+                                const ToleranceOptions& options, Context* ctx,
+                                ToleranceStats* stats) {
+  using O = ToleranceOptions;
+  if (!(options.tolerance >= O::kMinTolerance && options.tolerance <= O::kMaxTolerance)) {
+    throw InvalidArgument("tolerance must be in [" + format_number(O::kMinTolerance) + ", " +
+                          format_number(O::kMaxTolerance) + "], got " +
+                          format_number(options.tolerance));
+  }
+  if (options.samples < 100) {
+    throw InvalidArgument("tolerance: samples must be >= 100, got " +
+                          std::to_string(options.samples));
+  }
+  if (options.max_passes < 1) {
+    throw InvalidArgument("tolerance: max_passes must be >= 1, got " +
+                          std::to_string(options.max_passes));
+  }
+  ToleranceStats st;
+  TriMesh mesh = polygonize_tetrahedral(field, skeleton, options.tets, ctx, &st.tets);
+  RefineOptions ro;
+  ro.edge_tolerance = options.tolerance;
+  DeviationOptions dev;
+  dev.samples = options.samples;
+  dev.seed = options.seed;
+  dev.vertices = false;
+  for (int pass = 0; pass < options.max_passes; ++pass) {
+    RefineStats rs;
+    refine_to_surface(mesh, field, skeleton, ro, ctx, &rs);
+    st.refine.rounds += rs.rounds;
+    st.refine.split_edges += rs.split_edges;
+    st.refine.flat_splits += rs.flat_splits;
+    st.refine.unprojected += rs.unprojected;
+    st.refine.reverted += rs.reverted;
+    st.refine.halfway += rs.halfway;
+    st.refine.budget_reached = st.refine.budget_reached || rs.budget_reached;
+    if (pass == 0) st.refine.triangles_before = rs.triangles_before;
+    st.refine.triangles_after = rs.triangles_after;
+    st.edge_tolerance = ro.edge_tolerance;
+    st.passes = pass + 1;
+    st.deviation = measure_deviation(mesh, field, &skeleton, dev, ctx);
+    st.reached = st.deviation.samples.p99 <= options.tolerance;
+    if (st.reached || rs.budget_reached) break;
+    ro.edge_tolerance *= 0.7;
+  }
+  if (stats != nullptr) *stats = st;
+  return mesh;
+}
+
+}  // namespace ramiform

@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+//
+// Refinement towards a deviation tolerance: the mesh stays closed, oriented, manifold and in
+// one piece with every node inside; its deviation, measured independently (another seed, more
+// points, the exact projection of mesh/deviation.h), stays under the tolerance and follows it.
+
+#include "ramiform/polygonize/refine.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "ramiform/core/context.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/field/skeleton_field.h"
+#include "ramiform/mesh/checks.h"
+#include "ramiform/mesh/deviation.h"
+#include "ramiform/mesh/winding.h"
+#include "ramiform/skeleton/generate.h"
+#include "support/mesh_checkers.h"
+
+namespace ramiform {
+namespace {
+
+Skeleton tree(std::size_t segments) {
+  BranchingTreeOptions o;
+  o.segments = segments;
+  o.seed = 3;
+  o.tip_radius = 0.01;
+  return branching_tree(o);
+}
+
+std::size_t nodes_outside(const TriMesh& m, const Skeleton& s) {
+  std::vector<Vec3> nodes;
+  for (const auto& n : s.nodes) nodes.push_back(n.position);
+  const std::vector<char> inside = points_inside(m, nodes);
+  std::size_t outside = 0;
+  for (const char f : inside) outside += f == 0 ? 1 : 0;
+  return outside;
+}
+
+/// The deviation p99 of `m`, measured with a seed and a count the polygonizer did not use.
+DeviationSummary measured(const TriMesh& m, const Field& f, const Skeleton& s) {
+  DeviationOptions o;
+  o.samples = 40000;
+  o.seed = 987;
+  o.vertices = false;
+  return measure_deviation(m, f, &s, o).samples;
+}
+
+TEST(PolygonizeToTolerance, MeetsTheToleranceAndKeepsTheMeshWhole) {
+  const Skeleton s = tree(60);
+  const FieldPtr f = make_skeleton_field(s);
+  ToleranceOptions o;
+  ToleranceStats st;
+  const TriMesh m = polygonize_to_tolerance(*f, s, o, nullptr, &st);
+  test::expect_closed_manifold(m);
+  test::expect_components(m, 1);
+  EXPECT_EQ(nodes_outside(m, s), 0u);
+  EXPECT_TRUE(st.reached);
+  EXPECT_LE(st.deviation.samples.p99, o.tolerance);
+  EXPECT_GT(st.refine.split_edges, 0u);
+  EXPECT_GT(m.triangles.size(), st.refine.triangles_before);
+  const DeviationSummary d = measured(m, *f, s);
+  EXPECT_EQ(d.unresolved, 0u);
+  EXPECT_LE(d.p99, o.tolerance) << "max " << d.max;
+  EXPECT_LE(d.max, 5 * o.tolerance);
+  // The unrefined base mesh is much farther off: refinement did the work.
+  TetrahedralOptions base = o.tets;
+  const TriMesh coarse = polygonize_tetrahedral(*f, s, base);
+  EXPECT_GT(measured(coarse, *f, s).p99, 2 * o.tolerance);
+}
+
+TEST(PolygonizeToTolerance, HalvingTheToleranceRoughlyHalvesTheDeviation) {
+  const Skeleton s = tree(40);
+  const FieldPtr f = make_skeleton_field(s);
+  std::vector<double> p99;
+  std::vector<std::size_t> triangles;
+  for (const double t : {0.1, 0.05, 0.025}) {
+    ToleranceOptions o;
+    o.tolerance = t;
+    const TriMesh m = polygonize_to_tolerance(*f, s, o);
+    const DeviationSummary d = measured(m, *f, s);
+    EXPECT_LE(d.p99, t);
+    p99.push_back(d.p99);
+    triangles.push_back(m.triangles.size());
+    EXPECT_EQ(nodes_outside(m, s), 0u) << "tolerance " << t;
+  }
+  for (std::size_t i = 1; i < p99.size(); ++i) {
+    const double ratio = p99[i] / p99[i - 1];
+    EXPECT_GT(ratio, 0.3) << "step " << i;
+    EXPECT_LT(ratio, 0.8) << "step " << i;
+    EXPECT_GT(triangles[i], triangles[i - 1]);
+  }
+}
+
+TEST(PolygonizeToTolerance, SameMeshOnAnyThreadCount) {
+  const Skeleton s = tree(30);
+  const FieldPtr f = make_skeleton_field(s);
+  Context one(1), two(2);
+  const TriMesh a = polygonize_to_tolerance(*f, s, {}, &one);
+  const TriMesh b = polygonize_to_tolerance(*f, s, {}, &two);
+  EXPECT_EQ(a.triangles, b.triangles);
+  ASSERT_EQ(a.positions.size(), b.positions.size());
+  for (std::size_t i = 0; i < a.positions.size(); ++i) {
+    ASSERT_EQ(a.positions[i], b.positions[i]) << "vertex " << i;
+  }
+}
+
+TEST(RefineToSurface, SplitsOnlyWhereTheMeshIsFarAndRespectsTheBudget) {
+  const Skeleton s = tree(20);
+  const FieldPtr f = make_skeleton_field(s);
+  TetrahedralOptions base;
+  base.levels = 1;
+  const TriMesh coarse = polygonize_tetrahedral(*f, s, base);
+  // A tolerance the coarse mesh already meets everywhere: nothing changes.
+  TriMesh same = coarse;
+  RefineOptions loose;
+  loose.edge_tolerance = 10.0;
+  RefineStats st;
+  refine_to_surface(same, *f, s, loose, nullptr, &st);
+  EXPECT_EQ(st.rounds, 0);
+  EXPECT_EQ(same.triangles, coarse.triangles);
+  // A budget below the first round's size stops before it.
+  TriMesh capped = coarse;
+  RefineOptions tight;
+  tight.max_triangles = coarse.triangles.size() + 10;
+  refine_to_surface(capped, *f, s, tight, nullptr, &st);
+  EXPECT_TRUE(st.budget_reached);
+  EXPECT_EQ(capped.triangles.size(), coarse.triangles.size());
+  // One round: every split adds one triangle per side, and the new vertices lie on the surface
+  // unless left flat.
+  TriMesh one = coarse;
+  RefineOptions r;
+  r.max_rounds = 1;
+  refine_to_surface(one, *f, s, r, nullptr, &st);
+  EXPECT_EQ(st.rounds, 1);
+  EXPECT_EQ(one.triangles.size(), coarse.triangles.size() + 2 * st.split_edges);
+  EXPECT_EQ(one.positions.size(), coarse.positions.size() + st.split_edges);
+  test::expect_closed_manifold(one);
+  std::size_t on_surface = 0;
+  for (std::size_t v = coarse.positions.size(); v < one.positions.size(); ++v) {
+    const double g = f->value(one.positions[v]) - f->iso();
+    on_surface += std::abs(g) / f->gradient(one.positions[v]).norm() < 1e-6 ? 1 : 0;
+  }
+  EXPECT_EQ(on_surface, st.split_edges - st.flat_splits - st.halfway);
+  EXPECT_EQ(st.flat_splits, st.unprojected + st.reverted);
+}
+
+TEST(RefineToSurface, BadOptionsAreRefused) {
+  const Skeleton s = tree(5);
+  const FieldPtr f = make_skeleton_field(s);
+  TriMesh m = polygonize_tetrahedral(*f, s, TetrahedralOptions{});
+  RefineOptions o;
+  o.edge_tolerance = 0;
+  EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
+  o = {};
+  o.max_turn_deg = 180;
+  EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
+  o = {};
+  o.max_rounds = -1;
+  EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
+  EXPECT_THROW(refine_to_surface(m, *f, Skeleton{}, RefineOptions{}), InvalidArgument);
+  ToleranceOptions t;
+  t.tolerance = 0;
+  EXPECT_THROW((void)polygonize_to_tolerance(*f, s, t), InvalidArgument);
+  t = {};
+  t.samples = 10;
+  EXPECT_THROW((void)polygonize_to_tolerance(*f, s, t), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace ramiform
