@@ -76,6 +76,9 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
                        {"triangles_after", st.refine.triangles_after},
                        {"edge_tolerance", st.edge_tolerance},
                        {"budget_reached", st.refine.budget_reached}};
+  r.stats["tolerance_seconds"] = {{"tets", st.seconds_tets},
+                                  {"refine", st.seconds_refine},
+                                  {"measure", st.seconds_measure}};
   r.stats["deviation_p50"] = d.p50;
   r.stats["deviation_p99"] = d.p99;
   r.stats["deviation_max"] = d.max;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -97,12 +98,19 @@ bool in_tetrahedron(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, 
          s * (b - a).cross(p - a).dot(d - a) >= 0 && s * (b - a).cross(c - a).dot(p - a) >= 0;
 }
 
-/// One round; returns the number of edges split (0: nothing to do or over budget).
-std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, const Field& field,
-                         const Skeleton& skeleton, const detail::BoxBvh& nodes,
+/// One round; returns the number of edges split (0: nothing to do or over budget). `fresh` marks
+/// the vertices made by the previous round (all in the first): an edge between two older
+/// vertices was measured then and not split, so only edges with a fresh end are evaluated.
+std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vector<char>& fresh,
+                         const Field& field, const Skeleton& skeleton, const detail::BoxBvh& nodes,
                          const RefineOptions& o, Context* ctx, RefineStats& st) {
   const Edges edges = mesh_edges(mesh);
   const std::size_t ne = edges.ends.size();
+  std::vector<std::uint32_t> candidates;
+  for (std::uint32_t e = 0; e < ne; ++e) {
+    if (fresh[edges.ends[e][0]] != 0 || fresh[edges.ends[e][1]] != 0) candidates.push_back(e);
+  }
+  const std::size_t nc = candidates.size();
   std::vector<Vec3> mid(ne);
   parallel::for_each(
       ne, kGrain,
@@ -110,9 +118,11 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, const Fiel
         mid[e] = 0.5 * (mesh.positions[edges.ends[e][0]] + mesh.positions[edges.ends[e][1]]);
       },
       ctx);
-  std::vector<double> value(ne);
-  std::vector<Vec3> grad(ne);
-  field.evaluate(mid, value, grad, ctx);
+  std::vector<Vec3> probe_points(nc);
+  for (std::size_t c = 0; c < nc; ++c) probe_points[c] = mid[candidates[c]];
+  std::vector<double> value(nc);
+  std::vector<Vec3> grad(nc);
+  field.evaluate(probe_points, value, grad, ctx);
   // An edge's radius: the smaller local radius of its end points (the one whose tolerance is
   // stricter, e.g. a twig's beside the branch it leaves).
   std::vector<double> radius(ne);
@@ -124,17 +134,18 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, const Fiel
       ctx);
   const double iso = field.iso();
   std::vector<char> split(ne, 0);
-  std::vector<double> estimate(ne);
+  std::vector<double> estimate(ne, 0.0);
   parallel::for_each(
-      ne, kGrain,
-      [&](std::size_t e) {
-        const double gn = grad[e].norm();
-        estimate[e] = gn > 0.0 ? std::abs(value[e] - iso) / gn : std::numeric_limits<double>::infinity();
+      nc, kGrain,
+      [&](std::size_t c) {
+        const std::uint32_t e = candidates[c];
+        const double gn = grad[c].norm();
+        estimate[e] = gn > 0.0 ? std::abs(value[c] - iso) / gn : std::numeric_limits<double>::infinity();
         const double length =
             (mesh.positions[edges.ends[e][0]] - mesh.positions[edges.ends[e][1]]).norm();
         // An edge already short against the radius sags by less than the tolerance (L^2 / 8 r);
         // a midpoint still far from the surface there is not a matter of chords.
-        split[e] = std::isfinite(value[e]) && estimate[e] > o.edge_tolerance * radius[e] &&
+        split[e] = std::isfinite(value[c]) && estimate[e] > o.edge_tolerance * radius[e] &&
                            length > o.min_edge_radii * radius[e]
                        ? 1
                        : 0;
@@ -184,7 +195,14 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, const Fiel
         ok[i] = 1;
         continue;
       }
-      z[i] -= ((v[j] - iso) / gg) * g[j];
+      const Vec3 step = ((v[j] - iso) / gg) * g[j];
+      z[i] -= step;
+      // Newton converges quadratically: after a step this small the distance left is of the
+      // order of step^2 / radius, far below any tolerance, and needs no further evaluation.
+      if (step.norm() <= 1e-4 * zr[i]) {
+        ok[i] = 1;
+        continue;
+      }
       next.push_back(i);
     }
     active = std::move(next);
@@ -257,6 +275,8 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, const Fiel
   mesh.positions.insert(mesh.positions.end(), z.begin(), z.end());
   const std::vector<double> new_radius = local_radii(skeleton, z, ctx);
   vradius.insert(vradius.end(), new_radius.begin(), new_radius.end());
+  fresh.assign(mesh.positions.size(), 0);
+  std::fill(fresh.begin() + static_cast<std::ptrdiff_t>(nv_old), fresh.end(), 1);
   mesh.triangles = std::move(tris);
   // The fans of the new vertices (CSR), for the checks.
   std::vector<std::size_t> fan_start(ns + 1, 0);
@@ -350,8 +370,10 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
   const detail::BoxBvh nodes(std::move(boxes));
   mesh.normals.clear();
   std::vector<double> vradius = local_radii(skeleton, mesh.positions, ctx);
+  std::vector<char> fresh(mesh.positions.size(), 1);
   for (int round = 0; round < options.max_rounds; ++round) {
-    const std::size_t split = refine_round(mesh, vradius, field, skeleton, nodes, options, ctx, st);
+    const std::size_t split =
+        refine_round(mesh, vradius, fresh, field, skeleton, nodes, options, ctx, st);
     if (split == 0) break;
     ++st.rounds;
     st.split_edges += split;
@@ -379,7 +401,13 @@ TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,
                           std::to_string(options.max_passes));
   }
   ToleranceStats st;
+  using Clock = std::chrono::steady_clock;
+  auto since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  auto t0 = Clock::now();
   TriMesh mesh = polygonize_tetrahedral(field, skeleton, options.tets, ctx, &st.tets);
+  st.seconds_tets = since(t0);
   RefineOptions ro;
   ro.edge_tolerance = options.tolerance;
   DeviationOptions dev;
@@ -388,7 +416,9 @@ TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,
   dev.vertices = false;
   for (int pass = 0; pass < options.max_passes; ++pass) {
     RefineStats rs;
+    t0 = Clock::now();
     refine_to_surface(mesh, field, skeleton, ro, ctx, &rs);
+    st.seconds_refine += since(t0);
     st.refine.rounds += rs.rounds;
     st.refine.split_edges += rs.split_edges;
     st.refine.flat_splits += rs.flat_splits;
@@ -400,7 +430,9 @@ TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,
     st.refine.triangles_after = rs.triangles_after;
     st.edge_tolerance = ro.edge_tolerance;
     st.passes = pass + 1;
+    t0 = Clock::now();
     st.deviation = measure_deviation(mesh, field, &skeleton, dev, ctx);
+    st.seconds_measure += since(t0);
     st.reached = st.deviation.samples.p99 <= options.tolerance;
     if (st.reached || rs.budget_reached) break;
     ro.edge_tolerance *= 0.7;
