@@ -176,7 +176,7 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
     zmid[i] = z[i] = mid[split_edges[i]];
     zr[i] = radius[split_edges[i]];
   }
-  std::vector<char> done(ns, 0), ok(ns, 0);
+  std::vector<char> ok(ns, 0);
   std::vector<std::size_t> active(ns);
   for (std::size_t i = 0; i < ns; ++i) active[i] = i;
   for (int step = 0; step < 8 && !active.empty(); ++step) {
