@@ -22,9 +22,12 @@
 /// Every surface point found is on the surface (to the root tolerance), so the reported distance
 /// is never below the true distance; it equals it where the gradient line through p meets the
 /// surface at its closest point (spheres, capsules, tori of distance and point fields) and is
-/// refined towards it elsewhere. A point where no crossing is found within the search distance
-/// is *unresolved*: it is counted at the search distance (it has no surface closer along any
-/// line searched) and the report says how many there were.
+/// refined towards it elsewhere. `measure_deviation` evaluates all its points in one batch
+/// first: a point within 1e-7 of the search distance of the surface to first order (a
+/// polygonizer's vertex) takes the first-order distance |f - iso| / |grad f| (its error is of
+/// the order of its square over the curvature radius). A point where no crossing is found
+/// within the search distance is *unresolved*: it is counted at the search distance (it has no
+/// surface closer along any line searched) and the report says how many there were.
 
 #include <cstddef>
 #include <cstdint>
