@@ -30,6 +30,7 @@
 #include "ramiform/mesh/checks.h"
 #include "ramiform/mesh/cleanup.h"
 #include "ramiform/polygonize/marching_cubes.h"
+#include "ramiform/polygonize/refine.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/sample/point_sets.h"
 #include "support/fixtures.h"
@@ -161,6 +162,16 @@ TEST(CancelLatency, TetrahedralPolygonizer) {
   expect_prompt_cancel(
       "tets",
       [&](Context& ctx) { (void)polygonize_tetrahedral(*tree.field, tree.skeleton, o, &ctx); },
+      false);
+}
+
+TEST(CancelLatency, MeshingToATolerance) {
+  const TwigTree tree;
+  ToleranceOptions o;
+  o.tolerance = 0.005;  // a fine tolerance: several seconds of refinement after the base mesh
+  expect_prompt_cancel(
+      "tolerance",
+      [&](Context& ctx) { (void)polygonize_to_tolerance(*tree.field, tree.skeleton, o, &ctx); },
       false);
 }
 
