@@ -10,6 +10,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdlib>
 #include <iostream>
 
@@ -39,10 +40,14 @@ void restart_with_huge_pages(char** argv) {
 // A run stopped from outside leaves no staged file (io/atomic_file.h): the unnamed ones vanish
 // with the process (so also after SIGKILL), the named ones are removed here. It then ends by the
 // same signal with its default action, so the caller sees that it was interrupted.
+// errno is kept as the interrupted code had it (ThreadSanitizer runs handlers deferred, so this
+// one can return before the signal's default action ends the process).
 void on_stop_signal(int sig) {
+  const int saved_errno = errno;
   ramiform::remove_staged_files_for_signal();
   ::signal(sig, SIG_DFL);
   ::raise(sig);
+  errno = saved_errno;
 }
 
 void install_stop_handlers() {
