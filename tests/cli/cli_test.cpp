@@ -66,6 +66,35 @@ TEST_F(CliTest, CheckJsonHasExactlyTheDocumentedKeys) {
   EXPECT_EQ(j["euler"].get<int>(), 2);
 }
 
+// check --deviation: the documented keys, a mesh at the default tolerance meets it by the
+// independent measure, and the deviation options need --deviation.
+TEST_F(CliTest, CheckDeviationReportsTheMeasureOfTheMesh) {
+  const std::string skel = y_fork();
+  ASSERT_EQ(run_cli("mesh " + skel + " -o " + path("fork.ply") + " --stats " + path("s.json")).code,
+            0);
+  const CliRun r = run_cli("check " + path("fork.ply") + " --deviation " + skel +
+                           " --samples 5000 --seed 3 --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  for (const char* prefix : {"deviation_", "vertex_deviation_"}) {
+    for (const char* key :
+         {"points", "unresolved", "p50", "p99", "max", "abs_p50", "abs_p99", "abs_max", "worst"}) {
+      EXPECT_TRUE(j.contains(std::string(prefix) + key)) << prefix << key;
+    }
+  }
+  EXPECT_EQ(j["deviation_points"].get<std::size_t>(), 5000U);
+  EXPECT_EQ(j["deviation_unresolved"].get<std::size_t>(), 0U);
+  EXPECT_LE(j["deviation_p99"].get<double>(), 0.05);
+  EXPECT_LE(j["deviation_p50"].get<double>(), j["deviation_p99"].get<double>());
+  EXPECT_LT(j["vertex_deviation_p99"].get<double>(), 1e-3);  // vertices lie on the surface
+  std::ifstream in(path("s.json"));
+  const auto stats = nlohmann::json::parse(in);
+  EXPECT_LE(stats["deviation_p99"].get<double>(), 0.05);
+  EXPECT_TRUE(stats["tolerance_reached"].get<bool>());
+  EXPECT_EQ(run_cli("check " + path("fork.ply") + " --samples 10").code, 1);
+  EXPECT_EQ(run_cli("check " + path("fork.ply") + " --fit-radii").code, 1);
+}
+
 TEST_F(CliTest, CheckReportsAnOpenMeshWithExitZero) {
   const std::string obj = write("open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\n");
   const CliRun r = run_cli("check " + obj + " --json");
