@@ -10,6 +10,7 @@
 
 #include "field/bvh.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/memory.h"
 #include "ramiform/core/numbers.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/core/roots.h"
@@ -283,6 +284,10 @@ DeviationReport measure_deviation(const TriMesh& mesh, const Field& field,
   }
   DeviationReport report;
   report.relative = skeleton != nullptr;
+  // Per point: its position, value, gradient, radius and two distances (about 80 bytes).
+  check_memory(ctx, 80.0 * static_cast<double>(options.samples),
+               "deviation: " + std::to_string(options.samples) + " sample points",
+               "ask for fewer samples");
   if (options.samples > 0 && sampler.total_area() > 0.0) {
     std::vector<Vec3> points(options.samples);
     Rng rng(options.seed);

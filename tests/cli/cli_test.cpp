@@ -92,6 +92,10 @@ TEST_F(CliTest, CheckDeviationReportsTheMeasureOfTheMesh) {
   EXPECT_LE(stats["deviation_p99"].get<double>(), 0.05);
   EXPECT_TRUE(stats["tolerance_reached"].get<bool>());
   EXPECT_EQ(run_cli("check " + path("fork.ply") + " --samples 10").code, 1);
+  const CliRun huge = run_cli("check " + path("fork.ply") + " --deviation " + skel +
+                              " --samples 100000000000000");
+  EXPECT_EQ(huge.code, 2) << huge.out;
+  EXPECT_NE(huge.out.find("sample points"), std::string::npos) << huge.out;
   EXPECT_EQ(run_cli("check " + path("fork.ply") + " --fit-radii").code, 1);
 }
 
