@@ -78,15 +78,13 @@ bool newton_to_surface(const Field& field, Vec3& z, double scale) {
   return false;
 }
 
-}  // namespace
-
-SurfaceDistance distance_to_surface(const Field& field, const Vec3& point, double search,
-                                    int refine_steps) {
+/// distance_to_surface with f - iso and grad f at the point already evaluated (`p0`).
+SurfaceDistance distance_from(const Field& field, const Vec3& point, const Probe& p0,
+                              double search, int refine_steps) {
   SurfaceDistance out;
   out.distance = search;
   out.foot = point;
   if (!(search > 0.0) || !std::isfinite(search) || !point.allFinite()) return out;
-  const Probe p0 = probe(field, point);
   if (!std::isfinite(p0.g)) return out;
   if (p0.g == 0.0) return {0.0, point, true};
   // Towards the surface: f falls along -grad f inside (g > 0) and rises along +grad f outside.
@@ -134,6 +132,16 @@ SurfaceDistance distance_to_surface(const Field& field, const Vec3& point, doubl
     foot = z;
   }
   return {best, foot, true};
+}
+
+}  // namespace
+
+SurfaceDistance distance_to_surface(const Field& field, const Vec3& point, double search,
+                                    int refine_steps) {
+  if (!(search > 0.0) || !std::isfinite(search) || !point.allFinite()) {
+    return {search, point, false};
+  }
+  return distance_from(field, point, probe(field, point), search, refine_steps);
 }
 
 std::vector<double> local_radii(const Skeleton& skeleton, std::span<const Vec3> points,
@@ -237,7 +245,8 @@ DeviationSummary summarise(const Field& field, const std::vector<Vec3>& points,
           if (gn > 0.0 && std::isfinite(first) && first <= 1e-7 * search) {
             d = {first, points[i], true};
           } else {
-            d = distance_to_surface(field, points[i], search, o.refine_steps);
+            d = distance_from(field, points[i], {value[i] - field.iso(), grad[i]}, search,
+                              o.refine_steps);
           }
           abs[i] = d.distance;
           resolved[i] = d.resolved ? 1 : 0;
