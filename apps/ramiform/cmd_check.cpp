@@ -27,10 +27,6 @@ struct CheckArgs {
   CommonOptions common;
 };
 
-double share(std::size_t part, std::size_t whole) {
-  return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
-}
-
 /// The deviation figures under `prefix` ("deviation_" for the samples, "vertex_deviation_").
 void put_summary(nlohmann::json& j, const std::string& prefix, const DeviationSummary& s) {
   j[prefix + "points"] = s.points;

@@ -85,6 +85,11 @@ inline constexpr std::array<const char*, 4> kMeshFormats{".ply", ".obj", ".off",
 /// case with the dot) its extension is none of them. An empty path passes.
 void check_output_path(const std::string& path, std::span<const char* const> extensions = {});
 
+/// part / whole, 0 for an empty whole (e.g. the share of triangles below an angle).
+[[nodiscard]] inline double share(std::size_t part, std::size_t whole) {
+  return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
+}
+
 /// Writes `stats` to `path` (atomically) unless path is empty.
 void write_stats(const std::string& path, const nlohmann::json& stats);
 

@@ -158,11 +158,8 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
   r.stats["skeleton_components"] = connected_components(skeleton).count;
   r.stats["min_angle_deg"] = r.report.min_angle_deg;
   r.stats["median_angle_deg"] = r.report.median_angle_deg;
-  const auto share = [&](std::size_t n) {
-    return r.report.triangles == 0 ? 0.0 : static_cast<double>(n) / static_cast<double>(r.report.triangles);
-  };
-  r.stats["triangles_below_10_deg"] = share(r.report.triangles_below_10_deg);
-  r.stats["triangles_below_1_deg"] = share(r.report.triangles_below_1_deg);
+  r.stats["triangles_below_10_deg"] = share(r.report.triangles_below_10_deg, r.report.triangles);
+  r.stats["triangles_below_1_deg"] = share(r.report.triangles_below_1_deg, r.report.triangles);
   return r;
 }
 
