@@ -111,27 +111,23 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
     if (fresh[edges.ends[e][0]] != 0 || fresh[edges.ends[e][1]] != 0) candidates.push_back(e);
   }
   const std::size_t nc = candidates.size();
+  // The candidates' midpoints and radii (an edge's radius: the smaller local radius of its end
+  // points, the one whose tolerance is stricter, e.g. a twig's beside the branch it leaves);
+  // the arrays are indexed by edge, and only the candidates' entries are used.
   std::vector<Vec3> mid(ne);
+  std::vector<double> radius(ne);
+  std::vector<Vec3> probe_points(nc);
   parallel::for_each(
-      ne, kGrain,
-      [&](std::size_t e) {
-        mid[e] = 0.5 * (mesh.positions[edges.ends[e][0]] + mesh.positions[edges.ends[e][1]]);
+      nc, kGrain,
+      [&](std::size_t c) {
+        const auto& [a, b] = edges.ends[candidates[c]];
+        probe_points[c] = mid[candidates[c]] = 0.5 * (mesh.positions[a] + mesh.positions[b]);
+        radius[candidates[c]] = std::min(vradius[a], vradius[b]);
       },
       ctx);
-  std::vector<Vec3> probe_points(nc);
-  for (std::size_t c = 0; c < nc; ++c) probe_points[c] = mid[candidates[c]];
   std::vector<double> value(nc);
   std::vector<Vec3> grad(nc);
   field.evaluate(probe_points, value, grad, ctx);
-  // An edge's radius: the smaller local radius of its end points (the one whose tolerance is
-  // stricter, e.g. a twig's beside the branch it leaves).
-  std::vector<double> radius(ne);
-  parallel::for_each(
-      ne, kGrain,
-      [&](std::size_t e) {
-        radius[e] = std::min(vradius[edges.ends[e][0]], vradius[edges.ends[e][1]]);
-      },
-      ctx);
   const double iso = field.iso();
   std::vector<char> split(ne, 0);
   std::vector<double> estimate(ne, 0.0);
