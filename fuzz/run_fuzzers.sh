@@ -19,6 +19,18 @@ if [ ${#fuzzers[@]} -eq 0 ]; then
   echo "run_fuzzers: no fuzzers in $build_dir/fuzz (build the target ramiform_fuzzers)" >&2
   exit 1
 fi
+# FUZZ_ONLY="mesh_off curve2": only these harnesses (every one when empty or unset).
+if [ -n "${FUZZ_ONLY:-}" ]; then
+  chosen=()
+  for name in $FUZZ_ONLY; do
+    if [ ! -x "$build_dir/fuzz/ramiform_fuzz_$name" ]; then
+      echo "run_fuzzers: no harness '$name' in $build_dir/fuzz (FUZZ_ONLY)" >&2
+      exit 2
+    fi
+    chosen+=("$build_dir/fuzz/ramiform_fuzz_$name")
+  done
+  fuzzers=("${chosen[@]}")
+fi
 if command -v llvm-symbolizer-14 >/dev/null 2>&1; then
   export ASAN_SYMBOLIZER_PATH=${ASAN_SYMBOLIZER_PATH:-$(command -v llvm-symbolizer-14)}
 fi

@@ -84,6 +84,19 @@ void register_mesh(CLI::App& root, Action& action) {
                         "; the base mesh at --levels is refined where it is farther from the "
                         "surface, then measured (deviation_p99 in --stats)")
           ->check(CLI::Range(ToleranceOptions::kMinTolerance, ToleranceOptions::kMaxTolerance));
+  auto* max_triangles =
+      c->add_option("--max-triangles", tol.max_triangles,
+                    with_default("tets: the refinement's triangle budget", tol.max_triangles) +
+                        "; a smaller --max-memory lowers it (256 bytes per triangle), and "
+                        "refinement stops before a round that would exceed it")
+          ->check(CLI::PositiveNumber);
+  auto* samples =
+      c->add_option("--deviation-samples", tol.samples,
+                    with_default("tets: points of each deviation measure of the tolerance "
+                                 "mesher",
+                                 tol.samples) +
+                        " (at least 100)")
+          ->check(CLI::Range(std::size_t{100}, std::size_t{100'000'000}));
   c->add_option("--levels", tets.levels,
                 with_default("tets: 1:8 subdivision levels of the base mesh", tets.levels,
                              TetrahedralOptions::kMinLevels, TetrahedralOptions::kMaxLevels) +
@@ -120,7 +133,7 @@ void register_mesh(CLI::App& root, Action& action) {
   auto* scale = c->get_option("--section-scale");
   add_field_options(*c, args->field);
   add_common_options(*c, args->common);
-  c->callback([args, cell, res, levels, scale, tolerance, &action] {
+  c->callback([args, cell, res, levels, scale, tolerance, max_triangles, samples, &action] {
     if (args->job.method != "mc" && (cell->count() > 0 || res->count() > 0)) {
       throw CLI::ValidationError(cell->count() > 0 ? "--cell" : "--resolution",
                                  "applies to --method mc only (the default method is tets)");
@@ -132,6 +145,13 @@ void register_mesh(CLI::App& root, Action& action) {
           "applies to --method tets only");
     }
     args->job.to_tolerance = tolerance->count() > 0 || levels->count() == 0;
+    for (const CLI::Option* o : {max_triangles, samples}) {
+      if (o->count() > 0 && (args->job.method == "mc" || !args->job.to_tolerance)) {
+        throw CLI::ValidationError(o->get_name(),
+                                   "applies to the tolerance mesher only (--method tets without "
+                                   "--levels alone)");
+      }
+    }
     action = [args] { return run_mesh(*args); };
   });
 }

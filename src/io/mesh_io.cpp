@@ -286,7 +286,10 @@ TriMesh parse_mesh_off(std::string_view text, const std::string& source_name) {
     throw InputError(source, ln, "invalid vertex or face count");
   }
   TriMesh mesh;
-  mesh.positions.reserve(static_cast<std::size_t>(std::min<std::int64_t>(nv, 1 << 24)));
+  // A vertex line takes at least 6 bytes ("0 0 0\n"): a header that promises more vertices than
+  // the file can hold reserves no more than it can (a 20-byte file may claim 4 billion).
+  mesh.positions.reserve(static_cast<std::size_t>(
+      std::min<std::int64_t>(nv, static_cast<std::int64_t>(text.size() / 6))));
   for (std::int64_t i = 0; i < nv; ++i) {
     if (!next_content(cursor, f)) {
       throw InputError(

@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "ramiform/core/errors.h"
 #include "ramiform/io/atomic_file.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/points_io.h"
 #include "ramiform/mesh/checks.h"
+#include "ramiform/mesh/deviation.h"
 #include "ramiform/polygonize/marching_cubes.h"
 #include "ramiform/polygonize/refine.h"
 #include "ramiform/polygonize/tetrahedral.h"
@@ -19,6 +21,9 @@
 
 namespace ramiform::script {
 namespace {
+
+/// Most points the `deviation` command samples on a mesh.
+constexpr int kMaxDeviationSamples = 10'000'000;
 
 CommandResult run_param(Call& c) {
   c.expect_count(2, 2, "NAME VALUE");
@@ -148,6 +153,37 @@ CommandResult run_save_mesh(Call& c) {
           true};
 }
 
+// deviation NAME MESH: how far a mesh lies from a shape's surface (mesh/deviation.h).
+CommandResult run_deviation(Call& c) {
+  c.expect_count(2, 2, "NAME MESH");
+  const Object& obj = c.object(0, ObjectKind::kShape);
+  DeviationOptions o;
+  o.samples = static_cast<std::size_t>(
+      c.option_integer("samples", static_cast<int>(o.samples), 0, kMaxDeviationSamples));
+  o.seed = static_cast<std::uint64_t>(
+      c.option_integer("seed", static_cast<int>(o.seed), 0, std::numeric_limits<int>::max()));
+  const TriMesh mesh = read_mesh(c.written_or_input_path(1));
+  const Skeleton* skeleton = obj.skeleton ? &*obj.skeleton : nullptr;
+  const DeviationReport r = measure_deviation(mesh, *obj.field, skeleton, o, c.session().ctx);
+  auto figures = [&](const DeviationSummary& d) {
+    if (r.relative) {
+      return "p50 " + format_number(d.p50) + ", p99 " + format_number(d.p99) + ", max " +
+             format_number(d.max);
+    }
+    return "p50 " + format_number(d.abs_p50) + ", p99 " + format_number(d.abs_p99) + ", max " +
+           format_number(d.abs_max);
+  };
+  std::string text = c.arg(1).text + " against " + c.arg(0).text + ": deviation " +
+                     figures(r.samples) + (r.relative ? " of the local radius" : " model units") +
+                     " over " + count_text(r.samples.points) + " points on the mesh; vertices " +
+                     figures(r.vertices) + " over " + count_text(r.vertices.points);
+  const std::size_t unresolved = r.samples.unresolved + r.vertices.unresolved;
+  if (unresolved > 0) {
+    text += "; " + count_text(unresolved) + " point(s) without surface within the search distance";
+  }
+  return {c.spec().name, text, true};
+}
+
 std::string value_line(const Field& f, const Vec3& p) {
   const double v = f.value(p);
   char buf[160];
@@ -269,6 +305,20 @@ void add_output_commands(std::vector<CommandSpec>& out) {
        "save_mesh s3 s3.ply resolution=128",
        {"resolution", "cell", "method", "tolerance", "levels", "section_scale"},
        run_save_mesh,
+       {}});
+  out.push_back(
+      {"deviation",
+       "deviation NAME MESH [samples=N] [seed=S]",
+       "Measures how far MESH (a mesh file, or one this script saved under that name) lies from "
+       "the surface of shape NAME, as `ramiform check --deviation` does: `samples` "
+       "area-weighted points on the mesh (default " +
+           std::to_string(DeviationOptions{}.samples) + ", 0–" +
+           std::to_string(kMaxDeviationSamples) + ", seed `seed`) and every vertex are "
+           "projected onto the surface. For a shape made by skeleton, grow or lsystem the "
+           "distances are relative to the local skeleton radius, otherwise in model units.",
+       "deviation t t.ply samples=50000",
+       {"samples", "seed"},
+       run_deviation,
        {}});
   out.push_back({"eval",
                  "eval NAME X Y Z",

@@ -331,6 +331,21 @@ std::string Call::input_path(const Token& token) const {
 
 std::string Call::input_path(std::size_t i) const { return input_path(arg(i)); }
 
+std::string Call::written_or_input_path(std::size_t i) const {
+  const Token& t = arg(i);
+  const fs::path rel(t.text);
+  if (rel.is_relative()) {
+    const fs::path written = (fs::path(session_.options.out_dir) / rel).lexically_normal();
+    for (const Staged& s : session_.staged) {
+      if (fs::path(s.final_path).lexically_normal() != written) continue;
+      show_held_file(s.staged_path);
+      session_.shown.push_back(s.staged_path);
+      return s.staged_path;
+    }
+  }
+  return input_path(t);
+}
+
 std::string Call::output_path(std::size_t i) {
   const Token& t = arg(i);
   fs::path rel(t.text);

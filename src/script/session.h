@@ -154,6 +154,8 @@ class Call {
   /// An input path resolved against the session's input directory (must exist).
   std::string input_path(std::size_t i) const;
   std::string input_path(const Token& token) const;
+  /// A file this script wrote earlier under this name (relative to out_dir), else input_path.
+  std::string written_or_input_path(std::size_t i) const;
   /// An output path resolved against out_dir (inside it unless allow_any_path), staged: the
   /// returned path is where to write now (a held file, io/atomic_file.h: unnamed until read
   /// back or published); commit() publishes it under the final path.

@@ -5,11 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <numbers>
+#include <regex>
 
 #include "ramiform/core/errors.h"
 #include "ramiform/io/mesh_io.h"
@@ -291,6 +293,76 @@ TEST_F(ScriptTest, OutputsMayLeaveTheOutputDirectoryOnlyWhenAllowed) {
   EXPECT_TRUE(fs::exists(dir_ / "x.ply"));
 }
 
+// The figures of a `deviation` message: {samples p50, p99, max, vertices p50, p99, max}.
+std::array<double, 6> deviation_figures(const std::string& message) {
+  const std::regex re(
+      "deviation p50 ([^,]+), p99 ([^,]+), max ([^ ]+) .* vertices p50 ([^,]+), p99 ([^,]+), "
+      "max ([^ ]+) ");
+  std::smatch m;
+  std::array<double, 6> out{};
+  if (!std::regex_search(message, m, re)) {
+    ADD_FAILURE() << "no deviation figures in: " << message;
+    return out;
+  }
+  for (std::size_t k = 0; k < 6; ++k) out[k] = std::stod(m[k + 1].str());
+  return out;
+}
+
+TEST_F(ScriptTest, DeviationMeasuresASavedMeshAgainstItsShape) {
+  // A unit sphere meshed by marching cubes: each vertex lies ||v| - 1| from the surface, and
+  // every point of a triangle within its largest vertex error plus its chord sag.
+  ScriptSession s(options_);
+  s.run_text("sphere s\nsave_mesh s s.ply resolution=20\n", "t.rf");
+  const CommandResult r = s.execute_line("deviation s s.ply samples=4000");
+  EXPECT_NE(r.message.find("model units over 4,000 points"), std::string::npos) << r.message;
+  s.commit();
+  const TriMesh mesh = read_mesh((dir_ / "s.ply").string());
+  double vertex_max = 0, edge_max = 0;
+  for (const Vec3& v : mesh.positions) vertex_max = std::max(vertex_max, std::abs(v.norm() - 1));
+  for (const auto& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      edge_max = std::max(edge_max, (mesh.positions[t[k]] - mesh.positions[t[(k + 1) % 3]]).norm());
+    }
+  }
+  const auto f = deviation_figures(r.message);
+  EXPECT_NEAR(f[5], vertex_max, 1e-5 * vertex_max);  // the message's 6 digits
+  EXPECT_GT(f[2], 0.0);
+  EXPECT_LE(f[1], f[2]);
+  // A point of a triangle of the sphere's mesh is inside the sphere at most by the chord sag
+  // (1 - cos of the half angle the longest edge spans) and outside by the vertex error.
+  EXPECT_LE(f[2], vertex_max + edge_max * edge_max / 8 * 1.01);
+  // The same file read from the input directory in a new run gives the same figures.
+  ScriptSession again(options_);
+  const CommandResult r2 = again.execute_line("sphere s");
+  (void)r2;
+  EXPECT_EQ(deviation_figures(again.execute_line("deviation s s.ply samples=4000").message), f);
+}
+
+TEST_F(ScriptTest, DeviationOfATetsMeshIsRelativeToTheLocalRadius) {
+  {
+    std::ofstream out(dir_ / "fork.json");
+    out << R"({"nodes": [{"id": 0, "position": [0, 0, 0], "radius": 0.1},
+      {"id": 1, "position": [0, 0, 1], "radius": 0.07},
+      {"id": 2, "position": [0.4, 0, 1.5], "radius": 0.04},
+      {"id": 3, "position": [-0.3, 0.1, 1.6], "radius": 0.05}],
+      "edges": [[0, 1], [1, 2], [1, 3]]})";
+  }
+  ScriptSession s(options_);
+  s.run_text("skeleton fork fork.json surface=convolution\n"
+             "save_mesh fork fork.ply method=tets tolerance=0.1\n",
+             "t.rf");
+  const CommandResult r = s.execute_line("deviation fork fork.ply");
+  EXPECT_NE(r.message.find("of the local radius over 20,000 points"), std::string::npos)
+      << r.message;
+  const auto f = deviation_figures(r.message);
+  EXPECT_LE(f[1], 0.1);   // the tolerance it was meshed to
+  EXPECT_LT(f[5], 1e-3);  // vertices lie on the surface
+  // Bad input: a missing file, a bad option.
+  EXPECT_THROW((void)s.execute_line("deviation fork nothing.ply"), InputError);
+  EXPECT_THROW((void)s.execute_line("deviation fork fork.ply samples=-1"), InputError);
+  EXPECT_THROW((void)s.execute_line("deviation nobody fork.ply"), InputError);
+}
+
 TEST_F(ScriptTest, HelpListsEveryCommandAndDescribesOne) {
   const auto names = ScriptSession::command_names();
   for (const char* want : {"sphere",         "line",           "circle",         "box",
@@ -302,7 +374,7 @@ TEST_F(ScriptTest, HelpListsEveryCommandAndDescribesOne) {
                            "save_mesh",      "eval",           "eval_points",    "param",
                            "help",           "point_set_gen",  "save_point_set", "point_set_thin",
                            "load_point_set", "point_set_mesh", "grow",           "lsystem",
-                           "save_skeleton"}) {
+                           "save_skeleton",  "deviation"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), want), names.end()) << want;
   }
   EXPECT_NE(ScriptSession::command_help("skin").find("SECTION@S"), std::string::npos);
