@@ -76,8 +76,22 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
                        {"triangles_after", st.refine.triangles_after},
                        {"edge_tolerance", st.edge_tolerance},
                        {"budget_reached", st.refine.budget_reached}};
+  r.stats["improve"] = {{"rounds", st.improve.rounds},
+                        {"flips", st.improve.flips},
+                        {"collapses", st.improve.collapses},
+                        {"clusters", st.improve.clusters},
+                        {"relaxed", st.improve.relaxed},
+                        {"triangles_before", st.improve.triangles_before},
+                        {"triangles_after", st.improve.triangles_after},
+                        {"below_10_deg_before", st.improve.below_10_deg_before},
+                        {"below_10_deg_after", st.improve.below_10_deg_after},
+                        {"below_1_deg_before", st.improve.below_1_deg_before},
+                        {"below_1_deg_after", st.improve.below_1_deg_after},
+                        {"min_angle_deg_before", st.improve.min_angle_deg_before},
+                        {"min_angle_deg_after", st.improve.min_angle_deg_after}};
   r.stats["tolerance_seconds"] = {{"tets", st.seconds_tets},
                                   {"refine", st.seconds_refine},
+                                  {"improve", st.seconds_improve},
                                   {"measure", st.seconds_measure}};
   r.stats["deviation_p50"] = d.p50;
   r.stats["deviation_p99"] = d.p99;

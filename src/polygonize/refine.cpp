@@ -352,6 +352,22 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
   return ns;
 }
 
+void accumulate(ImproveStats& all, const ImproveStats& pass, bool first) {
+  const ImproveStats before = all;
+  all = pass;
+  all.rounds += before.rounds;
+  all.flips += before.flips;
+  all.collapses += before.collapses;
+  all.clusters += before.clusters;
+  all.relaxed += before.relaxed;
+  if (!first) {
+    all.below_10_deg_before = before.below_10_deg_before;
+    all.below_1_deg_before = before.below_1_deg_before;
+    all.min_angle_deg_before = before.min_angle_deg_before;
+    all.triangles_before = before.triangles_before;
+  }
+}
+
 }  // namespace
 
 void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skeleton,
@@ -396,6 +412,10 @@ TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,
     throw InvalidArgument("tolerance: max_passes must be >= 1, got " +
                           std::to_string(options.max_passes));
   }
+  {
+    TriMesh none;  // the improvement's options are refused before the base mesh is made
+    improve_triangles(none, field, skeleton, options.improve);
+  }
   ToleranceStats st;
   using Clock = std::chrono::steady_clock;
   auto since = [](Clock::time_point t) {
@@ -426,6 +446,13 @@ TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,
     st.refine.triangles_after = rs.triangles_after;
     st.edge_tolerance = ro.edge_tolerance;
     st.passes = pass + 1;
+    ImproveOptions io = options.improve;
+    io.tolerance = ro.edge_tolerance;
+    ImproveStats is;
+    t0 = Clock::now();
+    improve_triangles(mesh, field, skeleton, io, ctx, &is);
+    st.seconds_improve += since(t0);
+    accumulate(st.improve, is, pass == 0);
     t0 = Clock::now();
     st.deviation = measure_deviation(mesh, field, &skeleton, dev, ctx);
     st.seconds_measure += since(t0);

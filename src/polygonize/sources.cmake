@@ -3,6 +3,7 @@ set(RAMIFORM_POLYGONIZE_SOURCES
 list(APPEND RAMIFORM_POLYGONIZE_SOURCES
   src/polygonize/delaunay.cpp
   src/polygonize/edge_roots.cpp
+  src/polygonize/improve.cpp
   src/polygonize/refine.cpp
   src/polygonize/tetrahedral.cpp
   src/polygonize/tetrahedral_checks.cpp

@@ -34,6 +34,7 @@
 #include "ramiform/core/geometry.h"
 #include "ramiform/field/field.h"
 #include "ramiform/mesh/deviation.h"
+#include "ramiform/polygonize/improve.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/skeleton/skeleton.h"
 
@@ -88,25 +89,31 @@ struct ToleranceOptions {
   std::size_t samples = 10000;  ///< points of each deviation measure (>= 100)
   std::uint64_t seed = 1;       ///< their seed
   int max_passes = 4;           ///< refine-and-measure passes (>= 1)
+  /// The triangle improvement after each refinement pass (its `tolerance` is set to the pass's
+  /// edge tolerance; `max_rounds = 0` turns it off).
+  ImproveOptions improve;
 };
 
 /// What polygonize_to_tolerance() did.
 struct ToleranceStats {
   TetrahedralStats tets;      ///< the base mesh
   RefineStats refine;         ///< all refinement passes together
+  /// All improvement passes together (the figures before: the first pass's; after: the last's).
+  ImproveStats improve;
   DeviationReport deviation;  ///< the last measure (samples only)
   int passes = 0;             ///< refine-and-measure passes made
   bool reached = false;       ///< deviation.samples.p99 <= tolerance
   double edge_tolerance = 0;  ///< the last pass's RefineOptions::edge_tolerance
-  double seconds_tets = 0, seconds_refine = 0, seconds_measure = 0;  ///< wall time per stage
+  double seconds_tets = 0, seconds_refine = 0, seconds_improve = 0, seconds_measure = 0;  ///< wall time per stage
 };
 
 /// A mesh of the surface of `field` whose measured deviation p99 stays under `tolerance`: the
 /// tetrahedral polygonizer at `tets` (which keeps every branch and makes the mesh closed), then
 /// passes of refine_to_surface() with an edge tolerance equal to the tolerance (the edge
 /// midpoints' first-order distance is a close proxy: on generated trees it gives a p99 of about
-/// 0.75 of it), times 0.7 after each pass whose measure (measure_deviation over `samples`
-/// points) is still above the tolerance. `reached`
+/// 0.75 of it), each followed by improve_triangles() at the same edge tolerance, times 0.7 after
+/// each pass whose measure (measure_deviation over `samples` points, of the improved mesh) is
+/// still above the tolerance. `reached`
 /// says whether it was met within `max_passes` (or the triangle budget). Throws as
 /// polygonize_tetrahedral() and InvalidArgument for bad options.
 [[nodiscard]] TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,

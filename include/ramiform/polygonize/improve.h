@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+/// \file
+/// Triangle improvement of a polygonizer's mesh that keeps it on the surface. Marching
+/// tetrahedra leave needles where several roots land on one lattice point, and the splits of
+/// refine_to_surface() leave caps and needles of their own (Zhu, Guo & Jin 2013, "Efficient
+/// polygonization of tree trunks modeled by convolution surfaces", §6, name the long narrow
+/// triangles their method's weakness). improve_triangles() works on every triangle whose
+/// smallest angle is below `min_angle_deg`, worst first, with the local operations of surface
+/// remeshing (Botsch, Kobbelt, Pauly, Alliez & Lévy 2010, "Polygon Mesh Processing", §6.5:
+/// edge flips, edge collapses, tangential relaxation projected onto the surface), each kind
+/// tried only when the ones before cannot bring the triangle to `min_angle_deg`, the best of
+/// those tried taken:
+///  1. **flip** an edge (a, b) of triangles (a, b, c), (b, a, d) to (c, d) when that raises the
+///     pair's smallest angle (the local criterion of Delaunay flipping, Lawson 1977);
+///  2. **collapse** the triangle's shortest edge (u, v) into u, into v, or into its midpoint
+///     taken onto the surface by Newton steps along the gradient;
+///  3. collapse the **cluster** of vertices joined to u, v by edges shorter than a fifth of the
+///     triangle's longest edge (several roots on one lattice point) into one of them or into
+///     their centroid taken onto the surface; then the **patch** of bad triangles joined to
+///     the triangle through shared corners, into its centroid taken onto the surface;
+///  4. **relax** a corner: it moves to the centroid of its neighbours in its tangent plane (the
+///     area vector of its fan) and back onto the surface by Newton steps.
+/// A collapse or a relaxation replaces a set of vertices (one, for a relaxation) by one new
+/// vertex: the triangles around them must form a disk (V - E + F = 1) whose interior vertices
+/// are exactly the set and whose boundary is one simple cycle with no chord; each disk triangle
+/// with one vertex of the set takes the new vertex for it, the others go. For two vertices this
+/// is the link condition of Dey, Edelsbrunner, Guha & Nekhayev 1999. Every change must:
+///  - raise the smallest angle of the triangles it replaces;
+///  - keep the mesh closed, consistently oriented and 2-manifold (by the conditions above; a
+///    flip needs the edge (c, d) not to exist and a, b to keep three triangles);
+///  - follow the surface: each new triangle's normal turns from the surface normal (the field's
+///    gradient at the midpoint of its new edge) by less than `max_turn_deg`, or by no more than
+///    the worst of the triangles it replaces, and by less than 90 degrees (a triangle below 1.5
+///    degrees in a crumpled patch is allowed the worst turn of those it replaces);
+///  - stay on the surface: every new edge's midpoint lies within `tolerance` local radii of the
+///    surface (first-order distance |f - iso| / |grad f|, relative to the smaller local radius
+///    of its end points, as refine_to_surface() measures edges; mesh/deviation.h's
+///    local_radii()), or no farther than the farthest edge it replaces (plus half the move of
+///    its end point, at most a tenth of the tolerance); new vertices are on the surface;
+///  - keep the skeleton inside: no skeleton node lies in a tetrahedron swept by a changed
+///    triangle ((a, b, c, d) for a flip; for the vertices that move, one after the other, their
+///    old and new positions with each of their triangles' other two corners).
+/// Rounds: the bad triangles are found (after the first round only next to a change), every
+/// operation they might take is evaluated against the current mesh in parallel, the field is
+/// evaluated in batches at the points those operations need (midpoints of new and replaced
+/// edges, Newton steps), and then the operations are applied one by one, worst triangle first
+/// (ties by index), each decided again against the mesh as the earlier ones left it when they
+/// touched its neighbourhood. Rounds stop when nothing changes or after `max_rounds`; then
+/// removed triangles and unused vertices are dropped, the rest keeping their order (vertices
+/// made by the pass come last). The result depends only on the inputs, never on the thread
+/// count. A mesh the pass does not change is left as it is; a changed one loses its normals
+/// (as refine_to_surface() drops them).
+
+#include <cstddef>
+
+#include "ramiform/core/context.h"
+#include "ramiform/core/geometry.h"
+#include "ramiform/field/field.h"
+#include "ramiform/skeleton/skeleton.h"
+
+namespace ramiform {
+
+/// Options of improve_triangles(); validated at entry (InvalidArgument naming the option).
+struct ImproveOptions {
+  /// A new edge's midpoint may lie this far from the surface, in local radii (> 0, finite), or
+  /// no farther than the farthest edge it replaces.
+  double tolerance = 0.05;
+  /// Triangles whose smallest angle is below this are improved (degrees, in (0, 60)).
+  double min_angle_deg = 10.0;
+  /// Largest turn of a new triangle's normal from the surface normal, unless the triangles it
+  /// replaces turn farther (degrees, in (0, 90]).
+  double max_turn_deg = 60.0;
+  int max_rounds = 12;  ///< rounds of changes (>= 0; 0 changes nothing)
+};
+
+/// What improve_triangles() did. Angle figures are over the whole mesh, before and after.
+struct ImproveStats {
+  int rounds = 0;                ///< rounds that changed the mesh
+  std::size_t flips = 0;         ///< edges flipped
+  std::size_t collapses = 0;     ///< edges and clusters collapsed into one vertex
+  std::size_t clusters = 0;      ///< of which clusters of three or more vertices
+  std::size_t relaxed = 0;       ///< vertices moved
+  std::size_t below_10_deg_before = 0, below_10_deg_after = 0;  ///< triangles under 10 degrees
+  std::size_t below_1_deg_before = 0, below_1_deg_after = 0;    ///< triangles under 1 degree
+  double min_angle_deg_before = 0, min_angle_deg_after = 0;     ///< smallest corner angle
+  std::size_t triangles_before = 0, triangles_after = 0;
+};
+
+/// Improves the triangles of `mesh` (a closed, consistently oriented 2-manifold mesh of the
+/// surface of `field`, e.g. from polygonize_to_tolerance()) whose smallest angle is below
+/// `options.min_angle_deg` (see the file comment); `skeleton` gives the local radii and its
+/// nodes are kept on their side of the mesh. A change whose neighbourhood is not 2-manifold is
+/// not made. Throws InvalidArgument for bad options, a skeleton without nodes or a vertex index
+/// out of range; Cancelled through `ctx`, checked between rounds (the mesh is then valid, with
+/// the changes made so far).
+void improve_triangles(TriMesh& mesh, const Field& field, const Skeleton& skeleton,
+                       const ImproveOptions& options = {}, Context* ctx = nullptr,
+                       ImproveStats* stats = nullptr);
+
+}  // namespace ramiform

@@ -1,0 +1,1029 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/polygonize/improve.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <initializer_list>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "field/bvh.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
+#include "ramiform/core/tolerances.h"
+#include "ramiform/mesh/deviation.h"
+
+namespace ramiform {
+namespace {
+
+using Tri = std::array<std::uint32_t, 3>;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr std::size_t kGrain = 16384;  // triangles per chunk of the scans over the whole mesh
+constexpr std::size_t kOpGrain = 64;   // bad triangles per chunk of the operations' evaluation
+// Request-and-evaluate stages per round: flips and the collapses into an end point need one
+// (midpoints), a collapse into the projected midpoint two (the point, then its edges), and a
+// relaxation, tried only when no flip or collapse does, two more.
+constexpr int kStages = 10;
+// Newton steps onto the surface, as refine_to_surface() takes them: a step below kNewtonStop
+// local radii leaves a distance of the order of its square, far below any tolerance.
+constexpr int kNewtonSteps = 8;
+constexpr double kNewtonStop = 1e-4;
+// Below this smallest angle (degrees) a triangle may be replaced by triangles that turn as far
+// from the surface as the worst of those they replace (see Improver::follows): no triangle
+// must stay below 1 degree.
+constexpr double kHardAngleDeg = 1.5;
+// How much farther than an old edge beyond the tolerance a new edge may be, at most, as a
+// fraction of the tolerance (see Improver::try_replace).
+constexpr double kSlack = 0.1;
+// A cluster: vertices joined by edges shorter than this times the bad triangle's longest edge.
+constexpr double kClusterEdge = 0.2;
+
+void validate(const ImproveOptions& o) {
+  if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) {
+    throw InvalidArgument("improve: tolerance must be finite and > 0, got " +
+                          format_number(o.tolerance));
+  }
+  if (!(o.min_angle_deg > 0.0 && o.min_angle_deg < 60.0)) {
+    throw InvalidArgument("improve: min_angle_deg must be in (0, 60), got " +
+                          format_number(o.min_angle_deg));
+  }
+  if (!(o.max_turn_deg > 0.0 && o.max_turn_deg <= 90.0)) {
+    throw InvalidArgument("improve: max_turn_deg must be in (0, 90], got " +
+                          format_number(o.max_turn_deg));
+  }
+  if (o.max_rounds < 0) {
+    throw InvalidArgument("improve: max_rounds must be >= 0, got " + std::to_string(o.max_rounds));
+  }
+}
+
+// The sine of the smallest corner angle of the triangle a, b, c (the corner opposite the
+// shortest edge, at most 60 degrees, where the sine increases with the angle); 0 when
+// degenerate.
+double min_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, bc = c - b, ca = a - c;
+  const double lab = ab.squaredNorm(), lbc = bc.squaredNorm(), lca = ca.squaredNorm();
+  const double cross = ab.cross(-ca).norm();
+  if (!(cross > tol::kCoincident * std::max({lab, lbc, lca}))) return 0.0;
+  if (lbc <= lab && lbc <= lca) return cross / std::sqrt(lab * lca);  // at a
+  if (lca <= lab) return cross / std::sqrt(lab * lbc);                // at b
+  return cross / std::sqrt(lbc * lca);                                // at c
+}
+
+/// True when p lies in the closed tetrahedron (a, b, c, d) (any orientation; never for a flat
+/// one, which sweeps no volume).
+bool in_tetrahedron(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const double v = (b - a).cross(c - a).dot(d - a);
+  if (v == 0.0) return false;
+  const double s = v > 0 ? 1.0 : -1.0;
+  return s * (b - p).cross(c - p).dot(d - p) >= 0 && s * (p - a).cross(c - a).dot(d - a) >= 0 &&
+         s * (b - a).cross(p - a).dot(d - a) >= 0 && s * (b - a).cross(c - a).dot(p - a) >= 0;
+}
+
+// Counts over a mesh (its triangles with alive[t] != 0, all without `alive`): triangles under
+// 10 and 1 degrees, the smallest angle (as a sine), and the triangles whose smallest angle has a
+// sine under sin_bad, in index order.
+struct Scan {
+  std::size_t below_10 = 0, below_1 = 0;
+  double min_sine = 1.0;
+  std::vector<std::uint32_t> bad;
+};
+Scan scan(const TriMesh& mesh, const std::vector<char>* alive, double sin_bad, const Context* ctx) {
+  const double s10 = pm::sin(10 * kDeg), s1 = pm::sin(1 * kDeg);
+  const std::size_t n = mesh.triangles.size();
+  std::vector<Scan> parts((n + kGrain - 1) / kGrain);
+  parallel::for_chunks(
+      n, kGrain,
+      [&](std::size_t b, std::size_t e) {
+        Scan& p = parts[b / kGrain];
+        for (std::size_t t = b; t < e; ++t) {
+          if (alive != nullptr && (*alive)[t] == 0) continue;
+          const auto& f = mesh.triangles[t];
+          const double s =
+              min_angle_sine(mesh.positions[f[0]], mesh.positions[f[1]], mesh.positions[f[2]]);
+          p.below_10 += s < s10 ? 1 : 0;
+          p.below_1 += s < s1 ? 1 : 0;
+          p.min_sine = std::min(p.min_sine, s);
+          if (s < sin_bad) p.bad.push_back(static_cast<std::uint32_t>(t));
+        }
+      },
+      ctx);
+  Scan all;
+  for (const Scan& p : parts) {
+    all.below_10 += p.below_10;
+    all.below_1 += p.below_1;
+    all.min_sine = std::min(all.min_sine, p.min_sine);
+    all.bad.insert(all.bad.end(), p.bad.begin(), p.bad.end());
+  }
+  if (n == 0) all.min_sine = 0;
+  return all;
+}
+
+// Field data is cached by the exact bits of the point it was computed at: vertices never move
+// (a vertex that moves becomes a new vertex), so a midpoint or a Newton start computed twice
+// from the same end points has the same bits.
+struct PointKey {
+  std::array<std::uint64_t, 3> bits;
+  bool operator==(const PointKey&) const = default;
+};
+PointKey key_of(const Vec3& p) {
+  return {{std::bit_cast<std::uint64_t>(p.x()), std::bit_cast<std::uint64_t>(p.y()),
+           std::bit_cast<std::uint64_t>(p.z())}};
+}
+struct PointKeyHash {
+  std::size_t operator()(const PointKey& k) const {
+    std::uint64_t h = 0x9E3779B97F4A7C15ull;
+    for (const std::uint64_t b : k.bits) h = (h ^ b) * 0x100000001B3ull + (h >> 29);
+    return static_cast<std::size_t>(h);
+  }
+};
+
+// The field at an edge's midpoint: the first-order distance to the surface (model units) and
+// the outward unit normal -grad f / |grad f| (zero where the gradient vanishes).
+struct Probe {
+  double distance = 0;
+  Vec3 normal = Vec3::Zero();
+};
+
+// A Newton projection onto the surface from a start point.
+struct Projection {
+  Vec3 z = Vec3::Zero();
+  double radius = 0;  // local radius at z
+  bool ok = false;    // converged
+};
+
+// The field data an operation asked for and did not find.
+struct Requests {
+  std::vector<Vec3> midpoints;       // first-order distance to the surface
+  std::vector<Vec3> starts;          // Newton projections
+  std::vector<std::uint32_t> radii;  // local radii of vertices
+  [[nodiscard]] bool empty() const { return midpoints.empty() && starts.empty() && radii.empty(); }
+};
+
+// Scratch lists of one thread's operations.
+struct Scratch {
+  std::vector<std::uint32_t> disk, around, hits, cluster;
+  std::vector<std::array<std::uint32_t, 2>> edges, boundary;  // directed
+  std::vector<Tri> moved;
+  std::vector<std::array<Vec3, 4>> tets;
+  std::vector<Vec3> old_normals;
+  bool relaxed = false;  // see Improver::follows
+};
+
+// Most vertices one operation replaces by one (a cluster of near-coincident vertices).
+constexpr std::size_t kMaxCluster = 12;
+
+// An operation on the mesh. `quality`: the smallest angle (as a sine) of the triangles it
+// makes; -1 when none is possible.
+struct Op {
+  enum class Kind { kNone, kFlip, kReplace } kind = Kind::kNone;
+  std::uint32_t t = kNone;  // flip: the triangle and its edge k -> k + 1
+  int k = 0;
+  // replace: the vertices (sorted) that become one new vertex at z
+  std::array<std::uint32_t, kMaxCluster> s{};
+  std::size_t ns = 0;
+  Vec3 z = Vec3::Zero();
+  double z_radius = 0;
+  double quality = -1;
+};
+
+class Improver {
+ public:
+  Improver(TriMesh& mesh, const Field& field, const Skeleton& skeleton, const ImproveOptions& o,
+           const Context* threads)
+      : mesh_(mesh),
+        field_(field),
+        skeleton_(skeleton),
+        o_(o),
+        threads_(threads),
+        sin_bad_(pm::sin(o.min_angle_deg * kDeg)),
+        sin_hard_(pm::sin(kHardAngleDeg * kDeg)),
+        cos_turn_(pm::cos(o.max_turn_deg * kDeg)),
+        alive_(mesh.triangles.size(), 1),
+        head_(mesh.positions.size(), kNone),
+        next_(3 * mesh.triangles.size(), kNone),
+        radius_(mesh.positions.size(), std::numeric_limits<double>::quiet_NaN()),
+        touched_(mesh.positions.size(), 0) {
+    std::vector<Aabb> boxes;
+    boxes.reserve(skeleton.nodes.size());
+    for (const auto& n : skeleton.nodes) boxes.emplace_back(n.position, n.position);
+    nodes_ = detail::BoxBvh(std::move(boxes));
+    // Corner c = 3 t + k (vertex k of triangle t) is chained to the next corner of the same
+    // vertex; going backwards leaves every chain ascending.
+    for (std::size_t t = mesh.triangles.size(); t-- > 0;) {
+      for (std::uint32_t k = 0; k < 3; ++k) {
+        const auto c = static_cast<std::uint32_t>(3 * t + k);
+        const std::uint32_t v = mesh.triangles[t][k];
+        next_[c] = head_[v];
+        head_[v] = c;
+      }
+    }
+  }
+
+  Scan scan_all() const { return scan(mesh_, &alive_, sin_bad_, threads_); }
+
+  // One round over `bad` (triangle ids); returns the operations applied and fills `next_bad`
+  // with the bad triangles next to a change (or whose operation lacked data), for the next
+  // round.
+  std::size_t round(std::vector<std::uint32_t> bad, std::vector<std::uint32_t>& next_bad,
+                    ImproveStats& st) {
+    std::sort(bad.begin(), bad.end(), [&](std::uint32_t a, std::uint32_t b) {
+      const double sa = sine(mesh_.triangles[a]), sb = sine(mesh_.triangles[b]);
+      return sa < sb || (sa == sb && a < b);
+    });
+    // Ask, evaluate, ask again: each stage evaluates what the operations could not decide on;
+    // a triangle that lacked nothing is decided and leaves the stages.
+    const std::size_t nb = bad.size();
+    std::vector<Op> chosen(nb);
+    std::vector<char> decided(nb, 0);
+    std::vector<std::uint32_t> open(nb);
+    for (std::size_t i = 0; i < nb; ++i) open[i] = static_cast<std::uint32_t>(i);
+    for (int stage = 0; stage < kStages && !open.empty(); ++stage) {
+      std::vector<Requests> slots(open.size());
+      parallel::for_chunks(
+          open.size(), kOpGrain,
+          [&](std::size_t b, std::size_t e) {
+            Scratch scratch;
+            for (std::size_t j = b; j < e; ++j) {
+              const std::uint32_t i = open[j];
+              bool missing = false;
+              chosen[i] = choose(bad[i], scratch, &slots[j], missing);
+              decided[i] = missing ? 0 : 1;
+            }
+          },
+          threads_);
+      Requests all;
+      std::vector<std::uint32_t> still;
+      for (std::size_t j = 0; j < open.size(); ++j) {
+        const Requests& r = slots[j];
+        if (r.empty()) continue;
+        still.push_back(open[j]);
+        all.midpoints.insert(all.midpoints.end(), r.midpoints.begin(), r.midpoints.end());
+        all.starts.insert(all.starts.end(), r.starts.begin(), r.starts.end());
+        all.radii.insert(all.radii.end(), r.radii.begin(), r.radii.end());
+      }
+      open = std::move(still);
+      if (all.empty()) break;
+      evaluate(all);
+    }
+    // Apply, worst first. An operation is decided again on the mesh as the earlier ones left
+    // it, unless nothing it reads changed: every operation of a triangle reads only the
+    // triangles around its corners and their neighbours, and every change marks the corners of
+    // the triangles it changes.
+    std::vector<std::uint32_t> touched;
+    std::size_t done = 0;
+    Scratch scratch;
+    for (std::size_t i = 0; i < nb; ++i) {
+      const std::uint32_t t = bad[i];
+      if (alive_[t] == 0 || sine(mesh_.triangles[t]) >= sin_bad_) continue;
+      Op op = chosen[i];
+      if (decided[i] == 0 || near_touched(mesh_.triangles[t])) {
+        bool missing = false;
+        op = choose(t, scratch, nullptr, missing);
+        if (op.kind == Op::Kind::kNone && missing) mark(mesh_.triangles[t], touched);
+      }
+      if (op.kind == Op::Kind::kNone) continue;
+      apply(op, touched, st);
+      ++done;
+    }
+    // The next round looks at the bad triangles around the vertices touched.
+    next_bad.clear();
+    for (const std::uint32_t w : touched) {
+      touched_[w] = 0;
+      for (std::uint32_t c = head_[w]; c != kNone; c = next_[c]) {
+        const std::uint32_t t = c / 3;
+        if (sine(mesh_.triangles[t]) < sin_bad_) next_bad.push_back(t);
+      }
+    }
+    std::sort(next_bad.begin(), next_bad.end());
+    next_bad.erase(std::unique(next_bad.begin(), next_bad.end()), next_bad.end());
+    return done;
+  }
+
+  // Drops removed triangles and unused vertices, keeping the order of the rest.
+  void compact() {
+    std::vector<std::uint32_t> remap(mesh_.positions.size(), kNone);
+    std::uint32_t kept = 0;
+    for (std::uint32_t v = 0; v < remap.size(); ++v) {
+      if (head_[v] == kNone) continue;
+      mesh_.positions[kept] = mesh_.positions[v];
+      remap[v] = kept++;
+    }
+    mesh_.positions.resize(kept);
+    std::size_t alive = 0;
+    for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
+      if (alive_[t] == 0) continue;
+      const Tri& f = mesh_.triangles[t];
+      mesh_.triangles[alive++] = {remap[f[0]], remap[f[1]], remap[f[2]]};
+    }
+    mesh_.triangles.resize(alive);
+    mesh_.normals.clear();
+  }
+
+ private:
+  const Vec3& pos(std::uint32_t v) const { return mesh_.positions[v]; }
+  double sine(const Tri& f) const { return min_angle_sine(pos(f[0]), pos(f[1]), pos(f[2])); }
+  static double sine_of(const std::array<Vec3, 3>& p) { return min_angle_sine(p[0], p[1], p[2]); }
+  static Vec3 normal_of(const std::array<Vec3, 3>& p) { return (p[1] - p[0]).cross(p[2] - p[0]); }
+  Vec3 normal(const Tri& f) const { return normal_of({pos(f[0]), pos(f[1]), pos(f[2])}); }
+  static bool has(const Tri& f, std::uint32_t v) { return f[0] == v || f[1] == v || f[2] == v; }
+
+  std::size_t valence(std::uint32_t v) const {
+    std::size_t n = 0;
+    for (std::uint32_t c = head_[v]; c != kNone; c = next_[c]) ++n;
+    return n;
+  }
+
+  // The distinct neighbours of v, sorted.
+  void ring(std::uint32_t v, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    for (std::uint32_t c = head_[v]; c != kNone; c = next_[c]) {
+      for (const std::uint32_t w : mesh_.triangles[c / 3]) {
+        if (w != v) out.push_back(w);
+      }
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+
+  // The local radius of vertex v, or NaN (asked for in `req`) when not known yet.
+  double radius(std::uint32_t v, Requests* req, bool& missing) const {
+    const double r = radius_[v];
+    if (std::isnan(r)) {
+      missing = true;
+      if (req != nullptr) req->radii.push_back(v);
+    }
+    return r;
+  }
+
+  // The field at the midpoint of p-q; null (asked for in `req`) when not known yet.
+  const Probe* probe(const Vec3& p, const Vec3& q, Requests* req, bool& missing) const {
+    const Vec3 m = 0.5 * (p + q);
+    const auto it = probe_.find(key_of(m));
+    if (it == probe_.end()) {
+      missing = true;
+      if (req != nullptr) req->midpoints.push_back(m);
+      return nullptr;
+    }
+    return &it->second;
+  }
+
+  // The first-order distance of the midpoint of p-q to the surface, relative to the smaller of
+  // the radii rp, rq (as refine_to_surface() measures an edge); NaN when not known yet.
+  double edge_distance(const Vec3& p, const Vec3& q, double rp, double rq, Requests* req,
+                       bool& missing) const {
+    const Probe* pr = probe(p, q, req, missing);
+    const double r = std::min(rp, rq);
+    if (pr == nullptr || std::isnan(r)) return std::numeric_limits<double>::quiet_NaN();
+    return r > 0 ? pr->distance / r : kInf;
+  }
+
+  // Whether the new triangles of normals `fresh` follow the surface at the probe: each turns
+  // from the surface's normal there by less than max_turn_deg, or by no more than the old
+  // triangles of normals `old` the change replaces (in a wrinkle of the mesh), and by less
+  // than 90 degrees (a fold, or a triangle standing across the surface, turns far more) unless
+  // `relaxed` (a triangle below kHardAngleDeg in a crumpled patch may go as long as no new
+  // triangle turns farther than the worst old one).
+  template <class Fresh, class Old>
+  bool follows(const Fresh& fresh, const Old& old, const Probe& pr, bool relaxed) const {
+    double floor = 1.0;
+    for (const Vec3& n : old) floor = std::min(floor, n.dot(pr.normal) / n.norm());
+    floor = std::min(cos_turn_, relaxed ? floor : std::max(floor, 0.0));
+    for (const Vec3& n : fresh) {
+      if (!(n.dot(pr.normal) > floor * n.norm())) return false;
+    }
+    return true;
+  }
+
+  const Projection* projection(const Vec3& start, Requests* req, bool& missing) const {
+    const auto it = projection_.find(key_of(start));
+    if (it == projection_.end()) {
+      missing = true;
+      if (req != nullptr) req->starts.push_back(start);
+      return nullptr;
+    }
+    return &it->second;
+  }
+
+  // Whether a skeleton node lies in one of `tets` (all inside `box`).
+  bool sweeps_node(const Aabb& box, const std::vector<std::array<Vec3, 4>>& tets,
+                   Scratch& sc) const {
+    sc.hits.clear();
+    nodes_.query(box, sc.hits);
+    for (const std::uint32_t h : sc.hits) {
+      const Vec3& p = skeleton_.nodes[h].position;
+      for (const auto& q : tets) {
+        if (in_tetrahedron(p, q[0], q[1], q[2], q[3])) return true;
+      }
+    }
+    return false;
+  }
+
+  // Whether a new edge p-q (end radii rp, rq) may replace edges as far as `old` (a function
+  // returning their largest relative distance, or NaN while lacking): within the tolerance, or
+  // no farther than them (when `check_distance`); and whether the new triangles on it, of
+  // normals `normals`, follow the surface there. The old edges are looked at only when the
+  // new one is beyond the tolerance. False while lacking data (then `lacking` is set).
+  template <class Fold, class Old>
+  bool edge_fits(const Vec3& p, const Vec3& q, double rp, double rq, Fold&& fold_ok,
+                 bool check_distance, Requests* req, bool& lacking, Old&& old) const {
+    bool missing = false;
+    const Probe* pr = probe(p, q, req, missing);
+    const double r = std::min(rp, rq);
+    if (missing || std::isnan(r)) {
+      lacking = true;
+      return false;
+    }
+    if (!fold_ok(*pr)) return false;
+    if (!check_distance) return true;
+    const double d = r > 0 ? pr->distance / r : kInf;
+    if (d <= o_.tolerance) return true;
+    const double before = old(missing);
+    if (missing) {
+      lacking = true;
+      return false;
+    }
+    return d <= before;
+  }
+
+  // The flip of triangle t's edge k -> k + 1 (see the header); fills `op` when it beats it.
+  void try_flip(std::uint32_t t1, int k, Scratch& sc, Requests* req, bool& missing,
+                Op& op) const {
+    const Tri f1 = mesh_.triangles[t1];
+    const std::uint32_t a = f1[k], b = f1[(k + 1) % 3], c = f1[(k + 2) % 3];
+    std::uint32_t t2 = kNone;
+    int with_b = 0;
+    for (std::uint32_t corner = head_[a]; corner != kNone; corner = next_[corner]) {
+      const Tri& f = mesh_.triangles[corner / 3];
+      if (!has(f, b)) continue;
+      ++with_b;
+      if (f[(corner + 2) % 3] == b) t2 = corner / 3;  // the directed edge b -> a
+    }
+    if (with_b != 2 || t2 == kNone) return;
+    const Tri f2 = mesh_.triangles[t2];
+    std::uint32_t d = kNone;
+    for (const std::uint32_t w : f2) {
+      if (w != a && w != b) d = w;
+    }
+    if (d == kNone || d == c || valence(a) <= 3 || valence(b) <= 3) return;
+    const std::array<Vec3, 3> g1{pos(a), pos(d), pos(c)}, g2{pos(d), pos(b), pos(c)};
+    const double old_worst = std::min(sine(f1), sine(f2));
+    const double new_worst = std::min(sine_of(g1), sine_of(g2));
+    if (!(new_worst > old_worst) || !(new_worst > op.quality)) return;
+    for (std::uint32_t corner = head_[c]; corner != kNone; corner = next_[corner]) {
+      if (has(mesh_.triangles[corner / 3], d)) return;  // the edge c-d exists
+    }
+    const Vec3 n1 = normal_of(g1), n2 = normal_of(g2);
+    Aabb box(pos(a));
+    box.extend(pos(b));
+    box.extend(pos(c));
+    box.extend(pos(d));
+    sc.tets.assign(1, {pos(a), pos(b), pos(c), pos(d)});
+    if (sweeps_node(box, sc.tets, sc)) return;
+    bool lacking = false;
+    const double rc = radius(c, req, lacking), rd = radius(d, req, lacking);
+    const std::array<Vec3, 2> fresh{n1, n2}, old{normal(f1), normal(f2)};
+    auto fold_ok = [&](const Probe& pr) { return follows(fresh, old, pr, sc.relaxed); };
+    const bool fits = edge_fits(pos(c), pos(d), rc, rd, fold_ok, true, req, lacking, [&](bool& m) {
+      const double ra = radius(a, req, m), rb = radius(b, req, m);
+      return edge_distance(pos(a), pos(b), ra, rb, req, m);
+    });
+    if (lacking) {
+      missing = true;
+      return;
+    }
+    if (!fits) return;
+    op = Op{};
+    op.kind = Op::Kind::kFlip;
+    op.t = t1;
+    op.k = k;
+    op.quality = new_worst;
+  }
+
+  // Replacing the vertices `cluster` (sorted, at most kMaxCluster) by one new vertex at z of
+  // local radius rz; fills `op` when it beats it. The triangles around the cluster (the disk)
+  // must form a disk whose interior vertices are exactly the cluster and whose boundary is one
+  // simple cycle, with every edge between two boundary vertices on it (no chord). Then each
+  // disk triangle with one cluster vertex keeps its boundary edge and takes z for that vertex
+  // (in its own orientation), the others (two or three cluster vertices) go; the mesh stays a
+  // closed, oriented 2-manifold, and z has one triangle per boundary edge. For one vertex this
+  // is moving it, for two the collapse of their edge under the link condition.
+  void try_replace(const std::vector<std::uint32_t>& cluster, const Vec3& z, double rz,
+                   Scratch& sc, Requests* req, bool& missing, Op& op) const {
+    auto in_cluster = [&](std::uint32_t w) {
+      return std::binary_search(cluster.begin(), cluster.end(), w);
+    };
+    std::vector<std::uint32_t>& disk = sc.disk;
+    disk.clear();
+    for (const std::uint32_t x : cluster) {
+      for (std::uint32_t c = head_[x]; c != kNone; c = next_[c]) disk.push_back(c / 3);
+    }
+    std::sort(disk.begin(), disk.end());
+    disk.erase(std::unique(disk.begin(), disk.end()), disk.end());
+    // Directed edges; each at most once (2-manifold around the cluster), the boundary those
+    // whose reverse is not in the disk.
+    auto& edges = sc.edges;
+    auto& boundary = sc.boundary;
+    edges.clear();
+    boundary.clear();
+    for (const std::uint32_t t : disk) {
+      const Tri& f = mesh_.triangles[t];
+      for (int i = 0; i < 3; ++i) edges.push_back({f[i], f[(i + 1) % 3]});
+    }
+    std::sort(edges.begin(), edges.end());
+    if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return;
+    for (const auto& e : edges) {
+      const bool inner = std::binary_search(edges.begin(), edges.end(),
+                                            std::array<std::uint32_t, 2>{e[1], e[0]});
+      const bool touches = in_cluster(e[0]) || in_cluster(e[1]);
+      if (inner && !touches) return;            // a chord
+      if (!inner && touches) return;            // a cluster vertex on the boundary
+      if (!inner) boundary.push_back(e);
+    }
+    // One simple cycle: every boundary vertex starts exactly one boundary edge (the list is
+    // sorted by start), and walking from the first edge visits all of them.
+    const std::size_t nb = boundary.size();
+    if (nb < 3) return;
+    for (std::size_t i = 1; i < nb; ++i) {
+      if (boundary[i][0] == boundary[i - 1][0]) return;
+    }
+    {
+      std::size_t steps = 0;
+      std::uint32_t at = boundary[0][1];
+      while (at != boundary[0][0] && steps < nb) {
+        const auto it = std::lower_bound(boundary.begin(), boundary.end(),
+                                         std::array<std::uint32_t, 2>{at, 0});
+        if (it == boundary.end() || (*it)[0] != at) return;
+        at = (*it)[1];
+        ++steps;
+      }
+      if (steps + 1 != nb) return;
+    }
+    // A disk: V - E + F = 1.
+    const long long n_edges = static_cast<long long>(edges.size() + nb) / 2;
+    if (static_cast<long long>(cluster.size() + nb) - n_edges +
+            static_cast<long long>(disk.size()) != 1) {
+      return;
+    }
+    // The smallest angle must rise.
+    double old_worst = 1.0, new_worst = 1.0;
+    Aabb box(z);
+    sc.old_normals.clear();
+    for (const std::uint32_t t : disk) {
+      const Tri& f = mesh_.triangles[t];
+      old_worst = std::min(old_worst, sine(f));
+      sc.old_normals.push_back(normal(f));
+      for (const std::uint32_t w : f) box.extend(pos(w));
+    }
+    for (const std::uint32_t t : disk) {
+      const Tri& f = mesh_.triangles[t];
+      int in = 0, k = 0;
+      for (int i = 0; i < 3; ++i) {
+        if (in_cluster(f[i])) ++in, k = i;
+      }
+      if (in != 1) continue;
+      std::array<Vec3, 3> p{pos(f[0]), pos(f[1]), pos(f[2])};
+      p[k] = z;
+      const double s = sine_of(p);
+      if (!(s > old_worst) || !(s > op.quality)) return;
+      new_worst = std::min(new_worst, s);
+    }
+    // The swept volume: the cluster's vertices move to z one after the other, each sweeping a
+    // tetrahedron with each of its triangles as the earlier moves left them.
+    sc.moved.assign(disk.size(), Tri{});
+    for (std::size_t i = 0; i < disk.size(); ++i) sc.moved[i] = mesh_.triangles[disk[i]];
+    sc.tets.clear();
+    constexpr std::uint32_t kZ = kNone;  // z's label in `moved`
+    auto at = [&](std::uint32_t w) { return w == kZ ? z : pos(w); };
+    for (const std::uint32_t x : cluster) {
+      for (Tri& f : sc.moved) {
+        int k = -1;
+        for (int i = 0; i < 3; ++i) {
+          if (f[i] == x) k = i;
+        }
+        if (k < 0) continue;
+        sc.tets.push_back({pos(x), z, at(f[(k + 1) % 3]), at(f[(k + 2) % 3])});
+        f[k] = kZ;
+      }
+    }
+    if (sweeps_node(box, sc.tets, sc)) return;
+    // Every new edge z-w stays within the tolerance, or no farther than the edges from the
+    // cluster to w it replaces (an edge from a cluster vertex that stays where it is, z, is
+    // no new edge), and the new triangle (w, w', z) on the boundary edge w -> w' follows the
+    // surface at the midpoint of z-w.
+    bool lacking = std::isnan(rz);
+    bool fits = true;
+    for (std::size_t i = 0; i < nb && (fits || req != nullptr); ++i) {
+      const std::uint32_t w = boundary[i][0], w_next = boundary[i][1];
+      bool same = false;
+      for (const std::uint32_t x : cluster) {
+        if (pos(x) == z && std::binary_search(edges.begin(), edges.end(),
+                                               std::array<std::uint32_t, 2>{x, w})) {
+          same = true;
+        }
+      }
+      bool m = false;
+      const double rw = radius(w, req, m);
+      const std::array<Vec3, 1> fresh{normal_of({pos(w), pos(w_next), z})};
+      auto fold_ok = [&](const Probe& pr) { return follows(fresh, sc.old_normals, pr, sc.relaxed); };
+      const bool ok = edge_fits(z, pos(w), rz, rw, fold_ok, !same, req, m, [&](bool& mm) {
+        // An end point moving by |z - x| moves the midpoint by half that: an old edge beyond
+        // the tolerance may get that much farther, up to kSlack of the tolerance (the
+        // near-coincident vertices of a cluster).
+        double before = 0;
+        for (const std::uint32_t x : cluster) {
+          if (std::binary_search(edges.begin(), edges.end(), std::array<std::uint32_t, 2>{x, w})) {
+            const double rx = radius(x, req, mm);
+            const double slack =
+                std::min(0.5 * (z - pos(x)).norm() / std::min(rx, rw), kSlack * o_.tolerance);
+            before = std::max(before, edge_distance(pos(x), pos(w), rx, rw, req, mm) + slack);
+          }
+        }
+        return before;
+      });
+      if (m) {
+        lacking = true;
+      } else if (!ok) {
+        fits = false;
+      }
+    }
+    if (!fits) return;
+    if (lacking) {
+      missing = true;
+      return;
+    }
+    op = Op{};
+    op.kind = Op::Kind::kReplace;
+    std::copy(cluster.begin(), cluster.end(), op.s.begin());
+    op.ns = cluster.size();
+    op.z = z;
+    op.z_radius = rz;
+    op.quality = new_worst;
+  }
+
+  // The operation for the bad triangle t: flips of its edges, else the collapse of its shortest
+  // edge into an end point, else into its midpoint taken onto the surface, else the collapse
+  // of the cluster of near-coincident vertices around that edge, else relaxations of its
+  // corners. The next kind is tried only when the ones before cannot make the triangle good
+  // (and that is known: with `req`, the evaluation stages, the field data the operations lack
+  // is asked for there, and `missing` says whether some was lacking). The best of those tried
+  // wins.
+  Op choose(std::uint32_t t, Scratch& sc, Requests* req, bool& missing) const {
+    Op op;
+    const Tri f = mesh_.triangles[t];
+    sc.relaxed = sine(f) < sin_hard_;
+    auto settled = [&] { return missing || op.quality >= sin_bad_; };
+    for (int k = 0; k < 3; ++k) try_flip(t, k, sc, req, missing, op);
+    if (settled()) return op;
+    int k = 0;
+    double shortest = kInf, longest = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double len = (pos(f[i]) - pos(f[(i + 1) % 3])).squaredNorm();
+      if (len < shortest) shortest = len, k = i;
+      longest = std::max(longest, len);
+    }
+    const std::uint32_t u = f[k], v = f[(k + 1) % 3];
+    std::vector<std::uint32_t>& cluster = sc.cluster;
+    cluster = {std::min(u, v), std::max(u, v)};
+    try_replace(cluster, pos(u), radius(u, req, missing), sc, req, missing, op);
+    try_replace(cluster, pos(v), radius(v, req, missing), sc, req, missing, op);
+    if (settled()) return op;
+    const Vec3 mid = 0.5 * (pos(u) + pos(v));
+    if (const Projection* p = projection(mid, req, missing);
+        p != nullptr && p->ok && (p->z - mid).norm() <= std::sqrt(shortest)) {
+      try_replace(cluster, p->z, p->radius, sc, req, missing, op);
+    }
+    if (settled()) return op;
+    // The cluster: the vertices joined to u or v by a chain of edges shorter than
+    // kClusterEdge times the triangle's longest edge.
+    const double reach2 = kClusterEdge * kClusterEdge * longest;
+    if (shortest <= reach2) {
+      for (std::size_t i = 0; i < cluster.size() && cluster.size() <= kMaxCluster; ++i) {
+        const std::uint32_t x = cluster[i];
+        for (std::uint32_t c = head_[x]; c != kNone; c = next_[c]) {
+          for (const std::uint32_t w : mesh_.triangles[c / 3]) {
+            if (w != x && (pos(w) - pos(x)).squaredNorm() <= reach2 &&
+                std::find(cluster.begin(), cluster.end(), w) == cluster.end()) {
+              cluster.push_back(w);
+            }
+          }
+        }
+      }
+      if (cluster.size() > 2 && cluster.size() <= kMaxCluster) {
+        Vec3 centroid = Vec3::Zero();
+        for (const std::uint32_t x : cluster) centroid += pos(x);
+        centroid /= static_cast<double>(cluster.size());
+        std::sort(cluster.begin(), cluster.end());
+        for (std::size_t i = 0; i < cluster.size(); ++i) {
+          const std::uint32_t x = cluster[i];  // (try_replace reads the cluster, not x)
+          try_replace(cluster, pos(x), radius(x, req, missing), sc, req, missing, op);
+        }
+        if (settled()) return op;
+        if (const Projection* p = projection(centroid, req, missing);
+            p != nullptr && p->ok && (p->z - centroid).norm() <= std::sqrt(reach2)) {
+          try_replace(cluster, p->z, p->radius, sc, req, missing, op);
+        }
+        if (settled()) return op;
+      }
+    }
+    // The bad region: the vertices of the bad triangles joined to t through shared corners,
+    // replaced by one vertex at their centroid taken onto the surface (a crumpled patch).
+    cluster.assign(f.begin(), f.end());
+    bool small = true;
+    for (std::size_t i = 0; i < cluster.size() && small; ++i) {
+      const std::uint32_t x = cluster[i];
+      for (std::uint32_t c = head_[x]; c != kNone && small; c = next_[c]) {
+        const Tri& g = mesh_.triangles[c / 3];
+        if (sine(g) >= sin_bad_) continue;
+        for (const std::uint32_t w : g) {
+          if (std::find(cluster.begin(), cluster.end(), w) != cluster.end()) continue;
+          cluster.push_back(w);
+          if (cluster.size() > kMaxCluster) small = false;
+        }
+      }
+    }
+    if (small) {
+      Vec3 centroid = Vec3::Zero();
+      for (const std::uint32_t x : cluster) centroid += pos(x);
+      centroid /= static_cast<double>(cluster.size());
+      double reach = 0;
+      for (const std::uint32_t x : cluster) reach = std::max(reach, (pos(x) - centroid).norm());
+      std::sort(cluster.begin(), cluster.end());
+      if (const Projection* p = projection(centroid, req, missing);
+          p != nullptr && p->ok && (p->z - centroid).norm() <= reach) {
+        try_replace(cluster, p->z, p->radius, sc, req, missing, op);
+      }
+      if (settled()) return op;
+    }
+    std::vector<std::uint32_t>& around = sc.around;
+    for (const std::uint32_t w : f) {
+      // The centroid of the neighbours, in the tangent plane (the fan's area vector).
+      ring(w, around);
+      if (around.empty()) continue;
+      Vec3 centroid = Vec3::Zero(), area = Vec3::Zero();
+      for (const std::uint32_t x : around) centroid += pos(x);
+      centroid /= static_cast<double>(around.size());
+      for (std::uint32_t c = head_[w]; c != kNone; c = next_[c]) {
+        area += normal(mesh_.triangles[c / 3]);
+      }
+      const double an = area.norm();
+      if (!(an > 0)) continue;
+      const Vec3 n = area / an;
+      const Vec3 start = centroid - (centroid - pos(w)).dot(n) * n;
+      double reach = 0;
+      for (const std::uint32_t x : around) reach = std::max(reach, (pos(x) - pos(w)).norm());
+      if (const Projection* p = projection(start, req, missing);
+          p != nullptr && p->ok && (p->z - start).norm() <= 0.5 * reach) {
+        cluster.assign(1, w);
+        try_replace(cluster, p->z, p->radius, sc, req, missing, op);
+      }
+    }
+    return op;
+  }
+
+  // Whether a corner of f or one of their neighbours was touched by a change of this round.
+  bool near_touched(const Tri& f) const {
+    for (const std::uint32_t x : f) {
+      if (touched_[x] != 0) return true;
+      for (std::uint32_t c = head_[x]; c != kNone; c = next_[c]) {
+        for (const std::uint32_t w : mesh_.triangles[c / 3]) {
+          if (touched_[w] != 0) return true;
+        }
+      }
+    }
+    return false;
+  }
+
+  void unlink(std::uint32_t c) {
+    std::uint32_t* p = &head_[mesh_.triangles[c / 3][c % 3]];
+    while (*p != c) p = &next_[*p];
+    *p = next_[c];
+  }
+  void link(std::uint32_t c) {
+    const std::uint32_t v = mesh_.triangles[c / 3][c % 3];
+    next_[c] = head_[v];
+    head_[v] = c;
+  }
+  void mark(const Tri& f, std::vector<std::uint32_t>& touched) {
+    for (const std::uint32_t w : f) {
+      if (touched_[w] == 0) {
+        touched_[w] = 1;
+        touched.push_back(w);
+      }
+    }
+  }
+
+  void apply(const Op& op, std::vector<std::uint32_t>& touched, ImproveStats& st) {
+    if (op.kind == Op::Kind::kFlip) {
+      const std::uint32_t t1 = op.t;
+      const Tri f1 = mesh_.triangles[t1];
+      const std::uint32_t a = f1[op.k], b = f1[(op.k + 1) % 3], c = f1[(op.k + 2) % 3];
+      std::uint32_t t2 = kNone;
+      for (std::uint32_t corner = head_[a]; corner != kNone; corner = next_[corner]) {
+        if (mesh_.triangles[corner / 3][(corner + 2) % 3] == b) t2 = corner / 3;
+      }
+      std::uint32_t d = kNone;
+      for (const std::uint32_t w : mesh_.triangles[t2]) {
+        if (w != a && w != b) d = w;
+      }
+      for (const std::uint32_t t : {t1, t2}) {
+        for (std::uint32_t i = 0; i < 3; ++i) unlink(3 * t + i);
+      }
+      // (a, b, c), (b, a, d) -> (a, d, c), (d, b, c): every directed edge of the quad's
+      // boundary is kept, so orientation and manifoldness stay.
+      mesh_.triangles[t1] = {a, d, c};
+      mesh_.triangles[t2] = {d, b, c};
+      for (const std::uint32_t t : {t1, t2}) {
+        for (std::uint32_t i = 0; i < 3; ++i) link(3 * t + i);
+      }
+      mark(mesh_.triangles[t1], touched);
+      mark(mesh_.triangles[t2], touched);
+      ++st.flips;
+      return;
+    }
+    const auto z = static_cast<std::uint32_t>(mesh_.positions.size());
+    mesh_.positions.push_back(op.z);
+    radius_.push_back(op.z_radius);
+    head_.push_back(kNone);
+    touched_.push_back(0);
+    const auto first = op.s.begin(), last = op.s.begin() + static_cast<std::ptrdiff_t>(op.ns);
+    std::vector<std::uint32_t> disk;
+    for (auto it = first; it != last; ++it) {
+      for (std::uint32_t c = head_[*it]; c != kNone; c = next_[c]) disk.push_back(c / 3);
+    }
+    std::sort(disk.begin(), disk.end());
+    disk.erase(std::unique(disk.begin(), disk.end()), disk.end());
+    for (const std::uint32_t t : disk) {
+      Tri& f = mesh_.triangles[t];
+      mark(f, touched);
+      int in = 0;
+      for (const std::uint32_t w : f) in += std::binary_search(first, last, w) ? 1 : 0;
+      for (std::uint32_t i = 0; i < 3; ++i) {
+        if (in > 1 || std::binary_search(first, last, f[i])) unlink(3 * t + i);
+      }
+      if (in > 1) {
+        alive_[t] = 0;
+        continue;
+      }
+      for (std::uint32_t i = 0; i < 3; ++i) {
+        if (std::binary_search(first, last, f[i])) {
+          f[i] = z;
+          link(3 * t + i);
+        }
+      }
+    }
+    mark({z, z, z}, touched);
+    if (op.ns == 1) {
+      ++st.relaxed;
+    } else {
+      ++st.collapses;
+      st.clusters += op.ns > 2 ? 1 : 0;
+    }
+  }
+
+  // Evaluates the requests (batches over the field and the skeleton) into the caches.
+  void evaluate(Requests& r) {
+    std::sort(r.radii.begin(), r.radii.end());
+    r.radii.erase(std::unique(r.radii.begin(), r.radii.end()), r.radii.end());
+    if (!r.radii.empty()) {
+      std::vector<Vec3> p(r.radii.size());
+      for (std::size_t i = 0; i < p.size(); ++i) p[i] = pos(r.radii[i]);
+      const std::vector<double> rad = local_radii(skeleton_, p, threads_);
+      for (std::size_t i = 0; i < p.size(); ++i) radius_[r.radii[i]] = rad[i];
+    }
+    const double iso = field_.iso();
+    if (!r.midpoints.empty()) {
+      std::vector<double> value(r.midpoints.size());
+      std::vector<Vec3> grad(r.midpoints.size());
+      field_.evaluate(r.midpoints, value, grad, threads_);
+      for (std::size_t i = 0; i < value.size(); ++i) {
+        const double g = grad[i].norm();
+        const double d = std::isfinite(value[i]) && g > 0 && std::isfinite(g)
+                             ? std::abs(value[i] - iso) / g
+                             : kInf;
+        Probe pr;
+        pr.distance = d;
+        if (g > 0 && std::isfinite(g)) pr.normal = -grad[i] / g;
+        probe_.emplace(key_of(r.midpoints[i]), pr);
+      }
+    }
+    if (!r.starts.empty()) {
+      const std::size_t n = r.starts.size();
+      const std::vector<double> scale = local_radii(skeleton_, r.starts, threads_);
+      std::vector<Vec3> z = r.starts;
+      std::vector<char> ok(n, 0);
+      std::vector<std::size_t> active(n);
+      for (std::size_t i = 0; i < n; ++i) active[i] = i;
+      for (int step = 0; step < kNewtonSteps && !active.empty(); ++step) {
+        std::vector<Vec3> pts(active.size());
+        for (std::size_t j = 0; j < active.size(); ++j) pts[j] = z[active[j]];
+        std::vector<double> v(active.size());
+        std::vector<Vec3> g(active.size());
+        field_.evaluate(pts, v, g, threads_);
+        std::vector<std::size_t> next;
+        for (std::size_t j = 0; j < active.size(); ++j) {
+          const std::size_t i = active[j];
+          const double gg = g[j].squaredNorm();
+          if (!std::isfinite(v[j]) || !(gg > 0.0) || !std::isfinite(gg)) continue;
+          if (std::abs(v[j] - iso) / std::sqrt(gg) <= tol::kRootFinding * scale[i]) {
+            ok[i] = 1;
+            continue;
+          }
+          const Vec3 s = ((v[j] - iso) / gg) * g[j];
+          z[i] -= s;
+          if (s.norm() <= kNewtonStop * scale[i]) {
+            ok[i] = 1;
+            continue;
+          }
+          next.push_back(i);
+        }
+        active = std::move(next);
+      }
+      const std::vector<double> rz = local_radii(skeleton_, z, threads_);
+      for (std::size_t i = 0; i < n; ++i) {
+        projection_.emplace(key_of(r.starts[i]), Projection{z[i], rz[i], ok[i] != 0});
+      }
+    }
+  }
+
+  TriMesh& mesh_;
+  const Field& field_;
+  const Skeleton& skeleton_;
+  const ImproveOptions& o_;
+  const Context* threads_;
+  double sin_bad_, sin_hard_, cos_turn_;
+  detail::BoxBvh nodes_;
+  std::vector<char> alive_;
+  // Corner chains: head_[v] is v's first corner, next_[c] the next corner of the same vertex
+  // (kNone ends a chain); they list exactly the alive triangles around each vertex.
+  std::vector<std::uint32_t> head_, next_;
+  std::vector<double> radius_;  // local radius per vertex, NaN until asked for
+  std::vector<char> touched_;
+  std::unordered_map<PointKey, Probe, PointKeyHash> probe_;  // at edge midpoints
+  std::unordered_map<PointKey, Projection, PointKeyHash> projection_;
+};
+
+}  // namespace
+
+void improve_triangles(TriMesh& mesh, const Field& field, const Skeleton& skeleton,
+                       const ImproveOptions& options, Context* ctx, ImproveStats* stats) {
+  validate(options);
+  if (skeleton.nodes.empty()) throw InvalidArgument("improve: the skeleton has no nodes");
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (const std::uint32_t v : mesh.triangles[t]) {
+      if (v >= mesh.positions.size()) {
+        throw InvalidArgument("improve: triangle " + std::to_string(t) + " refers to vertex " +
+                              std::to_string(v) + ", the mesh has " +
+                              std::to_string(mesh.positions.size()));
+      }
+    }
+  }
+  if (mesh.positions.size() >= kNone || 3 * mesh.triangles.size() >= kNone) {
+    throw InvalidArgument("improve: the mesh has too many vertices or triangles for 32-bit indices");
+  }
+  check_cancel(ctx);
+  // The loops that change the mesh get only the thread count: cancellation is looked at between
+  // rounds, where the mesh is whole.
+  const Context threads(ctx != nullptr ? ctx->threads() : 0);
+  ImproveStats st;
+  st.triangles_before = st.triangles_after = mesh.triangles.size();
+  Improver im(mesh, field, skeleton, options, &threads);
+  Scan first = im.scan_all();
+  st.below_10_deg_before = st.below_10_deg_after = first.below_10;
+  st.below_1_deg_before = st.below_1_deg_after = first.below_1;
+  st.min_angle_deg_before = st.min_angle_deg_after = pm::asin(std::min(1.0, first.min_sine)) / kDeg;
+  std::vector<std::uint32_t> bad = std::move(first.bad), next;
+  std::size_t changes = 0;
+  for (int round = 0; round < options.max_rounds && !bad.empty(); ++round) {
+    if (ctx != nullptr && ctx->is_cancelled()) break;
+    const std::size_t done = im.round(std::move(bad), next, st);
+    bad = std::move(next);
+    next = {};
+    if (done == 0) break;
+    changes += done;
+    ++st.rounds;
+    if (ctx != nullptr) ctx->report("improve", static_cast<double>(round + 1) / options.max_rounds);
+  }
+  if (changes > 0) {
+    im.compact();
+    const Scan after = scan(mesh, nullptr, 0.0, &threads);
+    st.below_10_deg_after = after.below_10;
+    st.below_1_deg_after = after.below_1;
+    st.min_angle_deg_after = pm::asin(std::min(1.0, after.min_sine)) / kDeg;
+    st.triangles_after = mesh.triangles.size();
+  }
+  if (stats != nullptr) *stats = st;
+  check_cancel(ctx);
+}
+
+}  // namespace ramiform
