@@ -173,12 +173,26 @@ struct Requests {
 // Scratch lists of one thread's operations.
 struct Scratch {
   std::vector<std::uint32_t> disk, around, hits, cluster;
-  std::vector<std::array<std::uint32_t, 2>> edges, boundary;  // directed
+  std::vector<std::uint64_t> edges;                   // directed, as edge_key()
+  std::vector<std::array<std::uint32_t, 2>> boundary;  // directed
   std::vector<Tri> moved;
   std::vector<std::array<Vec3, 4>> tets;
   std::vector<Vec3> old_normals;
   bool relaxed = false;  // see Improver::follows
+  // prepare_disk()'s results: the smallest angle (sine) of the disk, the box of its corners,
+  // and the disk triangles with one cluster vertex (the triangle, that corner).
+  double old_worst = 1.0;
+  Aabb box;
+  std::vector<std::array<std::uint32_t, 2>> kept;  // in the order of `boundary`
+  // The cluster prepare_disk() last looked at in choose() call `call`, and its answer.
+  std::vector<std::uint32_t> prepared;
+  bool prepared_ok = false;
+  std::uint64_t call = 0, prepared_call = ~std::uint64_t{0};
 };
+
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return (static_cast<std::uint64_t>(a) << 32) | b;
+}
 
 // Most vertices one operation replaces by one (a cluster of near-coincident vertices).
 constexpr std::size_t kMaxCluster = 12;
@@ -196,6 +210,15 @@ struct Op {
   double z_radius = 0;
   double quality = -1;
 };
+
+// Where choose() resumes a triangle in the next evaluation stage: the levels before
+// `level` were decided (they lacked no data), `op` is the best of them.
+struct Resume {
+  int level = 0;
+  Op op;
+};
+// The levels of choose().
+constexpr int kLevels = 7;
 
 class Improver {
  public:
@@ -244,7 +267,7 @@ class Improver {
     // Ask, evaluate, ask again: each stage evaluates what the operations could not decide on;
     // a triangle that lacked nothing is decided and leaves the stages.
     const std::size_t nb = bad.size();
-    std::vector<Op> chosen(nb);
+    std::vector<Resume> chosen(nb);
     std::vector<char> decided(nb, 0);
     std::vector<std::uint32_t> open(nb);
     for (std::size_t i = 0; i < nb; ++i) open[i] = static_cast<std::uint32_t>(i);
@@ -257,7 +280,7 @@ class Improver {
             for (std::size_t j = b; j < e; ++j) {
               const std::uint32_t i = open[j];
               bool missing = false;
-              chosen[i] = choose(bad[i], scratch, &slots[j], missing);
+              chosen[i].op = choose(bad[i], scratch, &slots[j], missing, chosen[i]);
               decided[i] = missing ? 0 : 1;
             }
           },
@@ -286,10 +309,11 @@ class Improver {
     for (std::size_t i = 0; i < nb; ++i) {
       const std::uint32_t t = bad[i];
       if (alive_[t] == 0 || sine(mesh_.triangles[t]) >= sin_bad_) continue;
-      Op op = chosen[i];
+      Op op = chosen[i].op;
       if (decided[i] == 0 || near_touched(mesh_.triangles[t])) {
         bool missing = false;
-        op = choose(t, scratch, nullptr, missing);
+        Resume fresh;
+        op = choose(t, scratch, nullptr, missing, fresh);
         if (op.kind == Op::Kind::kNone && missing) mark(mesh_.triangles[t], touched);
       }
       if (op.kind == Op::Kind::kNone) continue;
@@ -415,14 +439,18 @@ class Improver {
     return &it->second;
   }
 
-  // Whether a skeleton node lies in one of `tets` (all inside `box`).
-  bool sweeps_node(const Aabb& box, const std::vector<std::array<Vec3, 4>>& tets,
-                   Scratch& sc) const {
+  // Whether a skeleton node lies in one of the tetrahedra `make_tets` puts into sc.tets (all
+  // inside `box`; made only when a node lies in the box).
+  template <class MakeTets>
+  bool sweeps_node(const Aabb& box, Scratch& sc, MakeTets&& make_tets) const {
     sc.hits.clear();
     nodes_.query(box, sc.hits);
+    if (sc.hits.empty()) return false;
+    sc.tets.clear();
+    make_tets();
     for (const std::uint32_t h : sc.hits) {
       const Vec3& p = skeleton_.nodes[h].position;
-      for (const auto& q : tets) {
+      for (const auto& q : sc.tets) {
         if (in_tetrahedron(p, q[0], q[1], q[2], q[3])) return true;
       }
     }
@@ -488,8 +516,9 @@ class Improver {
     box.extend(pos(b));
     box.extend(pos(c));
     box.extend(pos(d));
-    sc.tets.assign(1, {pos(a), pos(b), pos(c), pos(d)});
-    if (sweeps_node(box, sc.tets, sc)) return;
+    if (sweeps_node(box, sc, [&] { sc.tets.push_back({pos(a), pos(b), pos(c), pos(d)}); })) {
+      return;
+    }
     bool lacking = false;
     const double rc = radius(c, req, lacking), rd = radius(d, req, lacking);
     const std::array<Vec3, 2> fresh{n1, n2}, old{normal(f1), normal(f2)};
@@ -510,16 +539,20 @@ class Improver {
     op.quality = new_worst;
   }
 
-  // Replacing the vertices `cluster` (sorted, at most kMaxCluster) by one new vertex at z of
-  // local radius rz; fills `op` when it beats it. The triangles around the cluster (the disk)
-  // must form a disk whose interior vertices are exactly the cluster and whose boundary is one
-  // simple cycle, with every edge between two boundary vertices on it (no chord). Then each
-  // disk triangle with one cluster vertex keeps its boundary edge and takes z for that vertex
-  // (in its own orientation), the others (two or three cluster vertices) go; the mesh stays a
-  // closed, oriented 2-manifold, and z has one triangle per boundary edge. For one vertex this
-  // is moving it, for two the collapse of their edge under the link condition.
-  void try_replace(const std::vector<std::uint32_t>& cluster, const Vec3& z, double rz,
-                   Scratch& sc, Requests* req, bool& missing, Op& op) const {
+  // Whether the vertices `cluster` (sorted, at most kMaxCluster) may be replaced by one new
+  // vertex: the triangles around them (the disk) must form a disk whose interior vertices are
+  // exactly the cluster and whose boundary is one simple cycle, with every edge between two
+  // boundary vertices on it (no chord). Then each disk triangle with one cluster vertex keeps
+  // its boundary edge and takes the new vertex for that one (in its own orientation), the
+  // others (two or three cluster vertices) go; the mesh stays a closed, oriented 2-manifold,
+  // and the new vertex has one triangle per boundary edge. For one vertex this is moving it,
+  // for two the collapse of their edge under the link condition. Fills sc.disk (and the rest
+  // that try_replace() reads) when it may.
+  bool prepare_disk(const std::vector<std::uint32_t>& cluster, Scratch& sc) const {
+    if (sc.prepared_call == sc.call && sc.prepared == cluster) return sc.prepared_ok;
+    sc.prepared_call = sc.call;
+    sc.prepared = cluster;
+    sc.prepared_ok = false;
     auto in_cluster = [&](std::uint32_t w) {
       return std::binary_search(cluster.begin(), cluster.end(), w);
     };
@@ -538,111 +571,136 @@ class Improver {
     boundary.clear();
     for (const std::uint32_t t : disk) {
       const Tri& f = mesh_.triangles[t];
-      for (int i = 0; i < 3; ++i) edges.push_back({f[i], f[(i + 1) % 3]});
+      for (int i = 0; i < 3; ++i) edges.push_back(edge_key(f[i], f[(i + 1) % 3]));
     }
     std::sort(edges.begin(), edges.end());
-    if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return;
-    for (const auto& e : edges) {
-      const bool inner = std::binary_search(edges.begin(), edges.end(),
-                                            std::array<std::uint32_t, 2>{e[1], e[0]});
-      const bool touches = in_cluster(e[0]) || in_cluster(e[1]);
-      if (inner && !touches) return;            // a chord
-      if (!inner && touches) return;            // a cluster vertex on the boundary
-      if (!inner) boundary.push_back(e);
+    if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return false;
+    for (const std::uint64_t e : edges) {
+      const auto a = static_cast<std::uint32_t>(e >> 32), b = static_cast<std::uint32_t>(e);
+      const bool inner = std::binary_search(edges.begin(), edges.end(), edge_key(b, a));
+      const bool touches = in_cluster(a) || in_cluster(b);
+      if (inner && !touches) return false;  // a chord
+      if (!inner && touches) return false;  // a cluster vertex on the boundary
+      if (!inner) boundary.push_back({a, b});
     }
     // One simple cycle: every boundary vertex starts exactly one boundary edge (the list is
     // sorted by start), and walking from the first edge visits all of them.
     const std::size_t nb = boundary.size();
-    if (nb < 3) return;
+    if (nb < 3) return false;
     for (std::size_t i = 1; i < nb; ++i) {
-      if (boundary[i][0] == boundary[i - 1][0]) return;
+      if (boundary[i][0] == boundary[i - 1][0]) return false;
     }
-    {
-      std::size_t steps = 0;
-      std::uint32_t at = boundary[0][1];
-      while (at != boundary[0][0] && steps < nb) {
-        const auto it = std::lower_bound(boundary.begin(), boundary.end(),
-                                         std::array<std::uint32_t, 2>{at, 0});
-        if (it == boundary.end() || (*it)[0] != at) return;
-        at = (*it)[1];
-        ++steps;
-      }
-      if (steps + 1 != nb) return;
+    std::size_t steps = 0;
+    std::uint32_t at = boundary[0][1];
+    while (at != boundary[0][0] && steps < nb) {
+      const auto it = std::lower_bound(boundary.begin(), boundary.end(),
+                                       std::array<std::uint32_t, 2>{at, 0});
+      if (it == boundary.end() || (*it)[0] != at) return false;
+      at = (*it)[1];
+      ++steps;
     }
+    if (steps + 1 != nb) return false;
     // A disk: V - E + F = 1.
     const long long n_edges = static_cast<long long>(edges.size() + nb) / 2;
     if (static_cast<long long>(cluster.size() + nb) - n_edges +
             static_cast<long long>(disk.size()) != 1) {
-      return;
+      return false;
     }
-    // The smallest angle must rise.
-    double old_worst = 1.0, new_worst = 1.0;
-    Aabb box(z);
+    // What every position of the new vertex is judged against.
+    sc.old_worst = 1.0;
     sc.old_normals.clear();
+    sc.kept.clear();
+    sc.box = Aabb(pos(cluster[0]));
     for (const std::uint32_t t : disk) {
       const Tri& f = mesh_.triangles[t];
-      old_worst = std::min(old_worst, sine(f));
+      sc.old_worst = std::min(sc.old_worst, sine(f));
       sc.old_normals.push_back(normal(f));
-      for (const std::uint32_t w : f) box.extend(pos(w));
-    }
-    for (const std::uint32_t t : disk) {
-      const Tri& f = mesh_.triangles[t];
       int in = 0, k = 0;
       for (int i = 0; i < 3; ++i) {
+        sc.box.extend(pos(f[i]));
         if (in_cluster(f[i])) ++in, k = i;
       }
-      if (in != 1) continue;
+      if (in == 1) sc.kept.push_back({t, static_cast<std::uint32_t>(k)});
+    }
+    // Each kept triangle holds one boundary edge, from its corner after the cluster's.
+    if (sc.kept.size() != nb) return false;
+    std::sort(sc.kept.begin(), sc.kept.end(), [&](const auto& x, const auto& y) {
+      return mesh_.triangles[x[0]][(x[1] + 1) % 3] < mesh_.triangles[y[0]][(y[1] + 1) % 3];
+    });
+    sc.prepared_ok = true;
+    return true;
+  }
+
+  // Replacing the vertices `cluster`, for which prepare_disk() holds (sc is as it left it), by
+  // one new vertex at z of local radius rz; fills `op` when it beats it.
+  void try_replace(const std::vector<std::uint32_t>& cluster, const Vec3& z, double rz,
+                   Scratch& sc, Requests* req, bool& missing, Op& op) const {
+    const std::vector<std::uint32_t>& disk = sc.disk;
+    const auto& edges = sc.edges;
+    const auto& boundary = sc.boundary;
+    const std::size_t nb = boundary.size();
+    // The smallest angle must rise.
+    double new_worst = 1.0;
+    for (const auto& [t, k] : sc.kept) {
+      const Tri& f = mesh_.triangles[t];
       std::array<Vec3, 3> p{pos(f[0]), pos(f[1]), pos(f[2])};
       p[k] = z;
       const double s = sine_of(p);
-      if (!(s > old_worst) || !(s > op.quality)) return;
+      if (!(s > sc.old_worst) || !(s > op.quality)) return;
       new_worst = std::min(new_worst, s);
     }
+    Aabb box = sc.box;
+    box.extend(z);
     // The swept volume: the cluster's vertices move to z one after the other, each sweeping a
     // tetrahedron with each of its triangles as the earlier moves left them.
-    sc.moved.assign(disk.size(), Tri{});
-    for (std::size_t i = 0; i < disk.size(); ++i) sc.moved[i] = mesh_.triangles[disk[i]];
-    sc.tets.clear();
-    constexpr std::uint32_t kZ = kNone;  // z's label in `moved`
-    auto at = [&](std::uint32_t w) { return w == kZ ? z : pos(w); };
-    for (const std::uint32_t x : cluster) {
-      for (Tri& f : sc.moved) {
-        int k = -1;
-        for (int i = 0; i < 3; ++i) {
-          if (f[i] == x) k = i;
+    auto make_tets = [&] {
+      sc.moved.assign(disk.size(), Tri{});
+      for (std::size_t i = 0; i < disk.size(); ++i) sc.moved[i] = mesh_.triangles[disk[i]];
+      constexpr std::uint32_t kZ = kNone;  // z's label in `moved`
+      auto at = [&](std::uint32_t w) { return w == kZ ? z : pos(w); };
+      for (const std::uint32_t x : cluster) {
+        for (Tri& f : sc.moved) {
+          int k = -1;
+          for (int i = 0; i < 3; ++i) {
+            if (f[i] == x) k = i;
+          }
+          if (k < 0) continue;
+          sc.tets.push_back({pos(x), z, at(f[(k + 1) % 3]), at(f[(k + 2) % 3])});
+          f[k] = kZ;
         }
-        if (k < 0) continue;
-        sc.tets.push_back({pos(x), z, at(f[(k + 1) % 3]), at(f[(k + 2) % 3])});
-        f[k] = kZ;
       }
-    }
-    if (sweeps_node(box, sc.tets, sc)) return;
+    };
+    if (sweeps_node(box, sc, make_tets)) return;
     // Every new edge z-w stays within the tolerance, or no farther than the edges from the
     // cluster to w it replaces (an edge from a cluster vertex that stays where it is, z, is
-    // no new edge), and the new triangle (w, w', z) on the boundary edge w -> w' follows the
-    // surface at the midpoint of z-w.
+    // no new edge), and every new triangle (w, w', z) on the boundary edge w -> w' follows the
+    // surface at the midpoint of z-w (a triangle whose cluster vertex is at z is no new one).
     bool lacking = std::isnan(rz);
     bool fits = true;
     for (std::size_t i = 0; i < nb && (fits || req != nullptr); ++i) {
       const std::uint32_t w = boundary[i][0], w_next = boundary[i][1];
+      const auto& [t, k] = sc.kept[i];
+      const bool moved = pos(mesh_.triangles[t][k]) != z;
       bool same = false;
       for (const std::uint32_t x : cluster) {
-        if (pos(x) == z && std::binary_search(edges.begin(), edges.end(),
-                                               std::array<std::uint32_t, 2>{x, w})) {
+        if (pos(x) == z && std::binary_search(edges.begin(), edges.end(), edge_key(x, w))) {
           same = true;
         }
       }
+      if (same && !moved) continue;
       bool m = false;
       const double rw = radius(w, req, m);
       const std::array<Vec3, 1> fresh{normal_of({pos(w), pos(w_next), z})};
-      auto fold_ok = [&](const Probe& pr) { return follows(fresh, sc.old_normals, pr, sc.relaxed); };
+      auto fold_ok = [&](const Probe& pr) {
+        return !moved || follows(fresh, sc.old_normals, pr, sc.relaxed);
+      };
       const bool ok = edge_fits(z, pos(w), rz, rw, fold_ok, !same, req, m, [&](bool& mm) {
         // An end point moving by |z - x| moves the midpoint by half that: an old edge beyond
         // the tolerance may get that much farther, up to kSlack of the tolerance (the
         // near-coincident vertices of a cluster).
         double before = 0;
         for (const std::uint32_t x : cluster) {
-          if (std::binary_search(edges.begin(), edges.end(), std::array<std::uint32_t, 2>{x, w})) {
+          if (std::binary_search(edges.begin(), edges.end(), edge_key(x, w))) {
             const double rx = radius(x, req, mm);
             const double slack =
                 std::min(0.5 * (z - pos(x)).norm() / std::min(rx, rw), kSlack * o_.tolerance);
@@ -671,20 +729,19 @@ class Improver {
     op.quality = new_worst;
   }
 
-  // The operation for the bad triangle t: flips of its edges, else the collapse of its shortest
-  // edge into an end point, else into its midpoint taken onto the surface, else the collapse
-  // of the cluster of near-coincident vertices around that edge, else relaxations of its
-  // corners. The next kind is tried only when the ones before cannot make the triangle good
-  // (and that is known: with `req`, the evaluation stages, the field data the operations lack
-  // is asked for there, and `missing` says whether some was lacking). The best of those tried
-  // wins.
-  Op choose(std::uint32_t t, Scratch& sc, Requests* req, bool& missing) const {
-    Op op;
+  // The operation for the bad triangle t, by levels: flips of its edges; the collapse of its
+  // shortest edge into an end point; into its midpoint taken onto the surface; the collapse of
+  // the cluster of near-coincident vertices around that edge into one of them; into their
+  // centroid on the surface; the patch of bad triangles around t into its centroid on the
+  // surface; relaxations of its corners. A level is tried only when the ones before cannot
+  // make the triangle good, and that is known: with `req` (the evaluation stages) the field
+  // data a level lacks is asked for there, `missing` says whether some was lacking, and
+  // `resume` keeps the levels decided for the next stage. The best of those tried wins.
+  Op choose(std::uint32_t t, Scratch& sc, Requests* req, bool& missing, Resume& resume) const {
+    Op op = resume.op;
+    ++sc.call;
     const Tri f = mesh_.triangles[t];
     sc.relaxed = sine(f) < sin_hard_;
-    auto settled = [&] { return missing || op.quality >= sin_bad_; };
-    for (int k = 0; k < 3; ++k) try_flip(t, k, sc, req, missing, op);
-    if (settled()) return op;
     int k = 0;
     double shortest = kInf, longest = 0;
     for (int i = 0; i < 3; ++i) {
@@ -694,99 +751,129 @@ class Improver {
     }
     const std::uint32_t u = f[k], v = f[(k + 1) % 3];
     std::vector<std::uint32_t>& cluster = sc.cluster;
-    cluster = {std::min(u, v), std::max(u, v)};
-    try_replace(cluster, pos(u), radius(u, req, missing), sc, req, missing, op);
-    try_replace(cluster, pos(v), radius(v, req, missing), sc, req, missing, op);
-    if (settled()) return op;
-    const Vec3 mid = 0.5 * (pos(u) + pos(v));
-    if (const Projection* p = projection(mid, req, missing);
-        p != nullptr && p->ok && (p->z - mid).norm() <= std::sqrt(shortest)) {
-      try_replace(cluster, p->z, p->radius, sc, req, missing, op);
-    }
-    if (settled()) return op;
-    // The cluster: the vertices joined to u or v by a chain of edges shorter than
-    // kClusterEdge times the triangle's longest edge.
-    const double reach2 = kClusterEdge * kClusterEdge * longest;
-    if (shortest <= reach2) {
-      for (std::size_t i = 0; i < cluster.size() && cluster.size() <= kMaxCluster; ++i) {
-        const std::uint32_t x = cluster[i];
-        for (std::uint32_t c = head_[x]; c != kNone; c = next_[c]) {
-          for (const std::uint32_t w : mesh_.triangles[c / 3]) {
-            if (w != x && (pos(w) - pos(x)).squaredNorm() <= reach2 &&
-                std::find(cluster.begin(), cluster.end(), w) == cluster.end()) {
-              cluster.push_back(w);
+    for (int level = resume.level; level < kLevels; ++level) {
+      switch (level) {
+        case 0:  // flips
+          for (int e = 0; e < 3; ++e) try_flip(t, e, sc, req, missing, op);
+          break;
+        case 1:  // the shortest edge into an end point
+        case 2: {  // into its midpoint on the surface
+          cluster = {std::min(u, v), std::max(u, v)};
+          if (!prepare_disk(cluster, sc)) break;
+          if (level == 1) {
+            try_replace(cluster, pos(u), radius(u, req, missing), sc, req, missing, op);
+            try_replace(cluster, pos(v), radius(v, req, missing), sc, req, missing, op);
+            break;
+          }
+          const Vec3 mid = 0.5 * (pos(u) + pos(v));
+          if (const Projection* p = projection(mid, req, missing);
+              p != nullptr && p->ok && (p->z - mid).norm() <= std::sqrt(shortest)) {
+            try_replace(cluster, p->z, p->radius, sc, req, missing, op);
+          }
+          break;
+        }
+        case 3:    // the cluster into one of its vertices
+        case 4: {  // into its centroid on the surface
+          // The vertices joined to u or v by a chain of edges shorter than kClusterEdge times
+          // the triangle's longest edge.
+          const double reach2 = kClusterEdge * kClusterEdge * longest;
+          if (shortest > reach2) break;
+          cluster = {u, v};
+          for (std::size_t i = 0; i < cluster.size() && cluster.size() <= kMaxCluster; ++i) {
+            const std::uint32_t x = cluster[i];
+            for (std::uint32_t c = head_[x]; c != kNone; c = next_[c]) {
+              for (const std::uint32_t w : mesh_.triangles[c / 3]) {
+                if (w != x && (pos(w) - pos(x)).squaredNorm() <= reach2 &&
+                    std::find(cluster.begin(), cluster.end(), w) == cluster.end()) {
+                  cluster.push_back(w);
+                }
+              }
             }
           }
+          if (cluster.size() <= 2 || cluster.size() > kMaxCluster) break;
+          Vec3 centroid = Vec3::Zero();
+          for (const std::uint32_t x : cluster) centroid += pos(x);
+          centroid /= static_cast<double>(cluster.size());
+          std::sort(cluster.begin(), cluster.end());
+          if (!prepare_disk(cluster, sc)) break;
+          if (level == 3) {
+            for (std::size_t i = 0; i < cluster.size(); ++i) {
+              const std::uint32_t x = cluster[i];  // (try_replace reads the cluster, not x)
+              try_replace(cluster, pos(x), radius(x, req, missing), sc, req, missing, op);
+            }
+            break;
+          }
+          if (const Projection* p = projection(centroid, req, missing);
+              p != nullptr && p->ok && (p->z - centroid).norm() <= std::sqrt(reach2)) {
+            try_replace(cluster, p->z, p->radius, sc, req, missing, op);
+          }
+          break;
+        }
+        case 5: {
+          // The bad region: the vertices of the bad triangles joined to t through shared
+          // corners, into their centroid on the surface (a crumpled patch).
+          cluster.assign(f.begin(), f.end());
+          bool small = true;
+          for (std::size_t i = 0; i < cluster.size() && small; ++i) {
+            const std::uint32_t x = cluster[i];
+            for (std::uint32_t c = head_[x]; c != kNone && small; c = next_[c]) {
+              const Tri& g = mesh_.triangles[c / 3];
+              if (sine(g) >= sin_bad_) continue;
+              for (const std::uint32_t w : g) {
+                if (std::find(cluster.begin(), cluster.end(), w) != cluster.end()) continue;
+                cluster.push_back(w);
+                if (cluster.size() > kMaxCluster) small = false;
+              }
+            }
+          }
+          if (!small) break;
+          Vec3 centroid = Vec3::Zero();
+          for (const std::uint32_t x : cluster) centroid += pos(x);
+          centroid /= static_cast<double>(cluster.size());
+          double reach = 0;
+          for (const std::uint32_t x : cluster) reach = std::max(reach, (pos(x) - centroid).norm());
+          std::sort(cluster.begin(), cluster.end());
+          if (!prepare_disk(cluster, sc)) break;
+          if (const Projection* p = projection(centroid, req, missing);
+              p != nullptr && p->ok && (p->z - centroid).norm() <= reach) {
+            try_replace(cluster, p->z, p->radius, sc, req, missing, op);
+          }
+          break;
+        }
+        default: {  // relaxations of the corners
+          std::vector<std::uint32_t>& around = sc.around;
+          for (const std::uint32_t w : f) {
+            // The centroid of the neighbours, in the tangent plane (the fan's area vector).
+            ring(w, around);
+            if (around.empty()) continue;
+            Vec3 centroid = Vec3::Zero(), area = Vec3::Zero();
+            for (const std::uint32_t x : around) centroid += pos(x);
+            centroid /= static_cast<double>(around.size());
+            for (std::uint32_t c = head_[w]; c != kNone; c = next_[c]) {
+              area += normal(mesh_.triangles[c / 3]);
+            }
+            const double an = area.norm();
+            if (!(an > 0)) continue;
+            const Vec3 n = area / an;
+            const Vec3 start = centroid - (centroid - pos(w)).dot(n) * n;
+            double reach = 0;
+            for (const std::uint32_t x : around) reach = std::max(reach, (pos(x) - pos(w)).norm());
+            cluster.assign(1, w);
+            if (!prepare_disk(cluster, sc)) continue;
+            if (const Projection* p = projection(start, req, missing);
+                p != nullptr && p->ok && (p->z - start).norm() <= 0.5 * reach) {
+              try_replace(cluster, p->z, p->radius, sc, req, missing, op);
+            }
+          }
+          break;
         }
       }
-      if (cluster.size() > 2 && cluster.size() <= kMaxCluster) {
-        Vec3 centroid = Vec3::Zero();
-        for (const std::uint32_t x : cluster) centroid += pos(x);
-        centroid /= static_cast<double>(cluster.size());
-        std::sort(cluster.begin(), cluster.end());
-        for (std::size_t i = 0; i < cluster.size(); ++i) {
-          const std::uint32_t x = cluster[i];  // (try_replace reads the cluster, not x)
-          try_replace(cluster, pos(x), radius(x, req, missing), sc, req, missing, op);
-        }
-        if (settled()) return op;
-        if (const Projection* p = projection(centroid, req, missing);
-            p != nullptr && p->ok && (p->z - centroid).norm() <= std::sqrt(reach2)) {
-          try_replace(cluster, p->z, p->radius, sc, req, missing, op);
-        }
-        if (settled()) return op;
-      }
-    }
-    // The bad region: the vertices of the bad triangles joined to t through shared corners,
-    // replaced by one vertex at their centroid taken onto the surface (a crumpled patch).
-    cluster.assign(f.begin(), f.end());
-    bool small = true;
-    for (std::size_t i = 0; i < cluster.size() && small; ++i) {
-      const std::uint32_t x = cluster[i];
-      for (std::uint32_t c = head_[x]; c != kNone && small; c = next_[c]) {
-        const Tri& g = mesh_.triangles[c / 3];
-        if (sine(g) >= sin_bad_) continue;
-        for (const std::uint32_t w : g) {
-          if (std::find(cluster.begin(), cluster.end(), w) != cluster.end()) continue;
-          cluster.push_back(w);
-          if (cluster.size() > kMaxCluster) small = false;
-        }
-      }
-    }
-    if (small) {
-      Vec3 centroid = Vec3::Zero();
-      for (const std::uint32_t x : cluster) centroid += pos(x);
-      centroid /= static_cast<double>(cluster.size());
-      double reach = 0;
-      for (const std::uint32_t x : cluster) reach = std::max(reach, (pos(x) - centroid).norm());
-      std::sort(cluster.begin(), cluster.end());
-      if (const Projection* p = projection(centroid, req, missing);
-          p != nullptr && p->ok && (p->z - centroid).norm() <= reach) {
-        try_replace(cluster, p->z, p->radius, sc, req, missing, op);
-      }
-      if (settled()) return op;
-    }
-    std::vector<std::uint32_t>& around = sc.around;
-    for (const std::uint32_t w : f) {
-      // The centroid of the neighbours, in the tangent plane (the fan's area vector).
-      ring(w, around);
-      if (around.empty()) continue;
-      Vec3 centroid = Vec3::Zero(), area = Vec3::Zero();
-      for (const std::uint32_t x : around) centroid += pos(x);
-      centroid /= static_cast<double>(around.size());
-      for (std::uint32_t c = head_[w]; c != kNone; c = next_[c]) {
-        area += normal(mesh_.triangles[c / 3]);
-      }
-      const double an = area.norm();
-      if (!(an > 0)) continue;
-      const Vec3 n = area / an;
-      const Vec3 start = centroid - (centroid - pos(w)).dot(n) * n;
-      double reach = 0;
-      for (const std::uint32_t x : around) reach = std::max(reach, (pos(x) - pos(w)).norm());
-      if (const Projection* p = projection(start, req, missing);
-          p != nullptr && p->ok && (p->z - start).norm() <= 0.5 * reach) {
-        cluster.assign(1, w);
-        try_replace(cluster, p->z, p->radius, sc, req, missing, op);
-      }
+      // A level that lacked data is decided again once it is there; the next levels wait for
+      // it (they are tried only when this one cannot make the triangle good).
+      if (missing) return op;
+      resume.level = level + 1;
+      resume.op = op;
+      if (op.quality >= sin_bad_) return op;
     }
     return op;
   }

@@ -4,6 +4,7 @@ set(RAMIFORM_polygonize_TESTS
   polygonize/marching_cubes_skeleton_test.cpp
   polygonize/tetrahedral_test.cpp
   polygonize/refine_test.cpp
+  polygonize/improve_test.cpp
   polygonize/delaunay_test.cpp
   polygonize/edge_roots_test.cpp
   polygonize/memory_budget_test.cpp)
