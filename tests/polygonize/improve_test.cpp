@@ -241,8 +241,8 @@ TEST(ImproveTriangles, FixesAHandBuiltNeedleAndCap) {
   EXPECT_EQ(st.below_10_deg_before, 3u);
   EXPECT_EQ(st.below_1_deg_before, 2u);
   EXPECT_EQ(st.below_10_deg_after, 0u);
-  EXPECT_GE(st.flips, 1u);      // the cap's long edge
-  EXPECT_GE(st.collapses, 1u);  // the needles' short edge
+  EXPECT_GE(st.flips, 1u);                       // the cap's long edge
+  EXPECT_GE(st.collapses + st.relaxed, 1u);      // the needles' short edge
   EXPECT_EQ(st.triangles_before, sphere.triangles.size() + 4);
   EXPECT_EQ(st.triangles_after, m.triangles.size());
   EXPECT_EQ(nodes_outside(m, s), 0u);
@@ -256,6 +256,69 @@ TEST(ImproveTriangles, FixesAHandBuiltNeedleAndCap) {
   EXPECT_EQ(same.positions, sphere.positions);
   EXPECT_EQ(st.flips + st.collapses + st.relaxed, 0u);
   EXPECT_EQ(st.rounds, 0);
+}
+
+TEST(ImproveTriangles, CollapsesRootsThatLandedOnOnePoint) {
+  // A vertex of the sphere replaced by three within 1e-4 radii of it, joined by a tiny triangle
+  // and sharing its fan (the needle cluster of several roots on one lattice point).
+  constexpr double kRadius = 1.0;
+  const FieldPtr f = make_point_field(Vec3::Zero(), kRadius);
+  Skeleton s;
+  s.nodes.push_back({Vec3::Zero(), kRadius});
+  const TriMesh sphere = icosphere(*f, kRadius, 2);
+  TriMesh m = sphere;
+  const std::uint32_t v = m.triangles[7][0];
+  // v's ring, counter-clockwise: each triangle (v, a, b) gives the edge a -> b.
+  std::map<std::uint32_t, std::uint32_t> next;
+  std::vector<std::array<std::uint32_t, 3>> kept;
+  for (const auto& t : m.triangles) {
+    int k = -1;
+    for (int i = 0; i < 3; ++i) {
+      if (t[i] == v) k = i;
+    }
+    if (k < 0) {
+      kept.push_back(t);
+    } else {
+      next[t[(k + 1) % 3]] = t[(k + 2) % 3];
+    }
+  }
+  std::vector<std::uint32_t> ring{next.begin()->first};
+  while (ring.size() < next.size()) ring.push_back(next[ring.back()]);
+  const std::size_t n = ring.size(), k1 = n / 3, k2 = 2 * n / 3;
+  std::array<std::uint32_t, 3> c{};
+  const std::array<std::size_t, 3> at{0, k1, k2};
+  for (int i = 0; i < 3; ++i) {
+    c[i] = i == 0 ? v : static_cast<std::uint32_t>(m.positions.size());
+    const Vec3 p = m.positions[v] + 1e-4 * (m.positions[ring[at[i]]] - m.positions[v]).normalized();
+    const Vec3 q = distance_to_surface(*f, p, kRadius).foot;
+    if (i == 0) {
+      m.positions[v] = q;
+    } else {
+      m.positions.push_back(q);
+    }
+  }
+  for (std::size_t j = 0; j < n; ++j) {
+    const int owner = j < k1 ? 0 : (j < k2 ? 1 : 2);
+    kept.push_back({c[owner], ring[j], ring[(j + 1) % n]});
+  }
+  kept.push_back({c[0], ring[k1], c[1]});
+  kept.push_back({c[1], ring[k2], c[2]});
+  kept.push_back({c[2], ring[0], c[0]});
+  kept.push_back({c[0], c[1], c[2]});
+  m.triangles = kept;
+  const MeshReport bad = check_mesh(m);
+  ASSERT_TRUE(bad.watertight && bad.oriented && bad.manifold) << test::describe(bad);
+  ASSERT_EQ(bad.triangles_below_1_deg, 3u);  // the triangles joining the three
+  ImproveStats st;
+  improve_triangles(m, *f, s, {}, nullptr, &st);
+  const MeshReport r = test::expect_closed_manifold(m);
+  test::expect_closed_surface(m, 1, 2);
+  EXPECT_EQ(r.triangles_below_10_deg, 0u) << test::describe(r);
+  EXPECT_GE(st.collapses, 1u);
+  EXPECT_LT(m.triangles.size(), sphere.triangles.size() + 4);  // some of the cluster went
+  EXPECT_EQ(nodes_outside(m, s), 0u);
+  EXPECT_EQ(inverted(m, *f), 0u);
+  EXPECT_LT(largest_surface_distance(m, *f), 1e-6 * kRadius);
 }
 
 TEST(ImproveTriangles, BadOptionsAreRefusedByName) {
