@@ -19,15 +19,17 @@ if [ ${#fuzzers[@]} -eq 0 ]; then
   echo "run_fuzzers: no fuzzers in $build_dir/fuzz (build the target ramiform_fuzzers)" >&2
   exit 1
 fi
-# FUZZ_ONLY="mesh_off curve2": only these harnesses (every one when empty or unset).
+# FUZZ_ONLY="mesh_off curve2:900": only these harnesses (every one when empty or unset), each
+# for SECONDS or for the seconds given after its name.
 if [ -n "${FUZZ_ONLY:-}" ]; then
   chosen=()
-  for name in $FUZZ_ONLY; do
+  for entry in $FUZZ_ONLY; do
+    name=${entry%%:*}
     if [ ! -x "$build_dir/fuzz/ramiform_fuzz_$name" ]; then
       echo "run_fuzzers: no harness '$name' in $build_dir/fuzz (FUZZ_ONLY)" >&2
       exit 2
     fi
-    chosen+=("$build_dir/fuzz/ramiform_fuzz_$name")
+    chosen+=("$build_dir/fuzz/ramiform_fuzz_$entry")
   done
   fuzzers=("${chosen[@]}")
 fi
@@ -38,7 +40,9 @@ export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1}
 
 run_one() {
-  local fuzzer=$1 name=${1##*/ramiform_fuzz_}
+  local entry=${1##*/ramiform_fuzz_} seconds=$seconds
+  local name=${entry%%:*} fuzzer=${1%%:*}
+  [ "$entry" != "$name" ] && seconds=${entry#*:}
   local work=$build_dir/fuzz-work/$name findings=$build_dir/fuzz-findings/$name
   local log=$build_dir/fuzz-logs/$name.log
   mkdir -p "$work" "$findings" "$build_dir/fuzz-logs"

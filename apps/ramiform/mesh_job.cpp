@@ -72,6 +72,7 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
                        {"unprojected", st.refine.unprojected},
                        {"reverted", st.refine.reverted},
                        {"halfway", st.refine.halfway},
+                       {"inherited", st.refine.inherited},
                        {"triangles_before", st.refine.triangles_before},
                        {"triangles_after", st.refine.triangles_after},
                        {"edge_tolerance", st.edge_tolerance},

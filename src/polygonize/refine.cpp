@@ -14,6 +14,7 @@
 
 #include "field/bvh.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/memory.h"
 #include "ramiform/core/numbers.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/core/portable_math.h"
@@ -24,6 +25,16 @@ namespace {
 
 constexpr std::size_t kGrain = 4096;
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+/// Peak bytes per triangle of a refinement round (the mesh, its edges, the candidates' points,
+/// values and gradients, the new triangles and their parents' normals: about 250).
+constexpr std::size_t kBytesPerTriangle = 256;
+/// An edge split at its midpoint taken onto the surface leaves two halves whose chords sag about a
+/// quarter as much as the edge did (a parabola's chord of half the length); a half is assumed to
+/// sag by at most this share of its parent's first-order distance, and is not evaluated again
+/// when that stays within the tolerance.
+constexpr double kHalfSag = 0.5;
+/// A Newton step at most this long (in local radii) ends the projection of a new vertex.
+constexpr double kConvergedStep = 3e-3;
 
 void validate(const RefineOptions& o) {
   if (!(o.edge_tolerance > 0.0) || !std::isfinite(o.edge_tolerance)) {
@@ -98,17 +109,41 @@ bool in_tetrahedron(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, 
          s * (b - a).cross(p - a).dot(d - a) >= 0 && s * (b - a).cross(c - a).dot(p - a) >= 0;
 }
 
+/// Where the previous round's vertices came from: the end points of the edge each split, and that
+/// edge's first-order distance (infinite where the vertex was not taken all the way onto the
+/// surface, so its halves are chords of the old edge and sag like it).
+struct Lineage {
+  std::vector<std::array<std::uint32_t, 2>> parents;
+  std::vector<double> sag;
+};
+
 /// One round; returns the number of edges split (0: nothing to do or over budget). `fresh` marks
 /// the vertices made by the previous round (all in the first): an edge between two older
-/// vertices was measured then and not split, so only edges with a fresh end are evaluated.
+/// vertices was measured then and not split, so only edges with a fresh end are evaluated, and
+/// of those not the halves of an edge that sagged little (kHalfSag).
 std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vector<char>& fresh,
-                         const Field& field, const Skeleton& skeleton, const detail::BoxBvh& nodes,
-                         const RefineOptions& o, Context* ctx, RefineStats& st) {
+                         Lineage& lineage, const Field& field, const Skeleton& skeleton,
+                         const detail::BoxBvh& nodes, const RefineOptions& o, Context* ctx,
+                         RefineStats& st) {
   const Edges edges = mesh_edges(mesh);
   const std::size_t ne = edges.ends.size();
+  // Whether edge (child, other) is a half of the edge that made `child`, and sags little.
+  auto small_half = [&](std::uint32_t child, std::uint32_t other) {
+    if (fresh[child] == 0 || child >= lineage.sag.size()) return false;
+    const auto& p = lineage.parents[child];
+    return (p[0] == other || p[1] == other) &&
+           kHalfSag * lineage.sag[child] <=
+               o.edge_tolerance * std::min(vradius[child], vradius[other]);
+  };
   std::vector<std::uint32_t> candidates;
   for (std::uint32_t e = 0; e < ne; ++e) {
-    if (fresh[edges.ends[e][0]] != 0 || fresh[edges.ends[e][1]] != 0) candidates.push_back(e);
+    const auto [a, b] = edges.ends[e];
+    if (fresh[a] == 0 && fresh[b] == 0) continue;
+    if (small_half(a, b) || small_half(b, a)) {
+      ++st.inherited;
+      continue;
+    }
+    candidates.push_back(e);
   }
   const std::size_t nc = candidates.size();
   // The candidates' midpoints and radii (an edge's radius: the smaller local radius of its end
@@ -157,12 +192,16 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
     return 0;
   }
   // New vertices: the split edges' midpoints, taken onto the surface by batched Newton steps.
+  // Only candidates are split, and candidates ascend by edge: split_candidate[i] is the
+  // candidate (the index into value and grad) of split_edges[i].
   std::vector<std::uint32_t> new_id(ne, kNone);
-  std::vector<std::uint32_t> split_edges;
-  for (std::uint32_t e = 0; e < ne; ++e) {
+  std::vector<std::uint32_t> split_edges, split_candidate;
+  for (std::uint32_t c = 0; c < nc; ++c) {
+    const std::uint32_t e = candidates[c];
     if (split[e] != 0) {
       new_id[e] = static_cast<std::uint32_t>(mesh.positions.size() + split_edges.size());
       split_edges.push_back(e);
+      split_candidate.push_back(c);
     }
   }
   const std::size_t ns = split_edges.size();
@@ -176,11 +215,19 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
   std::vector<std::size_t> active(ns);
   for (std::size_t i = 0; i < ns; ++i) active[i] = i;
   for (int step = 0; step < 8 && !active.empty(); ++step) {
-    std::vector<Vec3> pts(active.size());
-    for (std::size_t j = 0; j < active.size(); ++j) pts[j] = z[active[j]];
     std::vector<double> v(active.size());
     std::vector<Vec3> g(active.size());
-    field.evaluate(pts, v, g, ctx);
+    if (step == 0) {
+      // The first step starts at the midpoint, whose value and gradient the test above has.
+      for (std::size_t j = 0; j < active.size(); ++j) {
+        v[j] = value[split_candidate[active[j]]];
+        g[j] = grad[split_candidate[active[j]]];
+      }
+    } else {
+      std::vector<Vec3> pts(active.size());
+      for (std::size_t j = 0; j < active.size(); ++j) pts[j] = z[active[j]];
+      field.evaluate(pts, v, g, ctx);
+    }
     std::vector<std::size_t> next;
     for (std::size_t j = 0; j < active.size(); ++j) {
       const std::size_t i = active[j];
@@ -194,8 +241,10 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
       const Vec3 step = ((v[j] - iso) / gg) * g[j];
       z[i] -= step;
       // Newton converges quadratically: after a step this small the distance left is of the
-      // order of step^2 / radius, far below any tolerance, and needs no further evaluation.
-      if (step.norm() <= 1e-4 * zr[i]) {
+      // order of step^2 / radius (here about 1e-5 radii), far below any tolerance, and needs
+      // no further evaluation. From a midpoint 0.05 radii off the surface the second step is
+      // about 0.003 radii, so most splits take one evaluation besides the test's.
+      if (step.norm() <= kConvergedStep * zr[i]) {
         ok[i] = 1;
         continue;
       }
@@ -345,9 +394,13 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
     }
     if (reverted == 0) break;
   }
+  lineage.parents.assign(mesh.positions.size(), {kNone, kNone});
+  lineage.sag.assign(mesh.positions.size(), std::numeric_limits<double>::infinity());
   for (std::size_t i = 0; i < ns; ++i) {
     st.flat_splits += moved[i] == 0 ? 1 : 0;
     st.halfway += moved[i] == 2 ? 1 : 0;
+    lineage.parents[nv_old + i] = edges.ends[split_edges[i]];
+    if (moved[i] == 1) lineage.sag[nv_old + i] = estimate[split_edges[i]];
   }
   return ns;
 }
@@ -383,13 +436,19 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
   mesh.normals.clear();
   std::vector<double> vradius = local_radii(skeleton, mesh.positions, ctx);
   std::vector<char> fresh(mesh.positions.size(), 1);
-  for (int round = 0; round < options.max_rounds; ++round) {
-    const std::size_t split =
-        refine_round(mesh, vradius, fresh, field, skeleton, nodes, options, ctx, st);
+  Lineage lineage;
+  // The memory budget caps the triangle budget: a round that would need more memory than the
+  // budget allows is not started (budget_reached), rather than refused or run out of memory.
+  RefineOptions o = options;
+  if (const std::uint64_t budget = memory_budget(ctx); budget > 0) {
+    o.max_triangles = std::min<std::size_t>(o.max_triangles, budget / kBytesPerTriangle);
+  }
+  for (int round = 0; round < o.max_rounds; ++round) {
+    const std::size_t split = refine_round(mesh, vradius, fresh, lineage, field, skeleton, nodes, o, ctx, st);
     if (split == 0) break;
     ++st.rounds;
     st.split_edges += split;
-    if (ctx != nullptr) ctx->report("refine", static_cast<double>(round + 1) / options.max_rounds);
+    if (ctx != nullptr) ctx->report("refine", static_cast<double>(round + 1) / o.max_rounds);
   }
   st.triangles_after = mesh.triangles.size();
   if (stats != nullptr) *stats = st;
@@ -426,6 +485,7 @@ TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,
   st.seconds_tets = since(t0);
   RefineOptions ro;
   ro.edge_tolerance = options.tolerance;
+  ro.max_triangles = options.max_triangles;
   DeviationOptions dev;
   dev.samples = options.samples;
   dev.seed = options.seed;
@@ -441,6 +501,7 @@ TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,
     st.refine.unprojected += rs.unprojected;
     st.refine.reverted += rs.reverted;
     st.refine.halfway += rs.halfway;
+    st.refine.inherited += rs.inherited;
     st.refine.budget_reached = st.refine.budget_reached || rs.budget_reached;
     if (pass == 0) st.refine.triangles_before = rs.triangles_before;
     st.refine.triangles_after = rs.triangles_after;

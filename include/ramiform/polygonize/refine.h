@@ -10,7 +10,9 @@
 /// is refined where it is far from the surface, in rounds:
 ///  1. every edge's midpoint gets the first-order distance |f - iso| / |grad f| to the surface
 ///     (one batch evaluation), relative to the local skeleton radius (mesh/deviation.h; the
-///     smaller of its end points' radii);
+///     smaller of its end points' radii); after the first round only the edges at the last
+///     round's new vertices, and of those not the halves of a split edge whose distance was at
+///     most twice the tolerance (a half of a chord sags about a quarter as much; `inherited`);
 ///  2. the edges whose midpoint lies farther than `edge_tolerance` radii (and which are longer
 ///     than `min_edge_radii` radii) are split: the new
 ///     vertex is the midpoint taken onto the surface by Newton steps along the gradient (batched),
@@ -48,7 +50,9 @@ struct RefineOptions {
   /// L^2 / 8 r, so a midpoint still far from the surface is not one splitting can bring closer.
   double min_edge_radii = 0.25;
   int max_rounds = 6;                  ///< rounds of splitting (>= 0)
-  std::size_t max_triangles = 20'000'000;  ///< no round may take the mesh beyond this
+  /// No round may take the mesh beyond this; the memory budget (Context::max_memory, else the
+  /// memory available) lowers it to budget / 256 bytes per triangle.
+  std::size_t max_triangles = 20'000'000;
   double max_turn_deg = 80.0;          ///< largest turn of a new triangle's normal, (0, 180)
 };
 
@@ -60,6 +64,9 @@ struct RefineStats {
   std::size_t unprojected = 0;       ///< the Newton steps did not converge close by
   std::size_t reverted = 0;          ///< a fold or a protected point sent back
   std::size_t halfway = 0;           ///< new vertices left half way to the surface
+  /// Edges not evaluated: halves of an edge whose first-order distance was small enough that
+  /// theirs (taken as half of it) is within the tolerance.
+  std::size_t inherited = 0;
   std::size_t triangles_before = 0;  ///< triangles before refinement
   std::size_t triangles_after = 0;   ///< triangles after it
   bool budget_reached = false;       ///< a round was skipped for max_triangles
@@ -89,6 +96,9 @@ struct ToleranceOptions {
   std::size_t samples = 10000;  ///< points of each deviation measure (>= 100)
   std::uint64_t seed = 1;       ///< their seed
   int max_passes = 4;           ///< refine-and-measure passes (>= 1)
+  /// The refinement's triangle budget (RefineOptions::max_triangles; the memory budget may
+  /// lower it). Where it stops the refinement, `reached` may be false.
+  std::size_t max_triangles = RefineOptions{}.max_triangles;
   /// The triangle improvement after each refinement pass (its `tolerance` is set to the pass's
   /// edge tolerance; `max_rounds = 0` turns it off).
   ImproveOptions improve;
