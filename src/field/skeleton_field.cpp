@@ -169,6 +169,7 @@ class SkeletonField final : public Field {
         box.extend(p);
       }
       chunk.padded = (count + 15) / 16 * 16;
+      chunk.count = count;
       for (std::size_t k = count; k < chunk.padded; ++k) {
         chunk.px[k] = chunk.px[0];
         chunk.py[k] = chunk.py[0];

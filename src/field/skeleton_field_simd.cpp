@@ -21,6 +21,7 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include <algorithm>
 #include <limits>
 
 #include "field/skeleton_field_simd.h"
@@ -31,17 +32,23 @@ namespace ramiform::detail {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using D = hn::ScalableTag<double>;
-using V = hn::Vec<D>;
-using DI = hn::RebindToSigned<D>;
+// Every function below is written for any vector descriptor D: the full vectors of the target,
+// or partial ones of 1, 2 or 4 lanes for chunks of that few points (accumulate()). The lanes
+// are independent and run the same operations, so a point's value is the same in each.
 
 // a * b + c, rounded twice on every target.
-HWY_INLINE V mul_add(V a, V b, V c) { return hn::Add(hn::Mul(a, b), c); }
+template <class V>
+HWY_INLINE V mul_add(V a, V b, V c) {
+  return hn::Add(hn::Mul(a, b), c);
+}
 // c - a * b, rounded twice on every target.
-HWY_INLINE V neg_mul_add(V a, V b, V c) { return hn::Sub(c, hn::Mul(a, b)); }
+template <class V>
+HWY_INLINE V neg_mul_add(V a, V b, V c) {
+  return hn::Sub(c, hn::Mul(a, b));
+}
 
 // c[0] + c[1] x + ... + c[N-1] x^(N-1), Horner's rule.
-template <std::size_t N>
+template <class D, class V = hn::Vec<D>, std::size_t N>
 HWY_INLINE V horner(D d, V x, const double (&c)[N]) {
   V p = hn::Set(d, c[N - 1]);
   for (std::size_t k = N - 1; k-- > 0;) p = mul_add(p, x, hn::Set(d, c[k]));
@@ -60,13 +67,15 @@ using pm::detail::kLogPoly;
 using pm::detail::kRoundMagic;
 
 // 2^k for an integer-valued k + kRoundMagic (k in [-1022, 1023]), from the exponent bits.
+template <class D, class V = hn::Vec<D>>
 HWY_INLINE V pow2_of_rounded(D d, V k_plus_magic) {
-  const DI di;
+  const hn::RebindToSigned<D> di;
   return hn::BitCast(d,
                      hn::ShiftLeft<52>(hn::Add(hn::BitCast(di, k_plus_magic), hn::Set(di, 1023))));
 }
 
 // e^x; 0 below -746 (where e^x rounds to 0) and inf above 710; NaN stays NaN.
+template <class D, class V = hn::Vec<D>>
 HWY_INLINE V exp_det(D d, V x) {
   const V magic = hn::Set(d, kRoundMagic);
   const V xc = hn::Min(hn::Max(x, hn::Set(d, -746.0)), hn::Set(d, 710.0));
@@ -82,8 +91,9 @@ HWY_INLINE V exp_det(D d, V x) {
 }
 
 // ln x for normal x > 0 (and inf for inf); callers keep x >= 1e-12.
+template <class D, class V = hn::Vec<D>>
 HWY_INLINE V log_det(D d, V x) {
-  const DI di;
+  const hn::RebindToSigned<D> di;
   // x = 2^e m with m in [sqrt(2)/2, sqrt(2)): shift the exponent field so that its carry
   // decides e, then put m's mantissa under the exponent of sqrt(2)/2 (as musl's log does).
   const auto bits =
@@ -107,6 +117,7 @@ HWY_INLINE V log_det(D d, V x) {
 // pi/2 - atan(num / den) for den > 0, in (0, pi), without forming num / den: one division by
 // the larger of |num| and den, reduced to |t| <= tan(pi/8). Far from a segment (num >> den) the
 // small angle comes out with full relative precision.
+template <class D, class V = hn::Vec<D>>
 HWY_INLINE V cauchy_angle(D d, V num, V den) {
   const V a = hn::Abs(num);
   const auto big = hn::Gt(a, den);  // |atan| > pi/4: use atan(den / a)
@@ -131,6 +142,7 @@ HWY_INLINE V cauchy_angle(D d, V num, V den) {
 // C1 fade window of infinite kernels (tolerances.h: kFadeStart = 0.8 in distance, so 0.64 in
 // squared distance): w = 1 for v <= 0.64, 1 - s^2 (3 - 2 s) with s = (v - 0.64) / 0.36 up to
 // v = 1, 0 beyond. Returns w and dw/dv.
+template <class D, class V = hn::Vec<D>>
 HWY_INLINE void fade(D d, V v, V& w, V& dw) {
   const V one = hn::Set(d, 1.0);
   V s = hn::Mul(hn::Sub(v, hn::Set(d, 0.64)), hn::Set(d, 1.0 / 0.36));
@@ -139,14 +151,16 @@ HWY_INLINE void fade(D d, V v, V& w, V& dw) {
   dw = hn::Mul(hn::Mul(hn::Set(d, -6.0 / 0.36), s), hn::Sub(one, s));
 }
 
+template <class V>
 HWY_INLINE V dot3(V ax, V ay, V az, V bx, V by, V bz) {
   return mul_add(az, bz, mul_add(ay, by, hn::Mul(ax, bx)));
 }
 
 // Distance-surface modes: value = weight * k(y) (* fade), y = d^2 / R^2.
-template <int kMode, bool kGrad>
+template <class D, int kMode, bool kGrad>
 HWY_INLINE void distance_primitive(const PrimitiveTable& t, const ModeParams& m, std::uint32_t i,
-                                   Chunk& c) {
+                                   Chunk& c, std::size_t n) {
+  using V = hn::Vec<D>;
   const D d;
   const std::size_t lanes = hn::Lanes(d);
   const V ax = hn::Set(d, t.ax[i]), ay = hn::Set(d, t.ay[i]), az = hn::Set(d, t.az[i]);
@@ -156,7 +170,7 @@ HWY_INLINE void distance_primitive(const PrimitiveTable& t, const ModeParams& m,
   const V weight = hn::Set(d, t.weight[i]);
   const V inv_cut = hn::Set(d, t.inv_cut[i]);
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0), two = hn::Set(d, 2.0);
-  for (std::size_t j = 0; j < c.padded; j += lanes) {
+  for (std::size_t j = 0; j < n; j += lanes) {
     const V wx = hn::Sub(hn::Load(d, c.px + j), ax);
     const V wy = hn::Sub(hn::Load(d, c.py + j), ay);
     const V wz = hn::Sub(hn::Load(d, c.pz + j), az);
@@ -227,8 +241,10 @@ HWY_INLINE void distance_primitive(const PrimitiveTable& t, const ModeParams& m,
 }
 
 // Convolution of the Cauchy kernel along a segment, closed form (kernels.cpp documents it).
-template <bool kGrad>
-HWY_INLINE void cauchy_segment(const PrimitiveTable& t, std::uint32_t i, Chunk& c) {
+template <class D, bool kGrad>
+HWY_INLINE void cauchy_segment(const PrimitiveTable& t, std::uint32_t i, Chunk& c,
+                               std::size_t n) {
+  using V = hn::Vec<D>;
   const D d;
   const std::size_t lanes = hn::Lanes(d);
   const V ax = hn::Set(d, t.ax[i]), ay = hn::Set(d, t.ay[i]), az = hn::Set(d, t.az[i]);
@@ -240,7 +256,7 @@ HWY_INLINE void cauchy_segment(const PrimitiveTable& t, std::uint32_t i, Chunk& 
   const V inv_cut = hn::Set(d, t.inv_cut[i]);
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0), half = hn::Set(d, 0.5);
   const V s_len = hn::Mul(s, len);
-  for (std::size_t j = 0; j < c.padded; j += lanes) {
+  for (std::size_t j = 0; j < n; j += lanes) {
     const V wx = hn::Sub(hn::Load(d, c.px + j), ax);
     const V wy = hn::Sub(hn::Load(d, c.py + j), ay);
     const V wz = hn::Sub(hn::Load(d, c.pz + j), az);
@@ -294,42 +310,59 @@ HWY_INLINE void cauchy_segment(const PrimitiveTable& t, std::uint32_t i, Chunk& 
   }
 }
 
-template <int kMode, bool kGrad>
+template <class D, int kMode, bool kGrad>
 void run_mode(const PrimitiveTable& t, const ModeParams& m, const std::uint32_t* ids,
-              std::size_t count, Chunk& c) {
+              std::size_t count, Chunk& c, std::size_t n) {
   for (std::size_t k = 0; k < count; ++k) {
     if constexpr (kMode == static_cast<int>(PrimitiveMode::kCauchySegment)) {
       if (t.len[ids[k]] > 0) {
-        cauchy_segment<kGrad>(t, ids[k], c);
+        cauchy_segment<D, kGrad>(t, ids[k], c, n);
         continue;
       }
     }
-    distance_primitive<kMode == static_cast<int>(PrimitiveMode::kCauchySegment)
+    distance_primitive<D,
+                       kMode == static_cast<int>(PrimitiveMode::kCauchySegment)
                            ? static_cast<int>(PrimitiveMode::kCauchyPoint)
                            : kMode,
-                       kGrad>(t, m, ids[k], c);
+                       kGrad>(t, m, ids[k], c, n);
   }
 }
 
-template <bool kGrad>
+template <class D, bool kGrad>
 void run(const PrimitiveTable& t, const ModeParams& m, const std::uint32_t* ids, std::size_t count,
-         Chunk& c) {
+         Chunk& c, std::size_t n) {
   switch (m.mode) {
-    case PrimitiveMode::kWyvill: return run_mode<0, kGrad>(t, m, ids, count, c);
-    case PrimitiveMode::kBlinn: return run_mode<1, kGrad>(t, m, ids, count, c);
-    case PrimitiveMode::kMetaball: return run_mode<2, kGrad>(t, m, ids, count, c);
-    case PrimitiveMode::kInversePower: return run_mode<3, kGrad>(t, m, ids, count, c);
-    case PrimitiveMode::kCauchyPoint: return run_mode<4, kGrad>(t, m, ids, count, c);
-    case PrimitiveMode::kCauchySegment: return run_mode<5, kGrad>(t, m, ids, count, c);
+    case PrimitiveMode::kWyvill: return run_mode<D, 0, kGrad>(t, m, ids, count, c, n);
+    case PrimitiveMode::kBlinn: return run_mode<D, 1, kGrad>(t, m, ids, count, c, n);
+    case PrimitiveMode::kMetaball: return run_mode<D, 2, kGrad>(t, m, ids, count, c, n);
+    case PrimitiveMode::kInversePower: return run_mode<D, 3, kGrad>(t, m, ids, count, c, n);
+    case PrimitiveMode::kCauchyPoint: return run_mode<D, 4, kGrad>(t, m, ids, count, c, n);
+    case PrimitiveMode::kCauchySegment: return run_mode<D, 5, kGrad>(t, m, ids, count, c, n);
   }
+}
+
+// The lanes to compute: a chunk of 1, 2 or 4 points on vectors of that many lanes (where the
+// target's are wider), others on the target's full vectors up to the next multiple of their
+// lane count (c.padded, a multiple of 16, is the most the caller prepared).
+template <bool kGrad>
+void run_lanes(const PrimitiveTable& t, const ModeParams& m, const std::uint32_t* ids,
+               std::size_t count, Chunk& c) {
+  using Full = hn::ScalableTag<double>;
+  const std::size_t lanes = hn::Lanes(Full());
+  const std::size_t points = c.count;
+  if (points <= 1 && lanes > 1) return run<hn::CappedTag<double, 1>, kGrad>(t, m, ids, count, c, 1);
+  if (points <= 2 && lanes > 2) return run<hn::CappedTag<double, 2>, kGrad>(t, m, ids, count, c, 2);
+  if (points <= 4 && lanes > 4) return run<hn::CappedTag<double, 4>, kGrad>(t, m, ids, count, c, 4);
+  const std::size_t n = std::min(c.padded, (points + lanes - 1) / lanes * lanes);
+  run<Full, kGrad>(t, m, ids, count, c, c.padded % lanes == 0 ? n : c.padded);
 }
 
 void Accumulate(const PrimitiveTable& t, const ModeParams& m, const std::uint32_t* ids,
                 std::size_t count, Chunk& c, bool with_gradient) {
   if (with_gradient) {
-    run<true>(t, m, ids, count, c);
+    run_lanes<true>(t, m, ids, count, c);
   } else {
-    run<false>(t, m, ids, count, c);
+    run_lanes<false>(t, m, ids, count, c);
   }
 }
 

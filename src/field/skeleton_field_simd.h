@@ -45,7 +45,8 @@ inline constexpr std::size_t kChunk = 128;
 struct alignas(64) Chunk {
   double px[kChunk], py[kChunk], pz[kChunk];
   double value[kChunk], gx[kChunk], gy[kChunk], gz[kChunk];
-  std::size_t padded = 0;  ///< number of lanes to compute (multiple of 16, <= kChunk)
+  std::size_t padded = 0;  ///< lanes prepared (multiple of 16, <= kChunk), copies of point 0
+  std::size_t count = 0;   ///< the real points, the first `count` lanes (<= padded)
 };
 
 /// Adds primitives `ids[0..count)` (in that order) to the chunk's accumulators, values always,
