@@ -184,6 +184,12 @@ class SkeletonField final : public Field {
       ids.clear();
       if (prune_ && !box.isEmpty() && box.min().allFinite() && box.max().allFinite()) {
         bvh_.query(box, ids);
+        // The support boxes are loose around slanted segments: drop the primitives whose support
+        // misses the chunk's box (every point at least `reach` away adds exactly +0, which
+        // leaves the sums unchanged, so the values stay bit-identical).
+        std::erase_if(ids, [&](std::uint32_t i) {
+          return lower_distance(box, point_a(i), point_b(i)) > reach_[i] * (1 + kSupportMargin);
+        });
       } else {
         for (std::uint32_t i = 0; i < table_.size(); ++i) ids.push_back(i);
       }
