@@ -592,7 +592,15 @@ class Improver {
     auto fold_ok = [&](const Probe& pr) { return follows(fresh, old, pr, sc.relaxed); };
     const bool fits = edge_fits(pos(c), pos(d), rc, rd, fold_ok, true, req, lacking, [&](bool& m) {
       const double ra = radius(a, req, m), rb = radius(b, req, m);
-      return edge_distance(pos(a), pos(b), ra, rb, req, m);
+      double before = edge_distance(pos(a), pos(b), ra, rb, req, m);
+      if (sc.relaxed) {
+        // Below kHardAngleDeg: as far as the farthest edge of the pair.
+        for (const auto& [x, y] : {std::pair{a, c}, std::pair{b, c}, std::pair{a, d}, std::pair{b, d}}) {
+          before = std::max(before, edge_distance(pos(x), pos(y), radius(x, req, m),
+                                                  radius(y, req, m), req, m));
+        }
+      }
+      return before;
     });
     if (lacking) {
       missing = true;
@@ -848,6 +856,19 @@ class Improver {
                 std::min(0.5 * (z - pos(x)).norm() / std::min(rx, rw), kSlack * o_.tolerance);
             before = std::max(before, edge_distance(pos(x), pos(w), rx, rw, req, mm) + slack);
           }
+        }
+        // Below kHardAngleDeg: as far as the farthest edge of the disk.
+        if (sc.relaxed) {
+          auto widen = [&](std::uint32_t x, std::uint32_t y) {
+            before = std::max(before, edge_distance(pos(std::min(x, y)), pos(std::max(x, y)),
+                                                    radius(x, req, mm), radius(y, req, mm), req,
+                                                    mm));
+          };
+          for (const std::uint64_t e : edges) {
+            widen(static_cast<std::uint32_t>(e >> 32), static_cast<std::uint32_t>(e));
+          }
+          for (const auto& [x, y] : boundary) widen(x, y);
+          before += kSlack * o_.tolerance;
         }
         return before;
       });
