@@ -10,8 +10,8 @@
 #include <initializer_list>
 #include <limits>
 #include <numbers>
-#include <string>
 #include <span>
+#include <string>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -176,7 +176,7 @@ struct Projection {
   // The smallest local radius of the vertices it replaces (z lies within a small step of them),
   // its scale and the new vertex's radius.
   double radius = 0;
-  bool ok = false;    // converged
+  bool ok = false;  // converged
   // Whether it converged no farther from `start` than `reach` beyond the start's own distance
   // to the surface (a step that jumped to another part of the surface is not taken).
   [[nodiscard]] bool lands_within(const Vec3& start, double reach) const {
@@ -196,7 +196,7 @@ struct Requests {
 // Scratch lists of one thread's operations.
 struct Scratch {
   std::vector<std::uint32_t> disk, around, hits, cluster;
-  std::vector<std::uint64_t> edges;                   // directed, as edge_key()
+  std::vector<std::uint64_t> edges;                    // directed, as edge_key()
   std::vector<std::array<std::uint32_t, 2>> boundary;  // directed
   std::vector<Tri> moved;
   std::vector<std::array<Vec3, 4>> tets;
@@ -254,12 +254,19 @@ struct Resume {
 // triangles around it. Relaxation comes second: on archi_Tree_1 (fitted radii), where most bad
 // triangles are caps of 7-9 degrees that only a relaxation mends, that order takes a quarter
 // less time than collapses first, for the same result.
-enum class Move { kFlip, kRelax, kEdgeToEnd, kEdgeToMidpoint, kClusterToVertex,
-                  kClusterToCentroid, kPatch };
-constexpr std::array<Move, 7> kOrder = {Move::kFlip,           Move::kRelax,
-                                        Move::kEdgeToEnd,      Move::kEdgeToMidpoint,
-                                        Move::kClusterToVertex, Move::kClusterToCentroid,
-                                        Move::kPatch};
+enum class Move {
+  kFlip,
+  kRelax,
+  kEdgeToEnd,
+  kEdgeToMidpoint,
+  kClusterToVertex,
+  kClusterToCentroid,
+  kPatch
+};
+constexpr std::array<Move, 7> kOrder = {
+    Move::kFlip,           Move::kRelax,           Move::kEdgeToEnd,
+    Move::kEdgeToMidpoint, Move::kClusterToVertex, Move::kClusterToCentroid,
+    Move::kPatch};
 constexpr int kLevels = static_cast<int>(kOrder.size());
 
 class Improver {
@@ -552,8 +559,7 @@ class Improver {
   }
 
   // The flip of triangle t's edge k -> k + 1 (see the header); fills `op` when it beats it.
-  void try_flip(std::uint32_t t1, int k, Scratch& sc, Requests* req, bool& missing,
-                Op& op) const {
+  void try_flip(std::uint32_t t1, int k, Scratch& sc, Requests* req, bool& missing, Op& op) const {
     const Tri f1 = mesh_.triangles[t1];
     const std::uint32_t a = f1[k], b = f1[(k + 1) % 3], c = f1[(k + 2) % 3];
     std::uint32_t t2 = kNone;
@@ -595,9 +601,10 @@ class Improver {
       double before = edge_distance(pos(a), pos(b), ra, rb, req, m);
       if (sc.relaxed) {
         // Below kHardAngleDeg: as far as the farthest edge of the pair.
-        for (const auto& [x, y] : {std::pair{a, c}, std::pair{b, c}, std::pair{a, d}, std::pair{b, d}}) {
-          before = std::max(before, edge_distance(pos(x), pos(y), radius(x, req, m),
-                                                  radius(y, req, m), req, m));
+        for (const auto& [x, y] :
+             {std::pair{a, c}, std::pair{b, c}, std::pair{a, d}, std::pair{b, d}}) {
+          before = std::max(
+              before, edge_distance(pos(x), pos(y), radius(x, req, m), radius(y, req, m), req, m));
         }
       }
       return before;
@@ -669,8 +676,8 @@ class Improver {
     std::size_t steps = 0;
     std::uint32_t at = boundary[0][1];
     while (at != boundary[0][0] && steps < nb) {
-      const auto it = std::lower_bound(boundary.begin(), boundary.end(),
-                                       std::array<std::uint32_t, 2>{at, 0});
+      const auto it =
+          std::lower_bound(boundary.begin(), boundary.end(), std::array<std::uint32_t, 2>{at, 0});
       if (it == boundary.end() || (*it)[0] != at) return false;
       at = (*it)[1];
       ++steps;
@@ -679,7 +686,8 @@ class Improver {
     // A disk: V - E + F = 1.
     const long long n_edges = static_cast<long long>(edges.size() + nb) / 2;
     if (static_cast<long long>(cluster.size() + nb) - n_edges +
-            static_cast<long long>(disk.size()) != 1) {
+            static_cast<long long>(disk.size()) !=
+        1) {
       return false;
     }
     // What every position of the new vertex is judged against.
@@ -755,8 +763,8 @@ class Improver {
     std::size_t steps = 0;
     std::uint32_t at = boundary[0][1];
     while (at != boundary[0][0] && steps < nb) {
-      const auto it = std::lower_bound(boundary.begin(), boundary.end(),
-                                       std::array<std::uint32_t, 2>{at, 0});
+      const auto it =
+          std::lower_bound(boundary.begin(), boundary.end(), std::array<std::uint32_t, 2>{at, 0});
       if (it == boundary.end() || (*it)[0] != at) return false;
       at = (*it)[1];
       ++steps;
@@ -860,9 +868,9 @@ class Improver {
         // Below kHardAngleDeg: as far as the farthest edge of the disk.
         if (sc.relaxed) {
           auto widen = [&](std::uint32_t x, std::uint32_t y) {
-            before = std::max(before, edge_distance(pos(std::min(x, y)), pos(std::max(x, y)),
-                                                    radius(x, req, mm), radius(y, req, mm), req,
-                                                    mm));
+            before =
+                std::max(before, edge_distance(pos(std::min(x, y)), pos(std::max(x, y)),
+                                               radius(x, req, mm), radius(y, req, mm), req, mm));
           };
           for (const std::uint64_t e : edges) {
             widen(static_cast<std::uint32_t>(e >> 32), static_cast<std::uint32_t>(e));
@@ -963,8 +971,7 @@ class Improver {
           if (move == Move::kClusterToVertex) {
             for (std::size_t i = 0; i < cluster.size(); ++i) {
               const std::uint32_t x = cluster[i];  // (try_replace reads the cluster, not x)
-              try_replace(cluster, pos(x), radius(x, req, missing), nullptr, sc, req, missing,
-                          op);
+              try_replace(cluster, pos(x), radius(x, req, missing), nullptr, sc, req, missing, op);
             }
             break;
           }
@@ -1036,7 +1043,8 @@ class Improver {
               const Vec3 n = area / an;
               const Vec3 start = centroid - (centroid - pos(w)).dot(n) * n;
               double reach = 0;
-              for (const std::uint32_t x : around) reach = std::max(reach, (pos(x) - pos(w)).norm());
+              for (const std::uint32_t x : around)
+                reach = std::max(reach, (pos(x) - pos(w)).norm());
               cluster.assign(1, w);
               if (!prepare_disk(cluster, sc)) continue;
               double quality = 1.0;
@@ -1344,7 +1352,8 @@ void improve_triangles(TriMesh& mesh, const Field& field, const Skeleton& skelet
     }
   }
   if (mesh.positions.size() >= kNone || 3 * mesh.triangles.size() >= kNone) {
-    throw InvalidArgument("improve: the mesh has too many vertices or triangles for 32-bit indices");
+    throw InvalidArgument(
+        "improve: the mesh has too many vertices or triangles for 32-bit indices");
   }
   check_cancel(ctx);
   // The loops that change the mesh get only the thread count: cancellation is looked at between

@@ -115,8 +115,7 @@ TEST(ImproveTriangles, TreeMeshedToAToleranceMeetsTheAngleTargets) {
   EXPECT_EQ(d.samples.unresolved, 0u);
   EXPECT_LE(d.samples.p99, on.tolerance);
   EXPECT_LE(d.samples.p99, 1.02 * d0.samples.p99);
-  EXPECT_LE(std::max(d.samples.max, d.vertices.max),
-            std::max(d0.samples.max, d0.vertices.max));
+  EXPECT_LE(std::max(d.samples.max, d.vertices.max), std::max(d0.samples.max, d0.vertices.max));
   EXPECT_LE(st.deviation.samples.p99, on.tolerance);
   EXPECT_TRUE(st.reached);
 }
@@ -148,8 +147,8 @@ TEST(ImproveTriangles, SameMeshOnAnyThreadCount) {
 TriMesh icosphere(const Field& f, double radius, int levels) {
   const double g = (1 + std::sqrt(5.0)) / 2;
   TriMesh m;
-  m.positions = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                 {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+  m.positions = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
+                 {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
   m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                  {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                  {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
@@ -241,8 +240,8 @@ TEST(ImproveTriangles, FixesAHandBuiltNeedleAndCap) {
   EXPECT_EQ(st.below_10_deg_before, 3u);
   EXPECT_EQ(st.below_1_deg_before, 2u);
   EXPECT_EQ(st.below_10_deg_after, 0u);
-  EXPECT_GE(st.flips, 1u);                       // the cap's long edge
-  EXPECT_GE(st.collapses + st.relaxed, 1u);      // the needles' short edge
+  EXPECT_GE(st.flips, 1u);                   // the cap's long edge
+  EXPECT_GE(st.collapses + st.relaxed, 1u);  // the needles' short edge
   EXPECT_EQ(st.triangles_before, sphere.triangles.size() + 4);
   EXPECT_EQ(st.triangles_after, m.triangles.size());
   EXPECT_EQ(nodes_outside(m, s), 0u);

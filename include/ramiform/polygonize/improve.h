@@ -10,19 +10,23 @@
 /// triangles their method's weakness). improve_triangles() works on every triangle whose
 /// smallest angle is below `min_angle_deg`, worst first, with the local operations of surface
 /// remeshing (Botsch, Kobbelt, Pauly, Alliez & Lévy 2010, "Polygon Mesh Processing", §6.5:
-/// edge flips, edge collapses, tangential relaxation projected onto the surface), each kind
-/// tried only when the ones before cannot bring the triangle to `min_angle_deg`, the best of
-/// those tried taken:
+/// edge flips, edge collapses, tangential relaxation projected onto the surface). They are
+/// tried in this order, each only when the ones before cannot bring the triangle to
+/// `min_angle_deg`, and the best of those tried is taken:
 ///  1. **flip** an edge (a, b) of triangles (a, b, c), (b, a, d) to (c, d) when that raises the
 ///     pair's smallest angle (the local criterion of Delaunay flipping, Lawson 1977);
-///  2. **collapse** the triangle's shortest edge (u, v) into u, into v, or into its midpoint
-///     taken onto the surface by Newton steps along the gradient;
-///  3. collapse the **cluster** of vertices joined to u, v by edges shorter than a fifth of the
+///  2. **relax** a corner on the triangle's shortest edge (a needle's close corners, a cap's
+///     apex): it moves to the centroid of its neighbours in its tangent plane (the area vector
+///     of its fan) and back onto the surface by Newton steps along the gradient; of the
+///     corners, the one whose fan is best before the projection is tried;
+///  3. **collapse** the shortest edge (u, v) into u, into v, or into its midpoint taken onto
+///     the surface;
+///  4. collapse the **cluster** of vertices joined to u, v by edges shorter than a fifth of the
 ///     triangle's longest edge (several roots on one lattice point) into one of them or into
-///     their centroid taken onto the surface; then the **patch** of bad triangles joined to
-///     the triangle through shared corners, into its centroid taken onto the surface;
-///  4. **relax** a corner: it moves to the centroid of its neighbours in its tangent plane (the
-///     area vector of its fan) and back onto the surface by Newton steps.
+///     their centroid taken onto the surface;
+///  5. below 1.5 degrees only: collapse the **patch** of bad triangles joined to the triangle
+///     through shared corners (at most 12 vertices) into its centroid on the surface, and
+///     relax the third corner too.
 /// A collapse or a relaxation replaces a set of vertices (one, for a relaxation) by one new
 /// vertex: the triangles around them must form a disk (V - E + F = 1) whose interior vertices
 /// are exactly the set and whose boundary is one simple cycle with no chord; each disk triangle
@@ -32,27 +36,33 @@
 ///  - keep the mesh closed, consistently oriented and 2-manifold (by the conditions above; a
 ///    flip needs the edge (c, d) not to exist and a, b to keep three triangles);
 ///  - follow the surface: each new triangle's normal turns from the surface normal (the field's
-///    gradient at the midpoint of its new edge) by less than `max_turn_deg`, or by no more than
-///    the worst of the triangles it replaces, and by less than 90 degrees (a triangle below 1.5
-///    degrees in a crumpled patch is allowed the worst turn of those it replaces);
+///    gradient at the midpoint of its new edge, or at the new vertex) by less than
+///    `max_turn_deg`, or by no more than the worst of the triangles it replaces, and by less
+///    than 90 degrees;
 ///  - stay on the surface: every new edge's midpoint lies within `tolerance` local radii of the
 ///    surface (first-order distance |f - iso| / |grad f|, relative to the smaller local radius
 ///    of its end points, as refine_to_surface() measures edges; mesh/deviation.h's
 ///    local_radii()), or no farther than the farthest edge it replaces (plus half the move of
-///    its end point, at most a tenth of the tolerance); new vertices are on the surface;
+///    its end point, at most a tenth of the tolerance). A new edge from a vertex taken onto the
+///    surface shorter than a quarter radius is not measured (its chord sags by less than 1/128
+///    radius: refine_to_surface()'s `min_edge_radii`). New vertices lie on the surface;
 ///  - keep the skeleton inside: no skeleton node lies in a tetrahedron swept by a changed
 ///    triangle ((a, b, c, d) for a flip; for the vertices that move, one after the other, their
 ///    old and new positions with each of their triangles' other two corners).
+/// A triangle below 1.5 degrees (none should stay below 1 degree) may be replaced by triangles
+/// that turn as far as the worst of those they replace (past 90 degrees too: in a crumpled
+/// patch of the refined mesh) and whose new edges lie as far from the surface as the farthest
+/// edge of what they replace, plus a tenth of the tolerance.
 /// Rounds: the bad triangles are found (after the first round only next to a change), every
 /// operation they might take is evaluated against the current mesh in parallel, the field is
 /// evaluated in batches at the points those operations need (midpoints of new and replaced
-/// edges, Newton steps), and then the operations are applied one by one, worst triangle first
-/// (ties by index), each decided again against the mesh as the earlier ones left it when they
-/// touched its neighbourhood. Rounds stop when nothing changes or after `max_rounds`; then
-/// removed triangles and unused vertices are dropped, the rest keeping their order (vertices
-/// made by the pass come last). The result depends only on the inputs, never on the thread
-/// count. A mesh the pass does not change is left as it is; a changed one loses its normals
-/// (as refine_to_surface() drops them).
+/// edges, Newton steps) in stages until every operation is decided, and then the operations
+/// are applied one by one, worst triangle first (ties by index), each decided again against
+/// the mesh as the earlier ones left it when they touched its neighbourhood. Rounds stop when
+/// nothing changes or after `max_rounds`; then removed triangles and unused vertices are
+/// dropped, the rest keeping their order (vertices made by the pass come last). The result
+/// depends only on the inputs, never on the thread count. A mesh the pass does not change is
+/// left as it is; a changed one loses its normals (as refine_to_surface() drops them).
 
 #include <cstddef>
 
@@ -66,7 +76,8 @@ namespace ramiform {
 /// Options of improve_triangles(); validated at entry (InvalidArgument naming the option).
 struct ImproveOptions {
   /// A new edge's midpoint may lie this far from the surface, in local radii (> 0, finite), or
-  /// no farther than the farthest edge it replaces.
+  /// no farther than the farthest edge it replaces (polygonize_to_tolerance() passes its
+  /// refinement's edge tolerance).
   double tolerance = 0.05;
   /// Triangles whose smallest angle is below this are improved (degrees, in (0, 60)).
   double min_angle_deg = 10.0;
@@ -78,15 +89,15 @@ struct ImproveOptions {
 
 /// What improve_triangles() did. Angle figures are over the whole mesh, before and after.
 struct ImproveStats {
-  int rounds = 0;                ///< rounds that changed the mesh
-  std::size_t flips = 0;         ///< edges flipped
-  std::size_t collapses = 0;     ///< edges and clusters collapsed into one vertex
-  std::size_t clusters = 0;      ///< of which clusters of three or more vertices
-  std::size_t relaxed = 0;       ///< vertices moved
+  int rounds = 0;             ///< rounds that changed the mesh
+  std::size_t flips = 0;      ///< edges flipped
+  std::size_t collapses = 0;  ///< edges and clusters collapsed into one vertex
+  std::size_t clusters = 0;   ///< of which clusters of three or more vertices
+  std::size_t relaxed = 0;    ///< vertices moved
   std::size_t below_10_deg_before = 0, below_10_deg_after = 0;  ///< triangles under 10 degrees
   std::size_t below_1_deg_before = 0, below_1_deg_after = 0;    ///< triangles under 1 degree
   double min_angle_deg_before = 0, min_angle_deg_after = 0;     ///< smallest corner angle
-  std::size_t triangles_before = 0, triangles_after = 0;
+  std::size_t triangles_before = 0, triangles_after = 0;        ///< triangle counts
 };
 
 /// Improves the triangles of `mesh` (a closed, consistently oriented 2-manifold mesh of the

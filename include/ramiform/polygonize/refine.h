@@ -114,7 +114,8 @@ struct ToleranceStats {
   int passes = 0;             ///< refine-and-measure passes made
   bool reached = false;       ///< deviation.samples.p99 <= tolerance
   double edge_tolerance = 0;  ///< the last pass's RefineOptions::edge_tolerance
-  double seconds_tets = 0, seconds_refine = 0, seconds_improve = 0, seconds_measure = 0;  ///< wall time per stage
+  /// Wall time per stage.
+  double seconds_tets = 0, seconds_refine = 0, seconds_improve = 0, seconds_measure = 0;
 };
 
 /// A mesh of the surface of `field` whose measured deviation p99 stays under `tolerance`: the
