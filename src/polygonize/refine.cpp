@@ -147,17 +147,16 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
   }
   const std::size_t nc = candidates.size();
   // The candidates' midpoints and radii (an edge's radius: the smaller local radius of its end
-  // points, the one whose tolerance is stricter, e.g. a twig's beside the branch it leaves);
-  // the arrays are indexed by edge, and only the candidates' entries are used.
-  std::vector<Vec3> mid(ne);
-  std::vector<double> radius(ne);
+  // points, the one whose tolerance is stricter, e.g. a twig's beside the branch it leaves),
+  // indexed by candidate.
+  std::vector<double> radius(nc);
   std::vector<Vec3> probe_points(nc);
   parallel::for_each(
       nc, kGrain,
       [&](std::size_t c) {
         const auto& [a, b] = edges.ends[candidates[c]];
-        probe_points[c] = mid[candidates[c]] = 0.5 * (mesh.positions[a] + mesh.positions[b]);
-        radius[candidates[c]] = std::min(vradius[a], vradius[b]);
+        probe_points[c] = 0.5 * (mesh.positions[a] + mesh.positions[b]);
+        radius[c] = std::min(vradius[a], vradius[b]);
       },
       ctx);
   std::vector<double> value(nc);
@@ -165,19 +164,19 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
   field.evaluate(probe_points, value, grad, ctx);
   const double iso = field.iso();
   std::vector<char> split(ne, 0);
-  std::vector<double> estimate(ne, 0.0);
+  std::vector<double> estimate(nc, 0.0);
   parallel::for_each(
       nc, kGrain,
       [&](std::size_t c) {
         const std::uint32_t e = candidates[c];
         const double gn = grad[c].norm();
-        estimate[e] = gn > 0.0 ? std::abs(value[c] - iso) / gn : std::numeric_limits<double>::infinity();
+        estimate[c] = gn > 0.0 ? std::abs(value[c] - iso) / gn : std::numeric_limits<double>::infinity();
         const double length =
             (mesh.positions[edges.ends[e][0]] - mesh.positions[edges.ends[e][1]]).norm();
         // An edge already short against the radius sags by less than the tolerance (L^2 / 8 r);
         // a midpoint still far from the surface there is not a matter of chords.
-        split[e] = std::isfinite(value[c]) && estimate[e] > o.edge_tolerance * radius[e] &&
-                           length > o.min_edge_radii * radius[e]
+        split[e] = std::isfinite(value[c]) && estimate[c] > o.edge_tolerance * radius[c] &&
+                           length > o.min_edge_radii * radius[c]
                        ? 1
                        : 0;
       },
@@ -208,8 +207,8 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
   std::vector<Vec3> z(ns), zmid(ns);
   std::vector<double> zr(ns);
   for (std::size_t i = 0; i < ns; ++i) {
-    zmid[i] = z[i] = mid[split_edges[i]];
-    zr[i] = radius[split_edges[i]];
+    zmid[i] = z[i] = probe_points[split_candidate[i]];
+    zr[i] = radius[split_candidate[i]];
   }
   std::vector<char> ok(ns, 0);
   std::vector<std::size_t> active(ns);
@@ -257,7 +256,7 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
     // A converged point not far from its midpoint (a step that jumped to another part of the
     // surface is not taken).
     moved[i] = ok[i] != 0 && (z[i] - zmid[i]).norm() <= 0.5 * zr[i] +
-                                                           2.0 * estimate[split_edges[i]]
+                                                           2.0 * estimate[split_candidate[i]]
                    ? 1
                    : 0;
     if (moved[i] == 0) {
@@ -400,7 +399,7 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
     st.flat_splits += moved[i] == 0 ? 1 : 0;
     st.halfway += moved[i] == 2 ? 1 : 0;
     lineage.parents[nv_old + i] = edges.ends[split_edges[i]];
-    if (moved[i] == 1) lineage.sag[nv_old + i] = estimate[split_edges[i]];
+    if (moved[i] == 1) lineage.sag[nv_old + i] = estimate[split_candidate[i]];
   }
   return ns;
 }
