@@ -1356,6 +1356,10 @@ void improve_triangles(TriMesh& mesh, const Field& field, const Skeleton& skelet
         "improve: the mesh has too many vertices or triangles for 32-bit indices");
   }
   check_cancel(ctx);
+  if (options.max_rounds == 0) {
+    if (stats != nullptr) *stats = ImproveStats{};
+    return;
+  }
   // The loops that change the mesh get only the thread count: cancellation is looked at between
   // rounds, where the mesh is whole.
   const Context threads(ctx != nullptr ? ctx->threads() : 0);

@@ -84,7 +84,7 @@ struct ImproveOptions {
   /// Largest turn of a new triangle's normal from the surface normal, unless the triangles it
   /// replaces turn farther (degrees, in (0, 90]).
   double max_turn_deg = 60.0;
-  int max_rounds = 12;  ///< rounds of changes (>= 0; 0 changes nothing)
+  int max_rounds = 12;  ///< rounds of changes (>= 0; 0 does nothing, stats stay 0)
 };
 
 /// What improve_triangles() did. Angle figures are over the whole mesh, before and after.
