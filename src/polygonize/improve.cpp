@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "field/bvh.h"
+#include "polygonize/in_tetrahedron.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/core/portable_math.h"
@@ -25,6 +26,8 @@
 
 namespace ramiform {
 namespace {
+
+using detail::in_tetrahedron;
 
 using Tri = std::array<std::uint32_t, 3>;
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
@@ -87,16 +90,6 @@ double min_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c) {
   if (lbc <= lab && lbc <= lca) return cross / std::sqrt(lab * lca);  // at a
   if (lca <= lab) return cross / std::sqrt(lab * lbc);                // at b
   return cross / std::sqrt(lbc * lca);                                // at c
-}
-
-/// True when p lies in the closed tetrahedron (a, b, c, d) (any orientation; never for a flat
-/// one, which sweeps no volume).
-bool in_tetrahedron(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  const double v = (b - a).cross(c - a).dot(d - a);
-  if (v == 0.0) return false;
-  const double s = v > 0 ? 1.0 : -1.0;
-  return s * (b - p).cross(c - p).dot(d - p) >= 0 && s * (p - a).cross(c - a).dot(d - a) >= 0 &&
-         s * (b - a).cross(p - a).dot(d - a) >= 0 && s * (b - a).cross(c - a).dot(p - a) >= 0;
 }
 
 // Counts over a mesh (its triangles with alive[t] != 0, all without `alive`): triangles under

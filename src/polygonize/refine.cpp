@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "field/bvh.h"
+#include "polygonize/in_tetrahedron.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/memory.h"
 #include "ramiform/core/numbers.h"
@@ -22,6 +23,8 @@
 
 namespace ramiform {
 namespace {
+
+using detail::in_tetrahedron;
 
 constexpr std::size_t kGrain = 4096;
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
@@ -98,15 +101,6 @@ Edges mesh_edges(const TriMesh& mesh) {
 
 Vec3 normal_of(const TriMesh& m, const std::array<std::uint32_t, 3>& t) {
   return (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]);
-}
-
-/// True when p lies in the closed tetrahedron (a, b, c, d) (any orientation).
-bool in_tetrahedron(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  const double v = (b - a).cross(c - a).dot(d - a);
-  if (v == 0.0) return false;
-  const double s = v > 0 ? 1.0 : -1.0;
-  return s * (b - p).cross(c - p).dot(d - p) >= 0 && s * (p - a).cross(c - a).dot(d - a) >= 0 &&
-         s * (b - a).cross(p - a).dot(d - a) >= 0 && s * (b - a).cross(c - a).dot(p - a) >= 0;
 }
 
 /// Where the previous round's vertices came from: the end points of the edge each split, and that
