@@ -64,7 +64,7 @@ bench:
 # The libFuzzer harnesses of fuzz/ (docs/fuzzing.md): clang 14 with ASan + UBSan in build-fuzz,
 # then every harness for FUZZ_SECONDS on its corpus, FUZZ_PARALLEL at a time; new inputs go to
 # build-fuzz/fuzz-work/, findings to build-fuzz/fuzz-findings/ (the checked-in corpus is only read).
-# FUZZ_ONLY="mesh_off curve2" runs only those harnesses.
+# FUZZ_ONLY="mesh_off curve2" runs only those harnesses; FUZZ_RUNS=N stops each after N executions.
 FUZZ_SECONDS ?= 60
 FUZZ_PARALLEL ?= 1
 fuzz:
@@ -72,7 +72,7 @@ fuzz:
 	@cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
 	  -DRAMIFORM_FUZZ=ON -DRAMIFORM_BUILD_BENCH=OFF $(CMAKE_FLAGS) >/dev/null
 	@cmake --build build-fuzz -j $(JOBS) --target ramiform_fuzzers
-	@FUZZ_ONLY="$(FUZZ_ONLY)" bash fuzz/run_fuzzers.sh build-fuzz $(FUZZ_SECONDS) $(FUZZ_PARALLEL)
+	@FUZZ_ONLY="$(FUZZ_ONLY)" FUZZ_RUNS="$(FUZZ_RUNS)" bash fuzz/run_fuzzers.sh build-fuzz $(FUZZ_SECONDS) $(FUZZ_PARALLEL)
 
 format:
 	@find include src apps tests bench tools -name '*.h' -o -name '*.cpp' | xargs clang-format -i

@@ -5,7 +5,8 @@
 # fuzz`; docs/fuzzing.md). New inputs go to BUILD_DIR/fuzz-work/<harness>/ (the first corpus
 # directory, where libFuzzer writes), never into the checked-in fuzz/corpus/<harness>/; crashes,
 # timeouts and out-of-memory inputs to BUILD_DIR/fuzz-findings/<harness>/. Prints executions
-# per harness and exits 1 when any harness found something.
+# per harness and exits 1 when any harness found something. FUZZ_RUNS=N stops each harness after
+# N executions when that comes before SECONDS (a count that does not depend on the machine's load).
 set -uo pipefail
 
 build_dir=${1:?usage: run_fuzzers.sh BUILD_DIR SECONDS [PARALLEL]}
@@ -48,7 +49,9 @@ run_one() {
   mkdir -p "$work" "$findings" "$build_dir/fuzz-logs"
   # -timeout: an input taking 10 s is a finding (no harness input may take seconds);
   # -rss_limit_mb: libFuzzer's default, stated.
-  "$fuzzer" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  local runs=()
+  [ -n "${FUZZ_RUNS:-}" ] && runs=(-runs="$FUZZ_RUNS")
+  "$fuzzer" -max_total_time="$seconds" "${runs[@]}" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$findings/" "$work" "$source_dir/fuzz/corpus/$name" >"$log" 2>&1
   local rc=$?
   local execs
