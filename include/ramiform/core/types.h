@@ -14,7 +14,9 @@
 
 namespace ramiform {
 
+using Vec2 = Eigen::Vector2d;  ///< a texture coordinate (u, v)
 using Vec3 = Eigen::Vector3d;  ///< a point or direction in model units
+using Vec4 = Eigen::Vector4d;  ///< a tangent with its handedness (x, y, z, w = +-1), as glTF
 using Mat3 = Eigen::Matrix3d;
 using Affine3 = Eigen::Affine3d;
 
