@@ -7,6 +7,8 @@
 #include <chrono>
 #include <filesystem>
 #include <iostream>
+#include <regex>
+#include <string>
 
 #include "commands.h"
 #include "common.h"
@@ -18,6 +20,32 @@
 
 namespace ramiform::cli {
 namespace {
+
+// The grow command's cleanup clause (ramiform::cleanup_summary) as numbers for stats.json;
+// null when the message has none (the clause's format is pinned by the CLI tests).
+nlohmann::json cleanup_stats(const std::string& message) {
+  static const std::regex clause(
+      R"(cleanup: (\d+) nodes moved, (\d+) removed \((\d+) kinks, (\d+) stubs pruned\); )"
+      R"(turn at chain nodes p50/p90/max ([0-9.]+)/([0-9.]+)/([0-9.]+) deg -> )"
+      R"(([0-9.]+)/([0-9.]+)/([0-9.]+) deg; tip branches shorter than ([0-9.]+) steps )"
+      R"((\d+) of (\d+) \(([0-9.]+) %\) -> (\d+) of (\d+) \(([0-9.]+) %\))");
+  std::smatch m;
+  if (!std::regex_search(message, m, clause)) return nullptr;
+  auto integer = [&](int k) { return std::stoll(m[k].str()); };
+  auto real = [&](int k) { return std::stod(m[k].str()); };
+  auto shape = [&](int turn, int tips) {
+    return nlohmann::json{{"turn_p50_deg", real(turn)},
+                          {"turn_p90_deg", real(turn + 1)},
+                          {"turn_max_deg", real(turn + 2)},
+                          {"short_tip_branches", integer(tips)},
+                          {"tip_branches", integer(tips + 1)},
+                          {"short_tip_percent", real(tips + 2)}};
+  };
+  return {{"nodes_moved", integer(1)}, {"nodes_removed", integer(2)},
+          {"kinks_removed", integer(3)}, {"stubs_pruned", integer(4)},
+          {"short_steps", real(11)},     {"before", shape(5, 12)},
+          {"after", shape(8, 15)}};
+}
 
 struct DemoArgs {
   std::string out_dir = "out";
@@ -62,6 +90,7 @@ int run_demo(const DemoArgs& args) {
                             {"command", r.command},
                             {"result", r.message},
                             {"seconds", seconds}});
+        if (r.command == "grow") commands.back()["cleanup"] = cleanup_stats(r.message);
         if (r.command == "grow" || r.command == "point_set_thin" || r.command == "point_set_gen" ||
             r.command.rfind("save_", 0) == 0) {
           reports.push_back(r.message);
@@ -78,6 +107,9 @@ int run_demo(const DemoArgs& args) {
   stats["seconds"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   stats["commands"] = commands;
+  // The grown tree's branch cleanup (examples/demo.rf: smooth= and prune= of `grow`).
+  for (const nlohmann::json& c : commands)
+    if (c["command"] == "grow" && c.contains("cleanup")) stats["grow_cleanup"] = c["cleanup"];
   stats["outputs"] = written;
   stats["seed"] = args.seed;
   const std::string stats_path = (fs::path(args.out_dir) / "stats.json").string();

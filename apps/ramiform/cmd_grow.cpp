@@ -14,6 +14,7 @@
 #include "common.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
+#include "ramiform/grow/branch_cleanup.h"
 #include "ramiform/grow/lsystem.h"
 #include "ramiform/grow/space_colonization.h"
 #include "ramiform/io/points_io.h"
@@ -44,6 +45,27 @@ Vec3 parse_vec3(const std::string& text, const std::string& flag) {
 // The text parse_vec3 reads back as `v`, for the defaults in --help.
 std::string vec3_text(const Vec3& v) {
   return format_shortest(v.x()) + "," + format_shortest(v.y()) + "," + format_shortest(v.z());
+}
+
+nlohmann::json shape_json(const BranchShape& s) {
+  return {{"chain_nodes", s.chain_nodes},
+          {"turn_p50_deg", s.turn_p50_deg},
+          {"turn_p90_deg", s.turn_p90_deg},
+          {"turn_max_deg", s.turn_max_deg},
+          {"tip_branches", s.tip_branches},
+          {"short_tip_branches", s.short_tip_branches},
+          {"short_tip_share", s.short_share()}};
+}
+
+nlohmann::json cleanup_json(const BranchCleanupReport& r) {
+  return {{"nodes_moved", r.nodes_moved},
+          {"nodes_removed", r.nodes_removed},
+          {"kinks_removed", r.kinks_removed},
+          {"stubs_pruned", r.stubs_pruned},
+          {"rounds", r.rounds},
+          {"short_steps", kShortTipSteps},
+          {"before", shape_json(r.before)},
+          {"after", shape_json(r.after)}};
 }
 
 struct GrowArgs {
@@ -87,12 +109,14 @@ int run_grow(const GrowArgs& args) {
   stats["points_total"] = r.points_total;
   stats["stalled"] = r.stalled;
   stats["stall_reason"] = r.stall_reason;
+  stats["cleanup"] = cleanup_json(r.cleanup);
   stats["seconds"] = timer.seconds();
   write_stats(args.common.stats_path, stats);
   std::cout << "wrote " << args.out_path << ": " << r.skeleton.node_count() << " nodes, "
             << r.iterations << " iterations, " << r.points_reached << " of " << r.points_total
             << " points reached"
-            << (r.stalled ? "; stopped early: " + r.stall_reason : std::string()) << '\n';
+            << (r.stalled ? "; stopped early: " + r.stall_reason : std::string()) << "; "
+            << cleanup_summary(r.cleanup, format_number(kShortTipSteps) + " steps") << '\n';
   return 0;
 }
 
@@ -221,6 +245,17 @@ void register_grow(CLI::App& root, Action& action) {
       "--pipe-exponent", o.pipe_exponent,
       with_default("pipe model exponent n", o.pipe_exponent, ColonizationOptions::kMinPipeExponent,
                    ColonizationOptions::kMaxPipeExponent));
+  // The ranges are checked by the library (bad input, exit 2), not by CLI11.
+  c->add_option("--smooth", o.smooth_iterations,
+                with_default("branch cleanup: Laplacian passes along unbranched chains",
+                             o.smooth_iterations, 0, BranchCleanupOptions::kMaxSmoothIterations));
+  c->add_option("--max-turn", o.max_turn_deg,
+                with_default("branch cleanup, with --smooth: remove chain nodes turning more "
+                             "(degrees)",
+                             o.max_turn_deg));
+  c->add_option("--prune", o.prune_steps,
+                with_default("branch cleanup: remove tip branches shorter than this many steps",
+                             o.prune_steps));
   c->add_option("--seed", a->seed, "accepted for symmetry: growth itself makes no random choice");
   add_common_options(*c, a->common);
   c->callback([a, &action] { action = [a] { return run_grow(*a); }; });

@@ -100,6 +100,17 @@ std::uint64_t hash_cell(std::int64_t x, std::int64_t y, std::int64_t z) {
 
 }  // namespace
 
+BranchCleanupOptions ColonizationOptions::cleanup() const {
+  BranchCleanupOptions c;
+  c.smooth_iterations = smooth_iterations;
+  c.max_turn_deg = max_turn_deg;
+  c.prune_length = prune_steps * step;
+  c.tip_radius = tip_radius;
+  c.pipe_exponent = pipe_exponent;
+  c.short_length = kShortTipSteps * step;
+  return c;
+}
+
 void ColonizationOptions::validate() const {
   check(std::isfinite(step) && step > 0,
         "step must be finite and > 0 (got " + format_number(step) + ")");
@@ -122,6 +133,17 @@ void ColonizationOptions::validate() const {
   check(pipe_exponent >= kMinPipeExponent && pipe_exponent <= kMaxPipeExponent,
         "pipe_exponent must be in " + range_text(kMinPipeExponent, kMaxPipeExponent) + " (got " +
             format_number(pipe_exponent) + ")");
+  check(smooth_iterations >= 0 && smooth_iterations <= BranchCleanupOptions::kMaxSmoothIterations,
+        "smooth_iterations must be in " +
+            range_text(0, BranchCleanupOptions::kMaxSmoothIterations) + " (got " +
+            std::to_string(smooth_iterations) + ")");
+  check(max_turn_deg > 0 && max_turn_deg <= 180,
+        "max_turn_deg must be in (0, 180] (got " + format_number(max_turn_deg) + ")");
+  check(std::isfinite(prune_steps) && prune_steps >= 0,
+        "prune_steps must be finite and >= 0 (got " + format_number(prune_steps) + ")");
+  check(std::isfinite(prune_steps * step), "prune_steps * step must be finite (got " +
+                                               format_number(prune_steps) + " steps of " +
+                                               format_number(step) + ")");
 }
 
 struct SpaceColonization::Impl {
@@ -701,6 +723,9 @@ ColonizationResult grow_space_colonization(std::span<const Vec3> points,
   while (!sc.done()) sc.step();
   ColonizationResult r;
   r.skeleton = sc.skeleton();
+  std::vector<std::uint32_t> roots(options.roots.size());
+  for (std::uint32_t k = 0; k < roots.size(); ++k) roots[k] = k;
+  r.cleanup = clean_branches(r.skeleton, roots, options.cleanup(), ctx);
   r.iterations = sc.iterations();
   r.points_total = sc.points_total();
   r.points_reached = r.points_total - sc.points_alive();

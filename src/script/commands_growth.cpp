@@ -11,7 +11,9 @@
 #include <sstream>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/numbers.h"
 #include "ramiform/field/skeleton_field.h"
+#include "ramiform/grow/branch_cleanup.h"
 #include "ramiform/grow/lsystem.h"
 #include "ramiform/grow/space_colonization.h"
 #include "ramiform/io/mesh_io.h"
@@ -159,6 +161,17 @@ CommandResult run_grow(Call& c) {
   o.max_iterations = c.option_integer("max_iterations", o.max_iterations, 0, 10'000'000);
   o.tip_radius = c.option_positive("tip_radius", o.tip_radius);
   o.pipe_exponent = c.option_number("pipe_exponent", o.pipe_exponent);
+  o.smooth_iterations = c.option_integer("smooth", o.smooth_iterations, 0,
+                                         BranchCleanupOptions::kMaxSmoothIterations);
+  o.prune_steps = c.option_number("prune", o.prune_steps);
+  if (!(std::isfinite(o.prune_steps) && o.prune_steps >= 0))
+    c.fail(*c.option_token("prune"),
+           "prune must be a number of growth steps >= 0, got " + c.option_token("prune")->text);
+  o.max_turn_deg = c.option_number("max_turn", o.max_turn_deg);
+  if (!(o.max_turn_deg > 0 && o.max_turn_deg <= 180))
+    c.fail(*c.option_token("max_turn"),
+           "max_turn must be an angle in (0, 180] degrees, got " +
+               c.option_token("max_turn")->text);
   FieldPtr avoid;
   if (const Token* t = c.option_token("avoid")) {
     avoid = c.object_named(*t, ObjectKind::kShape).field;
@@ -178,7 +191,10 @@ CommandResult run_grow(Call& c) {
            no_branch_reason(r, points.positions, o) + advice);
   }
   c.define(name, tree_object(r.skeleton, summary));
-  return {c.spec().name, name + ": " + summary_text(c.session().objects.at(name)), true};
+  return {c.spec().name,
+          name + ": " + summary_text(c.session().objects.at(name)) + "; " +
+              cleanup_summary(r.cleanup, format_number(kShortTipSteps) + " steps"),
+          true};
 }
 
 CommandResult run_lsystem(Call& c) {
@@ -298,7 +314,7 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
       {"grow",
        "grow TREE from POINTS [step=D] [influence=DI] [kill=DK] [root=X,Y,Z] "
        "[direction=X,Y,Z] [tropism=X,Y,Z] [max_iterations=N] [tip_radius=R] [pipe_exponent=N] "
-       "[avoid=SHAPE]",
+       "[avoid=SHAPE] [smooth=N] [prune=K] [max_turn=DEG]",
        "Space colonization (Runions et al. 2007, thesis §2.5): grows a tree from `root` toward "
        "the points in steps of `step`" +
            default_text(grow.step) + "; points within `influence`" + default_text(grow.influence) +
@@ -308,13 +324,21 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
            " at the tips, exponent `pipe_exponent`" +
            default_text(grow.pipe_exponent, ColonizationOptions::kMinPipeExponent,
                         ColonizationOptions::kMaxPipeExponent) +
-           ". `avoid` keeps nodes out of a shape (§7.2). TREE is a shape (Cauchy convolution "
+           ". `avoid` keeps nodes out of a shape (§7.2). Then branch cleanup (docs/growth.md): `smooth`" +
+           default_text(grow.smooth_iterations, 0, BranchCleanupOptions::kMaxSmoothIterations) +
+           " Laplacian passes along unbranched chains (forks, root and tips stay), removing "
+           "chain nodes that still turn by more than `max_turn`" +
+           default_text(grow.max_turn_deg) +
+           " degrees, and `prune`" + default_text(grow.prune_steps) +
+           " removes tip branches shorter than that many steps; the radii are recomputed. The "
+           "message reports what changed and the turn angles and short tips before and after. "
+           "TREE is a shape (Cauchy convolution "
            "surface of the skeleton); save_mesh method=tets meshes it, save_skeleton writes the "
            "skeleton.",
        "sphere crown 3 center=0,0,5\npoint_set_gen crown uniform count=300\n"
        "grow tree from crown step=0.4 influence=2 kill=0.8\nsave_skeleton tree tree.json",
        {"step", "influence", "kill", "root", "direction", "tropism", "max_iterations", "tip_radius",
-        "pipe_exponent", "avoid"},
+        "pipe_exponent", "avoid", "smooth", "prune", "max_turn"},
        run_grow,
        {}});
   out.push_back(

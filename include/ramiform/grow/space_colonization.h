@@ -52,6 +52,7 @@
 #include "ramiform/core/context.h"
 #include "ramiform/core/types.h"
 #include "ramiform/field/field.h"
+#include "ramiform/grow/branch_cleanup.h"
 #include "ramiform/skeleton/skeleton.h"
 
 namespace ramiform {
@@ -73,7 +74,15 @@ struct ColonizationOptions {
   /// Optional obstacle: nodes are never created where f > iso (the roots must lie outside).
   /// Not owned; must outlive the growth. Meshes can be used through a field wrapping them.
   const Field* obstacle = nullptr;
+  /// Branch cleanup after growth (branch_cleanup.h; grow_space_colonization only, the
+  /// step-by-step class returns the raw tree): Laplacian passes along chains, 0 = off,
+  /// 0..BranchCleanupOptions::kMaxSmoothIterations.
+  int smooth_iterations = 0;
+  double max_turn_deg = 90.0;  ///< with smoothing: chain nodes turning more are removed, degrees, (0, 180]
+  double prune_steps = 0.0;    ///< tip branches shorter than prune_steps * step are removed, >= 0 (0 = off)
 
+  /// The cleanup part of these options (tip radius and exponent included; short = 2 steps).
+  [[nodiscard]] BranchCleanupOptions cleanup() const;
   /// Throws InvalidArgument naming the first bad option.
   void validate() const;
 };
@@ -105,8 +114,14 @@ struct ColonizationResult {
   bool stalled = false;            ///< true unless every point was reached
   std::string stall_reason;        ///< empty unless stalled
   ColonizationStatus status = ColonizationStatus::kGrowing;  ///< how growth ended
+  /// What the branch cleanup changed, and the shape figures before and after it (short tip
+  /// branches: shorter than kShortTipSteps steps). Filled on every growth, cleanup or not.
+  BranchCleanupReport cleanup;
   double seconds = 0;              ///< wall-clock time of the growth
 };
+
+/// Tip branches shorter than this many growth steps count as short in ColonizationResult.
+inline constexpr double kShortTipSteps = 2.0;
 
 /// Space colonization one iteration at a time (for animation and inspection). Holds a copy of
 /// the points. Not thread-safe itself; each step() may use `ctx->threads()` threads.
@@ -153,8 +168,9 @@ class SpaceColonization {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Grows until done() and returns the tree with pipe-model radii (see SpaceColonization; the
-/// same checks, InvalidArgument, and Cancelled when `ctx` is cancelled).
+/// Grows until done(), then cleans the branches (clean_branches with options.cleanup(), rooted
+/// at the roots, nodes 0..R-1) and returns the tree with pipe-model radii (see
+/// SpaceColonization; the same checks, InvalidArgument, and Cancelled when `ctx` is cancelled).
 [[nodiscard]] ColonizationResult grow_space_colonization(std::span<const Vec3> points,
                                                          const ColonizationOptions& options,
                                                          Context* ctx = nullptr);
