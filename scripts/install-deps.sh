@@ -2,8 +2,9 @@
 # SPDX-License-Identifier: MIT
 # Copyright (c) 2026 the ramiform authors
 # Installs the Debian packages ramiform needs, if any are missing (`--bench`: also those of the
-# optional OpenVDB comparison benchmark; `--fuzz`: also clang and libFuzzer for `make fuzz`).
-# Safe to run repeatedly.
+# optional OpenVDB comparison benchmark; `--fuzz`: also clang and libFuzzer for `make fuzz`),
+# then the web tools of tools/web (the glTF validator and three.js, `npm ci`) when npm exists.
+# Safe to run repeatedly; quick when everything is there.
 set -euo pipefail
 
 packages=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libnanoflann-dev
@@ -25,23 +26,47 @@ if [ "${1:-}" = "--fuzz" ]; then
   packages+=(clang-14 libclang-rt-14-dev llvm-14)
 fi
 
+# The .glb tests (tests/web, docs/viewing.md) run the Khronos glTF validator and three.js in
+# Debian's headless Chromium, from node packages in tools/web. Without npm they skip, and so
+# Chromium (about 45 s to install, 300 MB) is only installed where npm is.
+if command -v npm >/dev/null 2>&1; then
+  packages+=(chromium)
+fi
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
     missing+=("$p")
   fi
 done
-[ ${#missing[@]} -eq 0 ] && exit 0
 
-echo "ramiform: installing missing packages: ${missing[*]}"
-if [ "$(id -u)" -eq 0 ]; then
-  SUDO=()
-elif command -v sudo >/dev/null 2>&1; then
-  SUDO=(sudo)
-else
-  echo "ramiform: need root (or sudo) to install: ${missing[*]}" >&2
-  exit 1
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "ramiform: installing missing packages: ${missing[*]}"
+  if [ "$(id -u)" -eq 0 ]; then
+    SUDO=()
+  elif command -v sudo >/dev/null 2>&1; then
+    SUDO=(sudo)
+  else
+    echo "ramiform: need root (or sudo) to install: ${missing[*]}" >&2
+    exit 1
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  "${SUDO[@]}" apt-get update -qq
+  "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-export DEBIAN_FRONTEND=noninteractive
-"${SUDO[@]}" apt-get update -qq
-"${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+
+# tools/web/node_modules, exactly as package-lock.json pins it. A copy of the lock file inside
+# node_modules marks a finished `npm ci`, so a second run does nothing. A failed `npm ci` (no
+# registry) is a warning: the build does not need it, and the .glb tests then skip.
+web="$(cd "$(dirname "$0")/.." && pwd)/tools/web"
+stamp="$web/node_modules/.ramiform-package-lock.json"
+if ! command -v npm >/dev/null 2>&1; then
+  echo "ramiform: npm not found: skipping tools/web (the .glb validator and render tests will skip)"
+elif ! cmp -s "$web/package-lock.json" "$stamp"; then
+  echo "ramiform: npm ci in tools/web (glTF validator, three.js, playwright-core)"
+  if (cd "$web" && npm ci --no-audit --no-fund --loglevel=error); then
+    cp "$web/package-lock.json" "$stamp"
+  else
+    echo "ramiform: warning: npm ci in tools/web failed: the .glb tests will skip" >&2
+  fi
+fi
