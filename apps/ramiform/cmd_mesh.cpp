@@ -18,6 +18,8 @@ struct MeshArgs {
   MeshJobOptions job;
   FieldFlags field;
   CommonOptions common;
+  std::vector<double> lod_values;  ///< --lod
+  bool lod_budget = false;         ///< --lod-budget
 };
 
 int run_mesh(MeshArgs& args) {
@@ -28,6 +30,7 @@ int run_mesh(MeshArgs& args) {
     args.out_path = std::filesystem::path(args.skeleton_path).stem().string() + ".ply";
   }
   check_output_path(args.out_path, kMeshFormats);
+  for (const std::string& p : lod_paths(args.out_path, args.job.lods.size())) check_output_path(p);
   check_output_path(args.common.stats_path);
   const Skeleton skeleton = read_skeleton(args.skeleton_path, read_options(args.field));
   timer.lap("read");
@@ -38,7 +41,16 @@ int run_mesh(MeshArgs& args) {
   write_stats(args.common.stats_path, stats);
   std::cout << "wrote " << args.out_path << ": " << result.mesh.vertex_count() << " vertices, "
             << result.mesh.triangle_count() << " triangles"
-            << (result.report.watertight ? ", watertight" : ", NOT watertight") << '\n';
+            << (result.report.watertight ? ", watertight" : ", NOT watertight");
+  if (!result.lod_triangles.empty()) {
+    std::cout << "; " << result.lod_triangles.size() << " levels of detail:";
+    for (std::size_t k = 0; k < result.lod_triangles.size(); ++k) {
+      std::cout << (k > 0 ? "," : "") << " LOD" << k << " " << result.lod_triangles[k];
+    }
+    std::cout << " triangles";
+    if (result.written.size() > 1) std::cout << " (" << result.written.size() << " files)";
+  }
+  std::cout << '\n';
   // A coarse lattice (levels 0 and 1, or a coarse mc cell) can let a thin branch fall apart;
   // say so instead of leaving it to a later check.
   const auto components = stats.value("components", std::size_t{0});
@@ -119,6 +131,18 @@ void register_mesh(CLI::App& root, Action& action) {
               "adds radius_error_* to --stats");
   c->add_flag("--radius-error", args->job.radius_error,
               "measure the surface's radius error against the skeleton's radii (in --stats)");
+  add_output_options(*c, args->job);
+  auto* lod =
+      c->add_option("--lod", args->lod_values,
+                    "tets: levels of detail, finest first: deviation tolerances (e.g. "
+                    "0.05,0.15,0.4), or with --lod-budget triangle budgets (e.g. "
+                    "1000000,300000,100000); each level is a watertight mesh of the same field. "
+                    "-o tree.glb writes one file with nodes LOD0, LOD1, ... (MSFT_lod); another "
+                    "format one file per level: tree.lod0.ply, tree.lod1.ply, ...")
+          ->delimiter(',');
+  c->add_flag("--lod-budget", args->lod_budget,
+              "read the --lod values as triangle budgets: each level is the finest mesh within "
+              "its budget");
   MarchingCubesOptions& mc = args->job.mc;
   auto* cell = c->add_option("--cell", mc.cell_size, "mc: cell edge length (model units)")
                    ->check(CLI::PositiveNumber);
@@ -133,7 +157,8 @@ void register_mesh(CLI::App& root, Action& action) {
   auto* scale = c->get_option("--section-scale");
   add_field_options(*c, args->field);
   add_common_options(*c, args->common);
-  c->callback([args, cell, res, levels, scale, tolerance, max_triangles, samples, &action] {
+  c->callback([args, cell, res, levels, scale, tolerance, max_triangles, samples, lod,
+               &action] {
     if (args->job.method != "mc" && (cell->count() > 0 || res->count() > 0)) {
       throw CLI::ValidationError(cell->count() > 0 ? "--cell" : "--resolution",
                                  "applies to --method mc only (the default method is tets)");
@@ -151,6 +176,16 @@ void register_mesh(CLI::App& root, Action& action) {
                                    "applies to the tolerance mesher only (--method tets without "
                                    "--levels alone)");
       }
+    }
+    if (lod->count() > 0) {
+      if (args->job.method == "mc" || !args->job.to_tolerance) {
+        throw CLI::ValidationError("--lod",
+                                   "applies to the tolerance mesher only (--method tets without "
+                                   "--levels alone)");
+      }
+      args->job.lods = lod_levels(args->lod_values, args->lod_budget);
+    } else if (args->lod_budget) {
+      throw CLI::ValidationError("--lod-budget", "needs --lod");
     }
     action = [args] { return run_mesh(*args); };
   });

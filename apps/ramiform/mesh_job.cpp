@@ -2,9 +2,15 @@
 // Copyright (c) 2026 the ramiform authors
 #include "mesh_job.h"
 
+#include <cctype>
+#include <cmath>
+#include <memory>
+#include <filesystem>
+
 #include "ramiform/core/errors.h"
 #include "ramiform/field/radius_fit.h"
 #include "ramiform/io/mesh_io.h"
+#include "ramiform/mesh/normals.h"
 
 namespace ramiform::cli {
 namespace {
@@ -134,6 +140,67 @@ SkeletonSurface build_surface(const Skeleton& skeleton, const SkeletonFieldOptio
   return s;
 }
 
+void add_output_options(CLI::App& app, MeshJobOptions& options) {
+  app.add_option_function<std::string>(
+         "--up",
+         [&options](const std::string& v) {
+           options.write.up = v == "y" ? UpAxis::kY : UpAxis::kZ;
+         },
+         "up axis of a .ply, .obj or .off file: z (the library's coordinates, default) or y "
+         "(rotated: x, z, -y); a .glb is always +Y up as glTF requires")
+      ->check(CLI::IsMember({"z", "y"}));
+  app.add_flag("!--no-normals", options.write.normals,
+               "write no vertex normals (by default every format but .off gets the field's exact "
+               "outward normals)");
+  app.add_flag_function(
+      "--uv,!--no-uv", [&options](std::int64_t n) { options.uv = n > 0 ? 1 : 0; },
+      "bark texture coordinates along the branches (u around, v along in units of the local "
+      "circumference) and tangents: on by default for .glb and .obj, off for .ply (its seam "
+      "copies open the vertex indices) and .off (no UVs)");
+  app.add_option_function<std::vector<double>>(
+         "--uv-facing",
+         [&options](const std::vector<double>& v) { options.bark.facing = Vec3(v[0], v[1], v[2]); },
+         "X,Y,Z: each branch's texture seam lies on the side facing away from this direction "
+         "(default 0,-1,0: hidden from a viewer on -Y)")
+      ->expected(3)
+      ->delimiter(',');
+}
+
+std::vector<LodLevel> lod_levels(const std::vector<double>& values, bool budgets) {
+  std::vector<LodLevel> levels;
+  for (const double v : values) {
+    LodLevel l;
+    if (budgets) {
+      if (!(v >= 1 && v <= 4e9 && v == std::floor(v))) {
+        throw InvalidArgument("--lod with --lod-budget: " + format_number(v) +
+                              " is not a triangle count (a positive whole number)");
+      }
+      l.max_triangles = static_cast<std::size_t>(v);
+    } else {
+      l.tolerance = v;
+    }
+    levels.push_back(l);
+  }
+  return levels;
+}
+
+bool wants_uvs(const MeshJobOptions& options, const std::string& path) {
+  if (options.uv >= 0) return options.uv > 0;
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext == ".glb" || ext == ".obj";
+}
+
+nlohmann::json uv_stats(const BarkUvStats& st) {
+  return {{"branches", st.branches},
+          {"seam_edges", st.seam_edges},
+          {"wrap_seam_edges", st.wrap_seam_edges},
+          {"fork_seam_edges", st.fork_seam_edges},
+          {"split_vertices", st.split_vertices},
+          {"stretch_p50", st.stretch_p50},
+          {"stretch_within_10_percent", st.within_10_percent}};
+}
+
 MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
                             const MeshJobOptions& options, const std::string& out_path,
                             StageTimer& timer, Context& ctx) {
@@ -143,10 +210,36 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
   const Skeleton& meshed = surface.skeleton;
   const FieldPtr field = surface.field;
   timer.lap("field");
-  if (options.method == "mc") {
-    polygonize_mc(*field, options, ctx, r);
+  std::vector<TriMesh> levels;
+  if (!options.lods.empty()) {
+    if (options.method == "mc" || !options.to_tolerance) {
+      throw InvalidArgument("--lod needs the tolerance mesher (--method tets without --levels alone)");
+    }
+    ToleranceOptions o = options.tolerance;
+    o.tets = options.tets;
+    std::vector<LodStats> st;
+    levels = polygonize_lods(*field, meshed, o, options.lods, &ctx, &st);
+    nlohmann::json lods = nlohmann::json::array();
+    for (std::size_t k = 0; k < st.size(); ++k) {
+      const DeviationSummary& d = st[k].mesher.deviation.samples;
+      lods.push_back({{"level", k},
+                      {"triangles", st[k].triangles},
+                      {"tolerance", st[k].tolerance},
+                      {"base_levels", st[k].levels},
+                      {"attempts", st[k].attempts},
+                      {"tolerance_reached", st[k].mesher.reached},
+                      {"deviation_p99", d.p99},
+                      {"deviation_max", d.max}});
+      r.lod_triangles.push_back(st[k].triangles);
+    }
+    r.stats["lods"] = lods;
+    r.mesh = levels[0];
   } else {
-    polygonize_tets(*field, meshed, options, ctx, r);
+    if (options.method == "mc") {
+      polygonize_mc(*field, options, ctx, r);
+    } else {
+      polygonize_tets(*field, meshed, options, ctx, r);
+    }
   }
   timer.lap("polygonize");
   const std::uint64_t evals = field->evaluations();
@@ -158,9 +251,33 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
     r.stats["radius_error_samples"] = e.samples;
     timer.lap("radius_error");
   }
+  SurfaceAttributeOptions attributes;
+  attributes.normals = options.write.normals;
+  attributes.uvs = wants_uvs(options, out_path);
+  attributes.bark = options.bark;
+  if (levels.empty()) levels.push_back(std::move(r.mesh));
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    BarkUvStats uv;
+    add_surface_attributes(levels[k], *field, skeleton, attributes, &ctx, &uv);
+    if (attributes.uvs && k == 0) r.stats["uv"] = uv_stats(uv);
+  }
+  timer.lap("attributes");
+  r.mesh = levels[0];
   r.report = check_mesh(r.mesh, &ctx);
+  if (!options.lods.empty()) {
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+      const MeshReport lr = k == 0 ? r.report : check_mesh(levels[k], &ctx);
+      nlohmann::json& l = r.stats["lods"][k];
+      l["watertight"] = lr.watertight;
+      l["oriented"] = lr.oriented;
+      l["manifold"] = lr.manifold;
+      l["components"] = lr.components;
+    }
+  }
   timer.lap("check");
-  write_mesh(r.mesh, out_path);
+  MeshWriteOptions write = options.write;
+  write.uvs = attributes.uvs;
+  r.written = write_mesh_lods(levels, out_path, write);
   timer.lap("write");
   r.stats["method"] = options.method;
   r.stats["vertices"] = r.mesh.vertex_count();

@@ -9,7 +9,10 @@
 
 #include "common.h"
 #include "ramiform/core/geometry.h"
+#include "ramiform/io/mesh_io.h"
+#include "ramiform/mesh/bark_uv.h"
 #include "ramiform/mesh/checks.h"
+#include "ramiform/polygonize/lod.h"
 #include "ramiform/polygonize/marching_cubes.h"
 #include "ramiform/polygonize/refine.h"
 #include "ramiform/polygonize/tetrahedral.h"
@@ -27,10 +30,31 @@ struct MeshJobOptions {
   bool to_tolerance = true;     ///< false: plain tets at `tets.levels` (--levels alone)
   bool fit_radii = false;       ///< split edges and fit per-edge weights (convolution only)
   bool radius_error = false;    ///< measure the radius error (always on with fit_radii)
+  MeshWriteOptions write;       ///< --up, --no-normals (write.uvs: see `uv`)
+  /// Bark texture coordinates (--uv, --no-uv): -1 by the output's format (.glb and .obj yes,
+  /// .ply and .off no: a PLY file stores them on seam copies, which open its vertex indices).
+  int uv = -1;
+  BarkUvOptions bark;           ///< --uv-facing
+  std::vector<LodLevel> lods;   ///< --lod, --lod-budget (tets to tolerance only)
 };
 
+/// Whether `options` put bark UVs into the file `path`.
+[[nodiscard]] bool wants_uvs(const MeshJobOptions& options, const std::string& path);
+
+/// --up, --no-normals, --uv, --no-uv and --uv-facing (`mesh`).
+void add_output_options(CLI::App& app, MeshJobOptions& options);
+
+/// The --lod values as levels: tolerances, or with `budgets` triangle counts (InvalidArgument
+/// for a budget that is not a positive whole number).
+[[nodiscard]] std::vector<LodLevel> lod_levels(const std::vector<double>& values, bool budgets);
+
+/// The bark UV figures as --stats shows them.
+[[nodiscard]] nlohmann::json uv_stats(const BarkUvStats& st);
+
 struct MeshJobResult {
-  TriMesh mesh;
+  TriMesh mesh;  ///< the (finest) mesh written
+  std::vector<std::size_t> lod_triangles;  ///< with --lod: each level's triangle count
+  std::vector<std::string> written;        ///< the files written
   MeshReport report;
   nlohmann::json stats;  ///< vertices, triangles, field_evals, checks (no seconds)
 };
@@ -48,8 +72,9 @@ struct SkeletonSurface {
 SkeletonSurface build_surface(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
                               bool fit_radii, StageTimer& timer, Context& ctx);
 
-/// Builds the field (fitting radii if asked), polygonizes, checks and writes `out_path`
-/// (atomically). Laps `timer` at "field" (and "fit"), "polygonize", "check", "write".
+/// Builds the field (fitting radii if asked), polygonizes (every level of `options.lods`),
+/// adds normals and UVs, checks and writes `out_path` (atomically; one file per level unless a
+/// .glb). Laps `timer` at "field" (and "fit"), "polygonize", "check", "write".
 MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
                             const MeshJobOptions& options, const std::string& out_path,
                             StageTimer& timer, Context& ctx);

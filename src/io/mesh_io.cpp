@@ -2,12 +2,16 @@
 // Copyright (c) 2026 the ramiform authors
 #include "ramiform/io/mesh_io.h"
 
+#include <cstdio>
+#include <span>
+
 #include "io/gltf_format.h"
 #include "io/obj_format.h"
 #include "io/ply_format.h"
 #include "io/text_scan.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/io/atomic_file.h"
+#include "ramiform/mesh/checks.h"
 
 namespace ramiform {
 namespace {
@@ -24,22 +28,42 @@ void add_fan(TriMesh& mesh, const Index* corners, std::size_t n) {
   }
 }
 
+template <class V>
+void check_attribute(const std::vector<V>& values, std::size_t n, const char* what) {
+  if (!values.empty() && values.size() != n) {
+    throw InvalidArgument("write_mesh: " + std::to_string(values.size()) + " " + what + " for " +
+                          std::to_string(n) + " vertices");
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!values[i].allFinite()) {
+      throw InvalidArgument("write_mesh: " + std::string(what) + " " + std::to_string(i) +
+                            " is not finite");
+    }
+  }
+}
+
 void check_writable(const TriMesh& mesh) {
-  if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) {
-    throw InvalidArgument("write_mesh: " + std::to_string(mesh.normals.size()) + " normals for " +
-                          std::to_string(mesh.positions.size()) + " vertices");
-  }
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-    if (!is_finite(mesh.positions[i])) {
-      throw InvalidArgument("write_mesh: vertex " + std::to_string(i) + " is not finite");
-    }
-  }
-  for (std::size_t i = 0; i < mesh.normals.size(); ++i) {
-    if (!is_finite(mesh.normals[i])) {
-      throw InvalidArgument("write_mesh: normal " + std::to_string(i) + " is not finite");
-    }
-  }
   const std::size_t n = mesh.positions.size();
+  check_attribute(mesh.positions, n, "vertex");
+  check_attribute(mesh.normals, n, "normals");
+  check_attribute(mesh.uvs, n, "uvs");
+  check_attribute(mesh.tangents, n, "tangents");
+  if (!mesh.tangents.empty() && mesh.uvs.empty()) {
+    throw InvalidArgument("write_mesh: tangents without uvs");
+  }
+  if (!mesh.welded.empty()) {
+    if (mesh.welded.size() != n) {
+      throw InvalidArgument("write_mesh: " + std::to_string(mesh.welded.size()) +
+                            " welded entries for " + std::to_string(n) + " vertices");
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (mesh.welded[i] > i || mesh.welded[mesh.welded[i]] != mesh.welded[i]) {
+        throw InvalidArgument("write_mesh: vertex " + std::to_string(i) + " is welded to " +
+                              std::to_string(mesh.welded[i]) +
+                              ", which is not an original vertex before it");
+      }
+    }
+  }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     for (const std::uint32_t v : mesh.triangles[t]) {
       if (v >= n) {
@@ -51,6 +75,23 @@ void check_writable(const TriMesh& mesh) {
   }
 }
 
+// For each vertex, the 0-based index of its surface point when only the original of each seam
+// copy is written (the identity for a mesh without `welded`).
+std::vector<std::uint32_t> surface_points(const TriMesh& mesh) {
+  std::vector<std::uint32_t> point(mesh.positions.size());
+  std::uint32_t points = 0;
+  for (std::size_t i = 0; i < point.size(); ++i) {
+    const std::uint32_t w = mesh.welded.empty() ? static_cast<std::uint32_t>(i) : mesh.welded[i];
+    point[i] = w == i ? points++ : point[w];
+  }
+  return point;
+}
+
+// The file's coordinates of a library point or direction (+Z up) for `up`.
+Vec3 oriented(const Vec3& v, UpAxis up) {
+  return up == UpAxis::kY ? Vec3(v.x(), v.z(), -v.y()) : v;
+}
+
 void append_vec(std::string& t, const Vec3& p) {
   append_double(t, p.x());
   t += ' ';
@@ -59,25 +100,36 @@ void append_vec(std::string& t, const Vec3& p) {
   append_double(t, p.z());
 }
 
-void write_ply(const TriMesh& mesh, std::ostream& out) {
+void write_ply(const TriMesh& mesh, const MeshWriteOptions& o, std::ostream& out) {
   PlyWriter ply(out);
   ply.begin("ramiform mesh");
   std::vector<PlyColumn> columns = {
       {"x", PlyType::kFloat64}, {"y", PlyType::kFloat64}, {"z", PlyType::kFloat64}};
-  const bool normals = !mesh.normals.empty();
+  const bool normals = o.normals && !mesh.normals.empty();
+  const bool uvs = o.uvs && !mesh.uvs.empty();
   if (normals) {
     columns.push_back({"nx", PlyType::kFloat64});
     columns.push_back({"ny", PlyType::kFloat64});
     columns.push_back({"nz", PlyType::kFloat64});
+  }
+  if (uvs) {
+    columns.push_back({"u", PlyType::kFloat64});
+    columns.push_back({"v", PlyType::kFloat64});
   }
   ply.element("vertex", mesh.positions.size(), columns);
   ply.list_element("face", mesh.triangles.size(), PlyType::kUInt8, PlyType::kUInt32,
                    "vertex_indices");
   ply.end_header();
   for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-    for (int c = 0; c < 3; ++c) ply.put(PlyType::kFloat64, mesh.positions[i][c]);
+    const Vec3 p = oriented(mesh.positions[i], o.up);
+    for (int c = 0; c < 3; ++c) ply.put(PlyType::kFloat64, p[c]);
     if (normals) {
-      for (int c = 0; c < 3; ++c) ply.put(PlyType::kFloat64, mesh.normals[i][c]);
+      const Vec3 n = oriented(mesh.normals[i], o.up);
+      for (int c = 0; c < 3; ++c) ply.put(PlyType::kFloat64, n[c]);
+    }
+    if (uvs) {
+      ply.put(PlyType::kFloat64, mesh.uvs[i].x());
+      ply.put(PlyType::kFloat64, mesh.uvs[i].y());
     }
   }
   for (const auto& t : mesh.triangles) {
@@ -87,31 +139,50 @@ void write_ply(const TriMesh& mesh, std::ostream& out) {
   ply.flush(true);
 }
 
-void write_obj(const TriMesh& mesh, std::ostream& out) {
+// OBJ keeps one `v` (and `vn`) per point of the surface and one `vt` per seam copy, so a
+// textured mesh stays closed by its vertex indices: corners are v/vt/vn.
+void write_obj(const TriMesh& mesh, const MeshWriteOptions& o, std::ostream& out) {
   TextSink sink(out);
   sink.text() += "# ramiform mesh\n";
-  for (const Vec3& p : mesh.positions) {
-    sink.text() += "v ";
-    append_vec(sink.text(), p);
-    sink.text() += '\n';
-    sink.line_done();
+  const std::size_t n = mesh.positions.size();
+  const bool normals = o.normals && !mesh.normals.empty();
+  const bool uvs = o.uvs && !mesh.uvs.empty();
+  const std::vector<std::uint32_t> point = surface_points(mesh);
+  const auto lines = [&](const char* tag, auto&& value) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!mesh.welded.empty() && mesh.welded[i] != i) continue;
+      sink.text() += tag;
+      append_vec(sink.text(), oriented(value(i), o.up));
+      sink.text() += '\n';
+      sink.line_done();
+    }
+  };
+  lines("v ", [&](std::size_t i) { return mesh.positions[i]; });
+  if (normals) lines("vn ", [&](std::size_t i) { return mesh.normals[i]; });
+  if (uvs) {
+    for (const Vec2& uv : mesh.uvs) {
+      std::string& t = sink.text();
+      t += "vt ";
+      append_double(t, uv.x());
+      t += ' ';
+      append_double(t, uv.y());
+      t += '\n';
+      sink.line_done();
+    }
   }
-  for (const Vec3& n : mesh.normals) {
-    sink.text() += "vn ";
-    append_vec(sink.text(), n);
-    sink.text() += '\n';
-    sink.line_done();
-  }
-  const bool normals = !mesh.normals.empty();
   for (const auto& tri : mesh.triangles) {
     std::string& t = sink.text();
     t += 'f';
     for (const std::uint32_t v : tri) {
       t += ' ';
-      append_uint(t, std::uint64_t{v} + 1);
-      if (normals) {
-        t += "//";
+      append_uint(t, std::uint64_t{point[v]} + 1);
+      if (uvs) {
+        t += '/';
         append_uint(t, std::uint64_t{v} + 1);
+      }
+      if (normals) {
+        t += uvs ? "/" : "//";
+        append_uint(t, std::uint64_t{point[v]} + 1);
       }
     }
     t += '\n';
@@ -120,16 +191,22 @@ void write_obj(const TriMesh& mesh, std::ostream& out) {
   sink.flush();
 }
 
-void write_off(const TriMesh& mesh, std::ostream& out) {
+void write_off(const TriMesh& mesh, const MeshWriteOptions& o, std::ostream& out) {
   TextSink sink(out);
+  const std::vector<std::uint32_t> point = surface_points(mesh);
+  std::size_t points = 0;
+  for (std::size_t i = 0; i < point.size(); ++i) {
+    if (mesh.welded.empty() || mesh.welded[i] == i) ++points;
+  }
   std::string& head = sink.text();
   head += "OFF\n";
-  append_uint(head, mesh.positions.size());
+  append_uint(head, points);
   head += ' ';
   append_uint(head, mesh.triangles.size());
   head += " 0\n";
-  for (const Vec3& p : mesh.positions) {
-    append_vec(sink.text(), p);
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    if (!mesh.welded.empty() && mesh.welded[i] != i) continue;
+    append_vec(sink.text(), oriented(mesh.positions[i], o.up));
     sink.text() += '\n';
     sink.line_done();
   }
@@ -138,7 +215,7 @@ void write_off(const TriMesh& mesh, std::ostream& out) {
     t += '3';
     for (const std::uint32_t v : tri) {
       t += ' ';
-      append_uint(t, v);
+      append_uint(t, point[v]);
     }
     t += '\n';
     sink.line_done();
@@ -153,6 +230,7 @@ TriMesh parse_mesh_ply(std::string_view bytes, const std::string& source_name) {
   const PlyHeader header = parse_ply_header(bytes, source);
   std::vector<PlyRequest> requests{vertex_request(header, {"x", "y", "z"}, source)};
   const bool has_normals = add_vertex_normals(header, requests[0], source);
+  const bool has_uvs = add_vertex_uvs(header, requests[0], source);
   const auto face = header.find("face");
   if (face) {
     const PlyElement& f = header.elements[*face];
@@ -174,11 +252,16 @@ TriMesh parse_mesh_ply(std::string_view bytes, const std::string& source_name) {
   const std::size_t nv = data[0].count;
   mesh.positions.resize(nv);
   if (has_normals) mesh.normals.resize(nv);
+  if (has_uvs) mesh.uvs.resize(nv);
   for (std::size_t i = 0; i < nv; ++i) {
     const double* row = &data[0].scalars[i * cols];
     mesh.positions[i] = Vec3(row[0], row[1], row[2]);
     if (has_normals) mesh.normals[i] = Vec3(row[3], row[4], row[5]);
+    if (has_uvs) mesh.uvs[i] = Vec2(row[cols - 2], row[cols - 1]);
   }
+  // A textured PLY mesh has its vertices split along the texture's seams; the copies sit at
+  // identical positions, which give the seams back.
+  if (has_uvs) weld_coincident(mesh);
   if (face) {
     const PlyElementData& f = data[1];
     mesh.triangles.reserve(f.list_values.size() >= 2 * f.count ? f.list_values.size() - 2 * f.count
@@ -349,24 +432,79 @@ TriMesh read_mesh(const std::string& path) {
   throw InputError(path, 0, "unknown mesh format '" + ext + "' (supported: .ply, .obj, .off)");
 }
 
-void write_mesh(const TriMesh& mesh, const std::string& path) {
-  const std::string ext = lower_extension(path);
+namespace {
+
+void check_mesh_extension(const std::string& ext, const std::string& path) {
   if (ext != ".ply" && ext != ".obj" && ext != ".off" && ext != ".glb") {
     throw InvalidArgument("write_mesh: unknown format '" + ext + "' for '" + path +
                           "' (supported: .ply, .obj, .off, .glb)");
   }
-  check_writable(mesh);
+}
+
+void write_one(const TriMesh& mesh, const std::string& path, const std::string& ext,
+               const MeshWriteOptions& options) {
   if (ext == ".glb") {
     write_file_atomically(
-        path, [&](std::ostream& out) { io::write_glb(mesh, out); }, FileMode::kBinary);
+        path,
+        [&](std::ostream& out) {
+          io::write_glb(std::span(&mesh, 1), options.normals, options.uvs, out);
+        },
+        FileMode::kBinary);
   } else if (ext == ".ply") {
     write_file_atomically(
-        path, [&](std::ostream& out) { write_ply(mesh, out); }, FileMode::kBinary);
+        path, [&](std::ostream& out) { write_ply(mesh, options, out); }, FileMode::kBinary);
   } else if (ext == ".obj") {
-    write_file_atomically(path, [&](std::ostream& out) { write_obj(mesh, out); });
+    write_file_atomically(path, [&](std::ostream& out) { write_obj(mesh, options, out); });
   } else {
-    write_file_atomically(path, [&](std::ostream& out) { write_off(mesh, out); });
+    write_file_atomically(path, [&](std::ostream& out) { write_off(mesh, options, out); });
   }
+}
+
+}  // namespace
+
+void write_mesh(const TriMesh& mesh, const std::string& path, const MeshWriteOptions& options) {
+  const std::string ext = lower_extension(path);
+  check_mesh_extension(ext, path);
+  check_writable(mesh);
+  write_one(mesh, path, ext, options);
+}
+
+std::vector<std::string> lod_paths(const std::string& path, std::size_t levels) {
+  const std::string ext = lower_extension(path);
+  if (levels <= 1 || ext == ".glb") return {path};
+  const std::size_t dot = path.size() - ext.size();
+  std::vector<std::string> paths;
+  for (std::size_t k = 0; k < levels; ++k) {
+    paths.push_back(path.substr(0, dot) + ".lod" + std::to_string(k) + path.substr(dot));
+  }
+  return paths;
+}
+
+std::vector<std::string> write_mesh_lods(std::span<const TriMesh> levels, const std::string& path,
+                                         const MeshWriteOptions& options) {
+  const std::string ext = lower_extension(path);
+  check_mesh_extension(ext, path);
+  if (levels.empty()) throw InvalidArgument("write_mesh_lods: no level to write");
+  for (const TriMesh& m : levels) check_writable(m);
+  const std::vector<std::string> paths = lod_paths(path, levels.size());
+  if (ext == ".glb") {
+    write_file_atomically(
+        path,
+        [&](std::ostream& out) { io::write_glb(levels, options.normals, options.uvs, out); },
+        FileMode::kBinary);
+    return paths;
+  }
+  // One file per level; a level that cannot be written removes the levels written before it,
+  // so that a failure leaves no partial set.
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    try {
+      write_one(levels[k], paths[k], ext, options);
+    } catch (...) {
+      for (std::size_t j = 0; j < k; ++j) std::remove(paths[j].c_str());
+      throw;
+    }
+  }
+  return paths;
 }
 
 }  // namespace ramiform

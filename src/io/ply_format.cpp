@@ -570,6 +570,25 @@ bool add_vertex_normals(const PlyHeader& header, PlyRequest& request, const std:
   return true;
 }
 
+bool add_vertex_uvs(const PlyHeader& header, PlyRequest& request, const std::string& source) {
+  const PlyElement& v = header.elements[request.element];
+  static constexpr std::string_view kPairs[][2] = {
+      {"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}};
+  for (const auto& pair : kPairs) {
+    const auto u = optional_scalar(v, pair[0], source);
+    const auto w = optional_scalar(v, pair[1], source);
+    if (!u && !w) continue;
+    if (!(u && w)) {
+      throw InputError(source, v.header_line,
+                       "element 'vertex' has '" + std::string(u ? pair[0] : pair[1]) +
+                           "' without '" + std::string(u ? pair[1] : pair[0]) + "'");
+    }
+    request.scalars.insert(request.scalars.end(), {*u, *w});
+    return true;
+  }
+  return false;
+}
+
 std::vector<PlyElementData> read_ply_body(std::string_view data, const PlyHeader& header,
                                           const std::vector<PlyRequest>& requests,
                                           const std::string& source) {

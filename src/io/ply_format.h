@@ -81,6 +81,11 @@ PlyRequest vertex_request(const PlyHeader& header, std::initializer_list<std::st
 /// present and returns true; false when none is; throws InputError when only some are.
 bool add_vertex_normals(const PlyHeader& header, PlyRequest& request, const std::string& source);
 
+/// Adds the vertex element's texture coordinates to `request` when it has them, as one of the
+/// pairs (u, v), (s, t) or (texture_u, texture_v), first found first; false when it has none.
+/// Throws InputError when only one of a pair is there.
+bool add_vertex_uvs(const PlyHeader& header, PlyRequest& request, const std::string& source);
+
 /// What was extracted for one request.
 struct PlyElementData {
   std::size_t count = 0;

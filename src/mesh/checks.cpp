@@ -218,8 +218,61 @@ std::array<double, 3> corner_angles(const TriMesh& mesh, const std::array<std::u
 
 }  // namespace
 
+TriMesh welded_topology(const TriMesh& mesh) {
+  detail::check_triangle_indices(mesh, "welded_topology");
+  TriMesh w;
+  w.positions = mesh.positions;
+  w.triangles = mesh.triangles;
+  if (mesh.welded.empty()) return w;
+  const std::size_t n = mesh.positions.size();
+  if (mesh.welded.size() != n) {
+    throw InvalidArgument("welded_topology: " + std::to_string(mesh.welded.size()) +
+                          " welded entries for " + std::to_string(n) + " vertices");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t o = mesh.welded[i];
+    if (o > i || mesh.welded[o] != o) {
+      throw InvalidArgument("welded_topology: vertex " + std::to_string(i) +
+                            " is welded to " + std::to_string(o) +
+                            ", which is not an original vertex before it");
+    }
+  }
+  for (auto& t : w.triangles) {
+    for (std::uint32_t& v : t) v = mesh.welded[v];
+  }
+  return w;
+}
+
+void weld_coincident(TriMesh& mesh) {
+  const std::size_t n = mesh.positions.size();
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
+  const auto less = [&](std::uint32_t a, std::uint32_t b) {
+    const Vec3& p = mesh.positions[a];
+    const Vec3& q = mesh.positions[b];
+    if (p.x() != q.x()) return p.x() < q.x();
+    if (p.y() != q.y()) return p.y() < q.y();
+    if (p.z() != q.z()) return p.z() < q.z();
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  mesh.welded.assign(n, 0);
+  for (std::size_t k = 0; k < n;) {
+    std::size_t e = k + 1;
+    while (e < n && mesh.positions[order[e]] == mesh.positions[order[k]]) ++e;
+    for (std::size_t j = k; j < e; ++j) mesh.welded[order[j]] = order[k];  // smallest index
+    k = e;
+  }
+}
+
 MeshReport check_mesh(const TriMesh& mesh, Context* ctx) {
   detail::check_triangle_indices(mesh, "check_mesh");
+  if (!mesh.welded.empty()) {
+    // A textured mesh: check the surface, through its seam copies.
+    MeshReport r = check_mesh(welded_topology(mesh), ctx);
+    r.vertices = mesh.positions.size();
+    return r;
+  }
   MeshReport r;
   r.vertices = mesh.positions.size();
   r.triangles = mesh.triangles.size();

@@ -4,6 +4,7 @@ list(APPEND RAMIFORM_POLYGONIZE_SOURCES
   src/polygonize/delaunay.cpp
   src/polygonize/edge_roots.cpp
   src/polygonize/improve.cpp
+  src/polygonize/lod.cpp
   src/polygonize/refine.cpp
   src/polygonize/tetrahedral.cpp
   src/polygonize/tetrahedral_checks.cpp

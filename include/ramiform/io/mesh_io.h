@@ -7,8 +7,10 @@
 /// more than three vertices are fan-triangulated (v0 v1 v2, v0 v2 v3, ...). Degenerate triangles
 /// (repeated indices) are kept; indices out of range are errors.
 
+#include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "ramiform/core/geometry.h"
 
@@ -16,7 +18,8 @@ namespace ramiform {
 
 /// Reads a mesh, choosing the format by the extension (case-insensitive): `.ply` (ASCII or
 /// binary; faces in a `vertex_indices` or `vertex_index` list of any integer type; optional
-/// per-vertex nx, ny, nz become `normals`), `.obj` (`v`, `vn`, `f` with v, v/vt, v//vn, v/vt/vn
+/// per-vertex nx, ny, nz become `normals`, u v (or s t, texture_u texture_v) `uvs`, and then
+/// vertices at identical positions are taken as seam copies: `welded`), `.obj` (`v`, `vn`, `f` with v, v/vt, v//vn, v/vt/vn
 /// corners, negative indices) or `.off`.
 ///
 /// Throws `InputError` naming the file and the line (text) or the element index (binary PLY,
@@ -37,16 +40,52 @@ namespace ramiform {
 /// nf lines "n i0 ... i(n-1) [colour]" with 0-based indices; '#' starts a comment.
 [[nodiscard]] TriMesh parse_mesh_off(std::string_view text, const std::string& source_name);
 
-/// Writes a mesh, choosing the format by the extension (case-insensitive): `.ply` (binary
-/// little-endian; vertex x, y, z and, with normals, nx, ny, nz as double; faces as a uchar/uint
-/// `vertex_indices` list), `.obj` (text; `vn` lines and v//vn corners when there are normals) or
-/// `.off` (text, no normals) or `.glb` (glTF 2.0 binary, write only: float32 positions and
-/// normals, uint32 indices). Numbers in .ply/.obj/.off are written so that reading gives
-/// identical doubles. The write is atomic (io/atomic_file.h).
+/// The up axis of a written file.
+enum class UpAxis {
+  kZ,  ///< +Z up: the library's coordinates, unchanged
+  kY,  ///< +Y up: (x, y, z) -> (x, z, -y), a rotation by -90 degrees about X (right-handed)
+};
+
+/// How `write_mesh` writes.
+struct MeshWriteOptions {
+  /// The up axis of .ply, .obj and .off files (+Z, the library's, by default). A .glb file is
+  /// always +Y up, as glTF 2.0 requires (specification §3.4), whatever this says.
+  UpAxis up = UpAxis::kZ;
+  bool normals = true;  ///< write the mesh's normals (and tangents) when it has them
+  bool uvs = true;      ///< write the mesh's texture coordinates (and tangents) when it has them
+};
+
+/// Writes a mesh, choosing the format by the extension (case-insensitive):
+/// - `.ply`: binary little-endian; vertex x, y, z, then with normals nx, ny, nz, then with uvs
+///   u, v, all as double; faces as a uchar/uint `vertex_indices` list. A textured mesh is
+///   written with its seam copies (PLY has one texture coordinate per vertex).
+/// - `.obj`: text; one `v` (and `vn`) per surface point (seam copies written once, so a closed
+///   mesh stays closed by its indices), one `vt` per vertex, corners v, v//vn, v/vt or v/vt/vn.
+/// - `.off`: text, positions only (seam copies written once).
+/// - `.glb`: glTF 2.0 binary, write only (io/gltf_format.h): +Y up, float32 POSITION, NORMAL,
+///   TEXCOORD_0 (u, 1 - v) and TANGENT, uint32 indices.
+/// Numbers in .ply/.obj/.off are written so that reading gives identical doubles (in the file's
+/// axes). The write is atomic (io/atomic_file.h).
 ///
-/// Throws `InvalidArgument` for another extension, a normal count that is neither 0 nor the
-/// vertex count, non-finite coordinates or indices out of range; `Failure` when the file cannot
-/// be written.
-void write_mesh(const TriMesh& mesh, const std::string& path);
+/// Throws `InvalidArgument` for another extension, an attribute count that is neither 0 nor the
+/// vertex count, tangents without uvs, a `welded` that breaks its invariants, non-finite
+/// values or indices out of range; `Failure` when the file cannot be written.
+void write_mesh(const TriMesh& mesh, const std::string& path,
+                const MeshWriteOptions& options = {});
+
+/// The files `write_mesh_lods` writes for `levels` levels at `path`: `path` itself for one
+/// level or a .glb; otherwise one per level, `.lodK` before the extension (tree.ply ->
+/// tree.lod0.ply, tree.lod1.ply, ...).
+[[nodiscard]] std::vector<std::string> lod_paths(const std::string& path, std::size_t levels);
+
+/// Writes levels of detail, finest first: a .glb gets them all in one file (one node per level,
+/// "LOD0"..., in the MSFT_lod convention); another format one file per level (`lod_paths`),
+/// each as `write_mesh` writes it. Either every file is written or (on an exception) none of
+/// them is left. Returns the paths written. Throws as `write_mesh`, and InvalidArgument for no
+/// levels.
+std::vector<std::string> write_mesh_lods(std::span<const TriMesh> levels,
+                                         const std::string& path,
+                                         const MeshWriteOptions& options = {});
+
 
 }  // namespace ramiform

@@ -50,10 +50,23 @@ struct MeshReport {
   std::size_t zero_area_triangles = 0;   ///< triangles of (relatively) zero area, incl. repeated
 };
 
-/// Checks `mesh` (see `MeshReport`). Throws InvalidArgument when a triangle refers to a vertex
-/// index out of range (naming the triangle). Parallel where it pays; the result does not depend
-/// on the thread count. Cost O(T log T) for T triangles.
+/// Checks `mesh` (see `MeshReport`). A textured mesh whose vertices are split along seams
+/// (`mesh.welded` non-empty) is checked through its copies: its surface, as `welded_topology`
+/// gives it. Throws InvalidArgument when a triangle refers to a vertex index out of range
+/// (naming the triangle) or `welded` breaks its invariants. Parallel where it pays; the result
+/// does not depend on the thread count. Cost O(T log T) for T triangles.
 [[nodiscard]] MeshReport check_mesh(const TriMesh& mesh, Context* ctx = nullptr);
+
+/// The mesh with every triangle corner replaced by the original of its seam copy
+/// (`mesh.welded`): the surface's topology without the texture's seams. Positions are kept
+/// (copies become unused vertices); a mesh without `welded` comes back as it is, without its
+/// attributes. Throws InvalidArgument for indices out of range or a broken `welded`.
+[[nodiscard]] TriMesh welded_topology(const TriMesh& mesh);
+
+/// Sets `mesh.welded` so that vertices at bit-identical positions are copies of the one with the
+/// smallest index: how a textured mesh read from a PLY file (which has no seam information)
+/// gets its seams back. Deterministic; O(V log V).
+void weld_coincident(TriMesh& mesh);
 
 /// Connected components of triangles that share a vertex.
 struct TriangleComponents {

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+/// \file
+/// Levels of detail: one watertight mesh per level from the same field, each made by the
+/// tolerance mesher (refine.h) at its own tolerance or triangle budget, so that every level is
+/// closed, oriented, in one piece per skeleton part and keeps every branch (a generic decimator
+/// could open holes or drop twigs).
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "ramiform/core/context.h"
+#include "ramiform/core/geometry.h"
+#include "ramiform/field/field.h"
+#include "ramiform/polygonize/refine.h"
+#include "ramiform/skeleton/skeleton.h"
+
+namespace ramiform {
+
+/// One level: a deviation tolerance (ToleranceOptions::tolerance) or a triangle budget.
+struct LodLevel {
+  double tolerance = 0;           ///< > 0: mesh to this tolerance (budget = 0)
+  std::size_t max_triangles = 0;  ///< > 0: at most this many triangles (tolerance = 0)
+};
+
+/// What polygonize_lods() did for one level.
+struct LodStats {
+  ToleranceStats mesher;  ///< the tolerance mesher's figures for the kept mesh
+  double tolerance = 0;   ///< the tolerance it was made at (a budget level's: the one found)
+  int levels = 0;         ///< the base mesh's subdivision levels
+  int attempts = 0;       ///< meshes made to find a budget level's tolerance (1 for a tolerance)
+  std::size_t triangles = 0;
+};
+
+/// The meshes of `levels`, finest first, made by polygonize_to_tolerance() with `base` (its
+/// tolerance and max_triangles replaced by each level's). A tolerance level is meshed once. A
+/// budget level searches the tolerance: starting from the previous level's (or `base`'s), it
+/// remeshes (at most 5 times) with the tolerance scaled by the ratio of the triangle count to
+/// the budget (the count of a refined mesh goes about as 1/tolerance), keeping the finest mesh
+/// within the budget; when the base mesh alone is over the budget it drops to fewer base levels
+/// (down to 0). Each level's budget is also capped by the previous level's triangle count, so
+/// counts never increase. Throws InvalidArgument when the levels are empty, mix the two kinds,
+/// are out of range or not ordered finest first (tolerances increasing, budgets decreasing), or
+/// when a budget is below the coarsest mesh the skeleton allows (naming it); otherwise as
+/// polygonize_to_tolerance().
+[[nodiscard]] std::vector<TriMesh> polygonize_lods(const Field& field, const Skeleton& skeleton,
+                                                   const ToleranceOptions& base,
+                                                   std::span<const LodLevel> levels,
+                                                   Context* ctx = nullptr,
+                                                   std::vector<LodStats>* stats = nullptr);
+
+}  // namespace ramiform
