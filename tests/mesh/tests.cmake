@@ -1,4 +1,5 @@
 set(RAMIFORM_mesh_TESTS
+  mesh/bark_uv_test.cpp
   mesh/checks_test.cpp
   mesh/cleanup_test.cpp
   mesh/deviation_test.cpp

@@ -1,0 +1,764 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/mesh/bark_uv.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <deque>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+#include "field/bvh.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/core/parallel.h"
+
+namespace ramiform {
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr std::size_t kMaxBinsPerEdge = 256;  // bounds the bins of a very long, thin edge
+constexpr std::size_t kMinBinSamples = 3;     // fewer vertices than this do not make a median
+
+/// One skeleton edge, oriented along its chain, with its frame.
+struct Seg {
+  Vec3 a = Vec3::Zero();            // start point (chain order)
+  Vec3 d = Vec3::UnitZ();           // unit direction
+  double len = 0.0;                 // length
+  double ra = 1.0, rb = 1.0;        // node radii at a and at a + len d
+  Vec3 n = Vec3::UnitX();           // frame: n, b = d x n, both orthogonal to d
+  Vec3 b = Vec3::UnitY();
+  std::uint32_t chain = 0;
+  double s0 = 0.0;                  // arc length of a along the chain
+  bool free_start = false;          // the chain's root end (a cap follows)
+  bool free_end = false;            // the chain's tip end (a cap follows)
+  // Radius bins over this edge (first bin index into the chain's knots, count).
+  std::size_t bin_first = 0, bin_count = 1;
+};
+
+/// A chain of edges with one (u, v) chart.
+struct Chain {
+  std::vector<std::uint32_t> segs;
+  std::uint32_t parent = kNone;
+  double fork_s = 0.0;              // arc length along the parent where this chain starts
+  double theta0 = 0.0;              // angle of u = 0 in the transported frame
+  std::vector<double> knot_s;       // bin centres (arc length)
+  std::vector<double> knot_rho;     // the surface's radius there
+  std::vector<double> knot_int;     // integral of 1 / rho from 0 to knot_s
+  double v0 = 0.0;                  // v at s = 0
+};
+
+/// Where a vertex sits relative to an edge.
+struct Placement {
+  std::uint32_t seg = kNone;
+  double t = 0.0;                   // axial coordinate along the edge's line (0 at a)
+  Vec3 o = Vec3::Zero();            // offset from the axis, orthogonal to d
+};
+
+/// Over a cap (a chain's free end), in units of the end's radius: the inverse Gudermannian
+/// asinh(tan phi) of the angle phi = atan2(beyond, r) past the end (Mercator's latitude), so that
+/// v keeps pace with u as the circles shrink towards the pole and texels stay square; phi is
+/// capped at kCapMaxAngle, where the texture has repeated half a time more along v.
+constexpr double kCapMaxAngle = 85.0 * std::numbers::pi / 180.0;
+double cap_offset(double beyond, double r) {
+  return std::asinh(std::tan(std::min(std::atan2(beyond, r), kCapMaxAngle)));
+}
+
+double interpolated_radius(const Seg& g, double tc) {
+  return g.len > 0.0 ? g.ra + (g.rb - g.ra) * (tc / g.len) : g.ra;
+}
+
+/// The relative distance of the assignment: (|p - q| + overshoot) / r.
+double score(const Seg& g, const Vec3& p) {
+  const Vec3 w = p - g.a;
+  const double t = w.dot(g.d);
+  const double tc = std::clamp(t, 0.0, g.len);
+  const double dist = (w - tc * g.d).norm();
+  return (dist + std::abs(t - tc)) / interpolated_radius(g, tc);
+}
+
+Placement place(const std::vector<Seg>& segs, std::uint32_t k, const Vec3& p) {
+  const Seg& g = segs[k];
+  const Vec3 w = p - g.a;
+  Placement out;
+  out.seg = k;
+  out.t = w.dot(g.d);
+  out.o = w - out.t * g.d;
+  return out;
+}
+
+/// Any unit vector orthogonal to the unit vector d (deterministic).
+Vec3 perpendicular(const Vec3& d) {
+  const Vec3 axis = std::abs(d.x()) <= std::abs(d.y()) && std::abs(d.x()) <= std::abs(d.z())
+                        ? Vec3::UnitX()
+                        : (std::abs(d.y()) <= std::abs(d.z()) ? Vec3::UnitY() : Vec3::UnitZ());
+  return (axis - axis.dot(d) * d).normalized();
+}
+
+double median_of(std::vector<double>& values) {
+  const std::size_t mid = (values.size() - 1) / 2;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid),
+                   values.end());
+  return values[mid];
+}
+
+class BarkChart {
+ public:
+  BarkChart(const Skeleton& skeleton, const BarkUvOptions& options)
+      : skeleton_(skeleton), options_(options) {
+    build_chains();
+    build_frames();
+  }
+
+  [[nodiscard]] const std::vector<Seg>& segs() const { return segs_; }
+  [[nodiscard]] std::size_t chain_count() const { return chains_.size(); }
+
+  /// The edge a point belongs to (least relative distance; ties: the lower edge).
+  [[nodiscard]] std::uint32_t nearest_seg(const Vec3& p) const {
+    return bvh_.nearest(p, [&](std::uint32_t k) {
+      const double s = score(segs_[k], p) * max_radius_;
+      return s * s;
+    });
+  }
+
+  /// The edge of chain `c` a point belongs to.
+  [[nodiscard]] std::uint32_t nearest_seg_of_chain(std::uint32_t c, const Vec3& p) const {
+    std::uint32_t best = kNone;
+    double best_score = std::numeric_limits<double>::infinity();
+    for (const std::uint32_t k : chains_[c].segs) {
+      const double s = score(segs_[k], p);
+      if (s < best_score) {
+        best_score = s;
+        best = k;
+      }
+    }
+    return best;
+  }
+
+  /// Measures the surface's radius along every chain from the placed vertices, then sets the
+  /// v functions and the charts' starting v.
+  void fit_radii(const std::vector<Placement>& placed) {
+    // Bins: per edge, about `radius_bin` node radii long.
+    std::vector<std::vector<double>> samples;
+    for (auto& chain : chains_) {
+      for (const std::uint32_t k : chain.segs) {
+        Seg& g = segs_[k];
+        const double r = 0.5 * (g.ra + g.rb);
+        const double want = std::ceil(g.len / (options_.radius_bin * r));
+        g.bin_count = static_cast<std::size_t>(
+            std::clamp(want, 1.0, static_cast<double>(kMaxBinsPerEdge)));
+        g.bin_first = chain.knot_s.size();
+        for (std::size_t j = 0; j < g.bin_count; ++j) {
+          chain.knot_s.push_back(g.s0 + (static_cast<double>(j) + 0.5) * g.len /
+                                            static_cast<double>(g.bin_count));
+          chain.knot_rho.push_back(kNaN);
+        }
+      }
+    }
+    // Samples in vertex order (deterministic), only projections inside their edge (caps and
+    // the outer side of bends would bias the median).
+    std::vector<std::vector<std::vector<double>>> bins(chains_.size());
+    for (std::size_t c = 0; c < chains_.size(); ++c) bins[c].resize(chains_[c].knot_s.size());
+    std::vector<double> ratios;
+    for (const Placement& pl : placed) {
+      const Seg& g = segs_[pl.seg];
+      if (!(pl.t >= 0.0 && pl.t <= g.len)) continue;
+      const double r = pl.o.norm();
+      const std::size_t j =
+          g.len > 0.0 ? std::min(g.bin_count - 1,
+                                 static_cast<std::size_t>(pl.t / g.len *
+                                                          static_cast<double>(g.bin_count)))
+                      : 0;
+      bins[g.chain][g.bin_first + j].push_back(r);
+      ratios.push_back(r / interpolated_radius(g, pl.t));
+    }
+    const double global_ratio =
+        options_.measure_radius && !ratios.empty() ? median_of(ratios) : 1.0;
+    for (std::size_t c = 0; c < chains_.size(); ++c) {
+      Chain& chain = chains_[c];
+      const std::size_t m = chain.knot_s.size();
+      bool any = false;
+      if (options_.measure_radius) {
+        for (std::size_t j = 0; j < m; ++j) {
+          if (bins[c][j].size() >= kMinBinSamples) {
+            const double rho = median_of(bins[c][j]);
+            if (rho > 0.0) {
+              chain.knot_rho[j] = rho;
+              any = true;
+            }
+          }
+        }
+      }
+      if (!any) {
+        // No measure: the node radii (scaled by the surface's overall ratio to them).
+        for (const std::uint32_t k : chain.segs) {
+          const Seg& g = segs_[k];
+          for (std::size_t j = 0; j < g.bin_count; ++j) {
+            const double tc = chain.knot_s[g.bin_first + j] - g.s0;
+            chain.knot_rho[g.bin_first + j] = global_ratio * interpolated_radius(g, tc);
+          }
+        }
+      } else {
+        // Empty bins: linear between the measured neighbours, constant beyond the last.
+        std::size_t prev = m;
+        for (std::size_t j = 0; j < m; ++j) {
+          if (std::isnan(chain.knot_rho[j])) continue;
+          if (prev == m) {
+            for (std::size_t i = 0; i < j; ++i) chain.knot_rho[i] = chain.knot_rho[j];
+          } else {
+            for (std::size_t i = prev + 1; i < j; ++i) {
+              const double f = (chain.knot_s[i] - chain.knot_s[prev]) /
+                               (chain.knot_s[j] - chain.knot_s[prev]);
+              chain.knot_rho[i] = chain.knot_rho[prev] + f * (chain.knot_rho[j] - chain.knot_rho[prev]);
+            }
+          }
+          prev = j;
+        }
+        for (std::size_t i = prev + 1; i < m; ++i) chain.knot_rho[i] = chain.knot_rho[prev];
+      }
+      // The integral of 1 / rho, with 1 / rho linear between knots and constant outside.
+      chain.knot_int.assign(m, 0.0);
+      chain.knot_int[0] = chain.knot_s[0] / chain.knot_rho[0];
+      for (std::size_t j = 1; j < m; ++j) {
+        chain.knot_int[j] = chain.knot_int[j - 1] + 0.5 * (chain.knot_s[j] - chain.knot_s[j - 1]) *
+                                                        (1.0 / chain.knot_rho[j - 1] +
+                                                         1.0 / chain.knot_rho[j]);
+      }
+    }
+    // Charts start where their parent's v is at the fork (parents come first).
+    for (auto& chain : chains_) {
+      chain.v0 = chain.parent == kNone ? 0.0 : v_at(chains_[chain.parent], chain.fork_s);
+    }
+  }
+
+  /// (u, v) of a placement in its edge's chart (u in [0, 1)).
+  [[nodiscard]] Vec2 uv(const Placement& pl) const {
+    const Seg& g = segs_[pl.seg];
+    const Chain& chain = chains_[g.chain];
+    const double r = pl.o.norm();
+    double s = g.s0 + pl.t;
+    if (pl.t < 0.0 && g.free_start) {
+      s = g.s0 - chain.knot_rho.front() * cap_offset(-pl.t, r);
+    } else if (pl.t > g.len && g.free_end) {
+      s = g.s0 + g.len + chain.knot_rho.back() * cap_offset(pl.t - g.len, r);
+    }
+    const double theta = r > 0.0 ? std::atan2(pl.o.dot(g.b), pl.o.dot(g.n)) : 0.0;
+    double u = (theta - chain.theta0) / kTwoPi;
+    u -= std::floor(u);
+    if (u >= 1.0) u = 0.0;  // -tiny - floor(-tiny) rounds to 1
+    return {u, v_at(chain, s)};
+  }
+
+ private:
+  [[nodiscard]] double v_at(const Chain& chain, double s) const {
+    const auto& ks = chain.knot_s;
+    const std::size_t m = ks.size();
+    double integral = 0.0;
+    if (s <= ks[0]) {
+      integral = s / chain.knot_rho[0];
+    } else if (s >= ks[m - 1]) {
+      integral = chain.knot_int[m - 1] + (s - ks[m - 1]) / chain.knot_rho[m - 1];
+    } else {
+      const std::size_t j =
+          static_cast<std::size_t>(std::upper_bound(ks.begin(), ks.end(), s) - ks.begin());
+      const double h = ks[j] - ks[j - 1];
+      const double f = h > 0.0 ? (s - ks[j - 1]) / h : 0.0;
+      const double i0 = 1.0 / chain.knot_rho[j - 1], i1 = 1.0 / chain.knot_rho[j];
+      // Integral of the linear 1 / rho from ks[j-1] to s.
+      integral = chain.knot_int[j - 1] + (s - ks[j - 1]) * (i0 + 0.5 * f * (i1 - i0));
+    }
+    return chain.v0 + integral / kTwoPi;
+  }
+
+  struct Pending {
+    std::uint32_t node, edge, parent;
+    double fork_s;
+  };
+
+  void build_chains() {
+    const auto& nodes = skeleton_.nodes;
+    const auto& edges = skeleton_.edges;
+    std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> adj(nodes.size());
+    for (std::uint32_t e = 0; e < edges.size(); ++e) {
+      adj[edges[e][0]].push_back({edges[e][1], e});
+      adj[edges[e][1]].push_back({edges[e][0], e});
+    }
+    std::vector<char> visited(nodes.size(), 0), used(edges.size(), 0);
+    const SkeletonComponents comps = connected_components(skeleton_);
+    // Root of each component: the thickest leaf (ties: lower index), else the thickest node.
+    std::vector<std::uint32_t> root(comps.count, kNone);
+    std::vector<char> root_is_leaf(comps.count, 0);
+    for (std::uint32_t i = 0; i < nodes.size(); ++i) {
+      const std::uint32_t c = comps.label[i];
+      const bool leaf = adj[i].size() <= 1;
+      if (root[c] == kNone || (leaf && !root_is_leaf[c]) ||
+          (leaf == static_cast<bool>(root_is_leaf[c]) && nodes[i].radius > nodes[root[c]].radius)) {
+        root[c] = i;
+        root_is_leaf[c] = leaf ? 1 : 0;
+      }
+    }
+    auto pick = [&](std::uint32_t x, const Vec3& dir_in,
+                    const std::vector<std::uint32_t>& candidates) {
+      std::uint32_t best = kNone;
+      double best_r = -1.0, best_align = -2.0;
+      for (const std::uint32_t e : candidates) {
+        const std::uint32_t y = edges[e][0] == x ? edges[e][1] : edges[e][0];
+        const double r = nodes[y].radius;
+        const double align = dir_in.dot((nodes[y].position - nodes[x].position).normalized());
+        if (r > best_r || (r == best_r && align > best_align)) {
+          best = e;
+          best_r = r;
+          best_align = align;
+        }
+      }
+      return best;
+    };
+    std::deque<Pending> pending;
+    for (std::uint32_t c = 0; c < comps.count; ++c) {
+      const std::uint32_t x = root[c];
+      visited[x] = 1;
+      if (adj[x].empty()) {
+        // An isolated node: a sphere, one chart over a zero-length edge.
+        Chain chain;
+        Seg g;
+        g.a = nodes[x].position;
+        g.ra = g.rb = nodes[x].radius;
+        g.chain = static_cast<std::uint32_t>(chains_.size());
+        g.free_start = g.free_end = true;
+        chain.segs.push_back(static_cast<std::uint32_t>(segs_.size()));
+        segs_.push_back(g);
+        chains_.push_back(std::move(chain));
+        continue;
+      }
+      std::vector<std::uint32_t> candidates;
+      for (const auto& [y, e] : adj[x]) candidates.push_back(e);
+      const std::uint32_t first = pick(x, Vec3::Zero(), candidates);
+      const auto root_chain = static_cast<std::uint32_t>(chains_.size());
+      walk(x, first, kNone, 0.0, adj, visited, used, pending, pick, true);
+      for (const std::uint32_t e : candidates) {
+        if (e != first) pending.push_back({x, e, root_chain, 0.0});
+      }
+      while (!pending.empty()) {
+        const Pending p = pending.front();
+        pending.pop_front();
+        if (used[p.edge] != 0) continue;
+        walk(p.node, p.edge, p.parent, p.fork_s, adj, visited, used, pending, pick, false);
+      }
+    }
+  }
+
+  template <class Pick>
+  void walk(std::uint32_t x, std::uint32_t e, std::uint32_t parent, double fork_s,
+            const std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>>& adj,
+            std::vector<char>& visited, std::vector<char>& used, std::deque<Pending>& pending,
+            Pick& pick, bool is_root) {
+    const auto& nodes = skeleton_.nodes;
+    const auto& edges = skeleton_.edges;
+    const auto c = static_cast<std::uint32_t>(chains_.size());
+    chains_.emplace_back();
+    chains_[c].parent = parent;
+    chains_[c].fork_s = fork_s;
+    double s = 0.0;
+    for (;;) {
+      used[e] = 1;
+      const std::uint32_t y = edges[e][0] == x ? edges[e][1] : edges[e][0];
+      Seg g;
+      g.a = nodes[x].position;
+      const Vec3 ab = nodes[y].position - nodes[x].position;
+      g.len = ab.norm();
+      g.d = ab / g.len;
+      g.ra = nodes[x].radius;
+      g.rb = nodes[y].radius;
+      g.chain = c;
+      g.s0 = s;
+      g.free_start = is_root && chains_[c].segs.empty();
+      s += g.len;
+      const bool closes_cycle = visited[y] != 0;
+      visited[y] = 1;
+      std::vector<std::uint32_t> candidates;
+      if (!closes_cycle) {
+        for (const auto& [z, f] : adj[y]) {
+          if (used[f] == 0) candidates.push_back(f);
+        }
+      }
+      g.free_end = !closes_cycle && candidates.empty();
+      chains_[c].segs.push_back(static_cast<std::uint32_t>(segs_.size()));
+      segs_.push_back(g);
+      if (candidates.empty()) return;
+      // Edges to visited nodes close cycles: chains of their own, like side branches.
+      std::vector<std::uint32_t> open;
+      for (const std::uint32_t f : candidates) {
+        const std::uint32_t z = edges[f][0] == y ? edges[f][1] : edges[f][0];
+        if (visited[z] == 0) open.push_back(f);
+      }
+      const std::uint32_t next = open.empty() ? kNone : pick(y, g.d, open);
+      for (const std::uint32_t f : candidates) {
+        if (f != next) pending.push_back({y, f, c, s});
+      }
+      if (next == kNone) {
+        segs_.back().free_end = false;
+        return;
+      }
+      x = y;
+      e = next;
+    }
+  }
+
+  void build_frames() {
+    Vec3 away = -options_.facing;
+    const double an = away.norm();
+    if (an > 0.0) away /= an;
+    std::vector<Aabb> boxes;
+    boxes.reserve(segs_.size());
+    for (auto& chain : chains_) {
+      Vec3 n = Vec3::Zero();
+      Vec3 prev_d = Vec3::Zero();
+      double x = 0.0, y = 0.0;
+      for (const std::uint32_t k : chain.segs) {
+        Seg& g = segs_[k];
+        if (n.isZero()) {
+          n = perpendicular(g.d);
+        } else {
+          // Discrete parallel transport: the smallest rotation taking prev_d to d.
+          const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(prev_d, g.d);
+          n = q * n;
+          n = (n - n.dot(g.d) * g.d);
+          n = n.norm() > 0.0 ? n.normalized() : perpendicular(g.d);
+        }
+        g.n = n;
+        g.b = g.d.cross(n);
+        prev_d = g.d;
+        const double w = std::max(g.len, 1e-300) * 0.5 * (g.ra + g.rb);
+        x += w * away.dot(g.n);
+        y += w * away.dot(g.b);
+      }
+      chain.theta0 = (x != 0.0 || y != 0.0) ? std::atan2(y, x) : 0.0;
+    }
+    max_radius_ = 0.0;
+    for (const Seg& g : segs_) {
+      Aabb box;
+      box.extend(g.a);
+      box.extend(g.a + g.len * g.d);
+      boxes.push_back(box);
+      max_radius_ = std::max({max_radius_, g.ra, g.rb});
+    }
+    bvh_ = detail::BoxBvh(std::move(boxes));
+  }
+
+  const Skeleton& skeleton_;
+  const BarkUvOptions& options_;
+  std::vector<Seg> segs_;
+  std::vector<Chain> chains_;
+  detail::BoxBvh bvh_;
+  double max_radius_ = 1.0;
+};
+
+void validate_inputs(const TriMesh& mesh, const Skeleton& skeleton, const BarkUvOptions& o) {
+  if (!o.facing.allFinite()) throw InvalidArgument("BarkUvOptions::facing must be finite");
+  if (!(o.radius_bin > 0.0 && o.radius_bin <= 1000.0)) {
+    throw InvalidArgument("BarkUvOptions::radius_bin must be in (0, 1000], got " +
+                          std::to_string(o.radius_bin));
+  }
+  if (skeleton.nodes.empty()) throw InvalidArgument("add_bark_uvs: the skeleton has no nodes");
+  for (std::size_t i = 0; i < skeleton.nodes.size(); ++i) {
+    const auto& nd = skeleton.nodes[i];
+    if (!nd.position.allFinite() || !std::isfinite(nd.radius) || !(nd.radius > 0.0)) {
+      throw InvalidArgument("add_bark_uvs: skeleton node " + std::to_string(i) +
+                            " has a non-finite position or a radius that is not > 0");
+    }
+  }
+  for (std::size_t e = 0; e < skeleton.edges.size(); ++e) {
+    const auto& ed = skeleton.edges[e];
+    if (ed[0] >= skeleton.nodes.size() || ed[1] >= skeleton.nodes.size()) {
+      throw InvalidArgument("add_bark_uvs: skeleton edge " + std::to_string(e) +
+                            " has a node index out of range");
+    }
+    if (skeleton.nodes[ed[0]].position == skeleton.nodes[ed[1]].position) {
+      throw InvalidArgument("add_bark_uvs: skeleton edge " + std::to_string(e) +
+                            " has zero length");
+    }
+  }
+  const std::size_t nv = mesh.positions.size();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (const std::uint32_t i : mesh.triangles[t]) {
+      if (i >= nv) {
+        throw InvalidArgument("add_bark_uvs: triangle " + std::to_string(t) + " has vertex index " +
+                              std::to_string(i) + " out of range (" + std::to_string(nv) +
+                              " vertices)");
+      }
+    }
+  }
+  if (!mesh.normals.empty() && mesh.normals.size() != nv) {
+    throw InvalidArgument("add_bark_uvs: " + std::to_string(mesh.normals.size()) +
+                          " normals for " + std::to_string(nv) + " vertices");
+  }
+  for (std::size_t i = 0; i < nv; ++i) {
+    if (!mesh.positions[i].allFinite()) {
+      throw InvalidArgument("add_bark_uvs: vertex " + std::to_string(i) + " is not finite");
+    }
+  }
+}
+
+/// dP/du and dP/dv of a triangle (zero when its (u, v) are degenerate).
+std::pair<Vec3, Vec3> jacobian(const TriMesh& m, const std::array<std::uint32_t, 3>& t) {
+  const Vec3 e1 = m.positions[t[1]] - m.positions[t[0]];
+  const Vec3 e2 = m.positions[t[2]] - m.positions[t[0]];
+  const Vec2 d1 = m.uvs[t[1]] - m.uvs[t[0]];
+  const Vec2 d2 = m.uvs[t[2]] - m.uvs[t[0]];
+  const double det = d1.x() * d2.y() - d2.x() * d1.y();
+  if (det == 0.0 || !std::isfinite(det)) return {Vec3::Zero(), Vec3::Zero()};
+  return {(e1 * d2.y() - e2 * d1.y()) / det, (e2 * d1.x() - e1 * d2.x()) / det};
+}
+
+}  // namespace
+
+std::vector<double> uv_stretch(const TriMesh& textured) {
+  const std::size_t nv = textured.positions.size();
+  if (textured.uvs.size() != nv) {
+    throw InvalidArgument("uv_stretch: " + std::to_string(textured.uvs.size()) + " uvs for " +
+                          std::to_string(nv) + " vertices");
+  }
+  std::vector<double> out(textured.triangles.size(), kNaN);
+  for (std::size_t t = 0; t < textured.triangles.size(); ++t) {
+    for (const std::uint32_t i : textured.triangles[t]) {
+      if (i >= nv) {
+        throw InvalidArgument("uv_stretch: triangle " + std::to_string(t) +
+                              " has vertex index " + std::to_string(i) + " out of range");
+      }
+    }
+    const auto [pu, pv] = jacobian(textured, textured.triangles[t]);
+    const double lv = pv.norm();
+    if (lv > 0.0 && std::isfinite(lv)) out[t] = pu.norm() / lv;
+  }
+  return out;
+}
+
+TriMesh add_bark_uvs(const TriMesh& mesh, const Skeleton& skeleton, const BarkUvOptions& options,
+                     BarkUvStats* stats, const Context* ctx) {
+  validate_inputs(mesh, skeleton, options);
+  BarkChart chart(skeleton, options);
+  const std::vector<Seg>& segs = chart.segs();
+  const std::size_t nv = mesh.positions.size();
+
+  // 1. Every vertex to its edge (the per-vertex work; parallel, each result independent).
+  std::vector<Placement> placed(nv);
+  parallel::for_each(
+      nv, 2048,
+      [&](std::size_t i) {
+        const Vec3& p = mesh.positions[i];
+        placed[i] = place(segs, chart.nearest_seg(p), p);
+      },
+      ctx);
+  chart.fit_radii(placed);
+  std::vector<Vec2> uv(nv);
+  parallel::for_each(
+      nv, 2048, [&](std::size_t i) { uv[i] = chart.uv(placed[i]); }, ctx);
+  check_cancel(ctx);
+
+  // 2. Normals (the mesh's, else area-weighted triangle normals) for the tangents.
+  std::vector<Vec3> normals = mesh.normals;
+  if (normals.empty()) {
+    normals.assign(nv, Vec3::Zero());
+    for (const auto& t : mesh.triangles) {
+      const Vec3 fn = (mesh.positions[t[1]] - mesh.positions[t[0]])
+                          .cross(mesh.positions[t[2]] - mesh.positions[t[0]]);
+      for (const std::uint32_t i : t) normals[i] += fn;
+    }
+    for (std::size_t i = 0; i < nv; ++i) {
+      const double len = normals[i].norm();
+      normals[i] = len > 0.0 ? Vec3(normals[i] / len) : Vec3::Zero();
+    }
+  }
+
+  // 3. Seams: per triangle its chart, then copies of the corners that need other (u, v).
+  TriMesh out;
+  out.positions = mesh.positions;
+  out.normals = mesh.normals;
+  out.triangles = mesh.triangles;
+  out.uvs = uv;
+  out.welded.resize(nv);
+  for (std::size_t i = 0; i < nv; ++i) out.welded[i] = static_cast<std::uint32_t>(i);
+  std::vector<Placement> out_placed = placed;
+  std::vector<Vec3> out_normals = normals;
+  const std::uint64_t chains = chart.chain_count();
+  std::unordered_map<std::uint64_t, std::uint32_t> copies;
+  std::unordered_map<std::uint64_t, std::pair<Placement, Vec2>> foreign;
+  std::vector<std::uint32_t> tri_chart(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if ((t & 0xffff) == 0) check_cancel(ctx);
+    const auto& tri = mesh.triangles[t];
+    std::array<std::uint32_t, 3> own{};
+    for (int k = 0; k < 3; ++k) own[k] = segs[placed[tri[k]].seg].chain;
+    // The chart of most corners; ties: the earliest chain.
+    std::uint32_t c = std::min({own[0], own[1], own[2]});
+    for (int k = 0; k < 3; ++k) {
+      if (own[k] == own[(k + 1) % 3]) c = own[k];
+    }
+    tri_chart[t] = c;
+    std::array<Placement, 3> pl{};
+    std::array<Vec2, 3> tuv{};
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t i = tri[k];
+      if (own[k] == c) {
+        pl[k] = placed[i];
+        tuv[k] = uv[i];
+      } else {
+        const std::uint64_t key = std::uint64_t{i} * chains + c;
+        auto it = foreign.find(key);
+        if (it == foreign.end()) {
+          const Vec3& p = mesh.positions[i];
+          const Placement q = place(segs, chart.nearest_seg_of_chain(c, p), p);
+          it = foreign.emplace(key, std::make_pair(q, chart.uv(q))).first;
+        }
+        pl[k] = it->second.first;
+        tuv[k] = it->second.second;
+      }
+    }
+    // Around the wrap: cut the circle of u at the widest gap between the corners, and move
+    // the corners before the cut to u + 1 (none when the widest gap is the one across u = 0).
+    std::array<int, 3> order{0, 1, 2};
+    std::sort(order.begin(), order.end(),
+              [&](int x, int y) { return tuv[x].x() < tuv[y].x(); });
+    const double g01 = tuv[order[1]].x() - tuv[order[0]].x();
+    const double g12 = tuv[order[2]].x() - tuv[order[1]].x();
+    const double g20 = tuv[order[0]].x() + 1.0 - tuv[order[2]].x();
+    std::array<bool, 3> shifted{false, false, false};
+    if (g01 > g20 && g01 >= g12) {
+      shifted[order[0]] = true;
+    } else if (g12 > g20 && g12 > g01) {
+      shifted[order[0]] = shifted[order[1]] = true;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const bool shift = shifted[k];
+      if (own[k] == c && !shift) continue;
+      const std::uint32_t i = tri[k];
+      const std::uint64_t key = (std::uint64_t{i} * chains + c) * 2 + (shift ? 1 : 0);
+      auto it = copies.find(key);
+      if (it == copies.end()) {
+        const auto j = static_cast<std::uint32_t>(out.positions.size());
+        out.positions.push_back(mesh.positions[i]);
+        if (!mesh.normals.empty()) out.normals.push_back(mesh.normals[i]);
+        out_normals.push_back(normals[i]);
+        out.uvs.push_back(shift ? Vec2(tuv[k].x() + 1.0, tuv[k].y()) : tuv[k]);
+        out.welded.push_back(i);
+        out_placed.push_back(pl[k]);
+        it = copies.emplace(key, j).first;
+      }
+      out.triangles[t][k] = it->second;
+    }
+  }
+  check_cancel(ctx);
+
+  // 4. Tangents: d x offset projected orthogonal to the normal; w from the triangles' dP/dv.
+  const std::size_t n_out = out.positions.size();
+  std::vector<Vec3> sum_pu(n_out, Vec3::Zero()), sum_pv(n_out, Vec3::Zero());
+  for (const auto& t : out.triangles) {
+    const auto [pu, pv] = jacobian(out, t);
+    const double area = 0.5 * (out.positions[t[1]] - out.positions[t[0]])
+                                  .cross(out.positions[t[2]] - out.positions[t[0]])
+                                  .norm();
+    const double lu = pu.norm(), lv = pv.norm();
+    for (const std::uint32_t i : t) {
+      if (lu > 0.0 && std::isfinite(lu)) sum_pu[i] += area / lu * pu;
+      if (lv > 0.0 && std::isfinite(lv)) sum_pv[i] += area / lv * pv;
+    }
+  }
+  out.tangents.resize(n_out);
+  parallel::for_each(
+      n_out, 2048,
+      [&](std::size_t i) {
+        const Seg& g = segs[out_placed[i].seg];
+        Vec3 nrm = out_normals[i];
+        if (nrm.isZero()) nrm = out_placed[i].o.norm() > 0.0 ? Vec3(out_placed[i].o.normalized())
+                                                             : perpendicular(g.d);
+        auto project = [&](const Vec3& x) { return Vec3(x - x.dot(nrm) * nrm); };
+        Vec3 tan = project(g.d.cross(out_placed[i].o));
+        if (!(tan.norm() > 1e-9 * out_placed[i].o.norm()) || tan.isZero()) tan = project(sum_pu[i]);
+        if (tan.isZero()) tan = perpendicular(nrm);
+        tan.normalize();
+        const Vec3 along_v = sum_pv[i].isZero() ? g.d : sum_pv[i];
+        const double w = nrm.cross(tan).dot(along_v) < 0.0 ? -1.0 : 1.0;
+        out.tangents[i] = Vec4(tan.x(), tan.y(), tan.z(), w);
+      },
+      ctx);
+
+  if (stats != nullptr) {
+    BarkUvStats st;
+    st.branches = chart.chain_count();
+    st.split_vertices = n_out - nv;
+    // Seam edges: an edge of the input whose two sides use different copies of its ends.
+    struct Side {
+      std::uint64_t edge;
+      std::uint64_t ends;
+      std::uint32_t chart;
+    };
+    std::vector<Side> sides;
+    sides.reserve(3 * mesh.triangles.size());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+        std::uint32_t na = out.triangles[t][k], nb = out.triangles[t][(k + 1) % 3];
+        if (a > b) {
+          std::swap(a, b);
+          std::swap(na, nb);
+        }
+        sides.push_back({(std::uint64_t{a} << 32) | b, (std::uint64_t{na} << 32) | nb,
+                         tri_chart[t]});
+      }
+    }
+    std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) {
+      return x.edge != y.edge ? x.edge < y.edge : x.ends < y.ends;
+    });
+    for (std::size_t i = 0; i < sides.size();) {
+      std::size_t j = i + 1;
+      bool differ = false, fork = false;
+      while (j < sides.size() && sides[j].edge == sides[i].edge) {
+        differ = differ || sides[j].ends != sides[i].ends;
+        fork = fork || sides[j].chart != sides[i].chart;
+        ++j;
+      }
+      if (differ) {
+        ++st.seam_edges;
+        ++(fork ? st.fork_seam_edges : st.wrap_seam_edges);
+      }
+      i = j;
+    }
+    const std::vector<double> stretch = uv_stretch(out);
+    std::vector<double> finite;
+    double area_in = 0.0, area_all = 0.0;
+    std::size_t in = 0;
+    for (std::size_t t = 0; t < stretch.size(); ++t) {
+      const auto& tri = out.triangles[t];
+      const double area = 0.5 * (out.positions[tri[1]] - out.positions[tri[0]])
+                                    .cross(out.positions[tri[2]] - out.positions[tri[0]])
+                                    .norm();
+      area_all += area;
+      if (std::isnan(stretch[t])) continue;
+      finite.push_back(stretch[t]);
+      if (stretch[t] >= 0.9 && stretch[t] <= 1.1) {
+        ++in;
+        area_in += area;
+      }
+    }
+    if (!finite.empty()) {
+      const std::size_t mid = (finite.size() + 1) / 2 - 1;
+      std::nth_element(finite.begin(), finite.begin() + static_cast<std::ptrdiff_t>(mid),
+                       finite.end());
+      st.stretch_p50 = finite[mid];
+    }
+    if (!stretch.empty()) {
+      st.within_10_percent_count = static_cast<double>(in) / static_cast<double>(stretch.size());
+    }
+    if (area_all > 0.0) st.within_10_percent = area_in / area_all;
+    *stats = st;
+  }
+  return out;
+}
+
+}  // namespace ramiform
