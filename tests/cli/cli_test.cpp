@@ -222,6 +222,22 @@ TEST_F(CliTest, DemoRunsTheWholePipelineIdenticallyOnAnyThreadCount) {
   EXPECT_EQ(connected_components(s).count, 1U);
   EXPECT_EQ(s.edge_count() + 1, s.node_count());
   EXPECT_GT(s.edge_count(), 100U);
+  // The demo cleans its tree's branches and says what that changed (examples/demo.rf).
+  const auto stats = nlohmann::json::parse(test::read_file((dir_ / "demo" / "stats.json").string()));
+  ASSERT_TRUE(stats.contains("grow_cleanup")) << stats.dump();
+  const auto& c = stats["grow_cleanup"];
+  EXPECT_GT(c["nodes_moved"].get<std::size_t>(), 0U);
+  EXPECT_GT(c["nodes_removed"].get<std::size_t>(), 0U);
+  EXPECT_GT(c["stubs_pruned"].get<std::size_t>(), 0U);
+  EXPECT_LE(c["after"]["turn_p90_deg"].get<double>(), 30.0);
+  EXPECT_LE(c["after"]["turn_max_deg"].get<double>(), 90.0);
+  EXPECT_LE(c["after"]["short_tip_percent"].get<double>(), 10.0);
+  const auto deg = degrees(s);
+  std::size_t tips = 0;
+  for (std::size_t i = 1; i < s.node_count(); ++i) tips += deg[i] == 1 ? 1 : 0;
+  EXPECT_EQ(c["after"]["tip_branches"].get<std::size_t>(), tips);
+  EXPECT_EQ(c["before"]["tip_branches"].get<std::size_t>() - c["stubs_pruned"].get<std::size_t>(),
+            tips);
   // Same seed, one thread: byte-identical outputs.
   const CliRun one = run_cli("demo --out " + path("demo1") + " --levels 1 --points 600 --threads 1");
   ASSERT_EQ(one.code, 0) << one.out;

@@ -58,6 +58,55 @@ TEST_F(PipelineCli, SampleThenGrowGivesAPipeModelTree) {
   EXPECT_EQ(read_file(path("tree.json")), read_file(path("tree1.json")));
 }
 
+TEST_F(PipelineCli, GrowCleansBranchesWithTheCleanupFlags) {
+  // Uniform points in a ball (a fixed linear congruential sequence: no library randomness).
+  std::string text;
+  std::uint64_t state = 7;
+  auto next = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) / 9007199254740992.0 * 2 - 1;
+  };
+  for (int n = 0; n < 1500;) {
+    const double x = next(), y = next(), z = next();
+    if (x * x + y * y + z * z > 1) continue;
+    text += std::to_string(2.5 * x) + " " + std::to_string(2.5 * y) + " " +
+            std::to_string(4 + 2.5 * z) + "\n";
+    ++n;
+  }
+  const std::string pts = write("ball.txt", text);
+  const std::string flags = " --step 0.2 --influence 1.2 --kill 0.4";
+  ASSERT_EQ(run_cli("grow --points " + pts + flags + " -o " + path("raw.json")).code, 0);
+  const CliRun g = run_cli("grow --points " + pts + flags + " --smooth 8 --prune 2 -o " +
+                           path("tree.json") + " --stats " + path("stats.json"));
+  ASSERT_EQ(g.code, 0) << g.out;
+  EXPECT_NE(g.out.find("cleanup: "), std::string::npos) << g.out;
+  const Skeleton raw = read_skeleton(path("raw.json"));
+  const Skeleton tree = read_skeleton(path("tree.json"));
+  const auto stats = nlohmann::json::parse(read_file(path("stats.json")));
+  const auto& c = stats["cleanup"];
+  EXPECT_EQ(stats["nodes"].get<std::size_t>(), tree.node_count());
+  EXPECT_EQ(c["nodes_removed"].get<std::size_t>(), raw.node_count() - tree.node_count());
+  EXPECT_GT(c["stubs_pruned"].get<std::size_t>(), 0u);
+  EXPECT_GT(c["nodes_moved"].get<std::size_t>(), 0u);
+  EXPECT_GT(c["before"]["turn_p90_deg"].get<double>(), 30.0);
+  EXPECT_LE(c["after"]["turn_p90_deg"].get<double>(), 30.0);
+  EXPECT_LE(c["after"]["turn_max_deg"].get<double>(), 90.0);
+  EXPECT_LE(c["after"]["short_tip_share"].get<double>(), 0.1);
+  EXPECT_EQ(c["short_steps"].get<double>(), 2.0);
+  // Bad values: exit 2, a message naming the option, no output.
+  for (const char* bad : {"--smooth -1", "--smooth 1001", "--prune -1", "--max-turn 0",
+                          "--max-turn 181"}) {
+    const CliRun r = run_cli("grow --points " + pts + flags + " " + bad + " -o " + path("bad.json"));
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
+    const std::string option = std::string(bad).substr(2, std::string(bad).find(' ') - 2);
+    const std::string key = option == "smooth" ? "smooth_iterations"
+                            : option == "prune" ? "prune_steps"
+                                                : "max_turn_deg";
+    EXPECT_NE(r.out.find(key), std::string::npos) << bad << ": " << r.out;
+    EXPECT_FALSE(fs::exists(path("bad.json"))) << bad;
+  }
+}
+
 TEST_F(PipelineCli, BadInputsExitTwoWithAMessageAndNoOutput) {
   const std::string pts = write("pts.txt", "0 0 1\n0 0 2\n");
   // Points out of reach: growth stops early, and that is a result (reported), not an error.

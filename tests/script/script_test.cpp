@@ -170,6 +170,46 @@ TEST_F(ScriptTest, ThinningGrowthAndSkeletonsThroughTheLanguage) {
   EXPECT_EQ(bad.column(), 8u);
 }
 
+TEST_F(ScriptTest, GrowSmoothsAndPrunesWhenAsked) {
+  const std::string base =
+      "sphere crown 2.5 center=0,0,4\npoint_set_gen crown uniform count=1500\n";
+  ScriptSession s(options_);
+  const auto results = s.run_text(
+      base + "grow raw from crown step=0.2 influence=1.2 kill=0.4\n"
+             "grow tree from crown step=0.2 influence=1.2 kill=0.4 smooth=8 prune=2\n"
+             "save_skeleton raw raw.json\nsave_skeleton tree tree.json\n",
+      "t.rf");
+  s.commit();
+  std::vector<std::string> grown;
+  for (const CommandResult& r : results)
+    if (r.command == "grow") grown.push_back(r.message);
+  ASSERT_EQ(grown.size(), 2u);
+  // Off by default: nothing changes, the figures are still reported.
+  EXPECT_NE(grown[0].find("cleanup: 0 nodes moved, 0 removed (0 kinks, 0 stubs pruned)"),
+            std::string::npos)
+      << grown[0];
+  EXPECT_NE(grown[0].find("tip branches shorter than 2 steps"), std::string::npos) << grown[0];
+  EXPECT_EQ(grown[1].find(" 0 stubs pruned"), std::string::npos) << grown[1];
+  const Skeleton raw = read_skeleton((dir_ / "raw.json").string());
+  const Skeleton tree = read_skeleton((dir_ / "tree.json").string());
+  EXPECT_LT(tree.node_count(), raw.node_count());
+  const std::string removed =
+      std::to_string(raw.node_count() - tree.node_count()) + " removed";
+  EXPECT_NE(grown[1].find(removed), std::string::npos) << grown[1];
+  EXPECT_EQ(tree.nodes[0].position, raw.nodes[0].position);
+  // Bad values name the option.
+  EXPECT_NE(std::string(error_of(base + "grow t from crown prune=-1\n").what())
+                .find("prune must be a number of growth steps >= 0, got -1"),
+            std::string::npos);
+  EXPECT_NE(std::string(error_of(base + "grow t from crown smooth=1001\n").what()).find("smooth"),
+            std::string::npos);
+  EXPECT_NE(std::string(error_of(base + "grow t from crown smooth=1.5\n").what()).find("smooth"),
+            std::string::npos);
+  EXPECT_NE(std::string(error_of(base + "grow t from crown max_turn=0\n").what())
+                .find("max_turn must be an angle in (0, 180] degrees, got 0"),
+            std::string::npos);
+}
+
 TEST_F(ScriptTest, PointSetsDependOnlyOnTheSeed) {
   auto run = [&](std::uint64_t seed) {
     options_.seed = seed;
