@@ -35,6 +35,14 @@ run "$ramiform" run scene.rf --out . --quiet
 run "$ramiform" demo --out demo --points 600 >/dev/null
 
 files=(tree.glb tree_mc.glb tiny.glb empty.glb drilled.glb fork.glb obj.glb demo/tree.glb)
+# 5. Levels of detail in one file (MSFT_lod: the validator reports it as the info
+#    UNSUPPORTED_EXTENSION, and the coarser nodes, outside the scene, as UNUSED_OBJECT infos).
+if "$ramiform" mesh --help | grep -q -- '--lod'; then
+  run "$ramiform" mesh tree.json -o tree_lod.glb --lod 0.05,0.15,0.4 >/dev/null
+  files+=(tree_lod.glb)
+else
+  echo "note: this ramiform has no mesh --lod: no MSFT_lod file checked"
+fi
 status=0
 run node "$web/validate.mjs" "${files[@]}" || status=$?
 

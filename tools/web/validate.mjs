@@ -7,6 +7,10 @@
 //
 //   node tools/web/validate.mjs FILE.glb... [--json]
 //
+// The validator does not check the MSFT_lod extension (it reports UNSUPPORTED_EXTENSION, an
+// info), so this script checks it itself and reports its findings as errors coded
+// RAMIFORM_MSFT_LOD_* (see msftLodIssues below).
+//
 // Exit code: 0 when every file has no error and no warning (infos and hints are printed but
 // allowed), 1 when some file has an error or a warning, 2 when some file cannot be read or is not
 // glTF at all (the validator cannot even detect its format), 3 for a usage error.
@@ -36,6 +40,68 @@ for (const arg of process.argv.slice(2)) {
 }
 if (files.length === 0) usage('no input file');
 
+// The JSON of a GLB (or of a .gltf file), or null when it cannot be parsed.
+function gltfJson(bytes) {
+  try {
+    const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+    if (bytes.length >= 20 && view.getUint32(0, true) === 0x46546c67) {
+      const length = view.getUint32(12, true);
+      return JSON.parse(new TextDecoder().decode(bytes.subarray(20, 20 + length)));
+    }
+    return JSON.parse(new TextDecoder().decode(bytes));
+  } catch {
+    return null;
+  }
+}
+
+// MSFT_lod (Microsoft's vendor extension): a node's extensions.MSFT_lod.ids lists the nodes of
+// its coarser levels, finest first; extras.MSFT_screencoverage, when present, has one
+// decreasing value in (0, 1] per level (the node itself and each id).
+function msftLodIssues(json) {
+  const issues = [];
+  const nodes = Array.isArray(json?.nodes) ? json.nodes : [];
+  const inScene = new Set();
+  for (const scene of json?.scenes ?? []) for (const n of scene.nodes ?? []) inScene.add(n);
+  const used = (json?.extensionsUsed ?? []).includes('MSFT_lod');
+  let any = false;
+  nodes.forEach((node, i) => {
+    const lod = node?.extensions?.MSFT_lod;
+    if (lod === undefined) return;
+    any = true;
+    const at = `/nodes/${i}/extensions/MSFT_lod`;
+    const add = (code, pointer, message) => issues.push({ code: `RAMIFORM_MSFT_LOD_${code}`, pointer, message, severity: 0 });
+    const ids = lod.ids;
+    if (!Array.isArray(ids) || ids.length === 0) {
+      add('IDS', `${at}/ids`, 'ids must be a non-empty array of node indices');
+      return;
+    }
+    ids.forEach((id, k) => {
+      if (!Number.isInteger(id) || id < 0 || id >= nodes.length) {
+        add('IDS', `${at}/ids/${k}`, `${id} is not a node index (${nodes.length} nodes)`);
+      } else if (id === i || ids.indexOf(id) !== k) {
+        add('IDS', `${at}/ids/${k}`, `node ${id} is the node itself or listed twice`);
+      } else {
+        if (inScene.has(id)) add('IN_SCENE', `${at}/ids/${k}`, `level node ${id} is also a scene root: viewers without MSFT_lod draw it on top of level 0`);
+        if (nodes[id].mesh === undefined && node.mesh !== undefined) add('NO_MESH', `/nodes/${id}`, `level node ${id} has no mesh`);
+      }
+    });
+    const coverage = node?.extras?.MSFT_screencoverage;
+    if (coverage !== undefined) {
+      const at2 = `/nodes/${i}/extras/MSFT_screencoverage`;
+      if (!Array.isArray(coverage) || coverage.length !== ids.length + 1) {
+        add('COVERAGE', at2, `needs ${ids.length + 1} values (one per level), got ${JSON.stringify(coverage)}`);
+      } else if (coverage.some((c, k) => !(typeof c === 'number' && c > 0 && c <= 1 && (k === 0 || c < coverage[k - 1])))) {
+        add('COVERAGE', at2, `values must decrease within (0, 1]: ${JSON.stringify(coverage)}`);
+      }
+    }
+  });
+  if (any && !used) {
+    issues.push({ code: 'RAMIFORM_MSFT_LOD_NOT_DECLARED', pointer: '/extensionsUsed', severity: 0,
+                  message: 'a node uses MSFT_lod but extensionsUsed does not list it' });
+  }
+  return issues;
+}
+
 let unreadable = false;
 let failed = false;
 const reports = [];
@@ -64,6 +130,11 @@ for (const file of files) {
     continue;
   }
   const issues = report.issues;
+  const lodIssues = msftLodIssues(gltfJson(bytes));
+  if (lodIssues.length) {
+    issues.messages.push(...lodIssues);
+    issues.numErrors += lodIssues.length;
+  }
   if (json) {
     reports.push({ file, report });
   } else {
