@@ -46,7 +46,8 @@ std::vector<std::uint32_t> orient(const Skeleton& skeleton, std::span<const std:
   for (const std::uint32_t r : roots) {
     if (r >= n) fail(who, "root " + std::to_string(r) + " is out of range");
     if (seen[r])
-      fail(who, "root " + std::to_string(r) + " is repeated or shares a component with another root");
+      fail(who,
+           "root " + std::to_string(r) + " is repeated or shares a component with another root");
     seen[r] = 1;
     std::size_t head = queue.size();
     queue.push_back(r);
@@ -55,7 +56,8 @@ std::vector<std::uint32_t> orient(const Skeleton& skeleton, std::span<const std:
       for (const std::uint32_t w : adj[v]) {
         if (w == parent[v]) continue;
         if (seen[w])
-          fail(who, "the skeleton has a cycle or joins two roots (at node " + std::to_string(w) + ")");
+          fail(who,
+               "the skeleton has a cycle or joins two roots (at node " + std::to_string(w) + ")");
         seen[w] = 1;
         parent[w] = v;
         queue.push_back(w);
@@ -96,11 +98,11 @@ double extent(const Skeleton& skeleton) {
 
 // The working state of clean_branches: the oriented forest with removed nodes skipped.
 struct Forest {
-  std::vector<std::uint32_t> parent;     // nearest surviving ancestor, kNone for roots
+  std::vector<std::uint32_t> parent;  // nearest surviving ancestor, kNone for roots
   std::vector<std::uint8_t> is_root;
   std::vector<std::uint8_t> alive;
-  std::vector<std::uint32_t> children;   // surviving children
-  std::vector<std::uint32_t> child;      // one surviving child (the only one when children == 1)
+  std::vector<std::uint32_t> children;  // surviving children
+  std::vector<std::uint32_t> child;     // one surviving child (the only one when children == 1)
 
   void count_children() {
     std::fill(children.begin(), children.end(), 0);
@@ -220,7 +222,8 @@ BranchCleanupReport clean_branches(Skeleton& skeleton, std::span<const std::uint
     for (int it = 0; it < options.smooth_iterations; ++it) {
       for (std::size_t k = 0; k < chain.size(); ++k) {
         const std::uint32_t v = chain[k];
-        next[k] = 0.5 * x[v] + 0.25 * x[f.parent[v]] + 0.25 * x[f.child[v]];  // no overflow near DBL_MAX
+        // Three products, not (a + b) / 4: no overflow near the end of the double range.
+        next[k] = 0.5 * x[v] + 0.25 * x[f.parent[v]] + 0.25 * x[f.child[v]];
       }
       for (std::size_t k = 0; k < chain.size(); ++k) x[chain[k]] = next[k];
     }
@@ -344,9 +347,9 @@ std::string cleanup_summary(const BranchCleanupReport& report, const std::string
                     std::to_string(report.nodes_removed) + " removed (" +
                     std::to_string(report.kinks_removed) + " kinks, " +
                     std::to_string(report.stubs_pruned) + " stubs pruned); ";
-  out += "turn at chain nodes p50/p90/max " + turns(report.before) + " -> " +
-         turns(report.after) + "; tip branches shorter than " + short_what + " " +
-         tips(report.before) + " -> " + tips(report.after);
+  out += "turn at chain nodes p50/p90/max " + turns(report.before) + " -> " + turns(report.after) +
+         "; tip branches shorter than " + short_what + " " + tips(report.before) + " -> " +
+         tips(report.after);
   return out;
 }
 

@@ -324,7 +324,8 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
            " at the tips, exponent `pipe_exponent`" +
            default_text(grow.pipe_exponent, ColonizationOptions::kMinPipeExponent,
                         ColonizationOptions::kMaxPipeExponent) +
-           ". `avoid` keeps nodes out of a shape (§7.2). Then branch cleanup (docs/growth.md): `smooth`" +
+           ". `avoid` keeps nodes out of a shape (§7.2). Then branch cleanup (docs/growth.md): "
+           "`smooth`" +
            default_text(grow.smooth_iterations, 0, BranchCleanupOptions::kMaxSmoothIterations) +
            " Laplacian passes along unbranched chains (forks, root and tips stay), removing "
            "chain nodes that still turn by more than `max_turn`" +

@@ -94,12 +94,13 @@ TEST_F(PipelineCli, GrowCleansBranchesWithTheCleanupFlags) {
   EXPECT_LE(c["after"]["short_tip_share"].get<double>(), 0.1);
   EXPECT_EQ(c["short_steps"].get<double>(), 2.0);
   // Bad values: exit 2, a message naming the option, no output.
-  for (const char* bad : {"--smooth -1", "--smooth 1001", "--prune -1", "--max-turn 0",
-                          "--max-turn 181"}) {
-    const CliRun r = run_cli("grow --points " + pts + flags + " " + bad + " -o " + path("bad.json"));
+  for (const char* bad :
+       {"--smooth -1", "--smooth 1001", "--prune -1", "--max-turn 0", "--max-turn 181"}) {
+    const CliRun r =
+        run_cli("grow --points " + pts + flags + " " + bad + " -o " + path("bad.json"));
     EXPECT_EQ(r.code, 2) << bad << ": " << r.out;
     const std::string option = std::string(bad).substr(2, std::string(bad).find(' ') - 2);
-    const std::string key = option == "smooth" ? "smooth_iterations"
+    const std::string key = option == "smooth"  ? "smooth_iterations"
                             : option == "prune" ? "prune_steps"
                                                 : "max_turn_deg";
     EXPECT_NE(r.out.find(key), std::string::npos) << bad << ": " << r.out;

@@ -193,7 +193,8 @@ TEST(BranchCleanup, SmoothingConvergesMonotonically) {
   const Skeleton raw = grow_case(tree_cases()[0], 0, 0).skeleton;
   auto energy = [](const Skeleton& s) {
     double e = 0;
-    for (const auto& [a, b] : s.edges) e += (s.nodes[a].position - s.nodes[b].position).squaredNorm();
+    for (const auto& [a, b] : s.edges)
+      e += (s.nodes[a].position - s.nodes[b].position).squaredNorm();
     return e;
   };
   double previous = energy(raw);
@@ -243,7 +244,7 @@ TEST(BranchCleanup, PruningIsIdempotentAndKeepsOneChildPerFork) {
     o.prune_length = 2.0 * t.step;
     const BranchCleanupReport first = clean_branches(s, std::vector<std::uint32_t>{0}, o);
     EXPECT_GT(first.stubs_pruned, 0u);
-    EXPECT_EQ(first.kinks_removed, 0u);   // no smoothing, no kink removal
+    EXPECT_EQ(first.kinks_removed, 0u);  // no smoothing, no kink removal
     EXPECT_EQ(first.nodes_moved, 0u);
     // No removable stub is left, and a second pass changes nothing.
     const Skeleton once = s;
@@ -263,15 +264,15 @@ Skeleton fork_with_stubs() {
   auto add = [&](double x, double y, double z, int parent) {
     s.nodes.push_back({Vec3(x, y, z), 1.0});
     if (parent >= 0)
-      s.edges.push_back({static_cast<std::uint32_t>(parent),
-                         static_cast<std::uint32_t>(s.nodes.size() - 1)});
+      s.edges.push_back(
+          {static_cast<std::uint32_t>(parent), static_cast<std::uint32_t>(s.nodes.size() - 1)});
   };
-  add(0, 0, 0, -1);  // 0 root
-  add(0, 0, 1, 0);   // 1
-  add(0, 0, 2, 1);   // 2 fork
-  add(1, 0, 3, 2);   // 3 long branch
-  add(2, 0, 4, 3);   // 4
-  add(3, 0, 5, 4);   // 5 tip
+  add(0, 0, 0, -1);      // 0 root
+  add(0, 0, 1, 0);       // 1
+  add(0, 0, 2, 1);       // 2 fork
+  add(1, 0, 3, 2);       // 3 long branch
+  add(2, 0, 4, 3);       // 4
+  add(3, 0, 5, 4);       // 5 tip
   add(-0.5, 0, 2.5, 2);  // 6 stub tip (length ~0.71)
   add(0, 0.8, 2.2, 2);   // 7 second stub tip (length ~0.82)
   return s;
@@ -287,7 +288,8 @@ TEST(BranchCleanup, StubsArePrunedAndTheRadiiFollowThePipeModel) {
   EXPECT_EQ(rep.stubs_pruned, 2u);
   EXPECT_EQ(rep.nodes_removed, 2u);
   ASSERT_EQ(s.node_count(), 6u);
-  for (std::size_t v = 0; v < 6; ++v) EXPECT_EQ(s.nodes[v].position, fork_with_stubs().nodes[v].position);
+  for (std::size_t v = 0; v < 6; ++v)
+    EXPECT_EQ(s.nodes[v].position, fork_with_stubs().nodes[v].position);
   for (const SkeletonNode& node : s.nodes) EXPECT_DOUBLE_EQ(node.radius, 0.1);  // one chain now
   EXPECT_EQ(rep.before.tip_branches, 3u);
   EXPECT_EQ(rep.before.short_tip_branches, 2u);
@@ -364,11 +366,13 @@ TEST(BranchCleanup, BadOptionsAndSkeletonsAreRejected) {
   EXPECT_THROWS_WITH(with([](auto& o) { o.smooth_iterations = 1001; }), "(got 1001)");
   EXPECT_THROWS_WITH(with([](auto& o) { o.max_turn_deg = 0; }), "max_turn_deg must be in (0, 180]");
   EXPECT_THROWS_WITH(with([](auto& o) { o.max_turn_deg = 181; }), "(got 181)");
-  EXPECT_THROWS_WITH(with([](auto& o) { o.prune_length = -1; }), "prune_length must be finite and >= 0");
+  EXPECT_THROWS_WITH(with([](auto& o) { o.prune_length = -1; }),
+                     "prune_length must be finite and >= 0");
   EXPECT_THROWS_WITH(with([](auto& o) { o.prune_length = std::nan(""); }), "prune_length");
   EXPECT_THROWS_WITH(with([](auto& o) { o.tip_radius = 0; }), "tip_radius");
   EXPECT_THROWS_WITH(with([](auto& o) { o.pipe_exponent = 4; }), "pipe_exponent must be in [2, 3]");
-  EXPECT_THROWS_WITH(clean_branches(s, std::vector<std::uint32_t>{99}, {}), "root 99 is out of range");
+  EXPECT_THROWS_WITH(clean_branches(s, std::vector<std::uint32_t>{99}, {}),
+                     "root 99 is out of range");
   Skeleton cycle = s;
   cycle.edges.push_back({5, 6});
   EXPECT_THROWS_WITH(clean_branches(cycle, root, {}), "cycle");

@@ -174,11 +174,12 @@ TEST_F(ScriptTest, GrowSmoothsAndPrunesWhenAsked) {
   const std::string base =
       "sphere crown 2.5 center=0,0,4\npoint_set_gen crown uniform count=1500\n";
   ScriptSession s(options_);
-  const auto results = s.run_text(
-      base + "grow raw from crown step=0.2 influence=1.2 kill=0.4\n"
-             "grow tree from crown step=0.2 influence=1.2 kill=0.4 smooth=8 prune=2\n"
-             "save_skeleton raw raw.json\nsave_skeleton tree tree.json\n",
-      "t.rf");
+  const auto results =
+      s.run_text(base +
+                     "grow raw from crown step=0.2 influence=1.2 kill=0.4\n"
+                     "grow tree from crown step=0.2 influence=1.2 kill=0.4 smooth=8 prune=2\n"
+                     "save_skeleton raw raw.json\nsave_skeleton tree tree.json\n",
+                 "t.rf");
   s.commit();
   std::vector<std::string> grown;
   for (const CommandResult& r : results)
@@ -193,8 +194,7 @@ TEST_F(ScriptTest, GrowSmoothsAndPrunesWhenAsked) {
   const Skeleton raw = read_skeleton((dir_ / "raw.json").string());
   const Skeleton tree = read_skeleton((dir_ / "tree.json").string());
   EXPECT_LT(tree.node_count(), raw.node_count());
-  const std::string removed =
-      std::to_string(raw.node_count() - tree.node_count()) + " removed";
+  const std::string removed = std::to_string(raw.node_count() - tree.node_count()) + " removed";
   EXPECT_NE(grown[1].find(removed), std::string::npos) << grown[1];
   EXPECT_EQ(tree.nodes[0].position, raw.nodes[0].position);
   // Bad values name the option.

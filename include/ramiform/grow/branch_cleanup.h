@@ -59,8 +59,9 @@ struct BranchCleanupOptions {
   int smooth_iterations = 0;  ///< Laplacian passes along chains, 0..kMaxSmoothIterations, 0 = off
   /// With smoothing: chain nodes turning by more than this are removed, degrees, (0, 180]
   double max_turn_deg = 90.0;
-  double prune_length = 0.0;  ///< tip branches shorter than this are removed, model units, >= 0 (0 = off)
-  double tip_radius = 0.02;   ///< pipe model radius of every tip, when radii are recomputed, > 0
+  /// Tip branches shorter than this are removed, model units, >= 0 (0 = off)
+  double prune_length = 0.0;
+  double tip_radius = 0.02;    ///< pipe model radius of every tip, when radii are recomputed, > 0
   double pipe_exponent = 2.5;  ///< pipe model exponent n, when radii are recomputed, 2..3
   /// The report's `short_tip_branches` counts tip branches shorter than this, model units, >= 0
   /// (+inf allowed; 0: `prune_length`)
@@ -82,9 +83,9 @@ struct BranchShape {
 
   /// short_tip_branches / tip_branches (0 when there is no tip).
   [[nodiscard]] double short_share() const {
-    return tip_branches == 0 ? 0.0
-                             : static_cast<double>(short_tip_branches) /
-                                   static_cast<double>(tip_branches);
+    return tip_branches == 0
+               ? 0.0
+               : static_cast<double>(short_tip_branches) / static_cast<double>(tip_branches);
   }
 };
 
@@ -103,10 +104,10 @@ struct BranchCleanupReport {
 /// `roots` holds one node per connected component that has edges, as for assign_pipe_radii.
 /// When nothing is removed only positions change. Otherwise the surviving nodes keep their
 /// relative order (so roots listed first stay first, and a parent index below its child's stays
-/// below) and edges are rewritten as (parent, child) pairs in the order of the child. Throws InvalidArgument for bad options or a bad skeleton (edge index
-/// out of range, self-loop, cycle, a root out of range or repeated, two roots in one component,
-/// a node with edges no root reaches), and Cancelled when `ctx` is cancelled (checked once per
-/// round).
+/// below) and edges are rewritten as (parent, child) pairs in the order of the child. Throws
+/// InvalidArgument for bad options or a bad skeleton (edge index out of range, self-loop, cycle, a
+/// root out of range or repeated, two roots in one component, a node with edges no root reaches),
+/// and Cancelled when `ctx` is cancelled (checked once per round).
 BranchCleanupReport clean_branches(Skeleton& skeleton, std::span<const std::uint32_t> roots,
                                    const BranchCleanupOptions& options, Context* ctx = nullptr);
 

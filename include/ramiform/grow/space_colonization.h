@@ -78,8 +78,10 @@ struct ColonizationOptions {
   /// step-by-step class returns the raw tree): Laplacian passes along chains, 0 = off,
   /// 0..BranchCleanupOptions::kMaxSmoothIterations.
   int smooth_iterations = 0;
-  double max_turn_deg = 90.0;  ///< with smoothing: chain nodes turning more are removed, degrees, (0, 180]
-  double prune_steps = 0.0;    ///< tip branches shorter than prune_steps * step are removed, >= 0 (0 = off)
+  /// With smoothing: chain nodes turning by more than this are removed, degrees, (0, 180].
+  double max_turn_deg = 90.0;
+  /// Tip branches shorter than prune_steps * step are removed, >= 0 (0 = off).
+  double prune_steps = 0.0;
 
   /// The cleanup part of these options (tip radius and exponent included; short = 2 steps).
   [[nodiscard]] BranchCleanupOptions cleanup() const;
