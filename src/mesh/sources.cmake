@@ -4,5 +4,6 @@ set(RAMIFORM_MESH_SOURCES
   src/mesh/deviation.cpp
   src/mesh/bark_uv.cpp
   src/mesh/mesh_field.cpp
+  src/mesh/normals.cpp
   src/mesh/surface_points.cpp
   src/mesh/winding.cpp)

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/polygonize/improve.h"
 
 namespace ramiform {
 namespace {
@@ -55,6 +56,27 @@ Attempt mesh_at(const Field& field, const Skeleton& skeleton, const Tol& base, d
   return a;
 }
 
+// Coarsens `a.mesh` (the coarsest base mesh, over `budget`) by the polygonizer's own
+// topology-safe collapses: improve_triangles() with every triangle a candidate (smallest angle
+// below 59 degrees) at a growing edge tolerance, until the mesh is within the budget. Returns
+// false when even the largest tolerance leaves it over.
+bool coarsen_to_budget(Attempt& a, const Field& field, const Skeleton& skeleton,
+                       std::size_t budget, Context* ctx) {
+  for (double tol = 0.1; tol <= 0.8 + 1e-9; tol *= 2) {
+    ImproveOptions o;
+    o.tolerance = tol;
+    o.min_angle_deg = 59.0;
+    o.max_turn_deg = 60.0;
+    o.max_rounds = 24;
+    ImproveStats st;
+    improve_triangles(a.mesh, field, skeleton, o, ctx, &st);
+    a.stats.triangles = a.mesh.triangle_count();
+    a.stats.coarsen_tolerance = tol;
+    if (a.stats.triangles <= budget) return true;
+  }
+  return false;
+}
+
 // A budget level: the finest mesh within `budget` found by scaling the tolerance.
 Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& base,
                        double tolerance, std::size_t budget, Context* ctx) {
@@ -75,9 +97,15 @@ Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& 
         continue;
       }
       if (have) break;
+      if (coarsen_to_budget(a, field, skeleton, budget, ctx)) {
+        best = std::move(a);
+        have = true;
+        break;
+      }
       throw InvalidArgument("lod: a budget of " + std::to_string(budget) +
                             " triangles is below the coarsest mesh of this skeleton (" +
-                            std::to_string(n) + " triangles at 0 levels)");
+                            std::to_string(n) + " triangles at 0 levels, " +
+                            std::to_string(a.stats.triangles) + " after coarsening)");
     }
     const bool stopped = a.stats.mesher.refine.budget_reached;
     // Better: within the budget and either not stopped by it where the best was, or finer.

@@ -14,6 +14,8 @@
 #include "ramiform/io/points_io.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/mesh/deviation.h"
+#include "ramiform/mesh/normals.h"
+#include "ramiform/polygonize/lod.h"
 #include "ramiform/polygonize/marching_cubes.h"
 #include "ramiform/polygonize/refine.h"
 #include "ramiform/polygonize/tetrahedral.h"
@@ -65,6 +67,37 @@ std::string lower_extension(const std::string& file) {
   return e;
 }
 
+// The levels of lod= (tolerances) or lod_budget= (triangle counts), finest first.
+std::vector<LodLevel> lod_option(const Call& c) {
+  const Token* tol = c.option_token("lod");
+  const Token* budget = c.option_token("lod_budget");
+  if (tol != nullptr && budget != nullptr) c.fail(*budget, "give lod= or lod_budget=, not both");
+  const Token* t = tol != nullptr ? tol : budget;
+  std::vector<LodLevel> levels;
+  if (t == nullptr) return levels;
+  std::size_t at = 0;
+  while (at <= t->text.size()) {
+    std::size_t end = t->text.find(',', at);
+    if (end == std::string::npos) end = t->text.size();
+    Token part = *t;
+    part.text = t->text.substr(at, end - at);
+    const double v = c.parse_number(part, tol != nullptr ? "tolerance" : "triangle budget");
+    LodLevel l;
+    if (tol != nullptr) {
+      l.tolerance = v;
+    } else {
+      if (!(v >= 1 && v <= 4e9 && v == std::floor(v))) {
+        c.fail(*t, "lod_budget= takes triangle counts (positive whole numbers), got '" +
+                       part.text + "'");
+      }
+      l.max_triangles = static_cast<std::size_t>(v);
+    }
+    levels.push_back(l);
+    at = end + 1;
+  }
+  return levels;
+}
+
 // save_mesh NAME FILE [FILE ...]: one polygonization, written in every format asked for.
 CommandResult run_save_mesh(Call& c) {
   c.expect_count(2, 9, "NAME FILE [FILE ...]");
@@ -76,7 +109,17 @@ CommandResult run_save_mesh(Call& c) {
       c.fail(c.arg(i), "mesh files end in .ply, .obj, .off or .glb, got '" + c.arg(i).text + "'");
     }
   }
+  const std::vector<LodLevel> lods = lod_option(c);
+  MeshWriteOptions write;
+  write.up = c.option_word("up", "z", {"z", "y"}) == "y" ? UpAxis::kY : UpAxis::kZ;
+  write.normals = c.option_word("normals", "yes", {"yes", "no"}) == "yes";
+  const std::string uv = c.option_word("uv", "auto", {"auto", "yes", "no"});
+  if (uv == "yes" && !obj.skeleton) {
+    c.fail(*c.option_token("uv"),
+           "bark UVs follow a skeleton: uv=yes needs a shape made by skeleton, grow or lsystem");
+  }
   TriMesh mesh;
+  std::vector<TriMesh> levels;
   std::string how;
   if (method == "tets") {
     if (!obj.skeleton) {
@@ -105,7 +148,18 @@ CommandResult run_save_mesh(Call& c) {
              "tolerance= must be in " + range_text(Tol::kMinTolerance, Tol::kMaxTolerance));
     }
     // levels= alone: the paper's uniform levels, unrefined; otherwise refined to the tolerance.
-    if (c.has_option("levels") && !c.has_option("tolerance")) {
+    if (!lods.empty()) {
+      if (c.has_option("levels") && !c.has_option("tolerance")) {
+        c.fail(*c.option_token("levels"),
+               "lod= needs the tolerance mesher: give tolerance= with levels=, or no levels=");
+      }
+      try {
+        levels = polygonize_lods(*obj.field, *obj.skeleton, t, lods, c.session().ctx);
+      } catch (const InvalidArgument& e) {
+        c.fail(*c.option_token(c.has_option("lod") ? "lod" : "lod_budget"), e.what());
+      }
+      how = "tets, " + std::to_string(levels.size()) + " levels of detail";
+    } else if (c.has_option("levels") && !c.has_option("tolerance")) {
       mesh = polygonize_tetrahedral(*obj.field, *obj.skeleton, o, c.session().ctx);
       how = "tets, " + std::to_string(o.levels) + " levels";
     } else {
@@ -117,7 +171,7 @@ CommandResult run_save_mesh(Call& c) {
             (st.reached ? "" : " (NOT reached)");
     }
   } else {
-    for (const char* key : {"levels", "section_scale", "tolerance"}) {
+    for (const char* key : {"levels", "section_scale", "tolerance", "lod", "lod_budget"}) {
       if (const Token* t = c.option_token(key))
         c.fail(*t, std::string(key) + "= applies to method=tets");
     }
@@ -139,14 +193,55 @@ CommandResult run_save_mesh(Call& c) {
     how = o.cell_size > 0 ? "mc, cell " + format_number(o.cell_size)
                           : "mc, resolution " + std::to_string(o.resolution);
   }
-  const MeshReport report = check_mesh(mesh);
+  if (levels.empty()) levels.push_back(std::move(mesh));
+  // Each file gets normals (unless normals=no) and, by its format (uv=auto: .glb and .obj) or
+  // as uv= says, bark UVs; the two variants are made once each.
+  std::vector<TriMesh> plain, textured;
+  const auto variant = [&](bool with_uvs) -> const std::vector<TriMesh>& {
+    std::vector<TriMesh>& v = with_uvs ? textured : plain;
+    if (v.empty()) {
+      SurfaceAttributeOptions a;
+      a.normals = write.normals;
+      a.uvs = with_uvs && static_cast<bool>(obj.skeleton);
+      for (const TriMesh& m : levels) {
+        v.push_back(m);
+        if (obj.skeleton) {
+          add_surface_attributes(v.back(), *obj.field, *obj.skeleton, a, c.session().ctx);
+        } else if (write.normals) {
+          set_normals_from_field(v.back(), *obj.field, c.session().ctx);
+        }
+      }
+    }
+    return v;
+  };
+  const MeshReport report = check_mesh(levels[0]);
   std::string files;
   for (std::size_t i = 1; i < c.count(); ++i) {
-    write_mesh(mesh, c.output_path(i));
-    files += (i > 1 ? ", " : "") + c.arg(i).text;
+    const std::string ext = lower_extension(c.arg(i).text);
+    const bool with_uvs = uv == "yes" || (uv == "auto" && (ext == ".glb" || ext == ".obj"));
+    const std::vector<TriMesh>& out = variant(with_uvs);
+    MeshWriteOptions w = write;
+    w.uvs = with_uvs;
+    const std::vector<std::string> names = lod_paths(c.arg(i).text, out.size());
+    if (names.size() == 1) {
+      write_mesh_lods(out, c.output_path(i), w);
+    } else {
+      for (std::size_t k = 0; k < out.size(); ++k) {
+        write_mesh(out[k], c.output_path(c.arg(i), names[k]), w);
+      }
+    }
+    for (std::size_t k = 0; k < names.size(); ++k) files += (files.empty() ? "" : ", ") + names[k];
+  }
+  std::string counts = count_text(report.triangles) + " triangles";
+  if (levels.size() > 1) {
+    counts = "levels of detail of";
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+      counts += (k > 0 ? ", " : " ") + count_text(levels[k].triangle_count());
+    }
+    counts += " triangles";
   }
   return {c.spec().name,
-          files + ": " + count_text(report.triangles) + " triangles (" + how + "), " +
+          files + ": " + counts + " (" + how + "), " +
               (report.watertight && report.oriented && report.manifold ? "watertight"
                                                                        : "NOT watertight") +
               ", " + std::to_string(report.components) + " component(s)",
@@ -287,7 +382,8 @@ void add_output_commands(std::vector<CommandSpec>& out) {
   out.push_back(
       {"save_mesh",
        "save_mesh NAME FILE [FILE ...] [resolution=N | cell=H] [method=mc|tets] [tolerance=T] "
-       "[levels=N] [section_scale=S]",
+       "[levels=N] [section_scale=S] [lod=T1,T2,... | lod_budget=N1,N2,...] [up=z|y] "
+       "[normals=yes|no] [uv=auto|yes|no]",
        "Polygonizes a shape once and writes it to every FILE (.ply, .obj, .off, .glb) inside the "
        "output directory: marching cubes over the shape's bounds, `resolution` cells along the "
        "longest side" +
@@ -301,9 +397,17 @@ void add_output_commands(std::vector<CommandSpec>& out) {
            default_text(tol.tets.levels, Tets::kMinLevels, Tets::kMaxLevels) +
            " and cross-section squares `section_scale` radii wide" +
            default_text(tets.section_scale, Tets::kMinSectionScale, Tets::kMaxSectionScale) +
-           "; `levels` without `tolerance` gives the paper's uniform levels, unrefined.",
+           "; `levels` without `tolerance` gives the paper's uniform levels, unrefined. "
+           "`lod` (tolerances, finest first, e.g. lod=0.05,0.15,0.4) or `lod_budget` (triangle "
+           "counts, e.g. lod_budget=1000000,300000,100000) makes levels of detail with the "
+           "tolerance mesher: a .glb holds them all (nodes LOD0, LOD1, ..., MSFT_lod), another "
+           "format gets one file per level (t.lod0.ply, t.lod1.ply, ...). Files get the field's "
+           "normals (`normals`=yes|no, default yes) and bark UVs along the skeleton (`uv`="
+           "auto|yes|no; auto: for .glb and .obj); `up`=z|y is the up axis of .ply, .obj and "
+           ".off files (default z; a .glb is always +Y up).",
        "save_mesh s3 s3.ply resolution=128",
-       {"resolution", "cell", "method", "tolerance", "levels", "section_scale"},
+       {"resolution", "cell", "method", "tolerance", "levels", "section_scale", "lod",
+        "lod_budget", "up", "normals", "uv"},
        run_save_mesh,
        {}});
   out.push_back(

@@ -346,21 +346,22 @@ std::string Call::written_or_input_path(std::size_t i) const {
   return input_path(t);
 }
 
-std::string Call::output_path(std::size_t i) {
-  const Token& t = arg(i);
-  fs::path rel(t.text);
+std::string Call::output_path(std::size_t i) { return output_path(arg(i), arg(i).text); }
+
+std::string Call::output_path(const Token& t, const std::string& name) {
+  fs::path rel(name);
   const fs::path out = fs::path(session_.options.out_dir);
   if (!session_.options.allow_any_path) {
     const fs::path norm = rel.lexically_normal();
     const bool escapes = rel.is_absolute() || norm.empty() || *norm.begin() == "..";
     if (escapes) {
-      fail(t, "output '" + shown(t.text) +
+      fail(t, "output '" + shown(name) +
                   "' is outside the output directory; use a path inside --out "
                   "or pass --allow-any-path");
     }
   }
   const fs::path final_path = rel.is_absolute() ? rel : out / rel;
-  if (final_path.filename().empty()) fail(t, "output '" + shown(t.text) + "' names no file");
+  if (final_path.filename().empty()) fail(t, "output '" + shown(name) + "' names no file");
   std::error_code ec;
   const fs::path dir = final_path.parent_path().empty() ? fs::path(".") : final_path.parent_path();
   if (!fs::is_directory(dir, ec)) {

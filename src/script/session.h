@@ -160,6 +160,9 @@ class Call {
   /// returned path is where to write now (a held file, io/atomic_file.h: unnamed until read
   /// back or published); commit() publishes it under the final path.
   std::string output_path(std::size_t i);
+  /// The same for the file `name` (an output derived from the argument `token`, e.g. one
+  /// level of detail of it); messages point at `token`.
+  std::string output_path(const Token& token, const std::string& name);
 
   bool has_option(const std::string& key) const;
   double option_number(const std::string& key, double fallback) const;
