@@ -28,7 +28,7 @@ fi
 
 # The .glb tests (tests/web, docs/viewing.md) run the Khronos glTF validator and three.js in
 # Debian's headless Chromium, from node packages in tools/web. Without npm they skip, and so
-# Chromium (about 45 s to install, 300 MB) is only installed where npm is.
+# Chromium (about 45 s to install, 360 MB) is only installed where npm is.
 if command -v npm >/dev/null 2>&1; then
   packages+=(chromium)
 fi
