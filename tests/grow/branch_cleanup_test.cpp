@@ -327,6 +327,25 @@ TEST(BranchCleanup, AChainThatDoublesBackLosesItsKink) {
   ASSERT_NO_THROW(validate(s));
 }
 
+TEST(BranchCleanup, SeveralRootsStaySeparateTrees) {
+  const TreeCase t = tree_cases()[0];
+  ColonizationOptions o = grow_options(t);
+  o.roots = {Vec3(-1.5, 0, 0), Vec3(1.5, 0, 0)};
+  o.smooth_iterations = kDemoSmooth;
+  o.prune_steps = kDemoPrune;
+  const ColonizationResult r =
+      grow_space_colonization(crown_points(t.seed, t.points, t.center, t.radii), o);
+  ASSERT_NO_THROW(validate(r.skeleton));
+  EXPECT_EQ(connected_components(r.skeleton).count, 2u);
+  EXPECT_EQ(r.skeleton.nodes[0].position, o.roots[0]);
+  EXPECT_EQ(r.skeleton.nodes[1].position, o.roots[1]);
+  EXPECT_EQ(r.skeleton.edge_count() + 2, r.skeleton.node_count());
+  EXPECT_GT(r.cleanup.stubs_pruned, 0u);
+  EXPECT_LE(r.cleanup.after.turn_p90_deg, 30.0);
+  EXPECT_LE(r.cleanup.after.turn_max_deg, 90.0);
+  EXPECT_LE(r.cleanup.after.short_share(), 0.10);
+}
+
 TEST(BranchCleanup, SameResultOnAnyThreadCount) {
   const TreeCase t = tree_cases()[2];
   Context one(1), two(2);
