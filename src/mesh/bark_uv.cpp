@@ -2,6 +2,9 @@
 // Copyright (c) 2026 the ramiform authors
 #include "ramiform/mesh/bark_uv.h"
 
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -118,6 +121,17 @@ class BarkChart {
 
   [[nodiscard]] const std::vector<Seg>& segs() const { return segs_; }
   [[nodiscard]] std::size_t chain_count() const { return chains_.size(); }
+  /// The chain chain `c` branches off (kNone for a root) and where along it, in arc length.
+  [[nodiscard]] std::uint32_t parent_of(std::uint32_t c) const { return chains_[c].parent; }
+  [[nodiscard]] double fork_s_of(std::uint32_t c) const { return chains_[c].fork_s; }
+  /// The surface's radius measured at the start of chain `c` (its first bin).
+  [[nodiscard]] double start_rho(std::uint32_t c) const { return chains_[c].knot_rho.front(); }
+  /// The surface's radius measured along chain `c` at arc length s (the nearest bin).
+  [[nodiscard]] double rho_at(std::uint32_t c, double s) const {
+    const auto& ks = chains_[c].knot_s;
+    const auto j = static_cast<std::size_t>(std::lower_bound(ks.begin(), ks.end(), s) - ks.begin());
+    return chains_[c].knot_rho[std::min(j, ks.size() - 1)];
+  }
 
   /// The edge a point belongs to (least relative distance; ties: the lower edge).
   [[nodiscard]] std::uint32_t nearest_seg(const Vec3& p) const {
@@ -459,6 +473,187 @@ class BarkChart {
   double max_radius_ = 1.0;
 };
 
+/// v chart by chart as the least-squares conjugate of u: the v whose gradient comes closest
+/// (area-weighted, over the chart's triangles) to n x grad u, the gradient that makes the map
+/// conformal (square texels) wherever u is. On a surface of revolution this is Mercator's
+/// v = integral of dl / (2 pi rho) along the meridian with each point's own rho, so it follows
+/// caps, bulges and non-round cross-sections that a radius measured per bin cannot. Each chart's
+/// constant is set so that v matches the measured-radius v (`out.uvs` on entry) near the chart's
+/// start plus the drift its parent has at the fork; wrap copies share their original's v.
+void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
+                 const std::vector<std::uint32_t>& tri_chart, const BarkChart& chart,
+                 const Context* ctx) {
+  using Sparse = Eigen::SparseMatrix<double>;
+  const std::vector<Seg>& segs = chart.segs();
+  const std::size_t n = out.positions.size();
+  const std::uint64_t chains = chart.chain_count();
+  std::vector<std::uint32_t> unk(n);
+  std::unordered_map<std::uint64_t, std::uint32_t> index;
+  std::vector<std::uint32_t> unk_chart;
+  std::vector<double> ref, arc;
+  for (std::size_t j = 0; j < n; ++j) {
+    const Seg& g = segs[placed[j].seg];
+    const std::uint64_t key = std::uint64_t{out.welded[j]} * chains + g.chain;
+    const auto [it, is_new] = index.emplace(key, static_cast<std::uint32_t>(ref.size()));
+    if (is_new) {
+      unk_chart.push_back(g.chain);
+      ref.push_back(out.uvs[j].y());
+      arc.push_back(g.s0 + placed[j].t);
+    }
+    unk[j] = it->second;
+  }
+  const std::size_t nu = ref.size();
+  std::vector<std::vector<std::uint32_t>> chart_tris(chains);
+  for (std::size_t t = 0; t < out.triangles.size(); ++t) {
+    chart_tris[tri_chart[t]].push_back(static_cast<std::uint32_t>(t));
+  }
+  std::vector<double> v = ref;
+  std::vector<char> solved(nu, 0);
+  std::vector<std::uint32_t> local(nu, kNone);
+  for (std::uint32_t c = 0; c < chains; ++c) {
+    check_cancel(ctx);
+    const std::vector<std::uint32_t>& ts = chart_tris[c];
+    if (ts.empty()) continue;
+    std::vector<std::uint32_t> members;
+    for (const std::uint32_t t : ts) {
+      for (const std::uint32_t j : out.triangles[t]) {
+        if (local[unk[j]] == kNone) {
+          local[unk[j]] = static_cast<std::uint32_t>(members.size());
+          members.push_back(unk[j]);
+        }
+      }
+    }
+    const std::size_t m = members.size();
+    // Per triangle: the gradients of its three hat functions, its area and n x grad u.
+    struct Tri {
+      std::array<std::uint32_t, 3> at{};
+      std::array<Vec3, 3> grad{};
+      double area = 0.0;
+      Vec3 g = Vec3::Zero();
+    };
+    std::vector<Tri> tris;
+    tris.reserve(ts.size());
+    double orientation = 0.0;
+    for (const std::uint32_t t : ts) {
+      const auto& tri = out.triangles[t];
+      Tri x;
+      for (int k = 0; k < 3; ++k) x.at[k] = local[unk[tri[k]]];
+      const Vec3& p0 = out.positions[tri[0]];
+      const Vec3& p1 = out.positions[tri[1]];
+      const Vec3& p2 = out.positions[tri[2]];
+      const Vec3 nrm = (p1 - p0).cross(p2 - p0);
+      const double twice = nrm.norm();
+      if (!(twice > 0.0) || !std::isfinite(twice)) {
+        tris.push_back(x);
+        continue;
+      }
+      const Vec3 nh = nrm / twice;
+      x.grad[0] = nh.cross(p2 - p1) / twice;
+      x.grad[1] = nh.cross(p0 - p2) / twice;
+      x.grad[2] = nh.cross(p1 - p0) / twice;
+      x.area = 0.5 * twice;
+      Vec3 grad_u = Vec3::Zero();
+      for (int k = 0; k < 3; ++k) grad_u += out.uvs[tri[k]].x() * x.grad[k];
+      x.g = nh.cross(grad_u);
+      orientation += x.area * x.g.dot(segs[placed[tri[0]].seg].d);
+      tris.push_back(x);
+    }
+    const double sign = orientation < 0.0 ? -1.0 : 1.0;
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(9 * tris.size() + m);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
+    std::vector<double> mass(m, 0.0), diag(m, 0.0);
+    for (const Tri& x : tris) {
+      if (x.area == 0.0) continue;
+      for (int a = 0; a < 3; ++a) {
+        mass[x.at[a]] += x.area / 3.0;
+        rhs[x.at[a]] += x.area * sign * x.grad[a].dot(x.g);
+        for (int b = 0; b < 3; ++b) {
+          const double k = x.area * x.grad[a].dot(x.grad[b]);
+          entries.emplace_back(x.at[a], x.at[b], k);
+          if (a == b) diag[x.at[a]] += k;
+        }
+      }
+    }
+    // A faint pull towards the reference v makes the system definite (its null space is the
+    // constant per connected piece) without moving the solution measurably.
+    double diag_sum = 0.0, mass_sum = 0.0;
+    for (std::size_t i = 0; i < m; ++i) {
+      diag_sum += diag[i];
+      mass_sum += mass[i];
+    }
+    if (!(mass_sum > 0.0) || !(diag_sum > 0.0)) {
+      for (const std::uint32_t i : members) local[i] = kNone;
+      continue;
+    }
+    const double eps = 1e-11 * diag_sum / mass_sum;
+    const double mass_floor = 1e-3 * mass_sum / static_cast<double>(m);
+    for (std::size_t i = 0; i < m; ++i) {
+      const double w = eps * (mass[i] + mass_floor);
+      entries.emplace_back(static_cast<int>(i), static_cast<int>(i), w);
+      rhs[static_cast<Eigen::Index>(i)] += w * ref[members[i]];
+    }
+    Sparse K(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+    K.setFromTriplets(entries.begin(), entries.end());
+    Eigen::SimplicialLDLT<Sparse> solver(K);
+    Eigen::VectorXd x;
+    if (solver.info() == Eigen::Success) x = solver.solve(rhs);
+    if (solver.info() != Eigen::Success || !x.allFinite()) {
+      for (const std::uint32_t i : members) local[i] = kNone;
+      continue;
+    }
+    // Connected pieces of the chart, each with its own constant.
+    std::vector<std::uint32_t> root(m);
+    for (std::size_t i = 0; i < m; ++i) root[i] = static_cast<std::uint32_t>(i);
+    auto find = [&](std::uint32_t i) {
+      while (root[i] != i) i = root[i] = root[root[i]];
+      return i;
+    };
+    for (const Tri& t : tris) {
+      for (int k = 1; k < 3; ++k) root[find(t.at[k])] = find(t.at[0]);
+    }
+    // The drift (v - reference) the parent has at the fork, over about a radius of it.
+    double offset = 0.0;
+    const std::uint32_t parent = chart.parent_of(c);
+    if (parent != kNone) {
+      const double fs = chart.fork_s_of(c), reach = chart.rho_at(parent, fs);
+      double sum = 0.0;
+      std::size_t count = 0;
+      for (std::size_t i = 0; i < nu; ++i) {
+        if (unk_chart[i] == parent && solved[i] != 0 && std::abs(arc[i] - fs) <= reach) {
+          sum += v[i] - ref[i];
+          ++count;
+        }
+      }
+      if (count > 0) offset = sum / static_cast<double>(count);
+    }
+    // Each piece's drift over the chart's first two radii (else over all of it) is `offset`.
+    const double window = 2.0 * chart.start_rho(c);
+    std::vector<double> near_sum(m, 0.0), all_sum(m, 0.0);
+    std::vector<std::size_t> near_count(m, 0), all_count(m, 0);
+    for (std::size_t i = 0; i < m; ++i) {
+      const std::uint32_t r = find(static_cast<std::uint32_t>(i));
+      const double d = x[static_cast<Eigen::Index>(i)] - ref[members[i]];
+      all_sum[r] += d;
+      ++all_count[r];
+      const double s = arc[members[i]];
+      if (s >= 0.0 && s <= window) {
+        near_sum[r] += d;
+        ++near_count[r];
+      }
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      const std::uint32_t r = find(static_cast<std::uint32_t>(i));
+      const double mean = near_count[r] > 0 ? near_sum[r] / static_cast<double>(near_count[r])
+                                            : all_sum[r] / static_cast<double>(all_count[r]);
+      v[members[i]] = x[static_cast<Eigen::Index>(i)] - mean + offset;
+      solved[members[i]] = 1;
+    }
+    for (const std::uint32_t i : members) local[i] = kNone;
+  }
+  for (std::size_t j = 0; j < n; ++j) out.uvs[j].y() = v[unk[j]];
+}
+
 void validate_inputs(const TriMesh& mesh, const Skeleton& skeleton, const BarkUvOptions& o) {
   if (!o.facing.allFinite()) throw InvalidArgument("BarkUvOptions::facing must be finite");
   if (!(o.radius_bin > 0.0 && o.radius_bin <= 1000.0)) {
@@ -654,6 +849,7 @@ TriMesh add_bark_uvs(const TriMesh& mesh, const Skeleton& skeleton, const BarkUv
     }
   }
   check_cancel(ctx);
+  if (options.measure_radius) conformal_v(out, out_placed, tri_chart, chart, ctx);
 
   // 4. Tangents: d x offset projected orthogonal to the normal; w from the triangles' dP/dv.
   const std::size_t n_out = out.positions.size();
@@ -753,9 +949,9 @@ TriMesh add_bark_uvs(const TriMesh& mesh, const Skeleton& skeleton, const BarkUv
       st.stretch_p50 = finite[mid];
     }
     if (!stretch.empty()) {
-      st.within_10_percent_count = static_cast<double>(in) / static_cast<double>(stretch.size());
+      st.within_10_percent = static_cast<double>(in) / static_cast<double>(stretch.size());
     }
-    if (area_all > 0.0) st.within_10_percent = area_in / area_all;
+    if (area_all > 0.0) st.within_10_percent_area = area_in / area_all;
     *stats = st;
   }
   return out;

@@ -72,11 +72,11 @@ struct BarkUvStats {
   std::size_t split_vertices = 0;  ///< vertices added by splitting along seams
   /// Median over triangles of uv_stretch() (triangles with a finite stretch; nearest rank).
   double stretch_p50 = 0;
-  /// Share of the surface (triangles weighted by area) with stretch in [0.9, 1.1]; triangles
-  /// with degenerate (u, v) count as outside.
+  /// Share of the triangles (by count) with stretch in [0.9, 1.1]; triangles with degenerate
+  /// (u, v) count as outside.
   double within_10_percent = 0;
-  /// The same share by triangle count (lower: the small triangles of tips and forks weigh more).
-  double within_10_percent_count = 0;
+  /// The same share of the surface (triangles weighted by area).
+  double within_10_percent_area = 0;
 };
 
 /// Returns `mesh` with vertices split along the seams and `uvs`, `tangents` and `welded` filled
