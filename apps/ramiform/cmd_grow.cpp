@@ -254,7 +254,7 @@ void register_grow(CLI::App& root, Action& action) {
                              "(degrees)",
                              o.max_turn_deg));
   c->add_option("--prune", o.prune_steps,
-                with_default("branch cleanup: remove tip branches shorter than this many steps",
+                with_default("branch cleanup: remove tip branches of at most this many steps",
                              o.prune_steps));
   c->add_option("--seed", a->seed, "accepted for symmetry: growth itself makes no random choice");
   add_common_options(*c, a->common);

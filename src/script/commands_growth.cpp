@@ -331,13 +331,15 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
            "chain nodes that still turn by more than `max_turn`" +
            default_text(grow.max_turn_deg) +
            " degrees, and `prune`" + default_text(grow.prune_steps) +
-           " removes tip branches shorter than that many steps; the radii are recomputed. The "
+           " removes tip branches of at most that many steps (stubs); after removals the radii are "
+           "recomputed. The "
            "message reports what changed and the turn angles and short tips before and after. "
            "TREE is a shape (Cauchy convolution "
            "surface of the skeleton); save_mesh method=tets meshes it, save_skeleton writes the "
            "skeleton.",
        "sphere crown 3 center=0,0,5\npoint_set_gen crown uniform count=300\n"
-       "grow tree from crown step=0.4 influence=2 kill=0.8\nsave_skeleton tree tree.json",
+       "grow tree from crown step=0.4 influence=2 kill=0.8 smooth=8 prune=2\n"
+       "save_skeleton tree tree.json",
        {"step", "influence", "kill", "root", "direction", "tropism", "max_iterations", "tip_radius",
         "pipe_exponent", "avoid", "smooth", "prune", "max_turn"},
        run_grow,
