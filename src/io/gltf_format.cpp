@@ -133,6 +133,7 @@ class GlbBuilder {
     meshes_.push_back(
         {{"primitives", ordered_json::array({{{"attributes", attributes},
                                                {"indices", indices},
+                                               {"material", 0},
                                                {"mode", kTriangles}}})}});
     return static_cast<long long>(meshes_.size() - 1);
   }
@@ -179,6 +180,13 @@ void write_glb(std::span<const TriMesh> levels, bool normals, bool uvs, std::ost
   j["nodes"] = nodes;
   const bool has_bin = !b.bin_.empty();
   if (!b.meshes_.empty()) {
+    // One plain bark material (glTF's default would be white): brown, rough, not metallic.
+    j["materials"] = ordered_json::array(
+        {{{"name", "bark"},
+          {"pbrMetallicRoughness",
+           {{"baseColorFactor", {0.36, 0.27, 0.19, 1.0}},
+            {"metallicFactor", 0.0},
+            {"roughnessFactor", 0.9}}}}});
     j["meshes"] = b.meshes_;
     j["accessors"] = b.accessors_;
     j["bufferViews"] = b.views_;

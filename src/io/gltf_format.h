@@ -16,7 +16,7 @@ namespace ramiform::io {
 /// chunk and a BIN chunk. glTF is +Y up, right-handed, in metres (specification §3.4), so the
 /// library's +Z-up coordinates are rotated by -90 degrees about X: (x, y, z) -> (x, z, -y), for
 /// positions, normals and tangents alike. Each level is one mesh of one triangle primitive:
-/// POSITION, and when present and asked for NORMAL, TEXCOORD_0 (u, 1 - v: glTF's texture origin
+/// one bark-brown PBR material (metallic 0, roughness 0.9); POSITION, and when present and asked for NORMAL, TEXCOORD_0 (u, 1 - v: glTF's texture origin
 /// is the top left) and TANGENT (xyz rotated, w as the library's: cross(NORMAL, TANGENT.xyz) * w
 /// points up the texture image), as float32; indices as uint32. One level: one node. Several:
 /// node "LOD0" holds the finest and lists the coarser nodes "LOD1"... in the MSFT_lod extension

@@ -8,9 +8,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "io/io_test_util.h"
+#include "ramiform/mesh/checks.h"
+#include "support/glb_reader.h"
 #include "ramiform/core/errors.h"
 
 namespace ramiform {
@@ -316,16 +319,31 @@ TEST(MeshIo, ReadErrorsCarryThePath) {
 namespace ramiform {
 namespace {
 
-std::uint32_t u32_at(const std::string& s, std::size_t at) {
-  std::uint32_t v = 0;
-  for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(s[at + static_cast<std::size_t>(i)]);
-  return v;
+using io_test::TempDir;
+using io_test::write_bytes;
+
+Vec3 y_up(const Vec3& v) { return {v.x(), v.z(), -v.y()}; }
+
+// A closed tetrahedron textured with one seam copy: vertex 4 is a copy of vertex 0.
+TriMesh textured_tetrahedron() {
+  TriMesh m;
+  m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(0, 0, 0)};
+  m.triangles = {{0, 2, 1}, {4, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  m.normals = {Vec3(-1, -1, -1).normalized(), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1),
+               Vec3(-1, -1, -1).normalized()};
+  m.uvs = {Vec2(0.1, 0.2), Vec2(0.3, 0.25), Vec2(0.7, 1.5), Vec2(0.9, -0.5), Vec2(1.1, 0.2)};
+  for (std::size_t i = 0; i < 5; ++i) {
+    const Vec3 t = m.normals[i].unitOrthogonal();
+    m.tangents.emplace_back(t.x(), t.y(), t.z(), i % 2 == 0 ? 1.0 : -1.0);
+  }
+  m.welded = {0, 1, 2, 3, 0};
+  return m;
 }
 
-// Decodes a .glb independently (GLB header, JSON chunk, BIN chunk; accessor -> bufferView ->
-// bytes) and compares with the mesh rounded to float.
+// Decodes a .glb independently (tests/support/glb_reader.h) and compares with the mesh rotated
+// to +Y up and rounded to float.
 TEST(MeshGlb, ChunksAccessorsAndDataFollowTheGltfSpecification) {
-  const io_test::TempDir dir;
+  const TempDir dir;
   TriMesh huge = awkward_mesh(false);
   EXPECT_THROW(write_mesh(huge, dir.file("huge.glb")), InvalidArgument);  // -1e300 is no float
   EXPECT_FALSE(std::filesystem::exists(dir.file("huge.glb")));
@@ -333,54 +351,234 @@ TEST(MeshGlb, ChunksAccessorsAndDataFollowTheGltfSpecification) {
     TriMesh m = awkward_mesh(normals);
     m.positions[2].x() = -1e30;
     write_mesh(m, dir.file("m.glb"));
-    std::ifstream in(dir.file("m.glb"), std::ios::binary);
-    const std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    ASSERT_GE(s.size(), 28u);
-    EXPECT_EQ(s.substr(0, 4), "glTF");
-    EXPECT_EQ(u32_at(s, 4), 2u);
-    EXPECT_EQ(u32_at(s, 8), s.size());
-    const std::uint32_t json_len = u32_at(s, 12);
-    EXPECT_EQ(s.substr(16, 4), "JSON");
-    EXPECT_EQ(json_len % 4, 0u);
-    const auto j = nlohmann::json::parse(s.substr(20, json_len));
-    const std::size_t bin_at = 20 + json_len;
-    EXPECT_EQ(s.substr(bin_at + 4, 4), std::string("BIN\0", 4));
-    const std::string bin = s.substr(bin_at + 8, u32_at(s, bin_at));
-    EXPECT_EQ(j["asset"]["version"], "2.0");
-    EXPECT_EQ(j["buffers"][0]["byteLength"].get<std::size_t>(), bin.size());
-    const auto& prim = j["meshes"][0]["primitives"][0];
+    const test::Glb g = test::read_glb(dir.file("m.glb"));
+    EXPECT_EQ(g.json["asset"]["version"], "2.0");
+    EXPECT_FALSE(g.json.contains("extensionsUsed"));
+    ASSERT_EQ(g.json["meshes"].size(), 1u);
+    const auto& prim = g.json["meshes"][0]["primitives"][0];
     EXPECT_EQ(prim["mode"], 4);
-    auto floats = [&](int accessor) {
-      const auto& a = j["accessors"][accessor];
-      EXPECT_EQ(a["componentType"], 5126);
-      const auto& v = j["bufferViews"][a["bufferView"].get<int>()];
-      std::vector<float> out(a["count"].get<std::size_t>() * 3);
-      std::memcpy(out.data(), bin.data() + v["byteOffset"].get<std::size_t>(), out.size() * 4);
-      return out;
-    };
-    const std::vector<float> pos = floats(prim["attributes"]["POSITION"].get<int>());
+    const int pa = g.attribute(0, "POSITION");
+    const std::vector<float> pos = g.floats(pa);
     ASSERT_EQ(pos.size(), m.positions.size() * 3);
     for (std::size_t i = 0; i < m.positions.size(); ++i) {
+      const Vec3 up = y_up(m.positions[i]);
       for (int k = 0; k < 3; ++k) {
-        EXPECT_EQ(pos[i * 3 + static_cast<std::size_t>(k)], static_cast<float>(m.positions[i][k]));
-        EXPECT_LE(j["accessors"][0]["min"][k].get<float>(), pos[i * 3 + static_cast<std::size_t>(k)]);
-        EXPECT_GE(j["accessors"][0]["max"][k].get<float>(), pos[i * 3 + static_cast<std::size_t>(k)]);
+        const float f = pos[i * 3 + static_cast<std::size_t>(k)];
+        EXPECT_EQ(f, static_cast<float>(up[k])) << "vertex " << i << " axis " << k;
+        EXPECT_LE(g.json["accessors"][pa]["min"][k].get<float>(), f);
+        EXPECT_GE(g.json["accessors"][pa]["max"][k].get<float>(), f);
       }
     }
-    EXPECT_EQ(prim["attributes"].contains("NORMAL"), normals);
+    EXPECT_EQ(g.attribute(0, "NORMAL") >= 0, normals);
     if (normals) {
-      const std::vector<float> nor = floats(prim["attributes"]["NORMAL"].get<int>());
-      EXPECT_EQ(nor[3], static_cast<float>(m.normals[1].x()));
-    }
-    const auto& ia = j["accessors"][prim["indices"].get<int>()];
-    EXPECT_EQ(ia["componentType"], 5125);
-    EXPECT_EQ(ia["count"].get<std::size_t>(), m.triangles.size() * 3);
-    const auto& iv = j["bufferViews"][ia["bufferView"].get<int>()];
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-      for (std::size_t c = 0; c < 3; ++c) {
-        EXPECT_EQ(u32_at(bin, iv["byteOffset"].get<std::size_t>() + (t * 3 + c) * 4), m.triangles[t][c]);
+      const std::vector<float> nor = g.floats(g.attribute(0, "NORMAL"));
+      for (std::size_t i = 0; i < m.normals.size(); ++i) {
+        const Vec3 up = y_up(m.normals[i].normalized());
+        for (int k = 0; k < 3; ++k) {
+          EXPECT_EQ(nor[i * 3 + static_cast<std::size_t>(k)], static_cast<float>(up[k]));
+        }
       }
     }
+    EXPECT_EQ(g.attribute(0, "TEXCOORD_0"), -1);
+    const std::vector<std::uint32_t> idx = g.uints(prim["indices"].get<int>());
+    ASSERT_EQ(idx.size(), m.triangles.size() * 3);
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+      for (std::size_t c = 0; c < 3; ++c) EXPECT_EQ(idx[t * 3 + c], m.triangles[t][c]);
+    }
+  }
+}
+
+// The +Z-up library tree stands along +Y in the file: its height is the file's y extent.
+TEST(MeshGlb, TheLibrarysUpIsTheFilesPlusY) {
+  const TempDir dir;
+  TriMesh m;
+  m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0.2, 0.3, 10)};
+  m.triangles = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  write_mesh(m, dir.file("t.glb"));
+  const test::Glb g = test::read_glb(dir.file("t.glb"));
+  const auto& a = g.json["accessors"][g.attribute(0, "POSITION")];
+  EXPECT_EQ(a["max"][1].get<float>(), 10.0f);
+  EXPECT_EQ(a["min"][1].get<float>(), 0.0f);
+  EXPECT_EQ(a["min"][2].get<float>(), -1.0f);  // library +y becomes -z
+  EXPECT_EQ(a["max"][2].get<float>(), 0.0f);
+}
+
+TEST(MeshGlb, TexcoordsFlipVAndTangentsRotateWithTheirHandedness) {
+  const TempDir dir;
+  const TriMesh m = textured_tetrahedron();
+  write_mesh(m, dir.file("t.glb"));
+  const test::Glb g = test::read_glb(dir.file("t.glb"));
+  const std::vector<float> uv = g.floats(g.attribute(0, "TEXCOORD_0"));
+  const std::vector<float> tan = g.floats(g.attribute(0, "TANGENT"));
+  ASSERT_EQ(uv.size(), 10u);
+  ASSERT_EQ(tan.size(), 20u);
+  for (std::size_t i = 0; i < 5; ++i) {
+    EXPECT_EQ(uv[2 * i], static_cast<float>(m.uvs[i].x()));
+    EXPECT_EQ(uv[2 * i + 1], static_cast<float>(1.0 - m.uvs[i].y()));  // top-left origin
+    const Vec3 t = y_up(m.tangents[i].head<3>());
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(tan[4 * i + static_cast<std::size_t>(k)], static_cast<float>(t[k]));
+    EXPECT_EQ(tan[4 * i + 3], static_cast<float>(m.tangents[i].w()));
+  }
+  // The seam copy is its own vertex in glTF (one texture coordinate per vertex).
+  EXPECT_EQ(g.json["accessors"][g.attribute(0, "POSITION")]["count"], 5);
+  // Without normals there is no TANGENT (glTF requires NORMAL with it); without uvs neither.
+  TriMesh bare = m;
+  bare.normals.clear();
+  bare.tangents.clear();
+  write_mesh(bare, dir.file("b.glb"));
+  const test::Glb b = test::read_glb(dir.file("b.glb"));
+  EXPECT_GE(b.attribute(0, "TEXCOORD_0"), 0);
+  EXPECT_EQ(b.attribute(0, "TANGENT"), -1);
+  MeshWriteOptions no_uv;
+  no_uv.uvs = false;
+  write_mesh(m, dir.file("n.glb"), no_uv);
+  const test::Glb n = test::read_glb(dir.file("n.glb"));
+  EXPECT_EQ(n.attribute(0, "TEXCOORD_0"), -1);
+  EXPECT_EQ(n.attribute(0, "TANGENT"), -1);
+  EXPECT_GE(n.attribute(0, "NORMAL"), 0);
+}
+
+TEST(MeshGlb, LevelsOfDetailAreNodesOfOneFileInTheMsftLodConvention) {
+  const TempDir dir;
+  std::vector<TriMesh> levels = {textured_tetrahedron(), awkward_mesh(true), TriMesh{}};
+  levels[1].positions[2].x() = 5;
+  const std::vector<std::string> written = write_mesh_lods(levels, dir.file("l.glb"));
+  EXPECT_EQ(written, std::vector<std::string>{dir.file("l.glb")});
+  const test::Glb g = test::read_glb(dir.file("l.glb"));
+  EXPECT_EQ(g.json["extensionsUsed"], nlohmann::json::array({"MSFT_lod"}));
+  ASSERT_EQ(g.json["nodes"].size(), 3u);
+  EXPECT_EQ(g.json["scenes"][0]["nodes"], nlohmann::json::array({0}));
+  EXPECT_EQ(g.json["nodes"][0]["name"], "LOD0");
+  EXPECT_EQ(g.json["nodes"][2]["name"], "LOD2");
+  EXPECT_EQ(g.json["nodes"][0]["extensions"]["MSFT_lod"]["ids"], nlohmann::json::array({1, 2}));
+  EXPECT_EQ(g.json["nodes"][0]["extras"]["MSFT_screencoverage"].size(), 3u);
+  ASSERT_EQ(g.json["meshes"].size(), 2u);  // the empty level has a node but no mesh
+  EXPECT_EQ(g.json["nodes"][1]["mesh"], 1);
+  EXPECT_FALSE(g.json["nodes"][2].contains("mesh"));
+  EXPECT_EQ(g.floats(g.attribute(1, "POSITION")).size(), levels[1].positions.size() * 3);
+  EXPECT_THROW(write_mesh_lods({}, dir.file("e.glb")), InvalidArgument);
+}
+
+TEST(MeshIo, LevelsOfDetailInOtherFormatsAreOneFilePerLevel) {
+  const TempDir dir;
+  EXPECT_EQ(lod_paths("a/tree.ply", 1), std::vector<std::string>{"a/tree.ply"});
+  EXPECT_EQ(lod_paths("a/tree.PLY", 2),
+            (std::vector<std::string>{"a/tree.lod0.PLY", "a/tree.lod1.PLY"}));
+  EXPECT_EQ(lod_paths("tree.glb", 3), std::vector<std::string>{"tree.glb"});
+  const std::vector<TriMesh> levels = {awkward_mesh(true), awkward_mesh(false)};
+  const auto written = write_mesh_lods(levels, dir.file("m.obj"));
+  ASSERT_EQ(written.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) expect_identical(read_mesh(written[k]), levels[k]);
+  // A bad level is found before anything is written.
+  std::vector<TriMesh> bad = levels;
+  bad[1].positions[0].x() = std::nan("");
+  EXPECT_THROW(write_mesh_lods(bad, dir.file("b.ply")), InvalidArgument);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("b.lod0.ply")));
+}
+
+TEST(MeshIo, UpAxisYRotatesPositionsAndNormalsOfPlyObjOff) {
+  const TempDir dir;
+  MeshWriteOptions o;
+  o.up = UpAxis::kY;
+  for (const char* name : {"m.ply", "m.obj", "m.off"}) {
+    const TriMesh m = awkward_mesh(true);
+    write_mesh(m, dir.file(name), o);
+    const TriMesh r = read_mesh(dir.file(name));
+    ASSERT_EQ(r.positions.size(), m.positions.size()) << name;
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+      EXPECT_TRUE(same_bits(r.positions[i], y_up(m.positions[i]))) << name << " vertex " << i;
+    }
+    if (std::string(name) != "m.off") {
+      ASSERT_EQ(r.normals.size(), m.normals.size()) << name;
+      for (std::size_t i = 0; i < m.normals.size(); ++i) {
+        EXPECT_TRUE(same_bits(r.normals[i], y_up(m.normals[i]))) << name << " normal " << i;
+      }
+    }
+    EXPECT_EQ(r.triangles, m.triangles) << name;
+  }
+  MeshWriteOptions no_normals;
+  no_normals.normals = false;
+  write_mesh(awkward_mesh(true), dir.file("n.ply"), no_normals);
+  EXPECT_TRUE(read_mesh(dir.file("n.ply")).normals.empty());
+}
+
+// OBJ writes each surface point once and the seam copies as `vt`s, so a closed textured mesh
+// stays closed by its vertex indices; OFF writes the surface points only.
+TEST(MeshIo, TexturedObjAndOffKeepTheSurfaceClosed) {
+  const TempDir dir;
+  const TriMesh m = textured_tetrahedron();
+  EXPECT_TRUE(check_mesh(m).watertight);  // checked through the seam copy
+  write_mesh(m, dir.file("t.obj"));
+  std::ifstream in(dir.file("t.obj"));
+  std::string line;
+  int v = 0, vt = 0, vn = 0;
+  std::vector<std::string> faces;
+  while (std::getline(in, line)) {
+    if (line.rfind("v ", 0) == 0) ++v;
+    if (line.rfind("vt ", 0) == 0) ++vt;
+    if (line.rfind("vn ", 0) == 0) ++vn;
+    if (line.rfind("f ", 0) == 0) faces.push_back(line);
+  }
+  EXPECT_EQ(v, 4);
+  EXPECT_EQ(vn, 4);
+  EXPECT_EQ(vt, 5);
+  ASSERT_EQ(faces.size(), 4u);
+  EXPECT_EQ(faces[1], "f 1/5/1 2/2/2 4/4/4");  // the copy: point 1, its own texture coordinate
+  for (const char* name : {"t.obj", "t.off"}) {
+    write_mesh(m, dir.file(name));
+    const TriMesh r = read_mesh(dir.file(name));
+    EXPECT_EQ(r.positions.size(), 4u) << name;
+    EXPECT_TRUE(check_mesh(r).watertight) << name;
+  }
+}
+
+TEST(MeshIo, TexturedPlyKeepsItsUvsAndWeldsItsSeamCopiesBack) {
+  const TempDir dir;
+  const TriMesh m = textured_tetrahedron();
+  write_mesh(m, dir.file("t.ply"));
+  const TriMesh r = read_mesh(dir.file("t.ply"));
+  ASSERT_EQ(r.uvs.size(), 5u);
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(r.uvs[i], m.uvs[i]);
+  EXPECT_EQ(r.welded, m.welded);
+  const MeshReport rep = check_mesh(r);
+  EXPECT_TRUE(rep.watertight && rep.oriented && rep.manifold);
+  EXPECT_EQ(rep.components, 1u);
+  // Without the seam information the copy is a hole: the check sees it.
+  TriMesh open = r;
+  open.welded.clear();
+  EXPECT_FALSE(check_mesh(open).watertight);
+  // s/t and texture_u/texture_v name texture coordinates too; half a pair is an error.
+  const std::string st = dir.file("st.ply");
+  write_bytes(st,
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+              "property float z\nproperty float s\nproperty float t\nelement face 1\n"
+              "property list uchar int vertex_indices\nend_header\n0 0 0 0 0\n1 0 0 1 0\n"
+              "0 1 0 0.5 1\n3 0 1 2\n");
+  EXPECT_EQ(read_mesh(st).uvs.at(2), Vec2(0.5, 1));
+  const std::string half = dir.file("half.ply");
+  write_bytes(half,
+              "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+              "property float z\nproperty float u\nend_header\n0 0 0 0\n");
+  EXPECT_INPUT_ERROR_AT(read_mesh(half), half, 3, "'u' without 'v'");
+}
+
+TEST(MeshIo, WriteRejectsInconsistentAttributes) {
+  const TempDir dir;
+  TriMesh a = textured_tetrahedron();
+  a.uvs.pop_back();
+  EXPECT_THROW(write_mesh(a, dir.file("a.glb")), InvalidArgument);
+  TriMesh b = textured_tetrahedron();
+  b.uvs.clear();
+  EXPECT_THROW(write_mesh(b, dir.file("b.ply")), InvalidArgument);  // tangents without uvs
+  TriMesh c = textured_tetrahedron();
+  c.welded[1] = 4;  // a copy of a later vertex
+  EXPECT_THROW(write_mesh(c, dir.file("c.obj")), InvalidArgument);
+  EXPECT_THROW((void)check_mesh(c), InvalidArgument);
+  TriMesh d = textured_tetrahedron();
+  d.tangents[0].w() = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(write_mesh(d, dir.file("d.glb")), InvalidArgument);
+  for (const char* f : {"a.glb", "b.ply", "c.obj", "d.glb"}) {
+    EXPECT_FALSE(std::filesystem::exists(dir.file(f))) << f;
   }
 }
 
