@@ -473,6 +473,88 @@ class BarkChart {
   double max_radius_ = 1.0;
 };
 
+/// One triangle of a chart: its corners (the chart's unknowns), the gradients of its three hat
+/// functions, its area and n x grad u (the conformal gradient for v).
+struct ChartTri {
+  std::array<std::uint32_t, 3> at{};
+  std::array<Vec3, 3> grad{};
+  double area = 0.0;
+  Vec3 g = Vec3::Zero();
+};
+
+constexpr int kMagnitudeSteps = 4;        // Gauss-Newton steps of refine_magnitudes()
+constexpr double kConformalWeight = 0.1;  // weight of |grad v - n x grad u|^2 there
+
+/// The stretch of a triangle is |grad v| / |grad u| whatever the angle between the two, so the
+/// least-squares conjugate (a fit of both components of grad v, one vertex per two triangles) is
+/// refined towards |grad v| = |grad u| per triangle, each triangle weighted alike (the share by
+/// count is what is asked), with kConformalWeight of the conformal fit kept so that grad v
+/// stays near n x grad u: a few Gauss-Newton steps on
+/// sum_t [(|grad v_t| - |g_t|)^2 + w |grad v_t - g_t|^2] / |g_t|^2.
+void refine_magnitudes(const std::vector<ChartTri>& tris, double sign, double eps,
+                       const std::vector<double>& mass, double mass_floor,
+                       const std::vector<std::uint32_t>& members, const std::vector<double>& ref,
+                       Eigen::VectorXd& x) {
+  using Sparse = Eigen::SparseMatrix<double>;
+  const std::size_t m = members.size();
+  Eigen::SimplicialLDLT<Sparse> solver;
+  bool analyzed = false;
+  // Scale: the mean of A |g|^2 over the chart, so that eps means what it does in conformal_v.
+  double scale = 0.0;
+  std::size_t counted = 0;
+  for (const ChartTri& t : tris) {
+    const double g2 = t.g.squaredNorm();
+    if (t.area > 0.0 && g2 > 0.0 && std::isfinite(g2)) {
+      scale += t.area * g2;
+      ++counted;
+    }
+  }
+  if (counted == 0) return;
+  scale /= static_cast<double>(counted);
+  for (int step = 0; step < kMagnitudeSteps; ++step) {
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(9 * tris.size() + m);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
+    for (const ChartTri& t : tris) {
+      const double g2 = t.g.squaredNorm();
+      if (!(t.area > 0.0) || !(g2 > 0.0) || !std::isfinite(g2)) continue;
+      Vec3 grad_v = Vec3::Zero();
+      for (int k = 0; k < 3; ++k) grad_v += x[t.at[k]] * t.grad[k];
+      const double len = grad_v.norm();
+      if (!(len > 0.0)) continue;
+      const Vec3 dir = grad_v / len;
+      const Vec3 target = sign * t.g;
+      const double w = scale / g2;  // each triangle alike, in the units of A |g|^2
+      std::array<double, 3> along{};
+      for (int k = 0; k < 3; ++k) along[k] = dir.dot(t.grad[k]);
+      for (int a = 0; a < 3; ++a) {
+        rhs[t.at[a]] += w * (along[a] * std::sqrt(g2) + kConformalWeight * t.grad[a].dot(target));
+        for (int b = 0; b < 3; ++b) {
+          entries.emplace_back(t.at[a], t.at[b],
+                               w * (along[a] * along[b] +
+                                    kConformalWeight * t.grad[a].dot(t.grad[b])));
+        }
+      }
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      const double wr = eps * (mass[i] + mass_floor);
+      entries.emplace_back(static_cast<int>(i), static_cast<int>(i), wr);
+      rhs[static_cast<Eigen::Index>(i)] += wr * ref[members[i]];
+    }
+    Sparse K(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+    K.setFromTriplets(entries.begin(), entries.end());
+    if (!analyzed) {
+      solver.analyzePattern(K);
+      analyzed = true;
+    }
+    solver.factorize(K);
+    if (solver.info() != Eigen::Success) return;
+    Eigen::VectorXd next = solver.solve(rhs);
+    if (solver.info() != Eigen::Success || !next.allFinite()) return;
+    x = std::move(next);
+  }
+}
+
 /// v chart by chart as the least-squares conjugate of u: the v whose gradient comes closest
 /// (area-weighted, over the chart's triangles) to n x grad u, the gradient that makes the map
 /// conformal (square texels) wherever u is. On a surface of revolution this is Mercator's
@@ -524,19 +606,12 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
       }
     }
     const std::size_t m = members.size();
-    // Per triangle: the gradients of its three hat functions, its area and n x grad u.
-    struct Tri {
-      std::array<std::uint32_t, 3> at{};
-      std::array<Vec3, 3> grad{};
-      double area = 0.0;
-      Vec3 g = Vec3::Zero();
-    };
-    std::vector<Tri> tris;
+    std::vector<ChartTri> tris;
     tris.reserve(ts.size());
     double orientation = 0.0;
     for (const std::uint32_t t : ts) {
       const auto& tri = out.triangles[t];
-      Tri x;
+      ChartTri x;
       for (int k = 0; k < 3; ++k) x.at[k] = local[unk[tri[k]]];
       const Vec3& p0 = out.positions[tri[0]];
       const Vec3& p1 = out.positions[tri[1]];
@@ -563,7 +638,7 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
     entries.reserve(9 * tris.size() + m);
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
     std::vector<double> mass(m, 0.0), diag(m, 0.0);
-    for (const Tri& x : tris) {
+    for (const ChartTri& x : tris) {
       if (x.area == 0.0) continue;
       for (int a = 0; a < 3; ++a) {
         mass[x.at[a]] += x.area / 3.0;
@@ -602,6 +677,7 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
       for (const std::uint32_t i : members) local[i] = kNone;
       continue;
     }
+    refine_magnitudes(tris, sign, eps, mass, mass_floor, members, ref, x);
     // Connected pieces of the chart, each with its own constant.
     std::vector<std::uint32_t> root(m);
     for (std::size_t i = 0; i < m; ++i) root[i] = static_cast<std::uint32_t>(i);
@@ -609,7 +685,7 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
       while (root[i] != i) i = root[i] = root[root[i]];
       return i;
     };
-    for (const Tri& t : tris) {
+    for (const ChartTri& t : tris) {
       for (int k = 1; k < 3; ++k) root[find(t.at[k])] = find(t.at[0]);
     }
     // The drift (v - reference) the parent has at the fork, over about a radius of it.

@@ -252,7 +252,10 @@ TEST(BarkUv, CapsuleFromThePolygonizer) {
   expect_textured(m, out, st);
   EXPECT_EQ(st.fork_seam_edges, 0u);
   EXPECT_NEAR(st.stretch_p50, 1.0, 0.03);
-  EXPECT_GT(st.within_10_percent, 0.75) << st.within_10_percent;  // flat ends: docs/texturing.md
+  EXPECT_GT(st.within_10_percent, 0.8) << st.within_10_percent;  // flat ends: docs/texturing.md
+  std::cout << "capsule: " << m.triangles.size() << " triangles, seams " << st.seam_edges
+            << ", split " << st.split_vertices << ", p50 " << st.stretch_p50 << ", within "
+            << st.within_10_percent << " (area " << st.within_10_percent_area << ")\n";
 }
 
 TEST(BarkUv, YForkIsContinuousOffItsSeams) {
@@ -264,27 +267,40 @@ TEST(BarkUv, YForkIsContinuousOffItsSeams) {
   EXPECT_EQ(st.branches, 2u);
   EXPECT_GT(st.fork_seam_edges, 0u);
   EXPECT_NEAR(st.stretch_p50, 1.0, 0.05);
-  EXPECT_GE(st.within_10_percent, 0.85) << st.within_10_percent;  // coarse, short: its tips weigh
+  EXPECT_GE(st.within_10_percent, 0.92) << st.within_10_percent;  // coarse, short: its tips weigh
   std::cout << "Y fork: " << m.triangles.size() << " triangles, seams " << st.seam_edges
             << " (wrap " << st.wrap_seam_edges << ", fork " << st.fork_seam_edges << "), split "
             << st.split_vertices << ", p50 " << st.stretch_p50 << ", within "
             << st.within_10_percent << " (area " << st.within_10_percent_area << ")\n";
 }
 
+// The bound, by triangle count: at least 95 % of the triangles within 10 % of square
+// texels, on trees of different sizes, seeds and tip radii.
 TEST(BarkUv, GeneratedTrees) {
-  for (const std::uint64_t seed : {1, 2}) {
-    const Skeleton s = generated_tree(30, seed);
+  struct Case {
+    std::size_t segments;
+    std::uint64_t seed;
+    double tip_radius;
+  };
+  for (const Case c : {Case{30, 1, 0.03}, Case{30, 2, 0.03}, Case{60, 3, 0.02}}) {
+    BranchingTreeOptions o;
+    o.segments = c.segments;
+    o.seed = c.seed;
+    o.tip_radius = c.tip_radius;
+    const Skeleton s = branching_tree(o);
     const TriMesh m = meshed(s);
     BarkUvStats st;
     const TriMesh out = add_bark_uvs(m, s, {}, &st);
     expect_textured(m, out, st);
     EXPECT_GT(st.branches, 5u);
-    EXPECT_NEAR(st.stretch_p50, 1.0, 0.05);
-    EXPECT_GE(st.within_10_percent, 0.95) << "seed " << seed;
-      std::cout << "seed " << seed << ": " << m.triangles.size() << " triangles, " << st.branches
+    EXPECT_NEAR(st.stretch_p50, 1.0, 0.01);
+    EXPECT_GE(st.within_10_percent, 0.95) << "seed " << c.seed;
+    EXPECT_GE(st.within_10_percent_area, 0.95) << "seed " << c.seed;
+    std::cout << "tree " << c.segments << " segments, seed " << c.seed << ", tips "
+              << c.tip_radius << ": " << m.triangles.size() << " triangles, " << st.branches
               << " branches, seams " << st.seam_edges << " (wrap " << st.wrap_seam_edges
-              << ", fork " << st.fork_seam_edges << "), split " << st.split_vertices
-              << ", p50 " << st.stretch_p50 << ", within " << st.within_10_percent << " (area "
+              << ", fork " << st.fork_seam_edges << "), split " << st.split_vertices << ", p50 "
+              << st.stretch_p50 << ", within " << st.within_10_percent << " (area "
               << st.within_10_percent_area << ")\n";
   }
 }
@@ -304,7 +320,7 @@ TEST(BarkUv, DemoTreeWhenGiven) {
             << ", fork " << st.fork_seam_edges << "), split " << st.split_vertices << ", p50 "
             << st.stretch_p50 << ", within " << st.within_10_percent << " (area "
             << st.within_10_percent_area << ")\n";
-  EXPECT_GE(st.within_10_percent, 0.9);
+  EXPECT_GE(st.within_10_percent, 0.95);
 }
 
 TEST(BarkUv, SameResultOnOneAndTwoThreads) {
