@@ -6,7 +6,8 @@
 #include <string>
 
 #include "ramiform/core/errors.h"
-#include "ramiform/polygonize/improve.h"
+#include <cmath>
+#include <cstdint>
 
 namespace ramiform {
 namespace {
@@ -56,26 +57,109 @@ Attempt mesh_at(const Field& field, const Skeleton& skeleton, const Tol& base, d
   return a;
 }
 
-// Coarsens `a.mesh` (the coarsest base mesh, over `budget`) by the polygonizer's own
-// topology-safe collapses: improve_triangles() with every triangle a candidate (smallest angle
-// below 59 degrees) at a growing edge tolerance, until the mesh is within the budget. Returns
-// false when even the largest tolerance leaves it over.
-bool coarsen_to_budget(Attempt& a, const Field& field, const Skeleton& skeleton,
-                       std::size_t budget, Context* ctx) {
-  for (double tol = 0.1; tol <= 0.8 + 1e-9; tol *= 2) {
-    ImproveOptions o;
-    o.tolerance = tol;
-    o.min_angle_deg = 59.0;
-    o.max_turn_deg = 60.0;
-    o.max_rounds = 24;
-    ImproveStats st;
-    improve_triangles(a.mesh, field, skeleton, o, ctx, &st);
-    a.stats.triangles = a.mesh.triangle_count();
-    a.stats.coarsen_tolerance = tol;
-    if (a.stats.triangles <= budget) return true;
+// Douglas-Peucker on the chain nodes[first..last] (indices into `chain`): keeps the node
+// farthest from the chord when it lies more than `tol` of the smaller end radius away, or when
+// the radius along the span changes by more than a third.
+void keep_span(const Skeleton& sk, const std::vector<std::uint32_t>& chain, std::size_t first,
+               std::size_t last, double tol, std::vector<char>& keep) {
+  if (last <= first + 1) return;
+  const Vec3 a = sk.nodes[chain[first]].position;
+  const Vec3 b = sk.nodes[chain[last]].position;
+  const double ra = sk.nodes[chain[first]].radius, rb = sk.nodes[chain[last]].radius;
+  const Vec3 d = b - a;
+  const double len2 = d.squaredNorm();
+  double worst = -1;
+  std::size_t at = first;
+  for (std::size_t k = first + 1; k < last; ++k) {
+    const SkeletonNode& n = sk.nodes[chain[k]];
+    const double t = len2 > 0 ? std::clamp((n.position - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+    const double r_line = ra + t * (rb - ra);
+    const double off = (n.position - (a + t * d)).norm() / std::min(ra, rb);
+    const double taper = std::abs(n.radius - r_line) / r_line;  // radius off the straight taper
+    const double score = std::max(off / tol, taper * 3.0);
+    if (score > worst) {
+      worst = score;
+      at = k;
+    }
   }
-  return false;
+  if (worst > 1.0) {
+    keep[at] = 1;
+    keep_span(sk, chain, first, at, tol, keep);
+    keep_span(sk, chain, at, last, tol, keep);
+  }
 }
+
+}  // namespace
+
+Skeleton simplify_chains(const Skeleton& skeleton, double tolerance) {
+  if (!(tolerance > 0) || !std::isfinite(tolerance)) {
+    throw InvalidArgument("simplify_chains: tolerance must be > 0, got " +
+                          format_number(tolerance));
+  }
+  const std::size_t n = skeleton.nodes.size();
+  std::vector<std::vector<std::uint32_t>> adj(n);
+  for (const auto& e : skeleton.edges) {
+    adj[e[0]].push_back(e[1]);
+    adj[e[1]].push_back(e[0]);
+  }
+  std::vector<char> kept(n, 0);
+  for (std::size_t i = 0; i < n; ++i) kept[i] = adj[i].size() != 2 ? 1 : 0;
+  Skeleton out;
+  std::vector<std::uint32_t> index(n, UINT32_MAX);
+  const auto node_index = [&](std::uint32_t v) {
+    if (index[v] == UINT32_MAX) {
+      index[v] = static_cast<std::uint32_t>(out.nodes.size());
+      out.nodes.push_back(skeleton.nodes[v]);
+    }
+    return index[v];
+  };
+  // Walk every chain from a kept node (nodes not of degree 2) to the next, in a fixed order.
+  std::vector<char> done(n, 0);  // degree-2 nodes already walked
+  const auto walk = [&](std::uint32_t start, std::uint32_t next) {
+    std::vector<std::uint32_t> chain = {start};
+    std::uint32_t prev = start, cur = next;
+    while (!kept[cur] && !done[cur]) {
+      done[cur] = 1;
+      chain.push_back(cur);
+      const std::uint32_t nxt = adj[cur][0] == prev ? adj[cur][1] : adj[cur][0];
+      prev = cur;
+      cur = nxt;
+    }
+    if (!kept[cur] && done[cur] && cur != start) return;  // met a walked chain: a cycle's end
+    chain.push_back(cur);
+    std::vector<char> keep(chain.size(), 0);
+    keep.front() = keep.back() = 1;
+    if (chain.front() == chain.back()) {
+      std::fill(keep.begin(), keep.end(), 1);  // a loop: kept whole (no doubled edge)
+    } else {
+      keep_span(skeleton, chain, 0, chain.size() - 1, tolerance, keep);
+    }
+    std::uint32_t last = node_index(chain.front());
+    for (std::size_t k = 1; k < chain.size(); ++k) {
+      if (!keep[k]) continue;
+      const std::uint32_t v = node_index(chain[k]);
+      if (v != last) out.edges.push_back({last, v});
+      last = v;
+    }
+  };
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (!kept[v]) continue;
+    node_index(v);
+    for (const std::uint32_t w : adj[v]) {
+      // Each chain once: from its smaller-index end, or (between two kept nodes) once per edge.
+      if (kept[w] ? w > v : !done[w]) walk(v, w);
+    }
+  }
+  // Cycles of degree-2 nodes only: kept as they are.
+  for (std::uint32_t v = 0; v < n; ++v) {
+    if (kept[v] || done[v]) continue;
+    kept[v] = 1;
+    walk(v, adj[v][0]);
+  }
+  return out;
+}
+
+namespace {
 
 // A budget level: the finest mesh within `budget` found by scaling the tolerance.
 Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& base,
@@ -97,15 +181,25 @@ Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& 
         continue;
       }
       if (have) break;
-      if (coarsen_to_budget(a, field, skeleton, budget, ctx)) {
-        best = std::move(a);
-        have = true;
-        break;
+      // The skeleton's chains are finer than this budget allows: the polygonizer follows a
+      // simplified copy of them (the field, and so the surface, stays the same).
+      bool fitted = false;
+      for (double tol = 0.25; tol <= 2.0 + 1e-9 && !fitted; tol *= 2) {
+        const Skeleton coarse = simplify_chains(skeleton, tol);
+        if (coarse.edge_count() == skeleton.edge_count()) continue;
+        Attempt c = mesh_at(field, coarse, base, a.stats.tolerance, budget, levels, ctx);
+        c.stats.simplify_tolerance = tol;
+        c.stats.skeleton_edges = coarse.edge_count();
+        if (c.stats.triangles <= budget) {
+          best = std::move(c);
+          have = fitted = true;
+        }
       }
+      if (fitted) break;
       throw InvalidArgument("lod: a budget of " + std::to_string(budget) +
                             " triangles is below the coarsest mesh of this skeleton (" +
-                            std::to_string(n) + " triangles at 0 levels, " +
-                            std::to_string(a.stats.triangles) + " after coarsening)");
+                            std::to_string(n) + " triangles at 0 levels, still over with its "
+                            "chains simplified to 2 radii)");
     }
     const bool stopped = a.stats.mesher.refine.budget_reached;
     // Better: within the budget and either not stopped by it where the best was, or finer.

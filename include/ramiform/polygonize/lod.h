@@ -33,10 +33,20 @@ struct LodStats {
   int levels = 0;         ///< the base mesh's subdivision levels
   int attempts = 0;       ///< meshes made to find a budget level's tolerance (1 for a tolerance)
   std::size_t triangles = 0;
-  /// > 0: the base mesh at 0 levels was over the budget and was coarsened by edge collapses at
-  /// this edge tolerance (local radii).
-  double coarsen_tolerance = 0;
+  /// > 0: the base mesh at 0 levels was over the budget, so the polygonizer followed the
+  /// skeleton with its chains simplified at this tolerance (simplify_chains), with
+  /// `skeleton_edges` edges.
+  double simplify_tolerance = 0;
+  std::size_t skeleton_edges = 0;
 };
+
+/// The skeleton with its chains (runs of degree-2 nodes) simplified by Douglas-Peucker: a chain
+/// node is dropped when it lies within `tolerance` times the smaller end radius of the straight
+/// line between the kept nodes around it and its radius within a third of the straight taper.
+/// Roots, forks and tips stay; the kept nodes keep their positions and radii. For the
+/// polygonizer's bounding structure at coarse levels of detail. Throws InvalidArgument for a
+/// tolerance that is not > 0.
+[[nodiscard]] Skeleton simplify_chains(const Skeleton& skeleton, double tolerance);
 
 /// The meshes of `levels`, finest first, made by polygonize_to_tolerance() with `base` (its
 /// tolerance and max_triangles replaced by each level's). A tolerance level is meshed once. A
@@ -44,8 +54,9 @@ struct LodStats {
 /// remeshes (at most 5 times) with the tolerance scaled by the ratio of the triangle count to
 /// the budget (the count of a refined mesh goes about as 1/tolerance), keeping the finest mesh
 /// within the budget; when the base mesh alone is over the budget it drops to fewer base levels
-/// (down to 0), and below that coarsens the 0-level mesh with improve_triangles()' closed,
-/// manifold, node-keeping collapses at edge tolerances 0.1, 0.2, 0.4, 0.8 local radii. Each level's budget is also capped by the previous level's triangle count, so
+/// (down to 0), and below that lets the polygonizer follow the skeleton with its chains
+/// simplified (simplify_chains at 0.25, 0.5, 1, 2 radii) — the field, and so the surface, stays
+/// the same. Each level's budget is also capped by the previous level's triangle count, so
 /// counts never increase. Throws InvalidArgument when the levels are empty, mix the two kinds,
 /// are out of range or not ordered finest first (tolerances increasing, budgets decreasing), or
 /// when a budget is below the coarsest mesh the skeleton allows (naming it); otherwise as

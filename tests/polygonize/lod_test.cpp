@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/polygonize/lod.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "ramiform/core/context.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/field/skeleton_field.h"
+#include "ramiform/mesh/checks.h"
+#include "ramiform/mesh/winding.h"
+#include "ramiform/skeleton/generate.h"
+#include "support/mesh_checkers.h"
+
+namespace ramiform {
+namespace {
+
+Skeleton tree(std::size_t segments, std::uint64_t seed) {
+  BranchingTreeOptions o;
+  o.segments = segments;
+  o.seed = seed;
+  o.tip_radius = 0.02;
+  return branching_tree(o);
+}
+
+// Every edge cut into `pieces`, the new nodes on the edge with a linear taper, as a scanned
+// cylinder model's fine chains are.
+Skeleton subdivided(const Skeleton& s, int pieces) {
+  Skeleton out;
+  out.nodes = s.nodes;
+  for (const auto& e : s.edges) {
+    std::uint32_t prev = e[0];
+    for (int k = 1; k < pieces; ++k) {
+      const double t = static_cast<double>(k) / pieces;
+      const SkeletonNode& a = s.nodes[e[0]];
+      const SkeletonNode& b = s.nodes[e[1]];
+      out.nodes.push_back({a.position + t * (b.position - a.position),
+                           a.radius + t * (b.radius - a.radius)});
+      const auto v = static_cast<std::uint32_t>(out.nodes.size() - 1);
+      out.edges.push_back({prev, v});
+      prev = v;
+    }
+    out.edges.push_back({prev, e[1]});
+  }
+  return out;
+}
+
+std::size_t nodes_outside(const TriMesh& m, const Skeleton& s) {
+  std::vector<Vec3> nodes;
+  for (const auto& n : s.nodes) nodes.push_back(n.position);
+  std::size_t outside = 0;
+  for (const char f : points_inside(m, nodes)) outside += f == 0 ? 1 : 0;
+  return outside;
+}
+
+void expect_whole(const std::vector<TriMesh>& levels, const Skeleton& s) {
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    SCOPED_TRACE("level " + std::to_string(k));
+    test::expect_closed_manifold(levels[k]);
+    test::expect_components(levels[k], 1);
+    EXPECT_EQ(nodes_outside(levels[k], s), 0u);
+    if (k > 0) EXPECT_LT(levels[k].triangle_count(), levels[k - 1].triangle_count());
+  }
+}
+
+TEST(PolygonizeLods, ToleranceLevelsAreWholeMeshesWithFallingCountsAndTheirDeviation) {
+  const Skeleton s = tree(40, 5);
+  const FieldPtr f = make_skeleton_field(s);
+  const std::vector<LodLevel> levels = {{0.05, 0}, {0.15, 0}, {0.4, 0}};
+  std::vector<LodStats> st;
+  const std::vector<TriMesh> m = polygonize_lods(*f, s, {}, levels, nullptr, &st);
+  ASSERT_EQ(m.size(), 3u);
+  ASSERT_EQ(st.size(), 3u);
+  expect_whole(m, s);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(st[k].triangles, m[k].triangle_count());
+    EXPECT_EQ(st[k].tolerance, levels[k].tolerance);
+    EXPECT_EQ(st[k].attempts, 1);
+    EXPECT_TRUE(st[k].mesher.reached) << "level " << k;
+    EXPECT_LE(st[k].mesher.deviation.samples.p99, levels[k].tolerance) << "level " << k;
+  }
+}
+
+TEST(PolygonizeLods, BudgetLevelsStayWithinTheirBudgetsEvenBelowTheCoarsestBaseMesh) {
+  const Skeleton s = subdivided(tree(30, 7), 6);
+  const FieldPtr f = make_skeleton_field(s);
+  ToleranceOptions coarsest;
+  coarsest.tets.levels = 0;
+  const std::size_t base0 = polygonize_tetrahedral(*f, s, coarsest.tets).triangle_count();
+  const std::size_t fine = polygonize_to_tolerance(*f, s).triangle_count();
+  const std::vector<LodLevel> levels = {
+      {0, fine * 8 / 10}, {0, fine * 4 / 10}, {0, base0 * 7 / 10}};
+  std::vector<LodStats> st;
+  const std::vector<TriMesh> m = polygonize_lods(*f, s, {}, levels, nullptr, &st);
+  ASSERT_EQ(m.size(), 3u);
+  expect_whole(m, s);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_LE(m[k].triangle_count(), levels[k].max_triangles) << "level " << k;
+    EXPECT_GE(st[k].attempts, 1);
+  }
+  // The last budget is below what the polygonizer gives the full skeleton at 0 levels: it
+  // followed simplified chains.
+  EXPECT_GT(st[2].simplify_tolerance, 0.0);
+  EXPECT_LT(st[2].skeleton_edges, s.edge_count());
+  // A budget far below anything the skeleton allows is refused, naming the budget.
+  const std::vector<LodLevel> tiny = {{0, 10}};
+  try {
+    (void)polygonize_lods(*f, s, {}, tiny);
+    ADD_FAILURE() << "a 10-triangle budget was accepted";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("budget of 10 triangles"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PolygonizeLods, SameResultOnOneAndTwoThreads) {
+  const Skeleton s = tree(25, 2);
+  const FieldPtr f = make_skeleton_field(s);
+  const std::vector<LodLevel> levels = {{0.08, 0}, {0.3, 0}};
+  Context one, two;
+  one.set_threads(1);
+  two.set_threads(2);
+  const auto a = polygonize_lods(*f, s, {}, levels, &one);
+  const auto b = polygonize_lods(*f, s, {}, levels, &two);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].triangles, b[k].triangles);
+    EXPECT_EQ(a[k].positions, b[k].positions);
+  }
+}
+
+TEST(PolygonizeLods, RejectsLevelsThatAreEmptyMixedOutOfRangeOrNotCoarsening) {
+  const Skeleton s = tree(10, 1);
+  const FieldPtr f = make_skeleton_field(s);
+  const std::vector<std::vector<LodLevel>> bad = {
+      {},
+      {{0.05, 0}, {0, 1000}},
+      {{0.05, 100}},
+      {{0.0001, 0}},
+      {{0.2, 0}, {0.1, 0}},
+      {{0, 1000}, {0, 1000}},
+  };
+  for (const auto& levels : bad) {
+    EXPECT_THROW((void)polygonize_lods(*f, s, {}, levels), InvalidArgument) << levels.size();
+  }
+}
+
+TEST(SimplifyChains, DropsStraightChainNodesAndKeepsRootsForksTipsAndShape) {
+  const Skeleton t = tree(20, 4);
+  const Skeleton s = subdivided(t, 5);
+  const Skeleton c = simplify_chains(s, 0.25);
+  EXPECT_NO_THROW(validate(c));
+  // The subdivision nodes lie on straight, linearly tapered edges: all of them go, and the
+  // result has the tree's own edges (its chains may lose their straight interior nodes too).
+  EXPECT_LE(c.edge_count(), t.edge_count());
+  const auto deg_s = degrees(s);
+  std::size_t special = 0;
+  for (std::size_t i = 0; i < s.nodes.size(); ++i) special += deg_s[i] != 2 ? 1 : 0;
+  std::size_t special_c = 0;
+  const auto deg_c = degrees(c);
+  for (std::size_t i = 0; i < c.nodes.size(); ++i) special_c += deg_c[i] != 2 ? 1 : 0;
+  EXPECT_EQ(special_c, special);  // every root, fork and tip stays
+  EXPECT_EQ(connected_components(c).count, 1u);
+  // A bent chain keeps its bend.
+  Skeleton bent;
+  for (int i = 0; i <= 10; ++i) {
+    const double x = i * 0.1;
+    bent.nodes.push_back({Vec3(x, i <= 5 ? 0.0 : (x - 0.5), 0), 0.05});
+    if (i > 0) bent.edges.push_back({static_cast<std::uint32_t>(i - 1), static_cast<std::uint32_t>(i)});
+  }
+  const Skeleton b = simplify_chains(bent, 0.25);
+  ASSERT_EQ(b.node_count(), 3u);
+  EXPECT_EQ(b.nodes[1].position, Vec3(0.5, 0, 0));  // the corner, numbered as its chain is walked
+  EXPECT_THROW((void)simplify_chains(bent, 0.0), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace ramiform
