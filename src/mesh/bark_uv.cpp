@@ -26,6 +26,7 @@ namespace {
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kMaxDeltaU = 0.05;  // largest correction of u away from the angle / 2 pi
 constexpr std::size_t kMaxBinsPerEdge = 256;  // bounds the bins of a very long, thin edge
 constexpr std::size_t kMinBinSamples = 3;     // fewer vertices than this do not make a median
 
@@ -480,26 +481,36 @@ struct ChartTri {
   std::array<Vec3, 3> grad{};
   double area = 0.0;
   Vec3 g = Vec3::Zero();
+  Vec3 grad_u = Vec3::Zero();
+  Vec3 normal = Vec3::Zero();
 };
 
-constexpr int kMagnitudeSteps = 4;        // Gauss-Newton steps of refine_magnitudes()
+constexpr int kRefineSteps = 3;           // Gauss-Newton steps of refine_stretch()
 constexpr double kConformalWeight = 0.1;  // weight of |grad v - n x grad u|^2 there
+constexpr double kAngleWeight = 0.3;      // weight of |grad du|^2 (u stays near the angle)
+constexpr double kRobustStretch = 0.2;    // stretch error beyond which a triangle weighs less
 
-/// The stretch of a triangle is |grad v| / |grad u| whatever the angle between the two, so the
-/// least-squares conjugate (a fit of both components of grad v, one vertex per two triangles) is
-/// refined towards |grad v| = |grad u| per triangle, each triangle weighted alike (the share by
-/// count is what is asked), with kConformalWeight of the conformal fit kept so that grad v
-/// stays near n x grad u: a few Gauss-Newton steps on
-/// sum_t [(|grad v_t| - |g_t|)^2 + w |grad v_t - g_t|^2] / |g_t|^2.
-void refine_magnitudes(const std::vector<ChartTri>& tris, double sign, double eps,
-                       const std::vector<double>& mass, double mass_floor,
-                       const std::vector<std::uint32_t>& members, const std::vector<double>& ref,
-                       Eigen::VectorXd& x) {
+/// The stretch of a triangle is |grad v| / |grad u|, whatever the angle between the two, and
+/// the least-squares conjugate fits two components of grad v per triangle with one vertex per
+/// two triangles, so it leaves a spread of stretch on coarse, curved parts (caps, forks). This
+/// refines v, and u by a correction du per vertex, towards |grad v| = |grad u| per triangle,
+/// each triangle weighted alike (the share by count is what is asked) and less when far off
+/// (a pole's triangles cannot be helped; weight 1 / (1 + (e / kRobustStretch)^2) for a stretch
+/// error e), keeping kConformalWeight of the conformal fit (grad v near n x grad u, so texels
+/// stay nearly square in angle too) and kAngleWeight of |grad du|^2: kRefineSteps Gauss-Newton
+/// steps on sum_t [(|grad v| - |grad u|)^2 + cw |grad v - n x grad u|^2 + aw |grad du|^2] / |g|^2
+/// over the chart's triangles (g = n x grad u of the angle). x holds v on entry and exit, du
+/// the correction of u (both as of the last step that succeeded; du = 0 if none did).
+void refine_stretch(const std::vector<ChartTri>& tris, double sign, double eps,
+                    const std::vector<double>& mass, double mass_floor,
+                    const std::vector<std::uint32_t>& members, const std::vector<double>& ref,
+                    Eigen::VectorXd& x, Eigen::VectorXd& du) {
   using Sparse = Eigen::SparseMatrix<double>;
   const std::size_t m = members.size();
+  const auto M = static_cast<Eigen::Index>(m);
+  du = Eigen::VectorXd::Zero(M);
   Eigen::SimplicialLDLT<Sparse> solver;
   bool analyzed = false;
-  // Scale: the mean of A |g|^2 over the chart, so that eps means what it does in conformal_v.
   double scale = 0.0;
   std::size_t counted = 0;
   for (const ChartTri& t : tris) {
@@ -511,37 +522,81 @@ void refine_magnitudes(const std::vector<ChartTri>& tris, double sign, double ep
   }
   if (counted == 0) return;
   scale /= static_cast<double>(counted);
-  for (int step = 0; step < kMagnitudeSteps; ++step) {
+  for (int step = 0; step < kRefineSteps; ++step) {
     std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(9 * tris.size() + m);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
+    entries.reserve(36 * tris.size() + 2 * m);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * M);
+    // Per triangle the 6 x 6 normal matrix of its rows (v at its corners, then du), summed
+    // before it goes into the triplets.
+    Eigen::Matrix<double, 6, 6> local;
+    Eigen::Matrix<double, 6, 1> local_rhs;
+    auto add_row = [&](const Eigen::Matrix<double, 6, 1>& c, double r, double w) {
+      local.noalias() += w * c * c.transpose();
+      local_rhs += w * r * c;
+    };
     for (const ChartTri& t : tris) {
       const double g2 = t.g.squaredNorm();
       if (!(t.area > 0.0) || !(g2 > 0.0) || !std::isfinite(g2)) continue;
-      Vec3 grad_v = Vec3::Zero();
-      for (int k = 0; k < 3; ++k) grad_v += x[t.at[k]] * t.grad[k];
-      const double len = grad_v.norm();
-      if (!(len > 0.0)) continue;
-      const Vec3 dir = grad_v / len;
-      const Vec3 target = sign * t.g;
-      const double w = scale / g2;  // each triangle alike, in the units of A |g|^2
-      std::array<double, 3> along{};
-      for (int k = 0; k < 3; ++k) along[k] = dir.dot(t.grad[k]);
-      for (int a = 0; a < 3; ++a) {
-        rhs[t.at[a]] += w * (along[a] * std::sqrt(g2) + kConformalWeight * t.grad[a].dot(target));
-        for (int b = 0; b < 3; ++b) {
-          entries.emplace_back(t.at[a], t.at[b],
-                               w * (along[a] * along[b] +
-                                    kConformalWeight * t.grad[a].dot(t.grad[b])));
+      Vec3 grad_v = Vec3::Zero(), grad_u = t.grad_u;
+      for (int k = 0; k < 3; ++k) {
+        grad_v += x[t.at[k]] * t.grad[k];
+        grad_u += du[t.at[k]] * t.grad[k];
+      }
+      const double lv = grad_v.norm(), lu = grad_u.norm();
+      // A triangle whose gradients vanish still enters, with weight 0 (same pattern each step).
+      const bool usable = lv > 0.0 && lu > 0.0;
+      const Vec3 dv = usable ? Vec3(grad_v / lv) : Vec3::Zero();
+      const Vec3 dunit = usable ? Vec3(grad_u / lu) : Vec3::Zero();
+      const double res = usable ? lv / lu - 1.0 : 0.0;
+      const double robust = 1.0 / (1.0 + (res / kRobustStretch) * (res / kRobustStretch));
+      const double w = usable ? robust * scale / g2 : 0.0;
+      local.setZero();
+      local_rhs.setZero();
+      // |grad v| - |grad u| = 0, linearized.
+      Eigen::Matrix<double, 6, 1> c;
+      for (int k = 0; k < 3; ++k) {
+        c[k] = dv.dot(t.grad[k]);
+        c[k + 3] = -dunit.dot(t.grad[k]);
+      }
+      add_row(c, dunit.dot(t.grad_u), w);
+      // grad v - sign n x grad u = 0 (conformal), per component.
+      const Vec3 target = sign * t.normal.cross(t.grad_u);
+      std::array<Vec3, 3> turned{};
+      for (int k = 0; k < 3; ++k) turned[k] = sign * t.normal.cross(t.grad[k]);
+      for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) {
+          c[k] = t.grad[k][i];
+          c[k + 3] = -turned[k][i];
         }
+        add_row(c, target[i], w * kConformalWeight);
+      }
+      // grad du = 0 (u stays near the angle).
+      for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) {
+          c[k] = 0.0;
+          c[k + 3] = t.grad[k][i];
+        }
+        add_row(c, 0.0, w * kAngleWeight);
+      }
+      std::array<int, 6> idx{};
+      for (int k = 0; k < 3; ++k) {
+        idx[k] = static_cast<int>(t.at[k]);
+        idx[k + 3] = static_cast<int>(m + t.at[k]);
+      }
+      // Every entry, zero or not: the pattern must stay the same from step to step.
+      for (int a = 0; a < 6; ++a) {
+        rhs[idx[a]] += local_rhs[a];
+        for (int b = 0; b < 6; ++b) entries.emplace_back(idx[a], idx[b], local(a, b));
       }
     }
     for (std::size_t i = 0; i < m; ++i) {
       const double wr = eps * (mass[i] + mass_floor);
       entries.emplace_back(static_cast<int>(i), static_cast<int>(i), wr);
       rhs[static_cast<Eigen::Index>(i)] += wr * ref[members[i]];
+      // du's constant (a turn of the whole chart, moving its seam) is held harder than v's.
+      entries.emplace_back(static_cast<int>(m + i), static_cast<int>(m + i), 1e3 * wr);
     }
-    Sparse K(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+    Sparse K(2 * M, 2 * M);
     K.setFromTriplets(entries.begin(), entries.end());
     if (!analyzed) {
       solver.analyzePattern(K);
@@ -551,7 +606,8 @@ void refine_magnitudes(const std::vector<ChartTri>& tris, double sign, double ep
     if (solver.info() != Eigen::Success) return;
     Eigen::VectorXd next = solver.solve(rhs);
     if (solver.info() != Eigen::Success || !next.allFinite()) return;
-    x = std::move(next);
+    x = next.head(M);
+    du = next.tail(M);
   }
 }
 
@@ -562,6 +618,8 @@ void refine_magnitudes(const std::vector<ChartTri>& tris, double sign, double ep
 /// caps, bulges and non-round cross-sections that a radius measured per bin cannot. Each chart's
 /// constant is set so that v matches the measured-radius v (`out.uvs` on entry) near the chart's
 /// start plus the drift its parent has at the fork; wrap copies share their original's v.
+/// refine_stretch() then evens out |grad v| / |grad u| per triangle and corrects u by at most
+/// kMaxDeltaU (wrap copies keep u + 1; original u stays in [0, 1)).
 void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
                  const std::vector<std::uint32_t>& tri_chart, const BarkChart& chart,
                  const Context* ctx) {
@@ -590,6 +648,8 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
     chart_tris[tri_chart[t]].push_back(static_cast<std::uint32_t>(t));
   }
   std::vector<double> v = ref;
+  std::vector<double> delta_u(nu, 0.0), base_u(nu, 0.0);
+  for (std::size_t j = 0; j < n; ++j) base_u[unk[j]] = out.uvs[j].x() - std::floor(out.uvs[j].x());
   std::vector<char> solved(nu, 0);
   std::vector<std::uint32_t> local(nu, kNone);
   for (std::uint32_t c = 0; c < chains; ++c) {
@@ -630,6 +690,8 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
       Vec3 grad_u = Vec3::Zero();
       for (int k = 0; k < 3; ++k) grad_u += out.uvs[tri[k]].x() * x.grad[k];
       x.g = nh.cross(grad_u);
+      x.grad_u = grad_u;
+      x.normal = nh;
       orientation += x.area * x.g.dot(segs[placed[tri[0]].seg].d);
       tris.push_back(x);
     }
@@ -677,7 +739,9 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
       for (const std::uint32_t i : members) local[i] = kNone;
       continue;
     }
-    refine_magnitudes(tris, sign, eps, mass, mass_floor, members, ref, x);
+    Eigen::VectorXd du;
+    refine_stretch(tris, sign, eps, mass, mass_floor, members, ref, x, du);
+    for (std::size_t i = 0; i < m; ++i) delta_u[members[i]] = du[static_cast<Eigen::Index>(i)];
     // Connected pieces of the chart, each with its own constant.
     std::vector<std::uint32_t> root(m);
     for (std::size_t i = 0; i < m; ++i) root[i] = static_cast<std::uint32_t>(i);
@@ -727,7 +791,13 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
     }
     for (const std::uint32_t i : members) local[i] = kNone;
   }
-  for (std::size_t j = 0; j < n; ++j) out.uvs[j].y() = v[unk[j]];
+  for (std::size_t i = 0; i < nu; ++i) {
+    base_u[i] = std::clamp(base_u[i] + std::clamp(delta_u[i], -kMaxDeltaU, kMaxDeltaU), 0.0,
+                           std::nextafter(1.0, 0.0));
+  }
+  for (std::size_t j = 0; j < n; ++j) {
+    out.uvs[j] = Vec2(base_u[unk[j]] + std::floor(out.uvs[j].x()), v[unk[j]]);
+  }
 }
 
 void validate_inputs(const TriMesh& mesh, const Skeleton& skeleton, const BarkUvOptions& o) {

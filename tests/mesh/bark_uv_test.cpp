@@ -217,16 +217,17 @@ TEST(BarkUv, CylinderHasSquareTexelsAndVOfLengthOverCircumference) {
   for (const double x : uv_stretch(out)) EXPECT_NEAR(x, 1.0, 1e-7);
   EXPECT_EQ(st.within_10_percent, 1.0);
   EXPECT_EQ(st.within_10_percent_area, 1.0);
-  // The seam faces away from `facing` (default -y): u = 0 at the vertex nearest +y.
+  // The seam faces away from `facing` (default -y): u = 0 at the vertex nearest +y (to the
+  // solver's rounding: u is the angle plus a correction that is 0 on a cylinder).
   for (std::size_t i = 0; i < 64; ++i) {
     if (std::abs(m.positions[i].y() - r) < 1e-12) {
-      EXPECT_NEAR(out.uvs[i].x(), 0.0, 1e-12);
+      EXPECT_NEAR(out.uvs[i].x(), 0.0, 1e-8);
     }
   }
   BarkUvOptions facing_x;
   facing_x.facing = Vec3(1, 0, 0);
   const TriMesh out_x = add_bark_uvs(m, s, facing_x);
-  EXPECT_NEAR(out_x.uvs[32].x(), 0.0, 1e-12);  // the vertex at -x
+  EXPECT_NEAR(out_x.uvs[32].x(), 0.0, 1e-8);  // the vertex at -x
 }
 
 TEST(BarkUv, NodeRadiiOffByAFactorAreMeasuredFromTheSurface) {
