@@ -5,16 +5,21 @@
 #include <algorithm>
 #include <string>
 
-#include "ramiform/core/errors.h"
 #include <cmath>
 #include <cstdint>
+
+#include "ramiform/core/errors.h"
+#include "ramiform/mesh/deviation.h"
+#include "ramiform/polygonize/coarsen.h"
 
 namespace ramiform {
 namespace {
 
 using Tol = ToleranceOptions;
 
-void check_levels(std::span<const LodLevel> levels) {
+}  // namespace
+
+void validate_lod_levels(std::span<const LodLevel> levels) {
   if (levels.empty()) throw InvalidArgument("lod: no level given");
   const bool budgets = levels[0].max_triangles > 0;
   for (std::size_t k = 0; k < levels.size(); ++k) {
@@ -37,6 +42,8 @@ void check_levels(std::span<const LodLevel> levels) {
     }
   }
 }
+
+namespace {
 
 struct Attempt {
   TriMesh mesh;
@@ -161,6 +168,30 @@ Skeleton simplify_chains(const Skeleton& skeleton, double tolerance) {
 
 namespace {
 
+// Coarsens the attempt's mesh to `budget` and measures it again; throws when it cannot.
+void coarsen_into_budget(Attempt& a, const Field& field, const Skeleton& skeleton, const Tol& base,
+                         std::size_t budget, Context* ctx) {
+  CoarsenOptions o;
+  o.max_triangles = budget;
+  CoarsenStats cs;
+  coarsen_to_budget(a.mesh, field, skeleton, o, ctx, &cs);
+  if (!cs.reached) {
+    throw InvalidArgument("lod: a budget of " + std::to_string(budget) +
+                          " triangles is below the coarsest mesh of this skeleton (" +
+                          std::to_string(cs.triangles_before) + " triangles at 0 levels, " +
+                          std::to_string(cs.triangles_after) +
+                          " after every edge collapse that keeps it closed and on the surface)");
+  }
+  a.stats.coarsened_from = cs.triangles_before;
+  a.stats.collapsed = cs.collapsed;
+  a.stats.triangles = a.mesh.triangle_count();
+  DeviationOptions d;
+  d.samples = base.samples;
+  d.vertices = false;
+  a.stats.mesher.deviation = measure_deviation(a.mesh, field, &skeleton, d, ctx);
+  a.stats.mesher.reached = a.stats.mesher.deviation.samples.p99 <= a.stats.tolerance;
+}
+
 // A budget level: the finest mesh within `budget` found by scaling the tolerance.
 Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& base,
                        double tolerance, std::size_t budget, Context* ctx) {
@@ -178,28 +209,16 @@ Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& 
       // The base mesh alone is over the budget (refinement never exceeds it).
       if (levels > TetrahedralOptions::kMinLevels) {
         --levels;
+        --i;  // fewer base levels: not an attempt at the tolerance
         continue;
       }
       if (have) break;
-      // The skeleton's chains are finer than this budget allows: the polygonizer follows a
-      // simplified copy of them (the field, and so the surface, stays the same).
-      bool fitted = false;
-      for (double tol = 0.25; tol <= 2.0 + 1e-9 && !fitted; tol *= 2) {
-        const Skeleton coarse = simplify_chains(skeleton, tol);
-        if (coarse.edge_count() == skeleton.edge_count()) continue;
-        Attempt c = mesh_at(field, coarse, base, a.stats.tolerance, budget, levels, ctx);
-        c.stats.simplify_tolerance = tol;
-        c.stats.skeleton_edges = coarse.edge_count();
-        if (c.stats.triangles <= budget) {
-          best = std::move(c);
-          have = fitted = true;
-        }
-      }
-      if (fitted) break;
-      throw InvalidArgument("lod: a budget of " + std::to_string(budget) +
-                            " triangles is below the coarsest mesh of this skeleton (" +
-                            std::to_string(n) + " triangles at 0 levels, still over with its "
-                            "chains simplified to 2 radii)");
+      // The polygonizer's coarsest mesh is over the budget: edge collapses that keep it closed,
+      // on the surface and around the skeleton take it down (coarsen.h).
+      coarsen_into_budget(a, field, skeleton, base, budget, ctx);
+      best = std::move(a);
+      have = true;
+      break;
     }
     const bool stopped = a.stats.mesher.refine.budget_reached;
     // Better: within the budget and either not stopped by it where the best was, or finer.
@@ -231,7 +250,7 @@ std::vector<TriMesh> polygonize_lods(const Field& field, const Skeleton& skeleto
                                      const ToleranceOptions& base,
                                      std::span<const LodLevel> levels, Context* ctx,
                                      std::vector<LodStats>* stats) {
-  check_levels(levels);
+  validate_lod_levels(levels);
   std::vector<TriMesh> meshes;
   std::vector<LodStats> all;
   double tolerance = base.tolerance;

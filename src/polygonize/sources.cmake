@@ -1,6 +1,7 @@
 set(RAMIFORM_POLYGONIZE_SOURCES
   src/polygonize/marching_cubes.cpp)
 list(APPEND RAMIFORM_POLYGONIZE_SOURCES
+  src/polygonize/coarsen.cpp
   src/polygonize/delaunay.cpp
   src/polygonize/edge_roots.cpp
   src/polygonize/improve.cpp

@@ -100,10 +100,14 @@ TEST(PolygonizeLods, BudgetLevelsStayWithinTheirBudgetsEvenBelowTheCoarsestBaseM
     EXPECT_LE(m[k].triangle_count(), levels[k].max_triangles) << "level " << k;
     EXPECT_GE(st[k].attempts, 1);
   }
-  // The last budget is below what the polygonizer gives the full skeleton at 0 levels: it
-  // followed simplified chains.
-  EXPECT_GT(st[2].simplify_tolerance, 0.0);
-  EXPECT_LT(st[2].skeleton_edges, s.edge_count());
+  // The last budget is below what the polygonizer gives at 0 levels: that mesh was coarsened by
+  // edge collapses, and stays close to the surface.
+  EXPECT_EQ(st[2].levels, 0);
+  EXPECT_EQ(st[2].coarsened_from, base0);
+  EXPECT_EQ(st[2].collapsed, (base0 - m[2].triangle_count()) / 2);
+  EXPECT_LE(st[2].mesher.deviation.samples.p99, 0.5);
+  EXPECT_EQ(st[0].collapsed, 0u);
+  EXPECT_EQ(st[1].collapsed, 0u);
   // A budget far below anything the skeleton allows is refused, naming the budget.
   const std::vector<LodLevel> tiny = {{0, 10}};
   try {

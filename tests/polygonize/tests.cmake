@@ -6,6 +6,7 @@ set(RAMIFORM_polygonize_TESTS
   polygonize/refine_test.cpp
   polygonize/improve_test.cpp
   polygonize/lod_test.cpp
+  polygonize/coarsen_test.cpp
   polygonize/delaunay_test.cpp
   polygonize/edge_roots_test.cpp
   polygonize/memory_budget_test.cpp)

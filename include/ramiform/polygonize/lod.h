@@ -6,7 +6,8 @@
 /// Levels of detail: one watertight mesh per level from the same field, each made by the
 /// tolerance mesher (refine.h) at its own tolerance or triangle budget, so that every level is
 /// closed, oriented, in one piece per skeleton part and keeps every branch (a generic decimator
-/// could open holes or drop twigs).
+/// could open holes or drop twigs); budgets below the polygonizer's coarsest mesh are met by
+/// coarsen.h's collapses, which keep all of that.
 
 #include <cstddef>
 #include <span>
@@ -33,11 +34,11 @@ struct LodStats {
   int levels = 0;         ///< the base mesh's subdivision levels
   int attempts = 0;       ///< meshes made to find a budget level's tolerance (1 for a tolerance)
   std::size_t triangles = 0;
-  /// > 0: the base mesh at 0 levels was over the budget, so the polygonizer followed the
-  /// skeleton with its chains simplified at this tolerance (simplify_chains), with
-  /// `skeleton_edges` edges.
-  double simplify_tolerance = 0;
-  std::size_t skeleton_edges = 0;
+  /// > 0: the base mesh at 0 levels had this many triangles, over the budget, and
+  /// coarsen_to_budget() took it down by `collapsed` edge collapses (`mesher.deviation` is then
+  /// the coarsened mesh's measure, `mesher.reached` whether its p99 is within `tolerance`).
+  std::size_t coarsened_from = 0;
+  std::size_t collapsed = 0;
 };
 
 /// The skeleton with its chains (runs of degree-2 nodes) simplified by Douglas-Peucker: a chain
@@ -48,19 +49,24 @@ struct LodStats {
 /// tolerance that is not > 0.
 [[nodiscard]] Skeleton simplify_chains(const Skeleton& skeleton, double tolerance);
 
+/// Throws InvalidArgument (naming the level) unless `levels` is a valid polygonize_lods() list:
+/// not empty, all tolerances in ToleranceOptions' range or all budgets, finest first.
+void validate_lod_levels(std::span<const LodLevel> levels);
+
 /// The meshes of `levels`, finest first, made by polygonize_to_tolerance() with `base` (its
 /// tolerance and max_triangles replaced by each level's). A tolerance level is meshed once. A
 /// budget level searches the tolerance: starting from the previous level's (or `base`'s), it
 /// remeshes (at most 5 times) with the tolerance scaled by the ratio of the triangle count to
 /// the budget (the count of a refined mesh goes about as 1/tolerance), keeping the finest mesh
 /// within the budget; when the base mesh alone is over the budget it drops to fewer base levels
-/// (down to 0), and below that lets the polygonizer follow the skeleton with its chains
-/// simplified (simplify_chains at 0.25, 0.5, 1, 2 radii) — the field, and so the surface, stays
-/// the same. Each level's budget is also capped by the previous level's triangle count, so
-/// counts never increase. Throws InvalidArgument when the levels are empty, mix the two kinds,
-/// are out of range or not ordered finest first (tolerances increasing, budgets decreasing), or
-/// when a budget is below the coarsest mesh the skeleton allows (naming it); otherwise as
-/// polygonize_to_tolerance().
+/// (down to 0, not counted as attempts), and when the mesh at 0 levels is still over it,
+/// coarsens that mesh to the budget by edge collapses that keep it closed, oriented, 2-manifold,
+/// of the same genus and components, on the surface and around every skeleton node
+/// (coarsen_to_budget() with its default options). Each level's budget is also capped by the
+/// previous level's triangle count, so counts never increase. Throws InvalidArgument when the
+/// levels are empty, mix the two kinds, are out of range or not ordered finest first
+/// (tolerances increasing, budgets decreasing), or when a budget is below what the collapses
+/// can reach (naming the budget); otherwise as polygonize_to_tolerance().
 [[nodiscard]] std::vector<TriMesh> polygonize_lods(const Field& field, const Skeleton& skeleton,
                                                    const ToleranceOptions& base,
                                                    std::span<const LodLevel> levels,
