@@ -22,15 +22,20 @@
 /// 3. Vertices: each belongs to the edge with the least relative distance
 ///    (|p - q| + overshoot) / r, q the nearest point of the edge, overshoot how far the
 ///    projection on the edge's line falls beyond the edge, r the node radius interpolated at q.
-///    u is the angle of p's offset from the axis in the edge's frame, over 2 pi.
+///    u is the angle of p's offset from the axis in the edge's frame, over 2 pi (then
+///    corrected slightly, step 4).
 /// 4. v: the local radius rho of the *surface* is measured along each chain (median distance of
-///    the chain's vertices from the axis, in bins of `radius_bin` node radii), and v advances by
-///    ds / (2 pi rho(s)) along the chain's arc length s; at a chain's free ends (tips, the root)
-///    v goes on over the cap as Mercator's latitude, asinh(tan phi) / (2 pi) for the angle phi
-///    beyond the end (atan2 of the distance past the end over the distance from the axis), so
-///    that texels stay square as the circles shrink; phi stops at 85 degrees, half a texture
-///    repeat past the end. A child chain's v starts at
-///    its parent's v at the fork; the continuing child keeps the parent's chart.
+///    the chain's vertices from the axis, in bins of `radius_bin` node radii), and a first v
+///    advances by ds / (2 pi rho(s)) along the chain's arc length s, going on over the caps at
+///    free ends as Mercator's latitude; a child chain's v starts at its parent's v at the fork.
+///    With `measure_radius`, v is then solved for on the mesh, chart by chart (after step 5's
+///    splits): first the least-squares conjugate of u (the v whose gradient is closest to
+///    n x grad u, Mercator's v = integral of dl / (2 pi rho) with each point's own rho, which
+///    follows caps, blend bulges and non-round cross-sections), then a few robust Gauss-Newton
+///    steps that even out |grad v| / |grad u| (the stretch) triangle by triangle, adjusting v and
+///    u (u by at most 0.05 from the angle, the same on both sides of a u seam) while keeping a
+///    conformal term. Each chart's constant follows the first v near the chart's start plus the
+///    drift its parent has at the fork.
 /// 5. Seams: a triangle whose corners belong to different chains takes the chain of most of its
 ///    corners (ties: the earliest chain) and gets copies of the other corners with (u, v)
 ///    computed in that chain (fork seams, a short loop around the base of each side branch); a
@@ -58,8 +63,10 @@ struct BarkUvOptions {
   /// Length of the bins along a branch in which the surface's radius is measured, in node radii
   /// (> 0, at most 1000). Smaller bins follow the surface more closely but hold fewer vertices.
   double radius_bin = 1.0;
-  /// Measure the surface's radius from the mesh (true) or take the skeleton's node radii as
-  /// the radius of the surface (false: right only where the surface was fitted to them).
+  /// Measure the surface's radius from the mesh and solve v (and a small correction of u) on
+  /// the mesh itself (true; file comment, step 4), or take the skeleton's node radii as the
+  /// radius of the surface and v from them alone (false: right only where the surface was
+  /// fitted to them).
   bool measure_radius = true;
 };
 
