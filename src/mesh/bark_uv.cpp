@@ -510,7 +510,6 @@ void refine_stretch(const std::vector<ChartTri>& tris, double sign, double eps,
   const auto M = static_cast<Eigen::Index>(m);
   du = Eigen::VectorXd::Zero(M);
   Eigen::SimplicialLDLT<Sparse> solver;
-  bool analyzed = false;
   double scale = 0.0;
   std::size_t counted = 0;
   for (const ChartTri& t : tris) {
@@ -522,28 +521,75 @@ void refine_stretch(const std::vector<ChartTri>& tris, double sign, double eps,
   }
   if (counted == 0) return;
   scale /= static_cast<double>(counted);
-  for (int step = 0; step < kRefineSteps; ++step) {
+  // The pattern is the same at every step: build it once, then add values into their slots.
+  auto corners = [&](const ChartTri& t) {
+    std::array<int, 6> idx{};
+    for (int k = 0; k < 3; ++k) {
+      idx[k] = static_cast<int>(t.at[k]);
+      idx[k + 3] = static_cast<int>(m + t.at[k]);
+    }
+    return idx;
+  };
+  auto is_used = [](const ChartTri& t) {
+    const double g2 = t.g.squaredNorm();
+    return t.area > 0.0 && g2 > 0.0 && std::isfinite(g2);
+  };
+  Sparse K(2 * M, 2 * M);
+  {
     std::vector<Eigen::Triplet<double>> entries;
     entries.reserve(36 * tris.size() + 2 * m);
+    for (const ChartTri& t : tris) {
+      if (!is_used(t)) continue;
+      const std::array<int, 6> idx = corners(t);
+      for (int a = 0; a < 6; ++a) {
+        for (int b = 0; b < 6; ++b) entries.emplace_back(idx[a], idx[b], 0.0);
+      }
+    }
+    for (Eigen::Index i = 0; i < 2 * M; ++i) entries.emplace_back(i, i, 0.0);
+    K.setFromTriplets(entries.begin(), entries.end());
+    K.makeCompressed();
+  }
+  auto slot_of = [&](int row, int col) {
+    const int* begin = K.innerIndexPtr() + K.outerIndexPtr()[col];
+    const int* end = K.innerIndexPtr() + K.outerIndexPtr()[col + 1];
+    return static_cast<std::size_t>(std::lower_bound(begin, end, row) - K.innerIndexPtr());
+  };
+  std::vector<std::size_t> slots;
+  slots.reserve(36 * tris.size());
+  for (const ChartTri& t : tris) {
+    if (!is_used(t)) continue;
+    const std::array<int, 6> idx = corners(t);
+    for (int a = 0; a < 6; ++a) {
+      for (int b = 0; b < 6; ++b) slots.push_back(slot_of(idx[a], idx[b]));
+    }
+  }
+  std::vector<std::size_t> diag_slots(2 * m);
+  for (std::size_t i = 0; i < 2 * m; ++i) {
+    diag_slots[i] = slot_of(static_cast<int>(i), static_cast<int>(i));
+  }
+  solver.analyzePattern(K);
+  double* values = K.valuePtr();
+  const auto nnz = static_cast<std::size_t>(K.nonZeros());
+  for (int step = 0; step < kRefineSteps; ++step) {
+    std::fill(values, values + nnz, 0.0);
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * M);
-    // Per triangle the 6 x 6 normal matrix of its rows (v at its corners, then du), summed
-    // before it goes into the triplets.
+    // Per triangle the 6 x 6 normal matrix of its rows (v at its corners, then du).
     Eigen::Matrix<double, 6, 6> local;
     Eigen::Matrix<double, 6, 1> local_rhs;
     auto add_row = [&](const Eigen::Matrix<double, 6, 1>& c, double r, double w) {
       local.noalias() += w * c * c.transpose();
       local_rhs += w * r * c;
     };
+    std::size_t next_slot = 0;
     for (const ChartTri& t : tris) {
+      if (!is_used(t)) continue;
       const double g2 = t.g.squaredNorm();
-      if (!(t.area > 0.0) || !(g2 > 0.0) || !std::isfinite(g2)) continue;
       Vec3 grad_v = Vec3::Zero(), grad_u = t.grad_u;
       for (int k = 0; k < 3; ++k) {
         grad_v += x[t.at[k]] * t.grad[k];
         grad_u += du[t.at[k]] * t.grad[k];
       }
       const double lv = grad_v.norm(), lu = grad_u.norm();
-      // A triangle whose gradients vanish still enters, with weight 0 (same pattern each step).
       const bool usable = lv > 0.0 && lu > 0.0;
       const Vec3 dv = usable ? Vec3(grad_v / lv) : Vec3::Zero();
       const Vec3 dunit = usable ? Vec3(grad_u / lu) : Vec3::Zero();
@@ -578,29 +624,18 @@ void refine_stretch(const std::vector<ChartTri>& tris, double sign, double eps,
         }
         add_row(c, 0.0, w * kAngleWeight);
       }
-      std::array<int, 6> idx{};
-      for (int k = 0; k < 3; ++k) {
-        idx[k] = static_cast<int>(t.at[k]);
-        idx[k + 3] = static_cast<int>(m + t.at[k]);
-      }
-      // Every entry, zero or not: the pattern must stay the same from step to step.
+      const std::array<int, 6> idx = corners(t);
       for (int a = 0; a < 6; ++a) {
         rhs[idx[a]] += local_rhs[a];
-        for (int b = 0; b < 6; ++b) entries.emplace_back(idx[a], idx[b], local(a, b));
+        for (int b = 0; b < 6; ++b) values[slots[next_slot++]] += local(a, b);
       }
     }
     for (std::size_t i = 0; i < m; ++i) {
       const double wr = eps * (mass[i] + mass_floor);
-      entries.emplace_back(static_cast<int>(i), static_cast<int>(i), wr);
+      values[diag_slots[i]] += wr;
       rhs[static_cast<Eigen::Index>(i)] += wr * ref[members[i]];
       // du's constant (a turn of the whole chart, moving its seam) is held harder than v's.
-      entries.emplace_back(static_cast<int>(m + i), static_cast<int>(m + i), 1e3 * wr);
-    }
-    Sparse K(2 * M, 2 * M);
-    K.setFromTriplets(entries.begin(), entries.end());
-    if (!analyzed) {
-      solver.analyzePattern(K);
-      analyzed = true;
+      values[diag_slots[m + i]] += 1e3 * wr;
     }
     solver.factorize(K);
     if (solver.info() != Eigen::Success) return;
