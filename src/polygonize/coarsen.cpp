@@ -33,6 +33,8 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 constexpr int kNewtonSteps = 8;
 constexpr double kNewtonStop = 3e-3;
 constexpr std::size_t kCheckEvery = 4096;  // heap entries between cancellation checks
+// The weight of the squared edge length (in local radii) in a quadric priority.
+constexpr double kLengthWeight = 1e-2;
 
 void validate(const CoarsenOptions& o) {
   if (o.max_triangles == 0) throw InvalidArgument("coarsen: max_triangles must be > 0");
@@ -61,6 +63,36 @@ double min_angle_sine(const Vec3& a, const Vec3& b, const Vec3& c) {
   if (lca <= lab) return cross / std::sqrt(lab * lbc);
   return cross / std::sqrt(lbc * lca);
 }
+
+// A plane quadric (Garland & Heckbert 1997): the sum of squared distances to planes,
+// x^T A x + 2 b.x + c, A symmetric (xx, xy, xz, yy, yz, zz).
+struct Quadric {
+  std::array<double, 6> A{};
+  Vec3 b = Vec3::Zero();
+  double c = 0;
+  void add_plane(const Vec3& n, double d) {  // n.x + d = 0, |n| = 1
+    A[0] += n.x() * n.x();
+    A[1] += n.x() * n.y();
+    A[2] += n.x() * n.z();
+    A[3] += n.y() * n.y();
+    A[4] += n.y() * n.z();
+    A[5] += n.z() * n.z();
+    b += d * n;
+    c += d * d;
+  }
+  Quadric& operator+=(const Quadric& q) {
+    for (int i = 0; i < 6; ++i) A[i] += q.A[i];
+    b += q.b;
+    c += q.c;
+    return *this;
+  }
+  [[nodiscard]] double at(const Vec3& x) const {
+    const double ax = A[0] * x.x() + A[1] * x.y() + A[2] * x.z();
+    const double ay = A[1] * x.x() + A[3] * x.y() + A[4] * x.z();
+    const double az = A[2] * x.x() + A[4] * x.y() + A[5] * x.z();
+    return std::max(0.0, x.dot(Vec3(ax, ay, az)) + 2.0 * b.dot(x) + c);
+  }
+};
 
 // A queued edge (a < b) with the stamps of its end points when it was queued: it is stale when
 // either has changed since.
@@ -103,6 +135,16 @@ class Coarsener {
       }
     }
     radius_ = local_radii(skeleton, pos_, ctx);
+    quadric_.resize(nv);
+    if (o.priority == CoarsenPriority::kQuadric) {
+      for (const Tri& f : mesh.triangles) {
+        const Vec3 n = (pos_[f[1]] - pos_[f[0]]).cross(pos_[f[2]] - pos_[f[0]]);
+        const double len = n.norm();
+        if (!(len > 0.0)) continue;
+        const Vec3 u = n / len;
+        for (const std::uint32_t v : f) quadric_[v].add_plane(u, -u.dot(pos_[f[0]]));
+      }
+    }
     std::vector<Aabb> boxes;
     boxes.reserve(skeleton.nodes.size());
     for (const auto& n : skeleton.nodes) boxes.emplace_back(n.position, n.position);
@@ -170,7 +212,16 @@ class Coarsener {
     if (a > b) std::swap(a, b);
     const double r = std::min(radius_[a], radius_[b]);
     const double len = (pos_[a] - pos_[b]).norm();
-    const double priority = r > 0 ? len / r : std::numeric_limits<double>::infinity();
+    double priority = std::numeric_limits<double>::infinity();
+    if (r > 0 && o_.priority == CoarsenPriority::kShortestEdge) {
+      priority = len / r;
+    } else if (r > 0) {
+      // The squared distance of the midpoint to the planes around a and b, in local radii,
+      // plus a little of the edge's length so that flat stretches coarsen evenly.
+      Quadric q = quadric_[a];
+      q += quadric_[b];
+      priority = q.at(0.5 * (pos_[a] + pos_[b])) / (r * r) + kLengthWeight * (len * len) / (r * r);
+    }
     heap_.push({priority, a, b, stamp_[a], stamp_[b]});
   }
 
@@ -269,8 +320,10 @@ class Coarsener {
       apply(a, b, z, rz, both);
       return true;
     }
+    // Else one end point, taken onto the surface too (a polygonizer may leave a few vertices
+    // off it; on it, the point stays where it is).
     for (const std::uint32_t keep : {a, b}) {
-      z = pos_[keep];
+      if (!project(pos_[keep], rz, 0.0, z)) continue;
       if (allowed(a, b, z, rz, both, old_worst)) {
         apply(a, b, z, rz, both);
         return true;
@@ -388,6 +441,7 @@ class Coarsener {
     fan_[b].clear();
     pos_[a] = z;
     radius_[a] = rz;
+    quadric_[a] += quadric_[b];
     count_ -= 2;
     // Re-queue the edges of a and of its neighbours (their neighbourhoods changed).
     neighbours(a, na_);
@@ -416,6 +470,7 @@ class Coarsener {
   std::vector<std::vector<std::uint32_t>> fan_;  // the triangles around each vertex
   std::vector<std::uint32_t> stamp_;
   std::vector<double> radius_;
+  std::vector<Quadric> quadric_;
   detail::BoxBvh nodes_;
   std::priority_queue<Entry, std::vector<Entry>, Later> heap_;
   std::size_t count_ = 0;

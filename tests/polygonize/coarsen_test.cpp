@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <vector>
 
 #include "ramiform/core/context.h"
@@ -56,6 +57,17 @@ std::size_t nodes_outside(const TriMesh& m, const Skeleton& s) {
   return outside;
 }
 
+// Vertices farther than 1e-3 local radii from the surface, to first order.
+std::size_t off_surface(const TriMesh& m, const Field& f, const Skeleton& s) {
+  std::vector<double> v(m.positions.size());
+  std::vector<Vec3> g(m.positions.size());
+  f.evaluate(m.positions, v, g);
+  const std::vector<double> r = local_radii(s, m.positions);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) n += std::abs(v[i] - f.iso()) > 1e-3 * r[i] * g[i].norm() ? 1 : 0;
+  return n;
+}
+
 struct Case {
   const char* name;
   Skeleton skeleton;
@@ -88,12 +100,14 @@ TEST(CoarsenToBudget, HalfAndQuarterStayClosedWholeOnTheSurfaceWithTheSkeletonIn
       EXPECT_EQ(nodes_outside(m, c.skeleton), 0u);
       const DeviationReport d = measure_deviation(m, *f, &c.skeleton);
       EXPECT_EQ(d.samples.unresolved, 0u);
-      // The bound is first order at centroids and midpoints (0.5 radii): the measured p99 stays
-      // well below it and the worst point near it.
-      EXPECT_LE(d.samples.p99, share == 2 ? 0.15 : 0.3) << "base p99 " << d0.samples.p99;
-      EXPECT_LE(d.samples.max, 0.5) << "base max " << d0.samples.max;
-      // Vertices lie on the surface (new ones by Newton steps; the base mesh's own worst stays).
-      EXPECT_LE(d.vertices.p99, 1e-4);
+      // The bound is first order at centroids and midpoints (0.5 radii); least quadric error
+      // first keeps the measure far below it (shortest edge first: p99 0.26, max 0.46 at a
+      // quarter of the branching tree).
+      EXPECT_LE(d.samples.p99, share == 2 ? 0.05 : 0.07) << "base p99 " << d0.samples.p99;
+      EXPECT_LE(d.samples.max, 0.35) << "base max " << d0.samples.max;
+      // Vertices lie on the surface: those a collapse makes or keeps are taken onto it, so no
+      // more are off it than in the base mesh (the polygonizer leaves a few).
+      EXPECT_LE(off_surface(m, *f, c.skeleton), off_surface(base, *f, c.skeleton));
       EXPECT_LE(d.vertices.max, d0.vertices.max + 1e-6);
     }
   }

@@ -12,8 +12,8 @@
 ///    corners keep at least three neighbours, so the mesh stays a closed 2-manifold of the same
 ///    genus and component count, without duplicate triangles;
 ///  - the new vertex lies on the surface: the edge's midpoint taken onto f == iso by Newton steps
-///    along the gradient (as refine_to_surface() and improve_triangles() project), or else u's
-///    or v's own position;
+///    along the gradient (as refine_to_surface() and improve_triangles() project), or else u or
+///    v taken onto the surface the same way (a vertex on it stays where it is);
 ///  - no new triangle flips against the one it replaces, or turns more than `max_turn_deg` from
 ///    the surface normal (the field's gradient at its centroid);
 ///  - no new triangle's smallest angle falls below `min_angle_deg`, unless it is no smaller
@@ -25,8 +25,8 @@
 ///  - no skeleton node lies in a tetrahedron swept by a changed triangle (u moving to the new
 ///    vertex with each of its triangles' other two corners, then v), so every node stays on its
 ///    side of the surface.
-/// Edges are taken shortest first relative to their local radius (the length over the smaller
-/// radius of their end points; ties by vertex index), from a heap with lazy invalidation: a
+/// Edges are taken in the order of `priority` (by default least quadric error first; ties by
+/// vertex index), from a heap with lazy invalidation: a
 /// collapse re-queues the edges of the new vertex and of its neighbours, so an edge refused
 /// once is tried again when its neighbourhood changes. The pass is serial and depends only on
 /// its inputs (never on the thread count). It stops when the mesh has at most `max_triangles`
@@ -41,6 +41,16 @@
 
 namespace ramiform {
 
+/// The order in which coarsen_to_budget() tries edges.
+enum class CoarsenPriority {
+  /// Least quadric error first: the squared distances of the edge's midpoint to the planes of
+  /// the triangles around its end points when the pass began (Garland & Heckbert 1997, a
+  /// merged vertex summing its two), plus 0.01 times the squared edge length, both in squared
+  /// local radii.
+  kQuadric,
+  kShortestEdge,  ///< shortest first, relative to the smaller radius of its end points
+};
+
 /// Options of coarsen_to_budget(); validated at entry (InvalidArgument naming the option).
 struct CoarsenOptions {
   std::size_t max_triangles = 0;  ///< stop at or below this many triangles (> 0)
@@ -52,6 +62,7 @@ struct CoarsenOptions {
   /// Largest first-order distance of a new triangle's centroid or a new edge's midpoint from
   /// the surface, in local radii (> 0, finite).
   double max_deviation = 0.5;
+  CoarsenPriority priority = CoarsenPriority::kQuadric;  ///< which edges go first
 };
 
 /// What coarsen_to_budget() did.
