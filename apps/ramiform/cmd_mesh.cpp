@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "common.h"
 #include "mesh_job.h"
+#include "ramiform/core/errors.h"
 
 namespace ramiform::cli {
 namespace {
@@ -183,7 +184,12 @@ void register_mesh(CLI::App& root, Action& action) {
                                    "applies to the tolerance mesher only (--method tets without "
                                    "--levels alone)");
       }
-      args->job.lods = lod_levels(args->lod_values, args->lod_budget);
+      try {
+        args->job.lods = lod_levels(args->lod_values, args->lod_budget);
+        validate_lod_levels(args->job.lods);
+      } catch (const InvalidArgument& e) {
+        throw CLI::ValidationError("--lod", e.what());
+      }
     } else if (args->lod_budget) {
       throw CLI::ValidationError("--lod-budget", "needs --lod");
     }

@@ -102,7 +102,9 @@ std::vector<LodLevel> lod_option(const Call& c) {
 CommandResult run_save_mesh(Call& c) {
   c.expect_count(2, 9, "NAME FILE [FILE ...]");
   const Object& obj = c.object(0, ObjectKind::kShape);
-  const std::string method = c.option_word("method", "mc", {"mc", "tets"});
+  // Levels of detail come from the tolerance mesher: lod= makes tets the default method.
+  const bool lod_given = c.has_option("lod") || c.has_option("lod_budget");
+  const std::string method = c.option_word("method", lod_given ? "tets" : "mc", {"mc", "tets"});
   for (std::size_t i = 1; i < c.count(); ++i) {
     const std::string ext = lower_extension(c.arg(i).text);
     if (ext != ".ply" && ext != ".obj" && ext != ".off" && ext != ".glb") {
@@ -400,7 +402,7 @@ void add_output_commands(std::vector<CommandSpec>& out) {
            "; `levels` without `tolerance` gives the paper's uniform levels, unrefined. "
            "`lod` (tolerances, finest first, e.g. lod=0.05,0.15,0.4) or `lod_budget` (triangle "
            "counts, e.g. lod_budget=1000000,300000,100000) makes levels of detail with the "
-           "tolerance mesher: a .glb holds them all (nodes LOD0, LOD1, ..., MSFT_lod), another "
+           "tolerance mesher (method=tets is then the default): a .glb holds them all (nodes LOD0, LOD1, ..., MSFT_lod), another "
            "format gets one file per level (t.lod0.ply, t.lod1.ply, ...). Files get the field's "
            "normals (`normals`=yes|no, default yes) and bark UVs along the skeleton (`uv`="
            "auto|yes|no; auto: for .glb and .obj); `up`=z|y is the up axis of .ply, .obj and "

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -13,6 +15,7 @@
 #include <string>
 
 #include "cli/cli_run.h"
+#include "support/glb_reader.h"
 #include "ramiform/field/skeleton_field.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/skeleton_io.h"
@@ -218,6 +221,16 @@ TEST_F(CliTest, DemoRunsTheWholePipelineIdenticallyOnAnyThreadCount) {
     EXPECT_TRUE(rep.watertight && rep.oriented && rep.manifold) << f;
     EXPECT_EQ(rep.components, 1U) << f;
   }
+  // The demo's .glb stands upright in a glTF viewer (+Y up) and carries normals and bark UVs.
+  const test::Glb glb = test::read_glb((dir_ / "demo" / "tree.glb").string());
+  const auto& box = glb.json["accessors"][glb.attribute(0, "POSITION")];
+  std::array<double, 3> extent{};
+  for (std::size_t k = 0; k < 3; ++k) {
+    extent[k] = box["max"][k].get<double>() - box["min"][k].get<double>();
+  }
+  EXPECT_GT(extent[1], extent[0]);
+  EXPECT_GT(extent[1], extent[2]);
+  for (const char* a : {"NORMAL", "TEXCOORD_0", "TANGENT"}) EXPECT_GE(glb.attribute(0, a), 0) << a;
   const Skeleton s = read_skeleton((dir_ / "demo" / "skeleton.json").string());
   EXPECT_EQ(connected_components(s).count, 1U);
   EXPECT_EQ(s.edge_count() + 1, s.node_count());

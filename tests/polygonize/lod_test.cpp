@@ -61,7 +61,9 @@ void expect_whole(const std::vector<TriMesh>& levels, const Skeleton& s) {
     test::expect_closed_manifold(levels[k]);
     test::expect_components(levels[k], 1);
     EXPECT_EQ(nodes_outside(levels[k], s), 0u);
-    if (k > 0) EXPECT_LT(levels[k].triangle_count(), levels[k - 1].triangle_count());
+    if (k > 0) {
+      EXPECT_LT(levels[k].triangle_count(), levels[k - 1].triangle_count());
+    }
   }
 }
 
