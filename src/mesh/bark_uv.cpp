@@ -487,7 +487,7 @@ struct ChartTri {
 
 constexpr int kRefineSteps = 3;           // Gauss-Newton steps of refine_stretch()
 constexpr double kConformalWeight = 0.1;  // weight of |grad v - n x grad u|^2 there
-constexpr double kAngleWeight = 0.3;      // weight of |grad du|^2 (u stays near the angle)
+constexpr double kAngleWeight = 0.03;     // weight of |grad du|^2 (u stays near the angle)
 constexpr double kRobustStretch = 0.2;    // stretch error beyond which a triangle weighs less
 
 /// The stretch of a triangle is |grad v| / |grad u|, whatever the angle between the two, and
@@ -654,7 +654,7 @@ void refine_stretch(const std::vector<ChartTri>& tris, double sign, double eps,
 /// constant is set so that v matches the measured-radius v (`out.uvs` on entry) near the chart's
 /// start plus the drift its parent has at the fork; wrap copies share their original's v.
 /// refine_stretch() then evens out |grad v| / |grad u| per triangle and corrects u by at most
-/// kMaxDeltaU (wrap copies keep u + 1; original u stays in [0, 1)).
+/// kMaxDeltaU (wrap copies keep u + 1; original u may leave [0, 1) by that much).
 void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
                  const std::vector<std::uint32_t>& tri_chart, const BarkChart& chart,
                  const Context* ctx) {
@@ -826,9 +826,10 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
     }
     for (const std::uint32_t i : members) local[i] = kNone;
   }
+  // Not wrapped back into [0, 1): a corrected u just past the seam stays consistent with the
+  // triangles around it (wrapping it would need the splits redone).
   for (std::size_t i = 0; i < nu; ++i) {
-    base_u[i] = std::clamp(base_u[i] + std::clamp(delta_u[i], -kMaxDeltaU, kMaxDeltaU), 0.0,
-                           std::nextafter(1.0, 0.0));
+    base_u[i] += std::clamp(delta_u[i], -kMaxDeltaU, kMaxDeltaU);
   }
   for (std::size_t j = 0; j < n; ++j) {
     out.uvs[j] = Vec2(base_u[unk[j]] + std::floor(out.uvs[j].x()), v[unk[j]]);

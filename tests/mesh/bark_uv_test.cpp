@@ -113,10 +113,11 @@ void expect_textured(const TriMesh& in, const TriMesh& out, const BarkUvStats& s
   for (std::size_t t = 0; t < in.triangles.size(); ++t) {
     for (int k = 0; k < 3; ++k) ASSERT_EQ(out.welded[out.triangles[t][k]], in.triangles[t][k]);
   }
-  // u in [0, 1), wrap copies at most 1 + 1/2; no triangle spans more than half the texture.
+  // u in [0, 1) up to the correction of at most 0.05, wrap copies at most 1 + 2/3 more; no
+  // triangle spans more than 2/3 of the texture.
   for (std::size_t i = 0; i < n; ++i) {
-    EXPECT_GE(out.uvs[i].x(), 0.0);
-    EXPECT_LE(out.uvs[i].x(), i < nv ? 1.0 : 5.0 / 3.0);
+    EXPECT_GE(out.uvs[i].x(), -0.05);
+    EXPECT_LE(out.uvs[i].x(), i < nv ? 1.05 : 5.0 / 3.0 + 0.05);
     EXPECT_TRUE(std::isfinite(out.uvs[i].y()));
   }
   std::size_t wide = 0;
