@@ -26,22 +26,22 @@ namespace {
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kMaxDeltaU = 0.05;  // largest correction of u away from the angle / 2 pi
+constexpr double kMaxDeltaU = 0.05;           // largest correction of u away from the angle / 2 pi
 constexpr std::size_t kMaxBinsPerEdge = 256;  // bounds the bins of a very long, thin edge
 constexpr std::size_t kMinBinSamples = 3;     // fewer vertices than this do not make a median
 
 /// One skeleton edge, oriented along its chain, with its frame.
 struct Seg {
-  Vec3 a = Vec3::Zero();            // start point (chain order)
-  Vec3 d = Vec3::UnitZ();           // unit direction
-  double len = 0.0;                 // length
-  double ra = 1.0, rb = 1.0;        // node radii at a and at a + len d
-  Vec3 n = Vec3::UnitX();           // frame: n, b = d x n, both orthogonal to d
+  Vec3 a = Vec3::Zero();      // start point (chain order)
+  Vec3 d = Vec3::UnitZ();     // unit direction
+  double len = 0.0;           // length
+  double ra = 1.0, rb = 1.0;  // node radii at a and at a + len d
+  Vec3 n = Vec3::UnitX();     // frame: n, b = d x n, both orthogonal to d
   Vec3 b = Vec3::UnitY();
   std::uint32_t chain = 0;
-  double s0 = 0.0;                  // arc length of a along the chain
-  bool free_start = false;          // the chain's root end (a cap follows)
-  bool free_end = false;            // the chain's tip end (a cap follows)
+  double s0 = 0.0;          // arc length of a along the chain
+  bool free_start = false;  // the chain's root end (a cap follows)
+  bool free_end = false;    // the chain's tip end (a cap follows)
   // Radius bins over this edge (first bin index into the chain's knots, count).
   std::size_t bin_first = 0, bin_count = 1;
 };
@@ -50,19 +50,19 @@ struct Seg {
 struct Chain {
   std::vector<std::uint32_t> segs;
   std::uint32_t parent = kNone;
-  double fork_s = 0.0;              // arc length along the parent where this chain starts
-  double theta0 = 0.0;              // angle of u = 0 in the transported frame
-  std::vector<double> knot_s;       // bin centres (arc length)
-  std::vector<double> knot_rho;     // the surface's radius there
-  std::vector<double> knot_int;     // integral of 1 / rho from 0 to knot_s
-  double v0 = 0.0;                  // v at s = 0
+  double fork_s = 0.0;           // arc length along the parent where this chain starts
+  double theta0 = 0.0;           // angle of u = 0 in the transported frame
+  std::vector<double> knot_s;    // bin centres (arc length)
+  std::vector<double> knot_rho;  // the surface's radius there
+  std::vector<double> knot_int;  // integral of 1 / rho from 0 to knot_s
+  double v0 = 0.0;               // v at s = 0
 };
 
 /// Where a vertex sits relative to an edge.
 struct Placement {
   std::uint32_t seg = kNone;
-  double t = 0.0;                   // axial coordinate along the edge's line (0 at a)
-  Vec3 o = Vec3::Zero();            // offset from the axis, orthogonal to d
+  double t = 0.0;         // axial coordinate along the edge's line (0 at a)
+  Vec3 o = Vec3::Zero();  // offset from the axis, orthogonal to d
 };
 
 /// Over a cap (a chain's free end), in units of the end's radius: the inverse Gudermannian
@@ -107,8 +107,7 @@ Vec3 perpendicular(const Vec3& d) {
 
 double median_of(std::vector<double>& values) {
   const std::size_t mid = (values.size() - 1) / 2;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid),
-                   values.end());
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(mid), values.end());
   return values[mid];
 }
 
@@ -166,8 +165,8 @@ class BarkChart {
         Seg& g = segs_[k];
         const double r = 0.5 * (g.ra + g.rb);
         const double want = std::ceil(g.len / (options_.radius_bin * r));
-        g.bin_count = static_cast<std::size_t>(
-            std::clamp(want, 1.0, static_cast<double>(kMaxBinsPerEdge)));
+        g.bin_count =
+            static_cast<std::size_t>(std::clamp(want, 1.0, static_cast<double>(kMaxBinsPerEdge)));
         g.bin_first = chain.knot_s.size();
         for (std::size_t j = 0; j < g.bin_count; ++j) {
           chain.knot_s.push_back(g.s0 + (static_cast<double>(j) + 0.5) * g.len /
@@ -186,10 +185,10 @@ class BarkChart {
       if (!(pl.t >= 0.0 && pl.t <= g.len)) continue;
       const double r = pl.o.norm();
       const std::size_t j =
-          g.len > 0.0 ? std::min(g.bin_count - 1,
-                                 static_cast<std::size_t>(pl.t / g.len *
-                                                          static_cast<double>(g.bin_count)))
-                      : 0;
+          g.len > 0.0
+              ? std::min(g.bin_count - 1,
+                         static_cast<std::size_t>(pl.t / g.len * static_cast<double>(g.bin_count)))
+              : 0;
       bins[g.chain][g.bin_first + j].push_back(r);
       ratios.push_back(r / interpolated_radius(g, pl.t));
     }
@@ -228,9 +227,10 @@ class BarkChart {
             for (std::size_t i = 0; i < j; ++i) chain.knot_rho[i] = chain.knot_rho[j];
           } else {
             for (std::size_t i = prev + 1; i < j; ++i) {
-              const double f = (chain.knot_s[i] - chain.knot_s[prev]) /
-                               (chain.knot_s[j] - chain.knot_s[prev]);
-              chain.knot_rho[i] = chain.knot_rho[prev] + f * (chain.knot_rho[j] - chain.knot_rho[prev]);
+              const double f =
+                  (chain.knot_s[i] - chain.knot_s[prev]) / (chain.knot_s[j] - chain.knot_s[prev]);
+              chain.knot_rho[i] =
+                  chain.knot_rho[prev] + f * (chain.knot_rho[j] - chain.knot_rho[prev]);
             }
           }
           prev = j;
@@ -241,9 +241,9 @@ class BarkChart {
       chain.knot_int.assign(m, 0.0);
       chain.knot_int[0] = chain.knot_s[0] / chain.knot_rho[0];
       for (std::size_t j = 1; j < m; ++j) {
-        chain.knot_int[j] = chain.knot_int[j - 1] + 0.5 * (chain.knot_s[j] - chain.knot_s[j - 1]) *
-                                                        (1.0 / chain.knot_rho[j - 1] +
-                                                         1.0 / chain.knot_rho[j]);
+        chain.knot_int[j] =
+            chain.knot_int[j - 1] + 0.5 * (chain.knot_s[j] - chain.knot_s[j - 1]) *
+                                        (1.0 / chain.knot_rho[j - 1] + 1.0 / chain.knot_rho[j]);
       }
     }
     // Charts start where their parent's v is at the fork (parents come first).
@@ -872,8 +872,8 @@ void validate_inputs(const TriMesh& mesh, const Skeleton& skeleton, const BarkUv
     }
   }
   if (!mesh.normals.empty() && mesh.normals.size() != nv) {
-    throw InvalidArgument("add_bark_uvs: " + std::to_string(mesh.normals.size()) +
-                          " normals for " + std::to_string(nv) + " vertices");
+    throw InvalidArgument("add_bark_uvs: " + std::to_string(mesh.normals.size()) + " normals for " +
+                          std::to_string(nv) + " vertices");
   }
   for (std::size_t i = 0; i < nv; ++i) {
     if (!mesh.positions[i].allFinite()) {
@@ -905,8 +905,8 @@ std::vector<double> uv_stretch(const TriMesh& textured) {
   for (std::size_t t = 0; t < textured.triangles.size(); ++t) {
     for (const std::uint32_t i : textured.triangles[t]) {
       if (i >= nv) {
-        throw InvalidArgument("uv_stretch: triangle " + std::to_string(t) +
-                              " has vertex index " + std::to_string(i) + " out of range");
+        throw InvalidArgument("uv_stretch: triangle " + std::to_string(t) + " has vertex index " +
+                              std::to_string(i) + " out of range");
       }
     }
     const auto [pu, pv] = jacobian(textured, textured.triangles[t]);
@@ -1000,8 +1000,7 @@ TriMesh add_bark_uvs(const TriMesh& mesh, const Skeleton& skeleton, const BarkUv
     // Around the wrap: cut the circle of u at the widest gap between the corners, and move
     // the corners before the cut to u + 1 (none when the widest gap is the one across u = 0).
     std::array<int, 3> order{0, 1, 2};
-    std::sort(order.begin(), order.end(),
-              [&](int x, int y) { return tuv[x].x() < tuv[y].x(); });
+    std::sort(order.begin(), order.end(), [&](int x, int y) { return tuv[x].x() < tuv[y].x(); });
     const double g01 = tuv[order[1]].x() - tuv[order[0]].x();
     const double g12 = tuv[order[2]].x() - tuv[order[1]].x();
     const double g20 = tuv[order[0]].x() + 1.0 - tuv[order[2]].x();
@@ -1053,8 +1052,9 @@ TriMesh add_bark_uvs(const TriMesh& mesh, const Skeleton& skeleton, const BarkUv
       [&](std::size_t i) {
         const Seg& g = segs[out_placed[i].seg];
         Vec3 nrm = out_normals[i];
-        if (nrm.isZero()) nrm = out_placed[i].o.norm() > 0.0 ? Vec3(out_placed[i].o.normalized())
-                                                             : perpendicular(g.d);
+        if (nrm.isZero())
+          nrm = out_placed[i].o.norm() > 0.0 ? Vec3(out_placed[i].o.normalized())
+                                             : perpendicular(g.d);
         auto project = [&](const Vec3& x) { return Vec3(x - x.dot(nrm) * nrm); };
         Vec3 tan = project(g.d.cross(out_placed[i].o));
         if (!(tan.norm() > 1e-9 * out_placed[i].o.norm()) || tan.isZero()) tan = project(sum_pu[i]);
@@ -1086,8 +1086,8 @@ TriMesh add_bark_uvs(const TriMesh& mesh, const Skeleton& skeleton, const BarkUv
           std::swap(a, b);
           std::swap(na, nb);
         }
-        sides.push_back({(std::uint64_t{a} << 32) | b, (std::uint64_t{na} << 32) | nb,
-                         tri_chart[t]});
+        sides.push_back(
+            {(std::uint64_t{a} << 32) | b, (std::uint64_t{na} << 32) | nb, tri_chart[t]});
       }
     }
     std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) {

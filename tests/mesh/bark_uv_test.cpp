@@ -13,10 +13,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <string>
 #include <iostream>
 #include <map>
 #include <numbers>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -73,8 +73,8 @@ Skeleton generated_tree(std::size_t segments, std::uint64_t seed) {
 std::vector<Vec3> face_normals(const TriMesh& m) {
   std::vector<Vec3> n(m.positions.size(), Vec3::Zero());
   for (const auto& t : m.triangles) {
-    const Vec3 fn = (m.positions[t[1]] - m.positions[t[0]])
-                        .cross(m.positions[t[2]] - m.positions[t[0]]);
+    const Vec3 fn =
+        (m.positions[t[1]] - m.positions[t[0]]).cross(m.positions[t[2]] - m.positions[t[0]]);
     for (const auto i : t) n[m.welded.empty() ? i : m.welded[i]] += fn;
   }
   for (std::size_t i = 0; i < n.size(); ++i) {
@@ -132,7 +132,8 @@ void expect_textured(const TriMesh& in, const TriMesh& out, const BarkUvStats& s
   // Seam edges: both sides of every other edge use the same vertices; on a seam edge the two
   // sides differ by exactly 1 in u (a u seam) or the copies are in different charts (a fork
   // boundary: not a whole-number shift).
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::pair<std::uint32_t, std::uint32_t>>>
+  std::map<std::pair<std::uint32_t, std::uint32_t>,
+           std::vector<std::pair<std::uint32_t, std::uint32_t>>>
       sides;
   for (std::size_t t = 0; t < in.triangles.size(); ++t) {
     for (int k = 0; k < 3; ++k) {
@@ -298,12 +299,11 @@ TEST(BarkUv, GeneratedTrees) {
     EXPECT_NEAR(st.stretch_p50, 1.0, 0.01);
     EXPECT_GE(st.within_10_percent, 0.95) << "seed " << c.seed;
     EXPECT_GE(st.within_10_percent_area, 0.95) << "seed " << c.seed;
-    std::cout << "tree " << c.segments << " segments, seed " << c.seed << ", tips "
-              << c.tip_radius << ": " << m.triangles.size() << " triangles, " << st.branches
-              << " branches, seams " << st.seam_edges << " (wrap " << st.wrap_seam_edges
-              << ", fork " << st.fork_seam_edges << "), split " << st.split_vertices << ", p50 "
-              << st.stretch_p50 << ", within " << st.within_10_percent << " (area "
-              << st.within_10_percent_area << ")\n";
+    std::cout << "tree " << c.segments << " segments, seed " << c.seed << ", tips " << c.tip_radius
+              << ": " << m.triangles.size() << " triangles, " << st.branches << " branches, seams "
+              << st.seam_edges << " (wrap " << st.wrap_seam_edges << ", fork " << st.fork_seam_edges
+              << "), split " << st.split_vertices << ", p50 " << st.stretch_p50 << ", within "
+              << st.within_10_percent << " (area " << st.within_10_percent_area << ")\n";
   }
 }
 
@@ -318,10 +318,10 @@ TEST(BarkUv, DemoTreeWhenGiven) {
   const TriMesh out = add_bark_uvs(m, s, {}, &st);
   expect_textured(m, out, st);
   std::cout << "demo: " << m.triangles.size() << " triangles, " << st.branches
-            << " branches, seams " << st.seam_edges << " (wrap " << st.wrap_seam_edges
-            << ", fork " << st.fork_seam_edges << "), split " << st.split_vertices << ", p50 "
-            << st.stretch_p50 << ", within " << st.within_10_percent << " (area "
-            << st.within_10_percent_area << ")\n";
+            << " branches, seams " << st.seam_edges << " (wrap " << st.wrap_seam_edges << ", fork "
+            << st.fork_seam_edges << "), split " << st.split_vertices << ", p50 " << st.stretch_p50
+            << ", within " << st.within_10_percent << " (area " << st.within_10_percent_area
+            << ")\n";
   EXPECT_GE(st.within_10_percent, 0.95);
 }
 

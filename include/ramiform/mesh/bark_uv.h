@@ -33,9 +33,9 @@
 ///    n x grad u, Mercator's v = integral of dl / (2 pi rho) with each point's own rho, which
 ///    follows caps, blend bulges and non-round cross-sections), then a few robust Gauss-Newton
 ///    steps that even out |grad v| / |grad u| (the stretch) triangle by triangle, adjusting v and
-///    u (u by at most 0.05 from the angle, the same on both sides of a u seam) while keeping a
-///    conformal term. Each chart's constant follows the first v near the chart's start plus the
-///    drift its parent has at the fork.
+///    u (u by at most 0.05 from the angle, the same on both sides of a u seam, so original u
+///    may leave [0, 1) by that much) while keeping a conformal term. Each chart's constant
+///    follows the first v near the chart's start plus the drift its parent has at the fork.
 /// 5. Seams: a triangle whose corners belong to different chains takes the chain of most of its
 ///    corners (ties: the earliest chain) and gets copies of the other corners with (u, v)
 ///    computed in that chain (fork seams, a short loop around the base of each side branch); a
@@ -72,11 +72,11 @@ struct BarkUvOptions {
 
 /// What add_bark_uvs() did.
 struct BarkUvStats {
-  std::size_t branches = 0;        ///< chains that got their own (u, v) chart
-  std::size_t seam_edges = 0;      ///< mesh edges whose two sides have different (u, v)
-  std::size_t wrap_seam_edges = 0; ///< of those, on a chain's u seam (sides differ by u +- 1)
-  std::size_t fork_seam_edges = 0; ///< of those, on a boundary between two chains' charts
-  std::size_t split_vertices = 0;  ///< vertices added by splitting along seams
+  std::size_t branches = 0;         ///< chains that got their own (u, v) chart
+  std::size_t seam_edges = 0;       ///< mesh edges whose two sides have different (u, v)
+  std::size_t wrap_seam_edges = 0;  ///< of those, on a chain's u seam (sides differ by u +- 1)
+  std::size_t fork_seam_edges = 0;  ///< of those, on a boundary between two chains' charts
+  std::size_t split_vertices = 0;   ///< vertices added by splitting along seams
   /// Median over triangles of uv_stretch() (triangles with a finite stretch; nearest rank).
   double stretch_p50 = 0;
   /// Share of the triangles (by count) with stretch in [0.9, 1.1]; triangles with degenerate
