@@ -3,6 +3,7 @@
 #include "ramiform/polygonize/lod.h"
 
 #include <algorithm>
+#include <chrono>
 #include <string>
 
 #include <cmath>
@@ -168,9 +169,19 @@ Skeleton simplify_chains(const Skeleton& skeleton, double tolerance) {
 
 namespace {
 
-// Coarsens the attempt's mesh to `budget` and measures it again; throws when it cannot.
+// Coarsens the attempt's mesh to `budget`, or a copy of `finer` (a finer level's mesh, may be
+// null) when that lies closer to the surface, and measures the result; throws when it cannot.
 void coarsen_into_budget(Attempt& a, const Field& field, const Skeleton& skeleton, const Tol& base,
-                         std::size_t budget, Context* ctx) {
+                         std::size_t budget, const TriMesh* finer, const LodStats* finer_stats,
+                         Context* ctx) {
+  const auto start = std::chrono::steady_clock::now();
+  if (finer != nullptr && finer_stats->mesher.deviation.samples.p99 <
+                              a.stats.mesher.deviation.samples.p99) {
+    a.mesh = *finer;
+    a.stats.mesher = finer_stats->mesher;
+    a.stats.tolerance = finer_stats->tolerance;
+    a.stats.levels = finer_stats->levels;
+  }
   CoarsenOptions o;
   o.max_triangles = budget;
   CoarsenStats cs;
@@ -178,7 +189,7 @@ void coarsen_into_budget(Attempt& a, const Field& field, const Skeleton& skeleto
   if (!cs.reached) {
     throw InvalidArgument("lod: a budget of " + std::to_string(budget) +
                           " triangles is below the coarsest mesh of this skeleton (" +
-                          std::to_string(cs.triangles_before) + " triangles at 0 levels, " +
+                          std::to_string(cs.triangles_before) + " triangles, " +
                           std::to_string(cs.triangles_after) +
                           " after every edge collapse that keeps it closed and on the surface)");
   }
@@ -190,11 +201,14 @@ void coarsen_into_budget(Attempt& a, const Field& field, const Skeleton& skeleto
   d.vertices = false;
   a.stats.mesher.deviation = measure_deviation(a.mesh, field, &skeleton, d, ctx);
   a.stats.mesher.reached = a.stats.mesher.deviation.samples.p99 <= a.stats.tolerance;
+  a.stats.seconds_coarsen =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // A budget level: the finest mesh within `budget` found by scaling the tolerance.
 Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& base,
-                       double tolerance, std::size_t budget, Context* ctx) {
+                       double tolerance, std::size_t budget, const TriMesh* finer,
+                       const LodStats* finer_stats, Context* ctx) {
   constexpr int kAttempts = 5;
   constexpr double kLow = 0.75;  // a count of at least this share of the budget is good enough
   int levels = base.tets.levels;
@@ -215,7 +229,7 @@ Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& 
       if (have) break;
       // The polygonizer's coarsest mesh is over the budget: edge collapses that keep it closed,
       // on the surface and around the skeleton take it down (coarsen.h).
-      coarsen_into_budget(a, field, skeleton, base, budget, ctx);
+      coarsen_into_budget(a, field, skeleton, base, budget, finer, finer_stats, ctx);
       best = std::move(a);
       have = true;
       break;
@@ -258,7 +272,9 @@ std::vector<TriMesh> polygonize_lods(const Field& field, const Skeleton& skeleto
   for (const LodLevel& l : levels) {
     Attempt a;
     if (l.max_triangles > 0) {
-      a = mesh_to_budget(field, skeleton, base, tolerance, std::min(l.max_triangles, cap), ctx);
+      a = mesh_to_budget(field, skeleton, base, tolerance, std::min(l.max_triangles, cap),
+                         meshes.empty() ? nullptr : &meshes.back(),
+                         all.empty() ? nullptr : &all.back(), ctx);
     } else {
       a = mesh_at(field, skeleton, base, l.tolerance, cap, base.tets.levels, ctx);
       a.stats.attempts = 1;

@@ -34,11 +34,13 @@ struct LodStats {
   int levels = 0;         ///< the base mesh's subdivision levels
   int attempts = 0;       ///< meshes made to find a budget level's tolerance (1 for a tolerance)
   std::size_t triangles = 0;
-  /// > 0: the base mesh at 0 levels had this many triangles, over the budget, and
-  /// coarsen_to_budget() took it down by `collapsed` edge collapses (`mesher.deviation` is then
-  /// the coarsened mesh's measure, `mesher.reached` whether its p99 is within `tolerance`).
+  /// > 0: the base mesh at 0 levels was over the budget, so coarsen_to_budget() took a mesh of
+  /// this many triangles (that one, or the previous level's: `levels` and `tolerance` say
+  /// which) down by `collapsed` edge collapses; `mesher.deviation` is then the coarsened mesh's
+  /// measure and `mesher.reached` whether its p99 is within `tolerance`.
   std::size_t coarsened_from = 0;
   std::size_t collapsed = 0;
+  double seconds_coarsen = 0;  ///< wall time of the coarsening and its measure
 };
 
 /// The skeleton with its chains (runs of degree-2 nodes) simplified by Douglas-Peucker: a chain
@@ -60,9 +62,10 @@ void validate_lod_levels(std::span<const LodLevel> levels);
 /// the budget (the count of a refined mesh goes about as 1/tolerance), keeping the finest mesh
 /// within the budget; when the base mesh alone is over the budget it drops to fewer base levels
 /// (down to 0, not counted as attempts), and when the mesh at 0 levels is still over it,
-/// coarsens that mesh to the budget by edge collapses that keep it closed, oriented, 2-manifold,
-/// of the same genus and components, on the surface and around every skeleton node
-/// (coarsen_to_budget() with its default options). Each level's budget is also capped by the
+/// coarsens that mesh — or the previous level's, when its measured deviation p99 is lower — to
+/// the budget by edge collapses that keep it closed, oriented, 2-manifold, of the same genus
+/// and components, on the surface and around every skeleton node (coarsen_to_budget() with its
+/// default options). Each level's budget is also capped by the
 /// previous level's triangle count, so counts never increase. Throws InvalidArgument when the
 /// levels are empty, mix the two kinds, are out of range or not ordered finest first
 /// (tolerances increasing, budgets decreasing), or when a budget is below what the collapses
