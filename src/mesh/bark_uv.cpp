@@ -678,7 +678,9 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
     unk[j] = it->second;
   }
   const std::size_t nu = ref.size();
-  std::vector<std::vector<std::uint32_t>> chart_tris(chains);
+  std::vector<std::vector<std::uint32_t>> chart_tris(chains), chart_unknowns(chains);
+  for (std::size_t i = 0; i < nu; ++i)
+    chart_unknowns[unk_chart[i]].push_back(static_cast<std::uint32_t>(i));
   for (std::size_t t = 0; t < out.triangles.size(); ++t) {
     chart_tris[tri_chart[t]].push_back(static_cast<std::uint32_t>(t));
   }
@@ -794,8 +796,8 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
       const double fs = chart.fork_s_of(c), reach = chart.rho_at(parent, fs);
       double sum = 0.0;
       std::size_t count = 0;
-      for (std::size_t i = 0; i < nu; ++i) {
-        if (unk_chart[i] == parent && solved[i] != 0 && std::abs(arc[i] - fs) <= reach) {
+      for (const std::uint32_t i : chart_unknowns[parent]) {
+        if (solved[i] != 0 && std::abs(arc[i] - fs) <= reach) {
           sum += v[i] - ref[i];
           ++count;
         }
