@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <string>
 
 #include <cmath>
@@ -169,33 +170,19 @@ Skeleton simplify_chains(const Skeleton& skeleton, double tolerance) {
 
 namespace {
 
-// Coarsens the attempt's mesh to `budget`, or a copy of `finer` (a finer level's mesh, may be
-// null) when that lies closer to the surface, and measures the result; throws when it cannot.
-void coarsen_into_budget(Attempt& a, const Field& field, const Skeleton& skeleton, const Tol& base,
-                         std::size_t budget, const TriMesh* finer, const LodStats* finer_stats,
-                         Context* ctx) {
+// Coarsens the attempt's mesh to `budget` and measures the result; false when the collapses
+// stop short of it.
+bool coarsen_attempt(Attempt& a, const Field& field, const Skeleton& skeleton, const Tol& base,
+                     std::size_t budget, Context* ctx) {
   const auto start = std::chrono::steady_clock::now();
-  if (finer != nullptr && finer_stats->mesher.deviation.samples.p99 <
-                              a.stats.mesher.deviation.samples.p99) {
-    a.mesh = *finer;
-    a.stats.mesher = finer_stats->mesher;
-    a.stats.tolerance = finer_stats->tolerance;
-    a.stats.levels = finer_stats->levels;
-  }
   CoarsenOptions o;
   o.max_triangles = budget;
   CoarsenStats cs;
   coarsen_to_budget(a.mesh, field, skeleton, o, ctx, &cs);
-  if (!cs.reached) {
-    throw InvalidArgument("lod: a budget of " + std::to_string(budget) +
-                          " triangles is below the coarsest mesh of this skeleton (" +
-                          std::to_string(cs.triangles_before) + " triangles, " +
-                          std::to_string(cs.triangles_after) +
-                          " after every edge collapse that keeps it closed and on the surface)");
-  }
   a.stats.coarsened_from = cs.triangles_before;
   a.stats.collapsed = cs.collapsed;
   a.stats.triangles = a.mesh.triangle_count();
+  if (!cs.reached) return false;
   DeviationOptions d;
   d.samples = base.samples;
   d.vertices = false;
@@ -203,9 +190,13 @@ void coarsen_into_budget(Attempt& a, const Field& field, const Skeleton& skeleto
   a.stats.mesher.reached = a.stats.mesher.deviation.samples.p99 <= a.stats.tolerance;
   a.stats.seconds_coarsen =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return true;
 }
 
-// A budget level: the finest mesh within `budget` found by scaling the tolerance.
+double p99(const LodStats& s) { return s.mesher.deviation.samples.p99; }
+
+// A budget level: the finest mesh within `budget` found by scaling the tolerance, or a
+// coarsened one (see polygonize_lods()). `finer` (may be null): the previous level.
 Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& base,
                        double tolerance, std::size_t budget, const TriMesh* finer,
                        const LodStats* finer_stats, Context* ctx) {
@@ -214,6 +205,7 @@ Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& 
   int levels = base.tets.levels;
   Attempt best;
   bool have = false;
+  std::optional<Attempt> over;  // the mesh at 0 levels, when it is over the budget
   int made = 0;
   for (int i = 0; i < kAttempts; ++i) {
     Attempt a = mesh_at(field, skeleton, base, tolerance, budget, levels, ctx);
@@ -226,12 +218,7 @@ Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& 
         --i;  // fewer base levels: not an attempt at the tolerance
         continue;
       }
-      if (have) break;
-      // The polygonizer's coarsest mesh is over the budget: edge collapses that keep it closed,
-      // on the surface and around the skeleton take it down (coarsen.h).
-      coarsen_into_budget(a, field, skeleton, base, budget, finer, finer_stats, ctx);
-      best = std::move(a);
-      have = true;
+      if (!have) over = std::move(a);
       break;
     }
     const bool stopped = a.stats.mesher.refine.budget_reached;
@@ -253,6 +240,31 @@ Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& 
       break;
     }
     if (tolerance > Tol::kMaxTolerance && stopped) break;
+  }
+  // The previous level's mesh coarsened by edge collapses (coarsen.h) may lie closer to the
+  // surface than what the polygonizer gives within the budget (it had to drop base levels).
+  const LodStats& found = have ? best.stats : over->stats;
+  if (finer != nullptr && finer->triangle_count() > budget && !found.mesher.reached &&
+      p99(*finer_stats) < p99(found)) {
+    Attempt c;
+    c.mesh = *finer;
+    c.stats = *finer_stats;
+    if (coarsen_attempt(c, field, skeleton, base, budget, ctx) && p99(c.stats) < p99(found)) {
+      best = std::move(c);
+      have = true;
+    }
+  }
+  if (!have) {
+    // The polygonizer's coarsest mesh is over the budget: collapses take it down.
+    Attempt& a = *over;
+    if (!coarsen_attempt(a, field, skeleton, base, budget, ctx)) {
+      throw InvalidArgument("lod: a budget of " + std::to_string(budget) +
+                            " triangles is below the coarsest mesh of this skeleton (" +
+                            std::to_string(a.stats.coarsened_from) + " triangles at 0 levels, " +
+                            std::to_string(a.stats.triangles) +
+                            " after every edge collapse that keeps it closed and on the surface)");
+    }
+    best = std::move(a);
   }
   best.stats.attempts = made;
   return best;

@@ -61,11 +61,14 @@ void validate_lod_levels(std::span<const LodLevel> levels);
 /// remeshes (at most 5 times) with the tolerance scaled by the ratio of the triangle count to
 /// the budget (the count of a refined mesh goes about as 1/tolerance), keeping the finest mesh
 /// within the budget; when the base mesh alone is over the budget it drops to fewer base levels
-/// (down to 0, not counted as attempts), and when the mesh at 0 levels is still over it,
-/// coarsens that mesh — or the previous level's, when its measured deviation p99 is lower — to
-/// the budget by edge collapses that keep it closed, oriented, 2-manifold, of the same genus
-/// and components, on the surface and around every skeleton node (coarsen_to_budget() with its
-/// default options). Each level's budget is also capped by the
+/// (down to 0, not counted as attempts). A level whose mesh so found misses the tolerance is
+/// replaced by the previous level's mesh coarsened to the budget when that measures a lower
+/// deviation p99 (dropping base levels coarsens far more than the budget asks: on
+/// archi_Tree_1, 300 k coarsened from 679 k has p99 0.12 local radii, the 133 k mesh at 0
+/// levels 0.50); and when the mesh at 0 levels is still over the budget with nothing better,
+/// that mesh is coarsened. Coarsening is by edge collapses that keep the mesh closed, oriented,
+/// 2-manifold, of the same genus and components, on the surface and around every skeleton node
+/// (coarsen_to_budget() with its default options). Each level's budget is also capped by the
 /// previous level's triangle count, so counts never increase. Throws InvalidArgument when the
 /// levels are empty, mix the two kinds, are out of range or not ordered finest first
 /// (tolerances increasing, budgets decreasing), or when a budget is below what the collapses
