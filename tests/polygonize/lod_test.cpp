@@ -143,6 +143,18 @@ TEST(PolygonizeLods, SameResultOnOneAndTwoThreads) {
     EXPECT_EQ(a[k].triangles, b[k].triangles);
     EXPECT_EQ(a[k].positions, b[k].positions);
   }
+  // Budgets, the last below the mesh at 0 levels (coarsened).
+  const std::size_t n = a[1].triangle_count();
+  const std::vector<LodLevel> budgets = {{0, n}, {0, n / 3}};
+  std::vector<LodStats> st;
+  const auto c = polygonize_lods(*f, s, {}, budgets, &one, &st);
+  const auto d = polygonize_lods(*f, s, {}, budgets, &two);
+  EXPECT_GT(st[1].collapsed, 0u);
+  ASSERT_EQ(c.size(), d.size());
+  for (std::size_t k = 0; k < c.size(); ++k) {
+    EXPECT_EQ(c[k].triangles, d[k].triangles);
+    EXPECT_EQ(c[k].positions, d[k].positions);
+  }
 }
 
 TEST(PolygonizeLods, RejectsLevelsThatAreEmptyMixedOutOfRangeOrNotCoarsening) {
