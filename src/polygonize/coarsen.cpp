@@ -6,8 +6,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <iterator>
+#include <limits>
 #include <numbers>
 #include <queue>
 #include <span>
@@ -392,8 +392,7 @@ class Coarsener {
     for (const std::uint32_t t : fresh_) {
       const Tri& f = mesh_.triangles[t];
       points_.push_back((corner(f[0]) + corner(f[1]) + corner(f[2])) / 3.0);
-      scales_.push_back(
-          std::min({corner_radius(f[0]), corner_radius(f[1]), corner_radius(f[2])}));
+      scales_.push_back(std::min({corner_radius(f[0]), corner_radius(f[1]), corner_radius(f[2])}));
     }
     const std::size_t centroids = points_.size();
     for (const std::vector<std::uint32_t>* ring : {&na_, &nb_}) {

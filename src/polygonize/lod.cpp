@@ -28,12 +28,12 @@ void validate_lod_levels(std::span<const LodLevel> levels) {
     const LodLevel& l = levels[k];
     const std::string which = "lod: level " + std::to_string(k);
     if ((l.max_triangles > 0) == (l.tolerance > 0) || (l.max_triangles > 0) != budgets) {
-      throw InvalidArgument(which +
-                            " must give a tolerance or a triangle budget, the same kind as level 0");
+      throw InvalidArgument(
+          which + " must give a tolerance or a triangle budget, the same kind as level 0");
     }
     if (!budgets && !(l.tolerance >= Tol::kMinTolerance && l.tolerance <= Tol::kMaxTolerance)) {
-      throw InvalidArgument(which + ": tolerance " + format_number(l.tolerance) +
-                            " is outside [" + format_number(Tol::kMinTolerance) + ", " +
+      throw InvalidArgument(which + ": tolerance " + format_number(l.tolerance) + " is outside [" +
+                            format_number(Tol::kMinTolerance) + ", " +
                             format_number(Tol::kMaxTolerance) + "]");
     }
     if (k > 0 && (budgets ? l.max_triangles >= levels[k - 1].max_triangles
@@ -223,9 +223,9 @@ Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& 
     }
     const bool stopped = a.stats.mesher.refine.budget_reached;
     // Better: within the budget and either not stopped by it where the best was, or finer.
-    const bool better = !have || (best.stats.mesher.refine.budget_reached && !stopped) ||
-                        (stopped == best.stats.mesher.refine.budget_reached &&
-                         n > best.stats.triangles);
+    const bool better =
+        !have || (best.stats.mesher.refine.budget_reached && !stopped) ||
+        (stopped == best.stats.mesher.refine.budget_reached && n > best.stats.triangles);
     if (better) {
       best = std::move(a);
       have = true;
@@ -234,8 +234,8 @@ Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& 
       tolerance = best.stats.tolerance * 1.5;  // stopped mid-way: ask for less
     } else if (static_cast<double>(n) < kLow * static_cast<double>(budget) &&
                tolerance > Tol::kMinTolerance) {
-      tolerance = best.stats.tolerance * static_cast<double>(n) /
-                  (0.9 * static_cast<double>(budget));
+      tolerance =
+          best.stats.tolerance * static_cast<double>(n) / (0.9 * static_cast<double>(budget));
     } else {
       break;
     }
@@ -273,9 +273,8 @@ Attempt mesh_to_budget(const Field& field, const Skeleton& skeleton, const Tol& 
 }  // namespace
 
 std::vector<TriMesh> polygonize_lods(const Field& field, const Skeleton& skeleton,
-                                     const ToleranceOptions& base,
-                                     std::span<const LodLevel> levels, Context* ctx,
-                                     std::vector<LodStats>* stats) {
+                                     const ToleranceOptions& base, std::span<const LodLevel> levels,
+                                     Context* ctx, std::vector<LodStats>* stats) {
   validate_lod_levels(levels);
   std::vector<TriMesh> meshes;
   std::vector<LodStats> all;

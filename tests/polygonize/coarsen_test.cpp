@@ -38,8 +38,8 @@ Skeleton subdivided(const Skeleton& s, int pieces) {
       const double t = static_cast<double>(k) / pieces;
       const SkeletonNode& a = s.nodes[e[0]];
       const SkeletonNode& b = s.nodes[e[1]];
-      out.nodes.push_back({a.position + t * (b.position - a.position),
-                           a.radius + t * (b.radius - a.radius)});
+      out.nodes.push_back(
+          {a.position + t * (b.position - a.position), a.radius + t * (b.radius - a.radius)});
       const auto v = static_cast<std::uint32_t>(out.nodes.size() - 1);
       out.edges.push_back({prev, v});
       prev = v;
@@ -64,7 +64,8 @@ std::size_t off_surface(const TriMesh& m, const Field& f, const Skeleton& s) {
   f.evaluate(m.positions, v, g);
   const std::vector<double> r = local_radii(s, m.positions);
   std::size_t n = 0;
-  for (std::size_t i = 0; i < v.size(); ++i) n += std::abs(v[i] - f.iso()) > 1e-3 * r[i] * g[i].norm() ? 1 : 0;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    n += std::abs(v[i] - f.iso()) > 1e-3 * r[i] * g[i].norm() ? 1 : 0;
   return n;
 }
 

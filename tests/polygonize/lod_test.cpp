@@ -36,8 +36,8 @@ Skeleton subdivided(const Skeleton& s, int pieces) {
       const double t = static_cast<double>(k) / pieces;
       const SkeletonNode& a = s.nodes[e[0]];
       const SkeletonNode& b = s.nodes[e[1]];
-      out.nodes.push_back({a.position + t * (b.position - a.position),
-                           a.radius + t * (b.radius - a.radius)});
+      out.nodes.push_back(
+          {a.position + t * (b.position - a.position), a.radius + t * (b.radius - a.radius)});
       const auto v = static_cast<std::uint32_t>(out.nodes.size() - 1);
       out.edges.push_back({prev, v});
       prev = v;
@@ -109,7 +109,7 @@ TEST(PolygonizeLods, BudgetLevelsStayWithinTheirBudgetsEvenBelowTheCoarsestBaseM
   EXPECT_EQ(st[2].coarsened_from, st[1].triangles);
   EXPECT_EQ(st[2].collapsed, (st[1].triangles - m[2].triangle_count()) / 2);
   EXPECT_LE(st[2].mesher.deviation.samples.p99, 0.15);  // 0.11 (from the 0-level mesh: 0.34)
-  EXPECT_EQ(st[0].collapsed, 0u);  // the first level has no finer one
+  EXPECT_EQ(st[0].collapsed, 0u);                       // the first level has no finer one
   // Alone, such a budget coarsens the mesh at 0 levels.
   const std::vector<LodLevel> below = {{0, base0 * 7 / 10}};
   const std::vector<TriMesh> b = polygonize_lods(*f, s, {}, below, nullptr, &st);
@@ -194,7 +194,8 @@ TEST(SimplifyChains, DropsStraightChainNodesAndKeepsRootsForksTipsAndShape) {
   for (int i = 0; i <= 10; ++i) {
     const double x = i * 0.1;
     bent.nodes.push_back({Vec3(x, i <= 5 ? 0.0 : (x - 0.5), 0), 0.05});
-    if (i > 0) bent.edges.push_back({static_cast<std::uint32_t>(i - 1), static_cast<std::uint32_t>(i)});
+    if (i > 0)
+      bent.edges.push_back({static_cast<std::uint32_t>(i - 1), static_cast<std::uint32_t>(i)});
   }
   const Skeleton b = simplify_chains(bent, 0.25);
   ASSERT_EQ(b.node_count(), 3u);
