@@ -229,7 +229,10 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
                       {"attempts", st[k].attempts},
                       {"tolerance_reached", st[k].mesher.reached},
                       {"deviation_p99", d.p99},
-                      {"deviation_max", d.max}});
+                      {"deviation_max", d.max},
+                      {"coarsened_from", st[k].coarsened_from},
+                      {"collapsed", st[k].collapsed},
+                      {"seconds_coarsen", st[k].seconds_coarsen}});
       r.lod_triangles.push_back(st[k].triangles);
     }
     r.stats["lods"] = lods;

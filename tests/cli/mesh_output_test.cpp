@@ -41,14 +41,6 @@ TriMesh glb_mesh(const test::Glb& g, int index) {
   return m;
 }
 
-std::size_t nodes_outside(const TriMesh& m, const Skeleton& s, bool file_y_up) {
-  std::vector<Vec3> nodes;
-  for (const auto& n : s.nodes) nodes.push_back(file_y_up ? y_up(n.position) : n.position);
-  std::size_t outside = 0;
-  for (const char f : points_inside(m, nodes)) outside += f == 0 ? 1 : 0;
-  return outside;
-}
-
 class MeshOutputTest : public test::CliDirTest {
  protected:
   std::string tree() const {
@@ -103,7 +95,7 @@ TEST_F(MeshOutputTest, GlbStandsUpWithTheFieldsNormalsAndBarkUvsOverAClosedSurfa
   weld_coincident(w);
   test::expect_closed_manifold(w);
   test::expect_components(w, 1);
-  EXPECT_EQ(nodes_outside(welded_topology(w), read_skeleton(t), true), 0u);
+  EXPECT_EQ(test::nodes_outside(welded_topology(w), read_skeleton(t), y_up), 0u);
   const auto stats = nlohmann::json::parse(test::read_file(path("g.json")));
   ASSERT_TRUE(stats.contains("uv")) << stats.dump();
   EXPECT_GT(stats["uv"]["branches"].get<std::size_t>(), 5u);
@@ -149,7 +141,7 @@ TEST_F(MeshOutputTest, LodsAreWholeMeshesWithFallingCountsAsFilesOrGltfNodes) {
     const TriMesh m = read_mesh(path("t.lod" + std::to_string(k) + ".ply"));
     test::expect_closed_manifold(m);
     test::expect_components(m, 1);
-    EXPECT_EQ(nodes_outside(m, s, false), 0u) << k;
+    EXPECT_EQ(test::nodes_outside(m, s), 0u) << k;
     EXPECT_LT(m.triangle_count(), previous);
     previous = m.triangle_count();
     EXPECT_EQ(stats["lods"][k]["triangles"].get<std::size_t>(), m.triangle_count());

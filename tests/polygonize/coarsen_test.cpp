@@ -15,6 +15,7 @@
 #include "ramiform/mesh/winding.h"
 #include "ramiform/polygonize/refine.h"
 #include "ramiform/skeleton/generate.h"
+#include "support/fixtures.h"
 #include "support/mesh_checkers.h"
 
 namespace ramiform {
@@ -26,35 +27,6 @@ Skeleton tree(std::size_t segments, std::uint64_t seed) {
   o.seed = seed;
   o.tip_radius = 0.02;
   return branching_tree(o);
-}
-
-// Every edge cut into `pieces` with a linear taper (as lod_test.cpp builds it).
-Skeleton subdivided(const Skeleton& s, int pieces) {
-  Skeleton out;
-  out.nodes = s.nodes;
-  for (const auto& e : s.edges) {
-    std::uint32_t prev = e[0];
-    for (int k = 1; k < pieces; ++k) {
-      const double t = static_cast<double>(k) / pieces;
-      const SkeletonNode& a = s.nodes[e[0]];
-      const SkeletonNode& b = s.nodes[e[1]];
-      out.nodes.push_back(
-          {a.position + t * (b.position - a.position), a.radius + t * (b.radius - a.radius)});
-      const auto v = static_cast<std::uint32_t>(out.nodes.size() - 1);
-      out.edges.push_back({prev, v});
-      prev = v;
-    }
-    out.edges.push_back({prev, e[1]});
-  }
-  return out;
-}
-
-std::size_t nodes_outside(const TriMesh& m, const Skeleton& s) {
-  std::vector<Vec3> nodes;
-  for (const auto& n : s.nodes) nodes.push_back(n.position);
-  std::size_t outside = 0;
-  for (const char f : points_inside(m, nodes)) outside += f == 0 ? 1 : 0;
-  return outside;
 }
 
 // Vertices farther than 1e-3 local radii from the surface, to first order.
@@ -75,7 +47,7 @@ struct Case {
 };
 
 std::vector<Case> cases() {
-  return {{"branching tree", tree(30, 7)}, {"subdivided tree", subdivided(tree(30, 7), 6)}};
+  return {{"branching tree", tree(30, 7)}, {"subdivided tree", test::subdivided(tree(30, 7), 6)}};
 }
 
 TEST(CoarsenToBudget, HalfAndQuarterStayClosedWholeOnTheSurfaceWithTheSkeletonInside) {
@@ -83,7 +55,7 @@ TEST(CoarsenToBudget, HalfAndQuarterStayClosedWholeOnTheSurfaceWithTheSkeletonIn
     SCOPED_TRACE(c.name);
     const FieldPtr f = make_skeleton_field(c.skeleton);
     const TriMesh base = polygonize_to_tolerance(*f, c.skeleton);
-    ASSERT_EQ(nodes_outside(base, c.skeleton), 0u);
+    ASSERT_EQ(test::nodes_outside(base, c.skeleton), 0u);
     const DeviationReport d0 = measure_deviation(base, *f, &c.skeleton);
     for (const std::size_t share : {2u, 4u}) {
       SCOPED_TRACE("1/" + std::to_string(share));
@@ -98,7 +70,7 @@ TEST(CoarsenToBudget, HalfAndQuarterStayClosedWholeOnTheSurfaceWithTheSkeletonIn
       EXPECT_EQ(st.triangles_after, m.triangle_count());
       EXPECT_EQ(st.triangles_before - st.triangles_after, 2 * st.collapsed);
       test::expect_closed_surface(m, 1, 2);  // genus 0, one piece, as the base mesh
-      EXPECT_EQ(nodes_outside(m, c.skeleton), 0u);
+      EXPECT_EQ(test::nodes_outside(m, c.skeleton), 0u);
       const DeviationReport d = measure_deviation(m, *f, &c.skeleton);
       EXPECT_EQ(d.samples.unresolved, 0u);
       // The bound is first order at centroids and midpoints (0.5 radii); least quadric error
@@ -115,7 +87,7 @@ TEST(CoarsenToBudget, HalfAndQuarterStayClosedWholeOnTheSurfaceWithTheSkeletonIn
 }
 
 TEST(CoarsenToBudget, SameResultOnOneAndTwoThreads) {
-  const Skeleton s = subdivided(tree(20, 3), 4);
+  const Skeleton s = test::subdivided(tree(20, 3), 4);
   const FieldPtr f = make_skeleton_field(s);
   const TriMesh base = polygonize_to_tolerance(*f, s);
   CoarsenOptions o;
@@ -144,7 +116,7 @@ TEST(CoarsenToBudget, StopsWithoutThrowingWhenNoCollapseIsAllowed) {
   EXPECT_GT(m.triangle_count(), 8u);
   EXPECT_GT(st.collapsed, 0u);
   test::expect_closed_surface(m, 1, 2);
-  EXPECT_EQ(nodes_outside(m, s), 0u);
+  EXPECT_EQ(test::nodes_outside(m, s), 0u);
   // A deviation bound nothing meets: nothing changes.
   TriMesh n = base;
   o.max_triangles = base.triangle_count() / 2;

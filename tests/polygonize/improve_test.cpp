@@ -34,13 +34,6 @@
 namespace ramiform {
 namespace {
 
-std::size_t nodes_outside(const TriMesh& m, const Skeleton& s) {
-  std::vector<Vec3> nodes;
-  for (const auto& n : s.nodes) nodes.push_back(n.position);
-  const std::vector<char> inside = points_inside(m, nodes);
-  return static_cast<std::size_t>(std::count(inside.begin(), inside.end(), 0));
-}
-
 /// The deviation of `m`, measured with a seed and a count the mesher did not use, and at every
 /// vertex.
 DeviationReport measured(const TriMesh& m, const Field& f, const Skeleton& s) {
@@ -91,7 +84,7 @@ TEST(ImproveTriangles, TreeMeshedToAToleranceMeetsTheAngleTargets) {
   const TriMesh m = polygonize_to_tolerance(*f, s, on, nullptr, &st);
   const MeshReport r = test::expect_closed_manifold(m);
   test::expect_components(m, 1);
-  EXPECT_EQ(nodes_outside(m, s), 0u);
+  EXPECT_EQ(test::nodes_outside(m, s), 0u);
   // The base mesh and its refinement have bad triangles; the pass leaves none below 1 degree
   // and fewer than 1 % below 10.
   ASSERT_GT(r0.triangles_below_10_deg, 100u);
@@ -244,7 +237,7 @@ TEST(ImproveTriangles, FixesAHandBuiltNeedleAndCap) {
   EXPECT_GE(st.collapses + st.relaxed, 1u);  // the needles' short edge
   EXPECT_EQ(st.triangles_before, sphere.triangles.size() + 4);
   EXPECT_EQ(st.triangles_after, m.triangles.size());
-  EXPECT_EQ(nodes_outside(m, s), 0u);
+  EXPECT_EQ(test::nodes_outside(m, s), 0u);
   EXPECT_LT(largest_surface_distance(m, *f), 1e-6 * kRadius);
   // Every triangle faces outwards.
   EXPECT_EQ(inverted(m, *f), 0u);
@@ -315,7 +308,7 @@ TEST(ImproveTriangles, CollapsesRootsThatLandedOnOnePoint) {
   EXPECT_EQ(r.triangles_below_10_deg, 0u) << test::describe(r);
   EXPECT_GE(st.collapses, 1u);
   EXPECT_LT(m.triangles.size(), sphere.triangles.size() + 4);  // some of the cluster went
-  EXPECT_EQ(nodes_outside(m, s), 0u);
+  EXPECT_EQ(test::nodes_outside(m, s), 0u);
   EXPECT_EQ(inverted(m, *f), 0u);
   EXPECT_LT(largest_surface_distance(m, *f), 1e-6 * kRadius);
 }

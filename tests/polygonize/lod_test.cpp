@@ -12,6 +12,7 @@
 #include "ramiform/mesh/checks.h"
 #include "ramiform/mesh/winding.h"
 #include "ramiform/skeleton/generate.h"
+#include "support/fixtures.h"
 #include "support/mesh_checkers.h"
 
 namespace ramiform {
@@ -25,42 +26,12 @@ Skeleton tree(std::size_t segments, std::uint64_t seed) {
   return branching_tree(o);
 }
 
-// Every edge cut into `pieces`, the new nodes on the edge with a linear taper, as a scanned
-// cylinder model's fine chains are.
-Skeleton subdivided(const Skeleton& s, int pieces) {
-  Skeleton out;
-  out.nodes = s.nodes;
-  for (const auto& e : s.edges) {
-    std::uint32_t prev = e[0];
-    for (int k = 1; k < pieces; ++k) {
-      const double t = static_cast<double>(k) / pieces;
-      const SkeletonNode& a = s.nodes[e[0]];
-      const SkeletonNode& b = s.nodes[e[1]];
-      out.nodes.push_back(
-          {a.position + t * (b.position - a.position), a.radius + t * (b.radius - a.radius)});
-      const auto v = static_cast<std::uint32_t>(out.nodes.size() - 1);
-      out.edges.push_back({prev, v});
-      prev = v;
-    }
-    out.edges.push_back({prev, e[1]});
-  }
-  return out;
-}
-
-std::size_t nodes_outside(const TriMesh& m, const Skeleton& s) {
-  std::vector<Vec3> nodes;
-  for (const auto& n : s.nodes) nodes.push_back(n.position);
-  std::size_t outside = 0;
-  for (const char f : points_inside(m, nodes)) outside += f == 0 ? 1 : 0;
-  return outside;
-}
-
 void expect_whole(const std::vector<TriMesh>& levels, const Skeleton& s) {
   for (std::size_t k = 0; k < levels.size(); ++k) {
     SCOPED_TRACE("level " + std::to_string(k));
     test::expect_closed_manifold(levels[k]);
     test::expect_components(levels[k], 1);
-    EXPECT_EQ(nodes_outside(levels[k], s), 0u);
+    EXPECT_EQ(test::nodes_outside(levels[k], s), 0u);
     if (k > 0) {
       EXPECT_LT(levels[k].triangle_count(), levels[k - 1].triangle_count());
     }
@@ -86,7 +57,7 @@ TEST(PolygonizeLods, ToleranceLevelsAreWholeMeshesWithFallingCountsAndTheirDevia
 }
 
 TEST(PolygonizeLods, BudgetLevelsStayWithinTheirBudgetsEvenBelowTheCoarsestBaseMesh) {
-  const Skeleton s = subdivided(tree(30, 7), 6);
+  const Skeleton s = test::subdivided(tree(30, 7), 6);
   const FieldPtr f = make_skeleton_field(s);
   ToleranceOptions coarsest;
   coarsest.tets.levels = 0;
@@ -175,7 +146,7 @@ TEST(PolygonizeLods, RejectsLevelsThatAreEmptyMixedOutOfRangeOrNotCoarsening) {
 
 TEST(SimplifyChains, DropsStraightChainNodesAndKeepsRootsForksTipsAndShape) {
   const Skeleton t = tree(20, 4);
-  const Skeleton s = subdivided(t, 5);
+  const Skeleton s = test::subdivided(t, 5);
   const Skeleton c = simplify_chains(s, 0.25);
   EXPECT_NO_THROW(validate(c));
   // The subdivision nodes lie on straight, linearly tapered edges: all of them go, and the

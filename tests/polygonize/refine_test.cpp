@@ -31,15 +31,6 @@ Skeleton tree(std::size_t segments) {
   return branching_tree(o);
 }
 
-std::size_t nodes_outside(const TriMesh& m, const Skeleton& s) {
-  std::vector<Vec3> nodes;
-  for (const auto& n : s.nodes) nodes.push_back(n.position);
-  const std::vector<char> inside = points_inside(m, nodes);
-  std::size_t outside = 0;
-  for (const char f : inside) outside += f == 0 ? 1 : 0;
-  return outside;
-}
-
 /// The deviation p99 of `m`, measured with a seed and a count the polygonizer did not use.
 DeviationSummary measured(const TriMesh& m, const Field& f, const Skeleton& s) {
   DeviationOptions o;
@@ -57,7 +48,7 @@ TEST(PolygonizeToTolerance, MeetsTheToleranceAndKeepsTheMeshWhole) {
   const TriMesh m = polygonize_to_tolerance(*f, s, o, nullptr, &st);
   test::expect_closed_manifold(m);
   test::expect_components(m, 1);
-  EXPECT_EQ(nodes_outside(m, s), 0u);
+  EXPECT_EQ(test::nodes_outside(m, s), 0u);
   EXPECT_TRUE(st.reached);
   EXPECT_LE(st.deviation.samples.p99, o.tolerance);
   EXPECT_GT(st.refine.split_edges, 0u);
@@ -85,7 +76,7 @@ TEST(PolygonizeToTolerance, HalvingTheToleranceRoughlyHalvesTheDeviation) {
     EXPECT_LE(d.p99, t);
     p99.push_back(d.p99);
     triangles.push_back(m.triangles.size());
-    EXPECT_EQ(nodes_outside(m, s), 0u) << "tolerance " << t;
+    EXPECT_EQ(test::nodes_outside(m, s), 0u) << "tolerance " << t;
   }
   for (std::size_t i = 1; i < p99.size(); ++i) {
     const double ratio = p99[i] / p99[i - 1];

@@ -106,4 +106,24 @@ std::filesystem::path shared_data_dir(const std::filesystem::path& source_dir) {
   return source_dir / ".." / "shared" / "data";
 }
 
+Skeleton subdivided(const Skeleton& s, int pieces) {
+  Skeleton out;
+  out.nodes = s.nodes;
+  for (const auto& e : s.edges) {
+    std::uint32_t prev = e[0];
+    for (int k = 1; k < pieces; ++k) {
+      const double t = static_cast<double>(k) / pieces;
+      const SkeletonNode& a = s.nodes[e[0]];
+      const SkeletonNode& b = s.nodes[e[1]];
+      out.nodes.push_back(
+          {a.position + t * (b.position - a.position), a.radius + t * (b.radius - a.radius)});
+      const auto v = static_cast<std::uint32_t>(out.nodes.size() - 1);
+      out.edges.push_back({prev, v});
+      prev = v;
+    }
+    out.edges.push_back({prev, e[1]});
+  }
+  return out;
+}
+
 }  // namespace ramiform::test

@@ -37,6 +37,10 @@ namespace ramiform::test {
 /// validate().
 [[nodiscard]] Skeleton random_tree(std::uint64_t seed, int nodes);
 
+/// `s` with every edge cut into `pieces` edges, the new nodes on the edge with a linear taper
+/// of the radius (as a scanned cylinder model's fine chains are). New nodes come after `s`'s.
+[[nodiscard]] Skeleton subdivided(const Skeleton& s, int pieces);
+
 /// The generated tree with 4 mm twigs of docs/benchmarks.md with `segments` edges:
 /// branching_tree with tip_radius 0.004, trunk_length 1 and seed 1 (what `ramiform generate
 /// --segments N --tip-radius 0.004 --trunk-length 1 --seed 1` writes).

@@ -2,6 +2,8 @@
 // Copyright (c) 2026 the ramiform authors
 #include "support/mesh_checkers.h"
 
+#include "ramiform/mesh/winding.h"
+
 #include <sstream>
 #include <string>
 
@@ -59,6 +61,17 @@ void expect_closed_surface(const TriMesh& mesh, std::size_t components, long lon
   const MeshReport r = expect_closed_manifold(mesh);
   EXPECT_EQ(r.components, components) << describe(r);
   EXPECT_EQ(r.euler, euler) << describe(r);
+}
+
+std::size_t nodes_outside(const TriMesh& mesh, const Skeleton& skeleton,
+                          Vec3 (*transform)(const Vec3&)) {
+  std::vector<Vec3> nodes;
+  for (const auto& n : skeleton.nodes) {
+    nodes.push_back(transform != nullptr ? transform(n.position) : n.position);
+  }
+  std::size_t outside = 0;
+  for (const char f : points_inside(mesh, nodes)) outside += f == 0 ? 1 : 0;
+  return outside;
 }
 
 }  // namespace ramiform::test

@@ -13,6 +13,7 @@
 
 #include "ramiform/core/geometry.h"
 #include "ramiform/mesh/checks.h"
+#include "ramiform/skeleton/skeleton.h"
 
 namespace ramiform::test {
 
@@ -34,5 +35,10 @@ MeshReport expect_closed_manifold(const TriMesh& mesh);
 /// expect_closed_manifold, with `components` components and Euler characteristic `euler` (2 per
 /// sphere-like component, 0 per torus).
 void expect_closed_surface(const TriMesh& mesh, std::size_t components, long long euler);
+
+/// How many of `skeleton`'s nodes (each moved by `transform` first, e.g. into a file's axes)
+/// lie outside the closed mesh (mesh/winding.h points_inside).
+[[nodiscard]] std::size_t nodes_outside(const TriMesh& mesh, const Skeleton& skeleton,
+                                        Vec3 (*transform)(const Vec3&) = nullptr);
 
 }  // namespace ramiform::test
