@@ -2,18 +2,116 @@
 // Copyright (c) 2026 the ramiform authors
 #include "mesh_job.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <memory>
 #include <filesystem>
+#include <limits>
+#include <memory>
+#include <numeric>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/core/parallel.h"
 #include "ramiform/field/radius_fit.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/mesh/normals.h"
 
 namespace ramiform::cli {
 namespace {
+
+// Nearest skeleton node to a point by the distance to the node's sphere, |p - x_i| - r_i (a
+// point on a 10 um soma belongs to the soma, not to the 1 um dendrite node 3 um away): a k-d
+// tree whose boxes also keep their largest radius, so that dist(p, box) - max radius bounds
+// every node below. Ties go to the smaller node index, so the answer is unique.
+class NearestNode {
+ public:
+  explicit NearestNode(const Skeleton& s) : s_(s), order_(s.nodes.size()) {
+    std::iota(order_.begin(), order_.end(), 0U);
+    if (!order_.empty()) build(0, order_.size());
+  }
+
+  [[nodiscard]] std::uint32_t find(const Vec3& p) const {
+    Best best;
+    if (!tree_.empty()) search(0, p, best);
+    return best.node;
+  }
+
+ private:
+  struct Box {
+    Aabb box;
+    double max_radius = 0;
+    std::size_t begin = 0, end = 0;
+    std::size_t left = 0, right = 0;  // children (0 = leaf)
+  };
+  struct Best {
+    double d = std::numeric_limits<double>::infinity();
+    std::uint32_t node = 0;
+  };
+  static constexpr std::size_t kLeaf = 8;
+
+  std::size_t build(std::size_t begin, std::size_t end) {
+    const std::size_t id = tree_.size();
+    tree_.emplace_back();
+    Box b;
+    b.begin = begin;
+    b.end = end;
+    for (std::size_t k = begin; k < end; ++k) {
+      b.box.extend(s_.nodes[order_[k]].position);
+      b.max_radius = std::max(b.max_radius, s_.nodes[order_[k]].radius);
+    }
+    if (end - begin > kLeaf) {
+      int axis = 0;
+      b.box.diagonal().maxCoeff(&axis);
+      const std::size_t mid = begin + (end - begin) / 2;
+      std::nth_element(order_.begin() + static_cast<std::ptrdiff_t>(begin),
+                       order_.begin() + static_cast<std::ptrdiff_t>(mid),
+                       order_.begin() + static_cast<std::ptrdiff_t>(end),
+                       [&](std::uint32_t a, std::uint32_t c) {
+                         const double pa = s_.nodes[a].position[axis];
+                         const double pc = s_.nodes[c].position[axis];
+                         return pa < pc || (pa == pc && a < c);
+                       });
+      b.left = build(begin, mid);
+      b.right = build(mid, end);
+    }
+    tree_[id] = b;
+    return id;
+  }
+
+  void search(std::size_t id, const Vec3& p, Best& best) const {
+    const Box& b = tree_[id];
+    const double reach = b.box.exteriorDistance(p) - b.max_radius;
+    if (reach > best.d) return;
+    if (b.left == 0) {
+      for (std::size_t k = b.begin; k < b.end; ++k) {
+        const std::uint32_t i = order_[k];
+        const double d = (p - s_.nodes[i].position).norm() - s_.nodes[i].radius;
+        if (d < best.d || (d == best.d && i < best.node)) best = {d, i};
+      }
+      return;
+    }
+    const double dl = tree_[b.left].box.exteriorDistance(p);
+    const double dr = tree_[b.right].box.exteriorDistance(p);
+    search(dl <= dr ? b.left : b.right, p, best);
+    search(dl <= dr ? b.right : b.left, p, best);
+  }
+
+  const Skeleton& s_;
+  std::vector<std::uint32_t> order_;
+  std::vector<Box> tree_;
+};
+
+// One label per vertex: the type of the node nearest to it (NearestNode). Seam copies share
+// their original's position and so its label.
+std::vector<std::int32_t> nearest_node_types(const TriMesh& mesh, const Skeleton& skeleton,
+                                             const NearestNode& nearest, Context& ctx) {
+  std::vector<std::int32_t> labels(mesh.positions.size());
+  parallel::for_each(
+      mesh.positions.size(), 4096,
+      [&](std::size_t v) { labels[v] = skeleton.node_types[nearest.find(mesh.positions[v])]; },
+      &ctx);
+  return labels;
+}
 
 void polygonize_mc(const Field& field, const MeshJobOptions& options, Context& ctx,
                    MeshJobResult& r) {
@@ -263,6 +361,11 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
     BarkUvStats uv;
     add_surface_attributes(levels[k], *field, skeleton, attributes, &ctx, &uv);
     if (attributes.uvs && k == 0) r.stats["uv"] = uv_stats(uv);
+  }
+  if (!skeleton.node_types.empty()) {
+    // The input skeleton's types (SWC), not the split one's: splitting keeps no types.
+    const NearestNode nearest(skeleton);
+    for (TriMesh& level : levels) level.vertex_labels = nearest_node_types(level, skeleton, nearest, ctx);
   }
   timer.lap("attributes");
   r.mesh = levels[0];

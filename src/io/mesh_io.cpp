@@ -48,6 +48,10 @@ void check_writable(const TriMesh& mesh) {
   check_attribute(mesh.normals, n, "normals");
   check_attribute(mesh.uvs, n, "uvs");
   check_attribute(mesh.tangents, n, "tangents");
+  if (!mesh.vertex_labels.empty() && mesh.vertex_labels.size() != n) {
+    throw InvalidArgument("write_mesh: " + std::to_string(mesh.vertex_labels.size()) +
+                          " vertex labels for " + std::to_string(n) + " vertices");
+  }
   if (!mesh.tangents.empty() && mesh.uvs.empty()) {
     throw InvalidArgument("write_mesh: tangents without uvs");
   }
@@ -116,6 +120,8 @@ void write_ply(const TriMesh& mesh, const MeshWriteOptions& o, std::ostream& out
     columns.push_back({"u", PlyType::kFloat64});
     columns.push_back({"v", PlyType::kFloat64});
   }
+  const bool labels = !mesh.vertex_labels.empty();
+  if (labels) columns.push_back({"swc_type", PlyType::kInt32});
   ply.element("vertex", mesh.positions.size(), columns);
   ply.list_element("face", mesh.triangles.size(), PlyType::kUInt8, PlyType::kUInt32,
                    "vertex_indices");
@@ -131,6 +137,7 @@ void write_ply(const TriMesh& mesh, const MeshWriteOptions& o, std::ostream& out
       ply.put(PlyType::kFloat64, mesh.uvs[i].x());
       ply.put(PlyType::kFloat64, mesh.uvs[i].y());
     }
+    if (labels) ply.put(PlyType::kInt32, mesh.vertex_labels[i]);
   }
   for (const auto& t : mesh.triangles) {
     ply.put_index(PlyType::kUInt8, 3);

@@ -183,6 +183,29 @@ Skeleton parse_skeleton_json(std::string_view text, const std::string& source_na
     const auto radius = n.find("radius");
     if (radius == n.end()) throw InputError(source, "node", i, "missing \"radius\"");
     s.nodes[i].radius = json_number(*radius, source, "node", i, "\"radius\"");
+    const auto type = n.find("type");
+    if (i == 0 && type != n.end()) s.node_types.resize(nodes->size());
+    if ((type != n.end()) != !s.node_types.empty()) {
+      throw InputError(source, "node", i,
+                       s.node_types.empty()
+                           ? "has a \"type\" but node 0 has none (all nodes or none)"
+                           : "missing \"type\" (node 0 has one: all nodes or none)");
+    }
+    if (type != n.end()) {
+      bool in_range = type->is_number_integer();
+      if (in_range && type->is_number_unsigned()) {
+        in_range = type->get<std::uint64_t>() <=
+                   static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max());
+      } else if (in_range) {
+        in_range = type->get<std::int64_t>() >= std::numeric_limits<std::int32_t>::min() &&
+                   type->get<std::int64_t>() <= std::numeric_limits<std::int32_t>::max();
+      }
+      if (!in_range) {
+        throw InputError(source, "node", i,
+                         "\"type\" must be a 32-bit integer, got " + shown(*type));
+      }
+      s.node_types[i] = static_cast<std::int32_t>(type->get<std::int64_t>());
+    }
   }
 
   const auto edges = doc.find("edges");
@@ -289,6 +312,7 @@ Skeleton read_skeleton(const std::string& path, const SkeletonReadOptions& optio
     }
     return parse_skeleton_obj(io_detail::read_whole_file(path), path, options);
   }
+  if (ext == ".swc") return read_swc(path, options.swc);
   if (ext == ".csv") return read_simpleforest(path, options.qsm_report);
   if (ext == ".txt") {
     const std::string text = io_detail::read_whole_file(path);
@@ -297,7 +321,7 @@ Skeleton read_skeleton(const std::string& path, const SkeletonReadOptions& optio
   }
   throw InputError(path, 0,
                    "unknown skeleton format '" + ext +
-                       "' (supported: .json, .ply, .obj, .csv SimpleForest, .txt TreeQSM)");
+                       "' (supported: .json, .ply, .obj, .swc, .csv SimpleForest, .txt TreeQSM)");
 }
 
 std::string skeleton_to_json(const Skeleton& skeleton) {
@@ -316,6 +340,10 @@ std::string skeleton_to_json(const Skeleton& skeleton) {
     append_json_double(out, n.position.z());
     out += "], \"radius\": ";
     append_json_double(out, n.radius);
+    if (!skeleton.node_types.empty()) {
+      out += ", \"type\": ";
+      out += std::to_string(skeleton.node_types[i]);
+    }
     out += "}";
   }
   out += "\n  ],\n  \"edges\": [";

@@ -8,4 +8,5 @@ set(RAMIFORM_IO_SOURCES
   src/io/points_io.cpp
   src/io/qsm_io.cpp
   src/io/skeleton_io.cpp
+  src/io/swc_io.cpp
   src/io/text_scan.cpp)

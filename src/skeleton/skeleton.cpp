@@ -33,6 +33,11 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 
 void validate(const Skeleton& skeleton, const std::string& source) {
   if (skeleton.nodes.empty()) throw InputError(source, 0, "skeleton has no nodes");
+  if (!skeleton.node_types.empty() && skeleton.node_types.size() != skeleton.nodes.size()) {
+    throw InputError(source, 0,
+                     std::to_string(skeleton.node_types.size()) + " node types for " +
+                         std::to_string(skeleton.nodes.size()) + " nodes (need none or one each)");
+  }
   Aabb box;
   for (std::size_t i = 0; i < skeleton.nodes.size(); ++i) {
     const auto& n = skeleton.nodes[i];

@@ -34,6 +34,10 @@ struct TriMesh {
   /// normal; a writer that stores texture coordinates per corner (OBJ) writes one vertex per
   /// welded group, and mesh checks look through the copies.
   std::vector<std::uint32_t> welded;
+  /// Optional: empty, or one integer label per vertex (e.g. the SWC type of the nearest
+  /// skeleton node, see cli mesh). Seam copies carry their original's label. PLY writes it as
+  /// `property int swc_type`; OBJ, OFF and glTF ignore it.
+  std::vector<std::int32_t> vertex_labels;
 
   [[nodiscard]] std::size_t vertex_count() const { return positions.size(); }
   [[nodiscard]] std::size_t triangle_count() const { return triangles.size(); }

@@ -10,6 +10,7 @@
 #include <string>
 #include <string_view>
 
+#include "ramiform/io/swc_io.h"
 #include "ramiform/skeleton/skeleton.h"
 
 namespace ramiform {
@@ -22,10 +23,12 @@ struct SkeletonReadOptions {
                             ///< (OBJ has none); must be finite and > 0 when reading OBJ
   QsmImportReport* qsm_report = nullptr;  ///< when not null and the file is a cylinder model
                                           ///< (`.csv`, `.txt`), receives the import report
+  SwcReadOptions swc;  ///< options of an SWC file (`.swc`, io/swc_io.h)
 };
 
 /// Reads a skeleton, choosing the format by the file extension (case-insensitive): `.json`,
-/// `.ply` (ASCII or binary), `.obj`, or a cylinder model (io/qsm_io.h): `.csv` is SimpleForest
+/// `.ply` (ASCII or binary), `.obj`, `.swc` (io/swc_io.h: somata become soma regions), or a
+/// cylinder model (io/qsm_io.h): `.csv` is SimpleForest
 /// CSV; `.txt` is SimpleForest when its first line names the SimpleForest columns, otherwise
 /// TreeQSM text.
 ///
@@ -37,7 +40,8 @@ struct SkeletonReadOptions {
                                      const SkeletonReadOptions& options = {});
 
 /// Parses skeleton JSON text: {"nodes":[{"position":[x,y,z],"radius":r},...],
-/// "edges":[[i,j],...]} (edges optional, 0-based). `source_name` is the file name used in error
+/// "edges":[[i,j],...]} (edges optional, 0-based). A node may carry an integer "type" (e.g. its
+/// SWC type); then every node must, and the skeleton's `node_types` hold them. `source_name` is the file name used in error
 /// messages. Throws `InputError` like `read_skeleton`.
 [[nodiscard]] Skeleton parse_skeleton_json(std::string_view text, const std::string& source_name);
 
@@ -53,7 +57,7 @@ struct SkeletonReadOptions {
                                           const SkeletonReadOptions& options);
 
 /// The skeleton as JSON text in the format `parse_skeleton_json` reads, one node or edge per
-/// line; numbers are written with the shortest text that reads back to the identical double.
+/// line, with each node's "type" when the skeleton has `node_types`; numbers are written with the shortest text that reads back to the identical double.
 /// Throws `InvalidArgument` when the skeleton fails `validate()`.
 [[nodiscard]] std::string skeleton_to_json(const Skeleton& skeleton);
 

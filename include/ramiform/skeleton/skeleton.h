@@ -24,14 +24,18 @@ struct SkeletonNode {
 struct Skeleton {
   std::vector<SkeletonNode> nodes;                 ///< one entry per node
   std::vector<std::array<std::uint32_t, 2>> edges;  ///< one node-index pair per edge
+  /// Optional node types (e.g. SWC structure identifiers: 1 soma, 2 axon, 3 basal dendrite,
+  /// 4 apical dendrite, others custom): empty, or one per node. Operations that build new
+  /// skeletons (splitting, growth) may leave them empty.
+  std::vector<std::int32_t> node_types;
 
   [[nodiscard]] std::size_t node_count() const { return nodes.size(); }
   [[nodiscard]] std::size_t edge_count() const { return edges.size(); }
 };
 
 /// Checks every invariant and throws `InputError` naming the first offending element (`source`
-/// is the file name used in the message, may be empty): no nodes; non-finite position; radius
-/// not finite or <= 0; edge index out of range; self-loop; duplicate edge (either orientation);
+/// is the file name used in the message, may be empty): no nodes; `node_types` neither empty nor
+/// one per node; non-finite position; radius not finite or <= 0; edge index out of range; self-loop; duplicate edge (either orientation);
 /// zero-length edge (endpoints closer than tol::kCoincident times the skeleton's extent).
 void validate(const Skeleton& skeleton, const std::string& source = {});
 
