@@ -114,7 +114,8 @@ def mesh_tree(input_path, output_path, options, cli=None):
     Writes ``output_path`` atomically: the mesh goes to a temporary name in the same folder
     (same ending, so the same format) and is renamed when complete, so a killed run never
     leaves a half file under the final name. Returns one manifest record (dict); a bad input
-    gives a record with ``error`` set, never an exception.
+    gives a record with ``error`` set, never an exception, and removes an older mesh left
+    under ``output_path`` (it belonged to other input bytes or options).
     """
     options = dict(options)
     options.setdefault("threads", 1)
@@ -142,6 +143,9 @@ def mesh_tree(input_path, output_path, options, cli=None):
         record["checks"] = {k: stats[k] for k in _CHECKS if k in stats}
     except (ValueError, OSError, RuntimeError) as e:
         record["error"] = str(e) or type(e).__name__
+        # An older mesh under the final name belongs to other input bytes or options.
+        if os.path.exists(output_path):
+            os.remove(output_path)
     finally:
         if os.path.exists(partial):
             os.remove(partial)

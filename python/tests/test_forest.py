@@ -196,3 +196,18 @@ def test_command_line_module(plot, tmp_path):
     assert run.returncode == 2
     assert "4 trees: 0 meshed, 3 skipped, 1 failed" in run.stdout
     assert "broken.json:" in run.stderr
+
+
+def test_a_tree_turned_bad_loses_its_old_mesh(plot, tmp_path):
+    _, in_dir = plot
+    tree = tmp_path / "in" / "elm.json"
+    tree.parent.mkdir()
+    shutil.copy(os.path.join(in_dir, "tree007.json"), tree)
+    out_dir = str(tmp_path / "out")
+    first = forest.mesh_all(str(tree.parent), out_dir, cli=BINARY, **OPTIONS)
+    assert first[0]["error"] is None and os.path.exists(first[0]["output"])
+    tree.write_text("{ not json\n")
+    again = forest.mesh_all(str(tree.parent), out_dir, cli=BINARY, **OPTIONS)
+    assert "elm.json:1" in again[0]["error"]
+    assert not os.path.exists(again[0]["output"])
+    assert [r["error"] is None for r in _manifest(out_dir)] == [True, False]
