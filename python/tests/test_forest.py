@@ -31,16 +31,44 @@ def _work_dir(tmp_path_factory):
     return str(tmp_path_factory.mktemp("forest"))
 
 
+def _write_treeqsm(path, seed):
+    """A TreeQSM cylinder model (radius length start axis parent): a trunk and two branches."""
+    lean = 0.1 * (seed % 7)
+    rows = [(0.3, 3.0, 0, 0, 0, 0, 0, 1, 0),
+            (0.15, 2.0, 0, 0, 3, 0.6, lean, 0.8, 1),
+            (0.12, 1.5 + 0.05 * seed, 0, 0, 3, -0.6, 0, 0.8, 1)]
+    with open(path, "w", encoding="utf-8") as f:
+        for row in rows:
+            f.write("\t".join(str(v) for v in row) + "\n")
+
+
+def _write_swc(path, seed):
+    """A small SWC neuron (micrometres): a one-point soma and three dendrites."""
+    lines = ["# generated for test_forest", "1 1 0 0 0 5 -1"]
+    for k in range(3):
+        lines.append(f"{2 + 2 * k} 3 {4 + k} {seed % 5 - 2} {k - 1} 1.5 1")
+        lines.append(f"{3 + 2 * k} 3 {12 + 2 * k} {seed % 3} {3 * k - 3} 0.8 {2 + 2 * k}")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write("\n".join(lines) + "\n")
+
+
 @pytest.fixture(scope="module")
 def plot(tmp_path_factory):
-    """IN_DIR with 50 small trees (seeds 1..50, 3-12 segments; every fifth a .ply skeleton)
-    and one broken .json."""
+    """IN_DIR with 50 small trees (seeds 1..50: skeletons of 3-12 segments from `ramiform
+    generate` as .json, every fifth as .ply; seeds 3, 13, ... TreeQSM cylinder models .txt;
+    seeds 8, 28 SWC neurons) and one broken .json."""
     work = _work_dir(tmp_path_factory)
     in_dir = os.path.join(work, "in")
     os.makedirs(in_dir)
     for seed in range(1, TREES + 1):
-        ending = ".ply" if seed % 5 == 0 else ".json"
-        path = os.path.join(in_dir, f"tree{seed:03d}{ending}")
+        stem = os.path.join(in_dir, f"tree{seed:03d}")
+        if seed % 10 == 3:
+            _write_treeqsm(stem + ".txt", seed)
+            continue
+        if seed in (8, 28):
+            _write_swc(stem + ".swc", seed)
+            continue
+        path = stem + (".ply" if seed % 5 == 0 else ".json")
         subprocess.run([BINARY, "generate", path, "--segments", str(3 + seed % 10),
                         "--seed", str(seed)], check=True, capture_output=True)
     with open(os.path.join(in_dir, "broken.json"), "w", encoding="utf-8") as f:
@@ -103,8 +131,8 @@ def test_meshes_identical_to_the_cli(cluster_run):
     out_dir, in_dir, work = cluster_run["out_dir"], cluster_run["in_dir"], cluster_run["work"]
     cli_dir = os.path.join(work, "cli")
     os.makedirs(cli_dir, exist_ok=True)
-    names = ["tree001.json", "tree005.ply", "tree017.json", "tree030.ply", "tree042.json",
-             "tree050.ply"]
+    names = ["tree001.json", "tree005.ply", "tree013.txt", "tree017.json", "tree028.swc",
+             "tree030.ply", "tree042.json", "tree050.ply"]
     for name in names:
         stem = os.path.splitext(name)[0]
         out = os.path.join(cli_dir, stem + ".ply")
@@ -159,7 +187,7 @@ def test_rerun_skips_finished_trees_and_retries_the_failed_one(cluster_run):
 
 def test_other_options_remesh(plot, tmp_path):
     _, in_dir = plot
-    paths = [os.path.join(in_dir, "tree001.json"), os.path.join(in_dir, "tree003.json")]
+    paths = [os.path.join(in_dir, "tree001.json"), os.path.join(in_dir, "tree004.json")]
     out_dir = str(tmp_path / "opts")
     first = forest.mesh_all(paths, out_dir, cli=BINARY, levels=1)
     again = forest.mesh_all(paths, out_dir, cli=BINARY, levels=2)
