@@ -9,6 +9,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -239,3 +240,41 @@ def test_a_tree_turned_bad_loses_its_old_mesh(plot, tmp_path):
     assert "elm.json:1" in again[0]["error"]
     assert not os.path.exists(again[0]["output"])
     assert [r["error"] is None for r in _manifest(out_dir)] == [True, False]
+
+
+def test_a_killed_run_leaves_only_whole_meshes(tmp_path):
+    in_dir = tmp_path / "in"
+    in_dir.mkdir()
+    for seed in range(1, 9):
+        subprocess.run([BINARY, "generate", str(in_dir / f"big{seed}.json"), "--segments", "150",
+                        "--seed", str(seed)], check=True, capture_output=True)
+    out_dir = tmp_path / "out"
+    env = dict(os.environ, RAMIFORM_BINARY=BINARY)
+    run = subprocess.Popen([sys.executable, "-m", "ramiform.forest", str(in_dir), str(out_dir)],
+                           env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    manifest = out_dir / "manifest.jsonl"
+    try:
+        # kill it (SIGKILL: no cleanup) once some trees are done and the next is being meshed
+        for _ in range(600):
+            if manifest.exists() and manifest.read_text().count("\n") >= 2:
+                break
+            if run.poll() is not None:
+                break
+            time.sleep(0.05)
+    finally:
+        run.kill()
+        run.wait()
+    finished = {os.path.basename(r["output"]) for r in _manifest(str(out_dir))}
+    assert finished
+    whole = sorted(n for n in os.listdir(out_dir) if n.endswith(".ply") and not n.startswith("."))
+    assert set(whole) >= finished
+    for name in whole:  # every mesh under its final name is the complete one
+        cli_out = tmp_path / ("cli_" + name)
+        subprocess.run([BINARY, "mesh", str(in_dir / name.replace(".ply", ".json")), "-o",
+                        str(cli_out), "--threads", "1"], check=True, capture_output=True)
+        assert _bytes(cli_out) == _bytes(out_dir / name), name
+    results = forest.mesh_all(str(in_dir), str(out_dir))
+    assert sum(1 for r in results if r.get("skipped")) == len(finished)
+    assert all(r["error"] is None for r in results)
+    assert len([n for n in os.listdir(out_dir) if n.endswith(".ply")
+                and not n.startswith(".")]) == 8
