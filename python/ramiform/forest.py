@@ -153,6 +153,32 @@ def mesh_tree(input_path, output_path, options, cli=None):
     return record
 
 
+def check_options(options, suffix=".ply", cli=None):
+    """Raise ValueError (a bad value) or TypeError (an unknown option) when ``ramiform mesh``
+    refuses ``options``, before any tree is submitted: a bad option is the caller's error,
+    not a failure of every tree. Probes the command with a path that cannot exist (the
+    options are parsed before any file is opened)."""
+    missing = os.path.join(tempfile.gettempdir(),
+                           f"ramiform-forest-absent-{os.getpid()}-{time.time_ns()}")
+    probe_in, probe_out = os.path.join(missing, "probe.json"), os.path.join(missing, "p" + suffix)
+    mesh_file = None if cli else _mesh_file()
+    if mesh_file is not None:
+        try:
+            mesh_file(probe_in, probe_out, **options)
+        except ValueError as e:
+            if str(e).startswith("mesh_file():"):
+                raise
+        return
+    program = cli or _find_cli()
+    if program is None:
+        raise RuntimeError("neither ramiform.mesh_file nor a ramiform executable found")
+    proc = subprocess.run([program, "mesh", probe_in, "-o", probe_out] + option_words(options),
+                          capture_output=True, text=True, check=False)
+    if proc.returncode == 1:
+        raise ValueError(proc.stderr.strip().splitlines()[0] if proc.stderr.strip()
+                         else "ramiform mesh refused the options")
+
+
 def list_inputs(inputs):
     """The tree files of a directory (sorted, by ending) or a list of paths."""
     if isinstance(inputs, (str, os.PathLike)) and os.path.isdir(inputs):
@@ -207,11 +233,15 @@ def mesh_all(inputs, out_dir, client=None, suffix=".ply", **mesh_options):
     earlier records of skipped trees with ``"skipped": True``). A tree whose previous record
     has no error, the same input bytes, the same options hash and whose output still exists
     is skipped; every other tree is (re)meshed and its record appended to the manifest.
+
+    Options that ``ramiform mesh`` refuses raise ValueError (TypeError for an unknown one)
+    before any tree runs; a bad tree file never raises.
     """
     os.makedirs(out_dir, exist_ok=True)
     cli = mesh_options.pop("cli", None)
     options = dict(mesh_options)
     options.setdefault("threads", 1)
+    check_options(options, suffix, cli)
     paths = list_inputs(inputs)
     previous = read_manifest(out_dir)
     digest = options_hash(options, suffix)
@@ -311,6 +341,9 @@ def main(argv=None):
     try:
         results = mesh_all(args.in_dir, args.out_dir, client=client, suffix=args.suffix,
                            threads=args.threads, **options)
+    except (ValueError, TypeError) as e:
+        print(f"forest: error: {e}", file=sys.stderr)
+        return 1
     finally:
         if client is not None:
             client.close()

@@ -278,3 +278,19 @@ def test_a_killed_run_leaves_only_whole_meshes(tmp_path):
     assert all(r["error"] is None for r in results)
     assert len([n for n in os.listdir(out_dir) if n.endswith(".ply")
                 and not n.startswith(".")]) == 8
+
+
+def test_bad_options_are_refused_before_any_tree(plot, tmp_path):
+    _, in_dir = plot
+    paths = [os.path.join(in_dir, "tree001.json")]
+    for cli in (None, BINARY):
+        with pytest.raises(ValueError, match="levels"):
+            forest.mesh_all(paths, str(tmp_path / "a"), cli=cli, levels=99)
+        with pytest.raises((TypeError, ValueError), match="bogus"):
+            forest.mesh_all(paths, str(tmp_path / "b"), cli=cli, bogus=1)
+    assert not (tmp_path / "a" / "manifest.jsonl").exists()
+    env = dict(os.environ, RAMIFORM_BINARY=BINARY)
+    run = subprocess.run([sys.executable, "-m", "ramiform.forest", in_dir, str(tmp_path / "c"),
+                          "--levels", "99"], capture_output=True, text=True, env=env, check=False)
+    assert run.returncode == 1
+    assert "levels" in run.stderr
