@@ -5,4 +5,5 @@ set(RAMIFORM_io_TESTS
   io/points_io_test.cpp
   io/qsm_test.cpp
   io/shared_data_test.cpp
-  io/skeleton_io_test.cpp)
+  io/skeleton_io_test.cpp
+  io/swc_io_test.cpp)
