@@ -40,6 +40,7 @@ enum class Reader {
   kProps,
   kCurve2,
   kCurve3,
+  kSwc,
 };
 
 #if defined(RAMIFORM_FUZZ_SKELETON_JSON)
@@ -81,6 +82,9 @@ constexpr const char* kExtension = ".txt";
 #elif defined(RAMIFORM_FUZZ_CURVE3)
 constexpr Reader kReader = Reader::kCurve3;
 constexpr const char* kExtension = ".txt";
+#elif defined(RAMIFORM_FUZZ_SWC)
+constexpr Reader kReader = Reader::kSwc;
+constexpr const char* kExtension = ".swc";
 #else
 #error "compile with one RAMIFORM_FUZZ_<HARNESS> define (fuzz/CMakeLists.txt)"
 #endif
@@ -92,6 +96,8 @@ bool finite(const Vec3& v) {
 // A returned skeleton passes validate() and its JSON reads back to the same nodes and edges.
 void check_skeleton(const Skeleton& s) {
   validate(s, "fuzz");
+  require(s.node_types.empty() || s.node_types.size() == s.nodes.size(),
+          "node types: none or one per node");
   const Skeleton back = parse_skeleton_json(skeleton_to_json(s), "round-trip");
   require(back.nodes.size() == s.nodes.size() && back.edges == s.edges,
           "skeleton JSON round trip keeps nodes and edges");
@@ -155,6 +161,7 @@ void run(const std::uint8_t* data, std::size_t size) {
     case Reader::kSkeletonPly:
     case Reader::kTreeQsm:
     case Reader::kSimpleForest:
+    case Reader::kSwc:
       read_then_check(
           [&] {
             QsmImportReport report;
