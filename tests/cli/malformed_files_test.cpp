@@ -737,13 +737,40 @@ std::vector<Case> script_cases() {
   };
 }
 
+std::vector<Case> swc_cases() {
+  const std::string cmd = "convert @cell.swc @out.json --stats @stats.json";
+  const auto c = [&](std::string what, std::string text, std::string location) {
+    return Case{"SWC .swc", std::move(what), {{"cell.swc", std::move(text)}}, cmd, "cell.swc",
+                std::move(location)};
+  };
+  const std::string soma = "# soma\n1 1 0 0 0 5 -1\n";
+  return {
+      c("6 fields", soma + "2 3 0 10 0 1\n", ":3:"),
+      c("8 fields", soma + "2 3 0 10 0 1 1 7\n", ":3:"),
+      c("coordinate 'x'", soma + "2 3 0 x 0 1 1\n", ":3:"),
+      c("nan coordinate", soma + "2 3 0 nan 0 1 1\n", ":3:"),
+      c("radius 0", soma + "2 3 0 10 0 0 1\n", ":3:"),
+      c("negative radius", soma + "2 3 0 10 0 -1 1\n", ":3:"),
+      c("index 2.5", soma + "2.5 3 0 10 0 1 1\n", ":3:"),
+      c("negative index", soma + "-2 3 0 10 0 1 1\n", ":3:"),
+      c("parent -2", soma + "2 3 0 10 0 1 -2\n", ":3:"),
+      c("its own parent", soma + "2 3 0 10 0 1 2\n", ":3:"),
+      c("unknown parent", soma + "2 3 0 10 0 1 9\n", ":3:"),
+      c("duplicate index", soma + "1 3 0 10 0 1 -1\n", ":3:"),
+      c("cycle of parents", soma + "2 3 0 10 0 1 3\n3 3 0 20 0 1 2\n", ":3:"),
+      c("empty file", "", ": "),
+      c("comments only", "# nothing\n# here\n", ": "),
+      c("binary garbage", garbage(3000), ":1:"),
+  };
+}
+
 std::vector<Case> all_cases() {
   std::vector<Case> all;
   for (auto block :
        {skeleton_json_cases(), skeleton_ply_cases(), skeleton_obj_cases(), treeqsm_cases(),
         simpleforest_cases(), skeleton_via_commands_cases(), mesh_ply_cases(), mesh_obj_cases(),
         mesh_off_cases(), mesh_via_script_cases(), point_cases(), point_via_script_cases(),
-        props_cases(), curve_cases(), script_cases()}) {
+        props_cases(), curve_cases(), script_cases(), swc_cases()}) {
     for (Case& c : block) all.push_back(std::move(c));
   }
   // Rows grouped by reader, in the order given within a reader.
