@@ -3,6 +3,7 @@
 // `ramiform check MESH [--skeleton SKELETON] [--deviation SKELETON [field options]] [--json]`
 
 #include <cstdio>
+#include <optional>
 #include <iostream>
 
 #include "commands.h"
@@ -53,34 +54,14 @@ int run_check(const CheckArgs& args) {
   StageTimer timer;
   const TriMesh mesh = read_mesh(args.mesh_path);
   timer.lap("read");
-  const MeshReport r = check_mesh(mesh, &scope.context());
-  timer.lap("check");
-  nlohmann::json j;
-  j["vertices"] = r.vertices;
-  j["triangles"] = r.triangles;
-  j["watertight"] = r.watertight;
-  j["oriented"] = r.oriented;
-  j["manifold"] = r.manifold;
-  j["components"] = r.components;
-  j["euler"] = r.euler;
-  j["min_angle_deg"] = r.min_angle_deg;
-  j["median_angle_deg"] = r.median_angle_deg;
-  j["triangles_below_10_deg"] = share(r.triangles_below_10_deg, r.triangles);
-  j["triangles_below_1_deg"] = share(r.triangles_below_1_deg, r.triangles);
-  std::size_t inside = 0, nodes = 0;
+  std::optional<Skeleton> skeleton;
   if (!args.skeleton_path.empty()) {
     SkeletonReadOptions ro;
     ro.obj_radius = args.field.obj_radius;
-    const Skeleton skeleton = read_skeleton(args.skeleton_path, ro);
-    std::vector<Vec3> points;
-    points.reserve(skeleton.nodes.size());
-    for (const auto& n : skeleton.nodes) points.push_back(n.position);
-    const auto flags = points_inside(mesh, points, &scope.context());
-    for (const char f : flags) inside += f != 0 ? 1 : 0;
-    nodes = points.size();
-    j["skeleton_nodes_inside"] = nodes == 0 ? 0.0 : static_cast<double>(inside) / static_cast<double>(nodes);
-    timer.lap("inside");
+    skeleton = read_skeleton(args.skeleton_path, ro);
   }
+  nlohmann::json j = check_json(mesh, skeleton ? &*skeleton : nullptr, scope.context());
+  timer.lap("check");
   DeviationReport dev;
   if (!args.deviation_path.empty()) {
     const SkeletonFieldOptions options = field_options(args.field);
@@ -98,20 +79,25 @@ int run_check(const CheckArgs& args) {
     std::cout << j.dump(2) << '\n';
   } else {
     auto yes = [](bool b) { return b ? "yes" : "NO"; };
+    auto n = [&j](const char* key) { return j[key].get<std::size_t>(); };
     std::printf("mesh        %s\n", args.mesh_path.c_str());
-    std::printf("vertices    %zu\ntriangles   %zu\n", r.vertices, r.triangles);
-    std::printf("watertight  %s (%zu boundary, %zu non-manifold edges)\n", yes(r.watertight),
-                r.boundary_edges, r.nonmanifold_edges);
-    std::printf("oriented    %s (%zu misoriented edges)\n", yes(r.oriented), r.misoriented_edges);
+    std::printf("vertices    %zu\ntriangles   %zu\n", n("vertices"), n("triangles"));
+    std::printf("watertight  %s (%zu boundary, %zu non-manifold edges)\n",
+                yes(j["watertight"].get<bool>()), n("boundary_edges"), n("nonmanifold_edges"));
+    std::printf("oriented    %s (%zu misoriented edges)\n", yes(j["oriented"].get<bool>()),
+                n("misoriented_edges"));
     std::printf("manifold    %s (%zu non-manifold vertices, %zu degenerate triangles)\n",
-                yes(r.manifold), r.nonmanifold_vertices, r.degenerate_triangles);
-    std::printf("components  %zu\neuler       %lld\n", r.components, r.euler);
+                yes(j["manifold"].get<bool>()), n("nonmanifold_vertices"),
+                n("degenerate_triangles"));
+    std::printf("components  %zu\neuler       %lld\n", n("components"), j["euler"].get<long long>());
     std::printf("angles      min %.3f deg, median %.3f deg; %.2f %% of triangles below 10 deg, "
                 "%.2f %% below 1 deg\n",
-                r.min_angle_deg, r.median_angle_deg, 100.0 * share(r.triangles_below_10_deg, r.triangles),
-                100.0 * share(r.triangles_below_1_deg, r.triangles));
-    if (!args.skeleton_path.empty()) {
-      std::printf("skeleton    %zu of %zu nodes inside\n", inside, nodes);
+                j["min_angle_deg"].get<double>(), j["median_angle_deg"].get<double>(),
+                100.0 * j["triangles_below_10_deg"].get<double>(),
+                100.0 * j["triangles_below_1_deg"].get<double>());
+    if (skeleton) {
+      std::printf("skeleton    %zu of %zu nodes inside\n", n("skeleton_nodes_inside_count"),
+                  n("skeleton_nodes"));
     }
     if (!args.deviation_path.empty()) {
       print_summary("deviation  ", dev.samples);

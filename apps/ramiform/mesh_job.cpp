@@ -15,6 +15,7 @@
 #include "ramiform/field/radius_fit.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/mesh/normals.h"
+#include "ramiform/mesh/winding.h"
 
 namespace ramiform::cli {
 namespace {
@@ -207,6 +208,57 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
 
 }  // namespace
 
+MeshJobResult polygonize_field(const Field& field, const Skeleton& skeleton,
+                               const MeshJobOptions& options, Context& ctx) {
+  MeshJobResult r;
+  if (options.method == "mc") {
+    polygonize_mc(field, options, ctx, r);
+  } else {
+    polygonize_tets(field, skeleton, options, ctx, r);
+  }
+  r.stats["method"] = options.method;
+  return r;
+}
+
+void label_by_node_types(std::span<TriMesh> meshes, const Skeleton& skeleton, Context& ctx) {
+  if (skeleton.node_types.empty()) return;
+  const NearestNode nearest(skeleton);
+  for (TriMesh& m : meshes) m.vertex_labels = nearest_node_types(m, skeleton, nearest, ctx);
+}
+
+nlohmann::json check_json(const TriMesh& mesh, const Skeleton* skeleton, Context& ctx) {
+  const MeshReport r = check_mesh(mesh, &ctx);
+  nlohmann::json j;
+  j["vertices"] = r.vertices;
+  j["triangles"] = r.triangles;
+  j["watertight"] = r.watertight;
+  j["oriented"] = r.oriented;
+  j["manifold"] = r.manifold;
+  j["components"] = r.components;
+  j["euler"] = r.euler;
+  j["min_angle_deg"] = r.min_angle_deg;
+  j["median_angle_deg"] = r.median_angle_deg;
+  j["triangles_below_10_deg"] = share(r.triangles_below_10_deg, r.triangles);
+  j["triangles_below_1_deg"] = share(r.triangles_below_1_deg, r.triangles);
+  j["boundary_edges"] = r.boundary_edges;
+  j["nonmanifold_edges"] = r.nonmanifold_edges;
+  j["misoriented_edges"] = r.misoriented_edges;
+  j["nonmanifold_vertices"] = r.nonmanifold_vertices;
+  j["degenerate_triangles"] = r.degenerate_triangles;
+  if (skeleton != nullptr) {
+    std::vector<Vec3> points;
+    points.reserve(skeleton->nodes.size());
+    for (const auto& n : skeleton->nodes) points.push_back(n.position);
+    const auto flags = points_inside(mesh, points, &ctx);
+    const auto inside = static_cast<std::size_t>(std::count(flags.begin(), flags.end(), char{1}));
+    j["skeleton_nodes"] = points.size();
+    j["skeleton_nodes_inside_count"] = inside;
+    j["skeleton_nodes_inside"] =
+        points.empty() ? 0.0 : static_cast<double>(inside) / static_cast<double>(points.size());
+  }
+  return j;
+}
+
 SkeletonSurface build_surface(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
                               bool fit_radii, StageTimer& timer, Context& ctx) {
   // With fit_radii the surface is the convolution surface of the split skeleton with fitted
@@ -336,11 +388,9 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
     r.stats["lods"] = lods;
     r.mesh = levels[0];
   } else {
-    if (options.method == "mc") {
-      polygonize_mc(*field, options, ctx, r);
-    } else {
-      polygonize_tets(*field, meshed, options, ctx, r);
-    }
+    MeshJobResult p = polygonize_field(*field, meshed, options, ctx);
+    r.mesh = std::move(p.mesh);
+    r.stats.update(p.stats);
   }
   timer.lap("polygonize");
   const std::uint64_t evals = field->evaluations();
@@ -362,11 +412,8 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
     add_surface_attributes(levels[k], *field, skeleton, attributes, &ctx, &uv);
     if (attributes.uvs && k == 0) r.stats["uv"] = uv_stats(uv);
   }
-  if (!skeleton.node_types.empty()) {
-    // The input skeleton's types (SWC), not the split one's: splitting keeps no types.
-    const NearestNode nearest(skeleton);
-    for (TriMesh& level : levels) level.vertex_labels = nearest_node_types(level, skeleton, nearest, ctx);
-  }
+  // The input skeleton's types (SWC), not the split one's: splitting keeps no types.
+  label_by_node_types(levels, skeleton, ctx);
   timer.lap("attributes");
   r.mesh = levels[0];
   r.report = check_mesh(r.mesh, &ctx);
@@ -383,7 +430,7 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
   timer.lap("check");
   MeshWriteOptions write = options.write;
   write.uvs = attributes.uvs;
-  r.written = write_mesh_lods(levels, out_path, write);
+  if (!out_path.empty()) r.written = write_mesh_lods(levels, out_path, write);
   timer.lap("write");
   r.stats["method"] = options.method;
   r.stats["vertices"] = r.mesh.vertex_count();

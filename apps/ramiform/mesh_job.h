@@ -5,6 +5,7 @@
 // Meshing a skeleton and writing the result: shared by `mesh` and `demo`.
 
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 
 #include "common.h"
@@ -72,9 +73,25 @@ struct SkeletonSurface {
 SkeletonSurface build_surface(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
                               bool fit_radii, StageTimer& timer, Context& ctx);
 
+/// Polygonizes `field` as `mesh` does with `options` (method, tets or tolerance options, mc
+/// options; not fit_radii, lods or the output options): the mesh without normals, and the
+/// polygonizer's figures in `stats`.
+[[nodiscard]] MeshJobResult polygonize_field(const Field& field, const Skeleton& skeleton,
+                                             const MeshJobOptions& options, Context& ctx);
+
+/// Labels every vertex of each mesh with the type of the nearest node of `skeleton` (by the
+/// distance to the node's sphere; ties to the smaller index). Does nothing when the skeleton has
+/// no node types.
+void label_by_node_types(std::span<TriMesh> meshes, const Skeleton& skeleton, Context& ctx);
+
+/// The figures of `check` for `mesh` (check_mesh), and with `skeleton` which of its nodes lie
+/// inside (generalized winding number): skeleton_nodes, skeleton_nodes_inside_count and the
+/// share skeleton_nodes_inside.
+[[nodiscard]] nlohmann::json check_json(const TriMesh& mesh, const Skeleton* skeleton, Context& ctx);
+
 /// Builds the field (fitting radii if asked), polygonizes (every level of `options.lods`),
 /// adds normals and UVs, checks and writes `out_path` (atomically; one file per level unless a
-/// .glb). Laps `timer` at "field" (and "fit"), "polygonize", "check", "write".
+/// .glb; nothing when `out_path` is empty). Laps `timer` at "field" (and "fit"), "polygonize", "check", "write".
 MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
                             const MeshJobOptions& options, const std::string& out_path,
                             StageTimer& timer, Context& ctx);

@@ -1,7 +1,10 @@
+# The CLI's shared parts (also linked by the Python module, python/): meshing a skeleton as
+# `mesh` does, the check figures, the common options.
+set(RAMIFORM_CLI_CORE_SOURCES
+  common.cpp
+  mesh_job.cpp)
 set(RAMIFORM_APP_SOURCES
   main.cpp
-  common.cpp
-  mesh_job.cpp
   cmd_check.cpp
   cmd_convert.cpp
   cmd_demo.cpp

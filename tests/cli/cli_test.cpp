@@ -63,9 +63,15 @@ TEST_F(CliTest, CheckJsonHasExactlyTheDocumentedKeys) {
   const std::set<std::string> expected = {"vertices", "triangles", "watertight", "oriented",
                                           "manifold", "components", "euler", "min_angle_deg",
                                           "median_angle_deg", "triangles_below_10_deg",
-                                          "triangles_below_1_deg", "skeleton_nodes_inside"};
+                                          "triangles_below_1_deg", "boundary_edges",
+                                          "nonmanifold_edges", "misoriented_edges",
+                                          "nonmanifold_vertices", "degenerate_triangles",
+                                          "skeleton_nodes", "skeleton_nodes_inside_count",
+                                          "skeleton_nodes_inside"};
   EXPECT_EQ(keys, expected);
   EXPECT_DOUBLE_EQ(j["skeleton_nodes_inside"].get<double>(), 1.0);
+  EXPECT_EQ(j["skeleton_nodes_inside_count"].get<std::size_t>(), j["skeleton_nodes"].get<std::size_t>());
+  EXPECT_EQ(j["boundary_edges"].get<std::size_t>(), 0U);
   EXPECT_EQ(j["euler"].get<int>(), 2);
 }
 

@@ -1,0 +1,772 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+//
+// The Python module `ramiform._ramiform` (re-exported by the package `ramiform`, docs/python.md):
+// skeletons, fields, the polygonizers, checks, growth, the scene language and the file formats,
+// with NumPy arrays in and out.
+//
+// - Arrays out are read-only views of the C++ objects (no copy), kept alive by the object: a
+//   Mesh's vertices, triangles, normals, uvs and labels; a Skeleton's edges, and its positions
+//   and radii as strided views of its nodes.
+// - Keyword defaults are read from the library's options structs, so there is one source of
+//   defaults (the CLI's --help reads the same structs).
+// - Long calls release the GIL; `threads=` is the CLI's --threads (0 = all cores) and results
+//   never depend on it.
+// - InputError and InvalidArgument (bad files, bad values) become ValueError with the library's
+//   message (file and line included); Failure becomes RuntimeError, Cancelled KeyboardInterrupt.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common.h"
+#include "mesh_job.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/grow/space_colonization.h"
+#include "ramiform/io/mesh_io.h"
+#include "ramiform/io/points_io.h"
+#include "ramiform/io/skeleton_io.h"
+#include "ramiform/mesh/deviation.h"
+#include "ramiform/mesh/normals.h"
+#include "ramiform/script/script.h"
+#include "ramiform/skeleton/generate.h"
+
+namespace py = pybind11;
+
+namespace ramiform::python {
+namespace {
+
+using cli::MeshJobOptions;
+using cli::MeshJobResult;
+
+// ---------------------------------------------------------------------------------------------
+// NumPy helpers
+
+using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using Ints = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+/// A read-only array over `data`, kept alive by `owner`.
+template <typename T>
+py::array view(const T* data, std::vector<py::ssize_t> shape, std::vector<py::ssize_t> strides,
+               py::handle owner) {
+  py::array a(py::dtype::of<T>(), std::move(shape), std::move(strides), data, owner);
+  py::detail::array_proxy(a.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
+  return a;
+}
+
+template <typename T>
+py::array rows(const T* data, std::size_t n, std::size_t width, py::handle owner) {
+  return view(data, {static_cast<py::ssize_t>(n), static_cast<py::ssize_t>(width)},
+              {static_cast<py::ssize_t>(width * sizeof(T)), static_cast<py::ssize_t>(sizeof(T))},
+              owner);
+}
+
+/// The shape check every array argument gets: `what` must be (N, width) (width 0: (N,)).
+void require_shape(const py::array& a, py::ssize_t width, const char* what) {
+  const bool ok = width == 0 ? a.ndim() == 1 : (a.ndim() == 2 && a.shape(1) == width);
+  if (!ok) {
+    std::string shape = "(";
+    for (py::ssize_t k = 0; k < a.ndim(); ++k) shape += (k ? ", " : "") + std::to_string(a.shape(k));
+    shape += a.ndim() == 1 ? ",)" : ")";
+    throw InvalidArgument(std::string(what) + " must have shape " +
+                          (width == 0 ? "(N,)" : "(N, " + std::to_string(width) + ")") +
+                          ", got " + shape);
+  }
+}
+
+std::vector<Vec3> to_points(const Doubles& a, const char* what) {
+  require_shape(a, 3, what);
+  const auto n = static_cast<std::size_t>(a.shape(0));
+  std::vector<Vec3> p(n);
+  const double* d = a.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    p[i] = Vec3(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
+    if (!p[i].allFinite()) {
+      throw InvalidArgument(std::string(what) + "[" + std::to_string(i) + "] is not finite");
+    }
+  }
+  return p;
+}
+
+Vec3 to_vec3(const std::vector<double>& v, const char* what) {
+  if (v.size() != 3) throw InvalidArgument(std::string(what) + " must have 3 values");
+  return {v[0], v[1], v[2]};
+}
+
+/// nlohmann::json to a Python object (through the json module: the figures are small).
+py::object to_python(const nlohmann::json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+Context make_context(int threads) {
+  if (threads < 0 || threads > Context::kMaxThreads) {
+    throw InvalidArgument("threads must be 0 (all cores) to " + std::to_string(Context::kMaxThreads) +
+                          ", got " + std::to_string(threads));
+  }
+  return Context(threads);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Objects
+
+/// A mesh with the figures of the call that made it.
+struct Mesh {
+  TriMesh mesh;
+  nlohmann::json stats = nlohmann::json::object();
+};
+
+/// A field, with the skeleton it was built from and the one a polygonizer follows.
+struct FieldHandle {
+  FieldPtr field;
+  std::optional<Skeleton> source;   ///< the skeleton given (types, UVs and checks use it)
+  std::optional<Skeleton> meshed;   ///< the skeleton the polygonizer follows (split with a fit)
+  nlohmann::json fit;               ///< the radius fit's figures (null without fit_radii)
+};
+
+Skeleton make_skeleton(const Doubles& positions, const Doubles& radii, const Ints& edges,
+                       const std::optional<Ints>& types) {
+  require_shape(positions, 3, "positions");
+  require_shape(radii, 0, "radii");
+  if (edges.size() != 0 || edges.ndim() != 1) require_shape(edges, 2, "edges");
+  const auto n = static_cast<std::size_t>(positions.shape(0));
+  if (static_cast<std::size_t>(radii.shape(0)) != n) {
+    throw InvalidArgument("radii has " + std::to_string(radii.shape(0)) + " values for " +
+                          std::to_string(n) + " positions");
+  }
+  Skeleton s;
+  s.nodes.resize(n);
+  const double* p = positions.data();
+  const double* r = radii.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    s.nodes[i].position = Vec3(p[3 * i], p[3 * i + 1], p[3 * i + 2]);
+    s.nodes[i].radius = r[i];
+  }
+  const std::size_t m = edges.ndim() == 2 ? static_cast<std::size_t>(edges.shape(0)) : 0;
+  s.edges.resize(m);
+  const std::int64_t* e = edges.data();
+  for (std::size_t k = 0; k < m; ++k) {
+    for (int j = 0; j < 2; ++j) {
+      const std::int64_t v = e[2 * k + j];
+      if (v < 0 || static_cast<std::size_t>(v) >= n) {
+        throw InvalidArgument("edges[" + std::to_string(k) + "] refers to node " + std::to_string(v) +
+                              " of " + std::to_string(n));
+      }
+      s.edges[k][j] = static_cast<std::uint32_t>(v);
+    }
+  }
+  if (types) {
+    require_shape(*types, 0, "types");
+    if (static_cast<std::size_t>(types->shape(0)) != n) {
+      throw InvalidArgument("types has " + std::to_string(types->shape(0)) + " values for " +
+                            std::to_string(n) + " nodes");
+    }
+    s.node_types.assign(types->data(), types->data() + n);
+  }
+  validate(s, "Skeleton");
+  return s;
+}
+
+TriMesh make_mesh(const Doubles& vertices, const Ints& triangles,
+                  const std::optional<Doubles>& normals) {
+  TriMesh m;
+  m.positions = to_points(vertices, "vertices");
+  require_shape(triangles, 3, "triangles");
+  const auto t = static_cast<std::size_t>(triangles.shape(0));
+  m.triangles.resize(t);
+  const std::int64_t* d = triangles.data();
+  for (std::size_t k = 0; k < t; ++k) {
+    for (int j = 0; j < 3; ++j) {
+      const std::int64_t v = d[3 * k + j];
+      if (v < 0 || static_cast<std::size_t>(v) >= m.positions.size()) {
+        throw InvalidArgument("triangles[" + std::to_string(k) + "] refers to vertex " +
+                              std::to_string(v) + " of " + std::to_string(m.positions.size()));
+      }
+      m.triangles[k][j] = static_cast<std::uint32_t>(v);
+    }
+  }
+  if (normals) {
+    m.normals = to_points(*normals, "normals");
+    if (m.normals.size() != m.positions.size()) {
+      throw InvalidArgument("normals has " + std::to_string(m.normals.size()) + " rows for " +
+                            std::to_string(m.positions.size()) + " vertices");
+    }
+  }
+  return m;
+}
+
+SkeletonFieldOptions field_options(const std::string& surface, const std::string& kernel,
+                                   double iso) {
+  if (surface != "convolution" && surface != "distance") {
+    throw InvalidArgument("surface must be 'convolution' or 'distance', got '" + surface + "'");
+  }
+  cli::FieldFlags flags;
+  flags.surface = surface;
+  flags.kernel = kernel;
+  flags.iso = iso;
+  return cli::field_options(flags);
+}
+
+UpAxis up_axis(const std::string& up) {
+  if (up != "z" && up != "y") throw InvalidArgument("up must be 'z' or 'y', got '" + up + "'");
+  return up == "y" ? UpAxis::kY : UpAxis::kZ;
+}
+
+/// The polygonizer's skeleton: the one given, else the field's.
+const Skeleton& meshed_skeleton(const FieldHandle& f, const Skeleton* given, const char* function) {
+  if (given != nullptr) return *given;
+  if (f.meshed) return *f.meshed;
+  throw InvalidArgument(std::string(function) +
+                        ": this field has no skeleton; pass skeleton= (the tetrahedral "
+                        "polygonizer follows a skeleton)");
+}
+
+/// Normals from the field and (for a skeleton with node types) the nearest node's type, as
+/// `ramiform mesh` adds them.
+void finish_mesh(TriMesh& mesh, const FieldHandle& f, bool normals, Context& ctx) {
+  if (normals) {
+    SurfaceAttributeOptions a;
+    a.normals = true;
+    a.uvs = false;
+    const Skeleton empty;
+    add_surface_attributes(mesh, *f.field, f.source ? *f.source : empty, a, &ctx, nullptr);
+  }
+  if (f.source) cli::label_by_node_types(std::span<TriMesh>(&mesh, 1), *f.source, ctx);
+}
+
+Mesh polygonize(const FieldHandle& f, const Skeleton* skeleton, const MeshJobOptions& o,
+                bool normals, int threads) {
+  Context ctx = make_context(threads);
+  Mesh out;
+  {
+    py::gil_scoped_release release;
+    MeshJobResult r = cli::polygonize_field(*f.field, skeleton != nullptr ? *skeleton : Skeleton{},
+                                            o, ctx);
+    out.mesh = std::move(r.mesh);
+    out.stats = std::move(r.stats);
+    finish_mesh(out.mesh, f, normals, ctx);
+    out.stats["vertices"] = out.mesh.vertex_count();
+    out.stats["triangles"] = out.mesh.triangle_count();
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+void translate_errors() {
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const InvalidArgument& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const Cancelled& e) {
+      PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+    } catch (const Failure& e) {
+      PyErr_SetString(PyExc_RuntimeError, e.what());
+    }
+  });
+}
+
+void bind_skeleton(py::module_& m) {
+  py::class_<Skeleton>(m, "Skeleton",
+                       "A line skeleton: nodes with positions and radii, edges between them, and "
+                       "optional per-node types (SWC).")
+      .def(py::init(&make_skeleton), py::arg("positions"), py::arg("radii"), py::arg("edges"),
+           py::arg("types") = py::none(),
+           "positions (N, 3) float, radii (N,) > 0, edges (M, 2) node indices, types (N,) int or "
+           "None. Validated: ValueError names the bad element.")
+      .def_property_readonly(
+          "positions",
+          [](py::object self) {
+            const auto& s = self.cast<const Skeleton&>();
+            return view(s.nodes.empty() ? nullptr : s.nodes[0].position.data(),
+                        {static_cast<py::ssize_t>(s.nodes.size()), 3},
+                        {sizeof(SkeletonNode), sizeof(double)}, self);
+          },
+          "(N, 3) float64, a read-only view")
+      .def_property_readonly(
+          "radii",
+          [](py::object self) {
+            const auto& s = self.cast<const Skeleton&>();
+            return view(s.nodes.empty() ? nullptr : &s.nodes[0].radius,
+                        {static_cast<py::ssize_t>(s.nodes.size())}, {sizeof(SkeletonNode)}, self);
+          },
+          "(N,) float64, a read-only view")
+      .def_property_readonly(
+          "edges",
+          [](py::object self) {
+            const auto& s = self.cast<const Skeleton&>();
+            return rows(s.edges.empty() ? nullptr : s.edges[0].data(), s.edges.size(), 2, self);
+          },
+          "(M, 2) uint32, a read-only view")
+      .def_property_readonly(
+          "types",
+          [](py::object self) -> py::object {
+            const auto& s = self.cast<const Skeleton&>();
+            if (s.node_types.empty()) return py::none();
+            return view(s.node_types.data(), {static_cast<py::ssize_t>(s.node_types.size())},
+                        {sizeof(std::int32_t)}, self);
+          },
+          "(N,) int32 node types (SWC), or None")
+      .def("__len__", [](const Skeleton& s) { return s.nodes.size(); })
+      .def_property_readonly("node_count", [](const Skeleton& s) { return s.nodes.size(); })
+      .def_property_readonly("edge_count", [](const Skeleton& s) { return s.edges.size(); })
+      .def("components", [](const Skeleton& s) { return connected_components(s).count; },
+           "the number of connected parts")
+      .def("__repr__", [](const Skeleton& s) {
+        return "<ramiform.Skeleton " + std::to_string(s.nodes.size()) + " nodes, " +
+               std::to_string(s.edges.size()) + " edges>";
+      });
+
+  const BranchingTreeOptions bt;
+  m.def(
+      "branching_tree",
+      [](std::size_t segments, std::uint64_t seed, double trunk_length, double length_ratio,
+         double branch_angle_deg, double jitter_deg, double tip_radius, double pipe_exponent) {
+        BranchingTreeOptions o;
+        o.segments = segments;
+        o.seed = seed;
+        o.trunk_length = trunk_length;
+        o.length_ratio = length_ratio;
+        o.branch_angle_deg = branch_angle_deg;
+        o.jitter_deg = jitter_deg;
+        o.tip_radius = tip_radius;
+        o.pipe_exponent = pipe_exponent;
+        py::gil_scoped_release release;
+        return branching_tree(o);
+      },
+      py::kw_only(), py::arg("segments") = bt.segments, py::arg("seed") = bt.seed,
+      py::arg("trunk_length") = bt.trunk_length, py::arg("length_ratio") = bt.length_ratio,
+      py::arg("branch_angle_deg") = bt.branch_angle_deg, py::arg("jitter_deg") = bt.jitter_deg,
+      py::arg("tip_radius") = bt.tip_radius, py::arg("pipe_exponent") = bt.pipe_exponent,
+      "A procedural binary branching tree with pipe-model radii (`ramiform generate`).");
+  m.def(
+      "read_skeleton",
+      [](const std::string& path, double obj_radius, bool soma_regions) {
+        SkeletonReadOptions o;
+        o.obj_radius = obj_radius;
+        o.swc.soma_regions = soma_regions;
+        py::gil_scoped_release release;
+        return read_skeleton(path, o);
+      },
+      py::arg("path"), py::kw_only(), py::arg("obj_radius") = SkeletonReadOptions{}.obj_radius,
+      py::arg("soma_regions") = SwcReadOptions{}.soma_regions,
+      "Reads a skeleton: .json, .ply, .obj (obj_radius), TreeQSM .txt/.mat-text, SimpleForest "
+      ".csv, SWC .swc (soma_regions: somata as closed regions, docs/formats.md).");
+  m.def(
+      "write_skeleton",
+      [](const std::string& path, const Skeleton& s) {
+        py::gil_scoped_release release;
+        write_skeleton(s, path);
+      },
+      py::arg("path"), py::arg("skeleton"), "Writes a skeleton (.json or .ply), atomically.");
+}
+
+void bind_mesh(py::module_& m) {
+  py::class_<Mesh>(m, "Mesh",
+                   "A triangle mesh: vertices (V, 3), triangles (T, 3) uint32 counter-clockwise "
+                   "from outside, optional normals (V, 3), uvs (V, 2), labels (V,); `stats` holds "
+                   "the figures of the call that made it.")
+      .def(py::init([](const Doubles& v, const Ints& t, const std::optional<Doubles>& n) {
+             return Mesh{make_mesh(v, t, n), nlohmann::json::object()};
+           }),
+           py::arg("vertices"), py::arg("triangles"), py::arg("normals") = py::none())
+      .def_property_readonly(
+          "vertices",
+          [](py::object self) {
+            const TriMesh& t = self.cast<const Mesh&>().mesh;
+            return rows(t.positions.empty() ? nullptr : t.positions[0].data(), t.positions.size(), 3,
+                        self);
+          })
+      .def_property_readonly(
+          "triangles",
+          [](py::object self) {
+            const TriMesh& t = self.cast<const Mesh&>().mesh;
+            return rows(t.triangles.empty() ? nullptr : t.triangles[0].data(), t.triangles.size(),
+                        3, self);
+          })
+      .def_property_readonly(
+          "normals",
+          [](py::object self) -> py::object {
+            const TriMesh& t = self.cast<const Mesh&>().mesh;
+            if (t.normals.empty()) return py::none();
+            return rows(t.normals[0].data(), t.normals.size(), 3, self);
+          })
+      .def_property_readonly(
+          "uvs",
+          [](py::object self) -> py::object {
+            const TriMesh& t = self.cast<const Mesh&>().mesh;
+            if (t.uvs.empty()) return py::none();
+            return rows(t.uvs[0].data(), t.uvs.size(), 2, self);
+          })
+      .def_property_readonly(
+          "labels",
+          [](py::object self) -> py::object {
+            const TriMesh& t = self.cast<const Mesh&>().mesh;
+            if (t.vertex_labels.empty()) return py::none();
+            return view(t.vertex_labels.data(), {static_cast<py::ssize_t>(t.vertex_labels.size())},
+                        {sizeof(std::int32_t)}, self);
+          },
+          "per-vertex labels (the SWC type of the nearest node), or None")
+      .def_property_readonly("stats", [](const Mesh& m) { return to_python(m.stats); })
+      .def_property_readonly("vertex_count", [](const Mesh& m) { return m.mesh.vertex_count(); })
+      .def_property_readonly("triangle_count",
+                             [](const Mesh& m) { return m.mesh.triangle_count(); })
+      .def("__repr__", [](const Mesh& m) {
+        return "<ramiform.Mesh " + std::to_string(m.mesh.vertex_count()) + " vertices, " +
+               std::to_string(m.mesh.triangle_count()) + " triangles>";
+      });
+
+  m.def(
+      "read_mesh",
+      [](const std::string& path) {
+        py::gil_scoped_release release;
+        return Mesh{read_mesh(path), nlohmann::json::object()};
+      },
+      py::arg("path"), "Reads a .ply, .obj or .off mesh.");
+  m.def(
+      "write_mesh",
+      [](const std::string& path, const Mesh& mesh, const std::string& up, bool normals, bool uvs) {
+        MeshWriteOptions o;
+        o.up = up_axis(up);
+        o.normals = normals;
+        o.uvs = uvs;
+        py::gil_scoped_release release;
+        write_mesh(mesh.mesh, path, o);
+      },
+      py::arg("path"), py::arg("mesh"), py::kw_only(), py::arg("up") = "z",
+      py::arg("normals") = MeshWriteOptions{}.normals, py::arg("uvs") = MeshWriteOptions{}.uvs,
+      "Writes .ply (binary), .obj, .off or .glb by the extension, atomically, as `ramiform mesh` "
+      "does (up: the up axis of .ply/.obj/.off, 'z' or 'y'; a .glb is always +Y up).");
+  m.def(
+      "check",
+      [](const Mesh& mesh, const Skeleton* skeleton, const FieldHandle* field, std::size_t samples,
+         std::uint64_t seed, int threads) {
+        Context ctx = make_context(threads);
+        nlohmann::json j;
+        {
+          py::gil_scoped_release release;
+          j = cli::check_json(mesh.mesh, skeleton, ctx);
+          if (field) {
+            DeviationOptions o;
+            o.samples = samples;
+            o.seed = seed;
+            const Skeleton* s = field->meshed ? &*field->meshed : nullptr;
+            const DeviationReport d = measure_deviation(mesh.mesh, *field->field, s, o, &ctx);
+            j["deviation_p50"] = d.samples.p50;
+            j["deviation_p99"] = d.samples.p99;
+            j["deviation_max"] = d.samples.max;
+            j["deviation_points"] = d.samples.points;
+            j["deviation_unresolved"] = d.samples.unresolved;
+            j["vertex_deviation_p99"] = d.vertices.p99;
+            j["vertex_deviation_max"] = d.vertices.max;
+          }
+        }
+        return to_python(j);
+      },
+      py::arg("mesh"), py::kw_only(), py::arg("skeleton") = py::none(),
+      py::arg("field") = py::none(), py::arg("samples") = DeviationOptions{}.samples,
+      py::arg("seed") = DeviationOptions{}.seed, py::arg("threads") = 0,
+      "The figures of `ramiform check --json`: watertight, oriented, manifold, components, "
+      "euler, angles; with skeleton= the share of its nodes inside (skeleton_nodes_inside); with "
+      "field= the deviation from the field's surface relative to the local radius.");
+  m.def(
+      "read_points",
+      [](const std::string& path) {
+        PointSet p;
+        {
+          py::gil_scoped_release release;
+          p = read_points(path);
+        }
+        py::array_t<double> pos({static_cast<py::ssize_t>(p.positions.size()), py::ssize_t{3}});
+        std::memcpy(pos.mutable_data(), p.positions.data(), p.positions.size() * sizeof(Vec3));
+        if (p.normals.empty()) return py::make_tuple(pos, py::none());
+        py::array_t<double> nor({static_cast<py::ssize_t>(p.normals.size()), py::ssize_t{3}});
+        std::memcpy(nor.mutable_data(), p.normals.data(), p.normals.size() * sizeof(Vec3));
+        return py::make_tuple(pos, nor);
+      },
+      py::arg("path"), "Reads points (\"x y z [nx ny nz]\" text or PLY): (positions, normals or None).");
+}
+
+void bind_field(py::module_& m) {
+  const SkeletonFieldOptions fo;
+  py::class_<FieldHandle>(m, "Field", "An implicit surface f(p) = iso; inside where f > iso.")
+      .def_property_readonly("iso", [](const FieldHandle& f) { return f.field->iso(); })
+      .def_property_readonly(
+          "bounds",
+          [](const FieldHandle& f) {
+            const Aabb b = f.field->bounds();
+            return py::make_tuple(std::vector<double>{b.min().x(), b.min().y(), b.min().z()},
+                                  std::vector<double>{b.max().x(), b.max().y(), b.max().z()});
+          },
+          "(min, max) corners of a box holding the whole surface")
+      .def_property_readonly("skeleton",
+                             [](const FieldHandle& f) -> py::object {
+                               if (!f.meshed) return py::none();
+                               return py::cast(*f.meshed);
+                             },
+                             "the skeleton a polygonizer follows (split by fit_radii), or None")
+      .def_property_readonly("fit", [](const FieldHandle& f) { return to_python(f.fit); },
+                             "the radius fit's figures, or None")
+      .def_property_readonly("evaluations",
+                             [](const FieldHandle& f) { return f.field->evaluations(); })
+      .def(
+          "evaluate",
+          [](const FieldHandle& f, const Doubles& points, bool gradients, int threads) -> py::object {
+            const std::vector<Vec3> p = to_points(points, "points");
+            Context ctx = make_context(threads);
+            py::array_t<double> values(static_cast<py::ssize_t>(p.size()));
+            py::array_t<double> grads;
+            std::span<Vec3> g;
+            if (gradients) {
+              grads = py::array_t<double>({static_cast<py::ssize_t>(p.size()), py::ssize_t{3}});
+              g = std::span<Vec3>(reinterpret_cast<Vec3*>(grads.mutable_data()), p.size());
+            }
+            std::span<double> v(values.mutable_data(), p.size());
+            {
+              py::gil_scoped_release release;
+              f.field->evaluate(p, v, g, &ctx);
+            }
+            if (gradients) return py::make_tuple(values, grads);
+            return values;
+          },
+          py::arg("points"), py::kw_only(), py::arg("gradients") = false, py::arg("threads") = 0,
+          "values (K,) at points (K, 3); with gradients=True (values, gradients (K, 3))")
+      .def("__repr__", [](const FieldHandle& f) { return "<ramiform.Field " + f.field->describe() + ">"; });
+
+  m.def(
+      "skeleton_field",
+      [](const Skeleton& s, const std::string& surface, const std::string& kernel, double iso,
+         bool fit_radii, int threads) {
+        const SkeletonFieldOptions o = field_options(surface, kernel, iso);
+        Context ctx = make_context(threads);
+        FieldHandle f;
+        {
+          py::gil_scoped_release release;
+          cli::StageTimer timer;
+          cli::SkeletonSurface surf = cli::build_surface(s, o, fit_radii, timer, ctx);
+          f.field = surf.field;
+          f.source = s;
+          f.meshed = std::move(surf.skeleton);
+          f.fit = std::move(surf.fit_stats);
+        }
+        return f;
+      },
+      py::arg("skeleton"), py::kw_only(), py::arg("surface") = "convolution",
+      py::arg("kernel") = "", py::arg("iso") = fo.iso, py::arg("fit_radii") = false,
+      py::arg("threads") = 0,
+      "The implicit surface of a skeleton, as `ramiform mesh` builds it: surface 'convolution' "
+      "(Cauchy kernel, the default) or 'distance'; kernel as --kernel ('' = the surface's "
+      "default); iso 0 = the kernel's; fit_radii: split edges and fit weights so the surface "
+      "passes through the radii (convolution only).");
+}
+
+void bind_polygonizers(py::module_& m) {
+  const ToleranceOptions tol;
+  const TetrahedralOptions tets;
+  const MarchingCubesOptions mc;
+  m.def(
+      "polygonize_tets",
+      [](const FieldHandle& f, const Skeleton* skeleton, std::optional<double> tolerance, int levels, double section_scale, bool cleanup,
+         std::size_t max_triangles, std::size_t deviation_samples, bool normals, int threads) {
+        MeshJobOptions o;
+        o.method = "tets";
+        o.tets.levels = levels;
+        o.tets.section_scale = section_scale;
+        o.tets.cleanup = cleanup;
+        o.to_tolerance = tolerance.has_value();
+        if (tolerance) o.tolerance.tolerance = *tolerance;
+        o.tolerance.max_triangles = max_triangles;
+        o.tolerance.samples = deviation_samples;
+        const Skeleton& s = meshed_skeleton(f, skeleton, "polygonize_tets");
+        return polygonize(f, &s, o, normals, threads);
+      },
+      py::arg("field"), py::arg("skeleton") = py::none(), py::kw_only(),
+      py::arg("tolerance") = tol.tolerance, py::arg("levels") = tol.tets.levels,
+      py::arg("section_scale") = tets.section_scale, py::arg("cleanup") = tets.cleanup,
+      py::arg("max_triangles") = tol.max_triangles, py::arg("deviation_samples") = tol.samples,
+      py::arg("normals") = true, py::arg("threads") = 0,
+      "The skeleton-bounded tetrahedral polygonizer (Zhu, Guo & Jin 2013): watertight, every "
+      "branch kept. With a tolerance (deviation p99 relative to the local radius) the base mesh "
+      "at `levels` is refined until it holds (`ramiform mesh --tolerance`); tolerance=None "
+      "meshes at exactly `levels`, unrefined (`ramiform mesh --levels`). The skeleton defaults "
+      "to the field's. normals: the field's exact outward normals.");
+  m.def(
+      "marching_cubes",
+      [](const FieldHandle& f, std::optional<double> cell, int resolution, bool normals,
+         int threads) {
+        MeshJobOptions o;
+        o.method = "mc";
+        if (cell) {
+          if (!(*cell > 0) || !std::isfinite(*cell)) throw InvalidArgument("cell must be > 0");
+          o.mc.cell_size = *cell;
+        }
+        o.mc.resolution = resolution;
+        return polygonize(f, nullptr, o, normals, threads);
+      },
+      py::arg("field"), py::kw_only(), py::arg("cell") = py::none(),
+      py::arg("resolution") = mc.resolution, py::arg("normals") = true, py::arg("threads") = 0,
+      "Marching cubes over the field's bounds (pruned by its bound): a cell edge length, or "
+      "`resolution` cells along the longest side.");
+  m.def(
+      "mesh_skeleton",
+      [](const Skeleton& s, std::optional<std::string> out, const std::string& method,
+         std::optional<double> tolerance, std::optional<int> levels, double section_scale,
+         bool fit_radii, const std::string& surface, const std::string& kernel, double iso,
+         const std::string& up, bool normals, std::optional<bool> uv, int threads) {
+        MeshJobOptions o;
+        o.method = method;
+        if (method != "tets" && method != "mc") {
+          throw InvalidArgument("method must be 'tets' or 'mc', got '" + method + "'");
+        }
+        o.to_tolerance = tolerance.has_value() || !levels.has_value();
+        if (tolerance) o.tolerance.tolerance = *tolerance;
+        o.tets.levels = levels.value_or(o.tolerance.tets.levels);
+        o.tets.section_scale = section_scale;
+        o.fit_radii = fit_radii;
+        o.write.up = up_axis(up);
+        o.write.normals = normals;
+        if (uv) o.uv = *uv ? 1 : 0;
+        const SkeletonFieldOptions fo = field_options(surface, kernel, iso);
+        const std::string path = out.value_or("");
+        if (!path.empty()) cli::check_output_path(path, cli::kMeshFormats);
+        Context ctx = make_context(threads);
+        Mesh result;
+        {
+          py::gil_scoped_release release;
+          cli::StageTimer timer;
+          MeshJobResult r = cli::mesh_skeleton(s, fo, o, path, timer, ctx);
+          result.mesh = std::move(r.mesh);
+          result.stats = std::move(r.stats);
+        }
+        return result;
+      },
+      py::arg("skeleton"), py::arg("out") = py::none(), py::kw_only(), py::arg("method") = "tets",
+      py::arg("tolerance") = py::none(), py::arg("levels") = py::none(),
+      py::arg("section_scale") = tets.section_scale, py::arg("fit_radii") = false,
+      py::arg("surface") = "convolution", py::arg("kernel") = "", py::arg("iso") = 0.0,
+      py::arg("up") = "z", py::arg("normals") = true, py::arg("uv") = py::none(),
+      py::arg("threads") = 0,
+      "`ramiform mesh` in one call: field, polygonizer, normals, UVs (uv=None: by the output's "
+      "format), SWC labels, checks; writes `out` when given (byte-identical to the CLI with the "
+      "same options) and returns the mesh with the --stats figures in `stats`. tolerance and "
+      "levels as the CLI's --tolerance and --levels (levels alone: the uniform mesher).");
+}
+
+void bind_grow_and_script(py::module_& m) {
+  const ColonizationOptions g;
+  m.def(
+      "grow",
+      [](const Doubles& points, double step, double influence, double kill,
+         const std::optional<Doubles>& roots, const std::vector<double>& direction,
+         const std::vector<double>& tropism, int max_iterations, double tip_radius,
+         double pipe_exponent, int smooth_iterations, double max_turn_deg, double prune_steps,
+         int threads) {
+        const std::vector<Vec3> p = to_points(points, "points");
+        ColonizationOptions o;
+        o.step = step;
+        o.influence = influence;
+        o.kill = kill;
+        if (roots) o.roots = to_points(*roots, "roots");
+        o.direction = to_vec3(direction, "direction");
+        o.tropism = to_vec3(tropism, "tropism");
+        o.max_iterations = max_iterations;
+        o.tip_radius = tip_radius;
+        o.pipe_exponent = pipe_exponent;
+        o.smooth_iterations = smooth_iterations;
+        o.max_turn_deg = max_turn_deg;
+        o.prune_steps = prune_steps;
+        Context ctx = make_context(threads);
+        ColonizationResult r;
+        {
+          py::gil_scoped_release release;
+          r = grow_space_colonization(p, o, &ctx);
+        }
+        if (r.skeleton.edge_count() == 0) {
+          throw InvalidArgument("grow: no branch grew: " + no_branch_reason(r, p, o));
+        }
+        if (r.stalled) {
+          PyErr_WarnEx(PyExc_RuntimeWarning,
+                       ("grow: " + std::to_string(r.points_reached) + " of " +
+                        std::to_string(r.points_total) + " attraction points reached: " +
+                        r.stall_reason)
+                           .c_str(),
+                       1);
+        }
+        return std::move(r.skeleton);
+      },
+      py::arg("points"), py::kw_only(), py::arg("step") = g.step,
+      py::arg("influence") = g.influence, py::arg("kill") = g.kill,
+      py::arg("roots") = py::none(),
+      py::arg("direction") = std::vector<double>{g.direction.x(), g.direction.y(), g.direction.z()},
+      py::arg("tropism") = std::vector<double>{g.tropism.x(), g.tropism.y(), g.tropism.z()},
+      py::arg("max_iterations") = g.max_iterations, py::arg("tip_radius") = g.tip_radius,
+      py::arg("pipe_exponent") = g.pipe_exponent, py::arg("smooth_iterations") = g.smooth_iterations,
+      py::arg("max_turn_deg") = g.max_turn_deg, py::arg("prune_steps") = g.prune_steps,
+      py::arg("threads") = 0,
+      "Space colonization (Runions et al. 2007) towards attraction points (K, 3) from roots "
+      "(R, 3; default the origin), with pipe-model radii; a RuntimeWarning when some points "
+      "were never reached.");
+  m.def(
+      "run_script",
+      [](const std::string& text, const std::string& out, const std::string& input_dir,
+         const std::map<std::string, std::string>& params, std::uint64_t seed,
+         bool allow_any_path, int threads) {
+        ScriptOptions o;
+        o.out_dir = out;
+        o.input_dir = input_dir;
+        o.params = params;
+        o.seed = seed;
+        o.allow_any_path = allow_any_path;
+        Context ctx = make_context(threads);
+        std::vector<CommandResult> results;
+        std::vector<std::string> written;
+        {
+          py::gil_scoped_release release;
+          ScriptSession session(o, &ctx);
+          try {
+            results = session.run_text(text, "<script>");
+            written = session.commit();
+          } catch (...) {
+            session.discard();
+            throw;
+          }
+        }
+        std::vector<std::string> reports;
+        for (const CommandResult& r : results) {
+          if (r.is_report) reports.push_back(r.message);
+        }
+        py::dict d;
+        d["outputs"] = written;
+        d["reports"] = reports;
+        return d;
+      },
+      py::arg("text"), py::kw_only(), py::arg("out") = ScriptOptions{}.out_dir,
+      py::arg("input_dir") = "", py::arg("params") = std::map<std::string, std::string>{},
+      py::arg("seed") = ScriptOptions{}.seed, py::arg("allow_any_path") = false,
+      py::arg("threads") = 0,
+      "Runs a scene-language script (docs/language.md) as `ramiform run` does: outputs under "
+      "`out` (written only when the whole script succeeds), params as --set. Returns "
+      "{'outputs': paths written, 'reports': the lines `ramiform run` prints}.");
+}
+
+}  // namespace
+}  // namespace ramiform::python
+
+PYBIND11_MODULE(_ramiform, m) {
+  using namespace ramiform::python;
+  m.doc() = "ramiform: skeleton-based implicit surfaces, watertight tree and neuron meshes";
+  translate_errors();
+  bind_skeleton(m);
+  bind_mesh(m);
+  bind_field(m);
+  bind_polygonizers(m);
+  bind_grow_and_script(m);
+}
