@@ -2,6 +2,7 @@
 // Copyright (c) 2026 the ramiform authors
 // `ramiform mesh SKELETON [-o OUT] --method mc [--cell H | --resolution N] [--kernel ...]`
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -21,6 +22,9 @@ struct MeshArgs {
   CommonOptions common;
   std::vector<double> lod_values;  ///< --lod
   bool lod_budget = false;         ///< --lod-budget
+  std::ostream* out = &std::cout;  ///< the "wrote ..." line
+  std::ostream* err = &std::cerr;  ///< warnings
+  nlohmann::json* stats_out = nullptr;  ///< when not null, receives the --stats figures
 };
 
 int run_mesh(MeshArgs& args) {
@@ -40,30 +44,33 @@ int run_mesh(MeshArgs& args) {
   nlohmann::json stats = result.stats;
   stats["seconds"] = timer.seconds();
   write_stats(args.common.stats_path, stats);
-  std::cout << "wrote " << args.out_path << ": " << result.mesh.vertex_count() << " vertices, "
+  if (args.stats_out != nullptr) *args.stats_out = stats;
+  std::ostream& out = *args.out;
+  std::ostream& err = *args.err;
+  out << "wrote " << args.out_path << ": " << result.mesh.vertex_count() << " vertices, "
             << result.mesh.triangle_count() << " triangles"
             << (result.report.watertight ? ", watertight" : ", NOT watertight");
   if (!result.lod_triangles.empty()) {
-    std::cout << "; " << result.lod_triangles.size() << " levels of detail:";
+    out << "; " << result.lod_triangles.size() << " levels of detail:";
     for (std::size_t k = 0; k < result.lod_triangles.size(); ++k) {
-      std::cout << (k > 0 ? "," : "") << " LOD" << k << " " << result.lod_triangles[k];
+      out << (k > 0 ? "," : "") << " LOD" << k << " " << result.lod_triangles[k];
     }
-    std::cout << " triangles";
-    if (result.written.size() > 1) std::cout << " (" << result.written.size() << " files)";
+    out << " triangles";
+    if (result.written.size() > 1) out << " (" << result.written.size() << " files)";
   }
-  std::cout << '\n';
+  out << '\n';
   // A coarse lattice (levels 0 and 1, or a coarse mc cell) can let a thin branch fall apart;
   // say so instead of leaving it to a later check.
   const auto components = stats.value("components", std::size_t{0});
   const auto expected = stats.value("skeleton_components", std::size_t{0});
   if (components > expected) {
-    std::cerr << "ramiform: warning: " << args.out_path << " has " << components
+    err << "ramiform: warning: " << args.out_path << " has " << components
               << " components for " << expected
               << " connected skeleton part(s): branches thinner than the lattice came apart ("
               << (args.job.method == "mc" ? "use a smaller --cell" : "use more --levels") << ")\n";
   }
   if (args.job.method != "mc" && args.job.to_tolerance && !stats.value("tolerance_reached", true)) {
-    std::cerr << "ramiform: warning: " << args.out_path << ": deviation p99 "
+    err << "ramiform: warning: " << args.out_path << ": deviation p99 "
               << stats.value("deviation_p99", 0.0) << " is above --tolerance "
               << args.job.tolerance.tolerance << " (refinement stopped: "
               << (stats["refine"].value("budget_reached", false) ? "triangle budget"
@@ -73,9 +80,7 @@ int run_mesh(MeshArgs& args) {
   return 0;
 }
 
-}  // namespace
-
-void register_mesh(CLI::App& root, Action& action) {
+std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
   auto args = std::make_shared<MeshArgs>();
   CLI::App* c = root.add_subcommand(
       "mesh", "Mesh the implicit surface of a skeleton (convolution surface by default).");
@@ -195,6 +200,29 @@ void register_mesh(CLI::App& root, Action& action) {
     }
     action = [args] { return run_mesh(*args); };
   });
+  return args;
+}
+
+}  // namespace
+
+void register_mesh(CLI::App& root, Action& action) { add_mesh(root, action); }
+
+nlohmann::json run_mesh_command(const std::vector<std::string>& args, std::ostream& out,
+                                std::ostream& err) {
+  CLI::App root{"ramiform", "ramiform"};
+  root.require_subcommand(1);
+  Action action;
+  const std::shared_ptr<MeshArgs> mesh = add_mesh(root, action);
+  std::vector<std::string> words{"mesh"};
+  words.insert(words.end(), args.begin(), args.end());
+  std::reverse(words.begin(), words.end());  // CLI11 takes the arguments last to first
+  root.parse(words);
+  nlohmann::json stats;
+  mesh->out = &out;
+  mesh->err = &err;
+  mesh->stats_out = &stats;
+  if (action) action();
+  return stats;
 }
 
 }  // namespace ramiform::cli

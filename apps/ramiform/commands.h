@@ -8,6 +8,10 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+#include <vector>
 
 namespace ramiform::cli {
 
@@ -24,5 +28,12 @@ void register_shell(CLI::App& root, Action& action);
 void register_grow(CLI::App& root, Action& action);
 void register_sample(CLI::App& root, Action& action);
 void register_lsystem(CLI::App& root, Action& action);
+
+/// `ramiform mesh ARGS...` in this process (the Python module's mesh_file): the arguments are
+/// parsed and checked exactly as on the command line (CLI::ParseError for a bad option), the
+/// "wrote" line goes to `out` and warnings to `err`, and the --stats figures are returned
+/// (whether or not --stats was given). Library exceptions (InputError, ...) pass through.
+nlohmann::json run_mesh_command(const std::vector<std::string>& args, std::ostream& out,
+                                std::ostream& err);
 
 }  // namespace ramiform::cli

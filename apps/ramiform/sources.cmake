@@ -2,7 +2,8 @@
 # `mesh` does, the check figures, the common options.
 set(RAMIFORM_CLI_CORE_SOURCES
   common.cpp
-  mesh_job.cpp)
+  mesh_job.cpp
+  cmd_mesh.cpp)
 set(RAMIFORM_APP_SOURCES
   main.cpp
   cmd_check.cpp
@@ -10,6 +11,5 @@ set(RAMIFORM_APP_SOURCES
   cmd_demo.cpp
   cmd_eval.cpp
   cmd_generate.cpp
-  cmd_mesh.cpp
   cmd_script.cpp
   cmd_grow.cpp)

@@ -25,6 +25,7 @@ try:
         write_mesh,
         write_skeleton,
     )
+    from ._ramiform import _mesh_command
 except ImportError as _error:  # the module was not built: ramiform.forest still works
     _missing = _error
 
@@ -34,9 +35,27 @@ except ImportError as _error:  # the module was not built: ramiform.forest still
             f"({_missing}); build ramiform with pybind11-dev and python3-dev installed "
             "(RAMIFORM_BUILD_PYTHON) and put <build>/python on PYTHONPATH"
         )
+else:
+    def mesh_file(input_path, output_path, **options):
+        """``ramiform mesh INPUT -o OUTPUT [options]`` in this process, byte for byte the same file.
+
+        Keywords are the command's options with ``_`` for ``-``: ``levels=2``, ``tolerance=0.02``,
+        ``fit_radii=True``, ``cleanup=False`` (``--no-cleanup``), ``lod=[0.05, 0.15]``,
+        ``threads=1``. The options are parsed by the CLI's own parser: an unknown one raises
+        TypeError, a bad value ValueError (``mesh_file(): ...``), a bad input file ValueError with
+        the file and line. The command's warnings become RuntimeWarnings. Returns the ``--stats``
+        figures without the seconds.
+        """
+        from .forest import option_words  # noqa: PLC0415 (forest imports this module lazily)
+
+        words = [str(input_path), "-o", str(output_path)] + option_words(options)
+        stats = _mesh_command(words)
+        stats.pop("seconds", None)
+        return stats
+
 
 __all__ = [
-    "Field", "Mesh", "Skeleton", "branching_tree", "check", "grow", "marching_cubes", "mesh_skeleton",
+    "Field", "Mesh", "Skeleton", "branching_tree", "check", "grow", "marching_cubes", "mesh_file", "mesh_skeleton",
     "polygonize_tets", "read_mesh", "read_points", "read_skeleton", "run_script",
     "skeleton_field", "write_mesh", "write_skeleton",
 ]

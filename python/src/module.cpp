@@ -10,8 +10,8 @@
 //   and radii as strided views of its nodes.
 // - Keyword defaults are read from the library's options structs, so there is one source of
 //   defaults (the CLI's --help reads the same structs).
-// - Long calls release the GIL; `threads=` is the CLI's --threads (0 = all cores) and results
-//   never depend on it.
+// - Long calls release the GIL and can be interrupted with Ctrl+C (`interruptible`); `threads=`
+//   is the CLI's --threads (0 = all cores) and results never depend on it.
 // - InputError and InvalidArgument (bad files, bad values) become ValueError with the library's
 //   message (file and line included); Failure becomes RuntimeError, Cancelled KeyboardInterrupt.
 
@@ -19,12 +19,19 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstring>
+#include <exception>
+#include <mutex>
 #include <optional>
+#include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "commands.h"
 #include "common.h"
 #include "mesh_job.h"
 #include "ramiform/core/errors.h"
@@ -110,6 +117,48 @@ Context make_context(int threads) {
                           ", got " + std::to_string(threads));
   }
   return Context(threads);
+}
+
+/// Runs `work` without the GIL on a thread of its own while the calling thread watches for
+/// Ctrl+C every 20 ms (Python runs signal handlers on the main thread only, between bytecodes,
+/// so a long C++ call would otherwise hide the interrupt until it returns). On a signal the
+/// context is cancelled, the work stops at its next cancellation check, and the handler's
+/// exception (KeyboardInterrupt) is raised. The work's own exceptions pass through.
+template <typename F>
+void interruptible(Context& ctx, F&& work) {
+  std::exception_ptr error;
+  bool done = false;
+  bool interrupted = false;
+  std::mutex mutex;
+  std::condition_variable finished;
+  {
+    py::gil_scoped_release release;
+    std::thread worker([&] {
+      try {
+        work();
+      } catch (...) {
+        error = std::current_exception();
+      }
+      const std::lock_guard<std::mutex> lock(mutex);
+      done = true;
+      finished.notify_one();
+    });
+    std::unique_lock<std::mutex> lock(mutex);
+    while (!finished.wait_for(lock, std::chrono::milliseconds(20), [&] { return done; })) {
+      if (interrupted) continue;
+      lock.unlock();
+      {
+        const py::gil_scoped_acquire acquire;
+        if (PyErr_CheckSignals() != 0) interrupted = true;
+      }
+      if (interrupted) ctx.cancel();
+      lock.lock();
+    }
+    lock.unlock();
+    worker.join();
+  }
+  if (interrupted) throw py::error_already_set();
+  if (error) std::rethrow_exception(error);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -243,8 +292,7 @@ Mesh polygonize(const FieldHandle& f, const Skeleton* skeleton, const MeshJobOpt
                 bool normals, int threads) {
   Context ctx = make_context(threads);
   Mesh out;
-  {
-    py::gil_scoped_release release;
+  interruptible(ctx, [&] {
     MeshJobResult r = cli::polygonize_field(*f.field, skeleton != nullptr ? *skeleton : Skeleton{},
                                             o, ctx);
     out.mesh = std::move(r.mesh);
@@ -252,7 +300,7 @@ Mesh polygonize(const FieldHandle& f, const Skeleton* skeleton, const MeshJobOpt
     finish_mesh(out.mesh, f, normals, ctx);
     out.stats["vertices"] = out.mesh.vertex_count();
     out.stats["triangles"] = out.mesh.triangle_count();
-  }
+  });
   return out;
 }
 
@@ -451,8 +499,7 @@ void bind_mesh(py::module_& m) {
          std::uint64_t seed, int threads) {
         Context ctx = make_context(threads);
         nlohmann::json j;
-        {
-          py::gil_scoped_release release;
+        interruptible(ctx, [&] {
           j = cli::check_json(mesh.mesh, skeleton, ctx);
           if (field) {
             DeviationOptions o;
@@ -468,7 +515,7 @@ void bind_mesh(py::module_& m) {
             j["vertex_deviation_p99"] = d.vertices.p99;
             j["vertex_deviation_max"] = d.vertices.max;
           }
-        }
+        });
         return to_python(j);
       },
       py::arg("mesh"), py::kw_only(), py::arg("skeleton") = py::none(),
@@ -530,10 +577,9 @@ void bind_field(py::module_& m) {
               g = std::span<Vec3>(reinterpret_cast<Vec3*>(grads.mutable_data()), p.size());
             }
             std::span<double> v(values.mutable_data(), p.size());
-            {
-              py::gil_scoped_release release;
+            interruptible(ctx, [&] {
               f.field->evaluate(p, v, g, &ctx);
-            }
+            });
             if (gradients) return py::make_tuple(values, grads);
             return values;
           },
@@ -548,15 +594,14 @@ void bind_field(py::module_& m) {
         const SkeletonFieldOptions o = field_options(surface, kernel, iso);
         Context ctx = make_context(threads);
         FieldHandle f;
-        {
-          py::gil_scoped_release release;
+        interruptible(ctx, [&] {
           cli::StageTimer timer;
           cli::SkeletonSurface surf = cli::build_surface(s, o, fit_radii, timer, ctx);
           f.field = surf.field;
           f.source = s;
           f.meshed = std::move(surf.skeleton);
           f.fit = std::move(surf.fit_stats);
-        }
+        });
         return f;
       },
       py::arg("skeleton"), py::kw_only(), py::arg("surface") = "convolution",
@@ -639,13 +684,12 @@ void bind_polygonizers(py::module_& m) {
         if (!path.empty()) cli::check_output_path(path, cli::kMeshFormats);
         Context ctx = make_context(threads);
         Mesh result;
-        {
-          py::gil_scoped_release release;
+        interruptible(ctx, [&] {
           cli::StageTimer timer;
           MeshJobResult r = cli::mesh_skeleton(s, fo, o, path, timer, ctx);
           result.mesh = std::move(r.mesh);
           result.stats = std::move(r.stats);
-        }
+        });
         return result;
       },
       py::arg("skeleton"), py::arg("out") = py::none(), py::kw_only(), py::arg("method") = "tets",
@@ -660,7 +704,45 @@ void bind_polygonizers(py::module_& m) {
       "levels as the CLI's --tolerance and --levels (levels alone: the uniform mesher).");
 }
 
+/// `ramiform mesh WORDS...` in this process (ramiform.mesh_file builds the words from keywords):
+/// parsed by the CLI's own parser, so options, defaults, checks and files are the CLI's. An
+/// unknown option raises TypeError, a bad value ValueError (both "mesh_file(): ..."); each
+/// warning the command prints becomes a RuntimeWarning. Returns the --stats figures.
+py::object mesh_command(const std::vector<std::string>& words) {
+  std::ostringstream out, err;
+  nlohmann::json stats;
+  std::string parse_error;
+  bool unknown_option = false;
+  {
+    py::gil_scoped_release release;
+    try {
+      stats = cli::run_mesh_command(words, out, err);
+    } catch (const CLI::ExtrasError& e) {
+      parse_error = e.what();
+      unknown_option = true;
+    } catch (const CLI::ParseError& e) {
+      parse_error = e.what();
+    }
+  }
+  if (!parse_error.empty()) {
+    const std::string message = "mesh_file(): " + parse_error;
+    if (unknown_option) throw py::type_error(message);
+    throw py::value_error(message);
+  }
+  std::istringstream lines(err.str());
+  for (std::string line; std::getline(lines, line);) {
+    const std::string prefix = "ramiform: warning: ";
+    if (line.rfind(prefix, 0) == 0) line = line.substr(prefix.size());
+    if (!line.empty() && PyErr_WarnEx(PyExc_RuntimeWarning, line.c_str(), 1) != 0) {
+      throw py::error_already_set();
+    }
+  }
+  return to_python(stats);
+}
+
 void bind_grow_and_script(py::module_& m) {
+  m.def("_mesh_command", &mesh_command, py::arg("words"),
+        "`ramiform mesh WORDS...` in this process; use ramiform.mesh_file.");
   const ColonizationOptions g;
   m.def(
       "grow",
@@ -685,10 +767,9 @@ void bind_grow_and_script(py::module_& m) {
         o.prune_steps = prune_steps;
         Context ctx = make_context(threads);
         ColonizationResult r;
-        {
-          py::gil_scoped_release release;
+        interruptible(ctx, [&] {
           r = grow_space_colonization(p, o, &ctx);
-        }
+        });
         if (r.skeleton.edge_count() == 0) {
           throw InvalidArgument("grow: no branch grew: " + no_branch_reason(r, p, o));
         }
@@ -728,8 +809,7 @@ void bind_grow_and_script(py::module_& m) {
         Context ctx = make_context(threads);
         std::vector<CommandResult> results;
         std::vector<std::string> written;
-        {
-          py::gil_scoped_release release;
+        interruptible(ctx, [&] {
           ScriptSession session(o, &ctx);
           try {
             results = session.run_text(text, "<script>");
@@ -738,7 +818,7 @@ void bind_grow_and_script(py::module_& m) {
             session.discard();
             throw;
           }
-        }
+        });
         std::vector<std::string> reports;
         for (const CommandResult& r : results) {
           if (r.is_report) reports.push_back(r.message);

@@ -12,6 +12,7 @@ import shutil
 import subprocess
 import threading
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -87,6 +88,22 @@ def test_read_and_write_skeleton_round_trip(work):
     np.testing.assert_array_equal(t.positions, s.positions)
     np.testing.assert_array_equal(t.radii, s.radii)
     np.testing.assert_array_equal(t.edges, s.edges)
+
+
+def test_read_skeleton_reads_every_format(work):
+    s = fork()
+    rf.write_skeleton(str(work / "y.ply"), s)
+    np.testing.assert_array_equal(rf.read_skeleton(str(work / "y.ply")).positions, s.positions)
+    (work / "y.obj").write_text("v 0 0 0\nv 0 0 2\nv 1 0 3\nl 1 2\nl 2 3\n")
+    obj = rf.read_skeleton(str(work / "y.obj"), obj_radius=0.1)
+    assert obj.edge_count == 2 and np.all(obj.radii == 0.1)
+    with pytest.raises(ValueError, match="radius"):
+        rf.read_skeleton(str(work / "y.obj"))  # an OBJ carries no radius
+    # TreeQSM cylinders: radius length start(3) axis(3) parent; a trunk and one branch
+    (work / "qsm.txt").write_text("0.3 3 0 0 0 0 0 1 0\n0.1 1 0 0 3 0.6 0 0.8 1\n")
+    qsm = rf.read_skeleton(str(work / "qsm.txt"))
+    assert qsm.components() == 1 and qsm.positions[:, 2].max() == pytest.approx(3.8)
+    assert qsm.radii.max() == pytest.approx(0.3)
 
 
 def test_read_swc_keeps_types_and_bad_files_name_the_line(work):
@@ -273,6 +290,20 @@ def test_long_calls_release_the_gil():
     assert ticks >= 20, ticks
 
 
+def test_ctrl_c_cancels_a_long_call_and_writes_nothing(work):
+    import signal
+    tree = rf.branching_tree(segments=3000, seed=1, tip_radius=0.005)
+    out = work / "never.ply"
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        # about a minute of work when not interrupted
+        rf.mesh_skeleton(tree, str(out), fit_radii=True, tolerance=0.01)
+    timer.join()
+    # the mesh is written at the end of the call: no file means the work was cut short
+    assert not out.exists() and not [p for p in os.listdir(work) if p.startswith("never")]
+
+
 def test_mesh_from_arrays_and_checks_of_broken_meshes():
     v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
     t = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
@@ -349,6 +380,29 @@ def test_swc_labels_are_byte_identical_with_the_cli(work):
     assert filecmp.cmp(work / "cli.ply", work / "py.ply", shallow=False)
 
 
+@needs_cli
+def test_mesh_file_is_the_cli_in_process(work):
+    tree = work / "tree.json"
+    rf.write_skeleton(str(tree), rf.branching_tree(segments=50, seed=9, tip_radius=0.03))
+    subprocess.run([BINARY, "mesh", str(tree), "-o", str(work / "cli.glb"), "--levels", "1",
+                    "--no-cleanup"], check=True, capture_output=True)
+    stats = rf.mesh_file(tree, work / "py.glb", levels=1, cleanup=False, threads=2)
+    assert filecmp.cmp(work / "cli.glb", work / "py.glb", shallow=False)
+    assert stats["watertight"] and "seconds" not in stats and stats["levels"] == 1
+    with pytest.raises(TypeError, match=r"mesh_file\(\).*--frobnicate"):
+        rf.mesh_file(tree, work / "x.ply", frobnicate=1)
+    with pytest.raises(ValueError, match=r"mesh_file\(\): --levels: Value 99 not in range"):
+        rf.mesh_file(tree, work / "x.ply", levels=99)
+    with pytest.raises(ValueError, match=r"mesh_file\(\): --cell: applies to --method mc"):
+        rf.mesh_file(tree, work / "x.ply", cell=0.1)
+    with pytest.warns(RuntimeWarning, match="triangle budget"):
+        rf.mesh_file(tree, work / "x.ply", levels=0, tolerance=0.001, max_triangles=2000)
+    (work / "broken.json").write_text('{"nodes": [')
+    with pytest.raises(ValueError, match="broken.json"):
+        rf.mesh_file(work / "broken.json", work / "b.ply")
+    assert not (work / "b.ply").exists()
+
+
 def test_mesh_skeleton_without_output_writes_nothing(work):
     before = set(os.listdir(work))
     m = rf.mesh_skeleton(fork(), levels=1)
@@ -365,7 +419,9 @@ def test_mesh_skeleton_without_output_writes_nothing(work):
 def test_grow_reaches_a_crown_with_pipe_model_radii():
     rng = np.random.default_rng(3)
     crown = rng.normal([0, 0, 12], [3, 3, 2], size=(800, 3))
-    t = rf.grow(crown, step=0.5, influence=6, kill=1.0, tip_radius=0.05, pipe_exponent=2.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a dozen points are never reached
+        t = rf.grow(crown, step=0.5, influence=6, kill=1.0, tip_radius=0.05, pipe_exponent=2.0)
     assert t.components() == 1 and t.edge_count > 50
     np.testing.assert_array_equal(t.positions[0], [0, 0, 0])
     # pipe model with n = 2: a node's r^2 is the sum of its children's r^2, tips 0.05

@@ -105,12 +105,15 @@ TEST(NeuronFixture, LooksLikeAReconstruction) {
 }
 
 TEST(NeuronFixture, ScalesToTheTargetSize) {
-  for (const int target : {500, 3000, 10000}) {
-    NeuronOptions o;
-    o.target_samples = target;
-    NeuronFacts facts;
-    (void)test::neuron_swc(o, &facts);
-    EXPECT_NEAR(facts.samples, target, 0.1 * target) << target;
+  for (const int dendrites : {4, 6, 8}) {
+    for (const int target : {500, 3000, 10000}) {
+      NeuronOptions o;
+      o.dendrites = dendrites;
+      o.target_samples = target;
+      NeuronFacts facts;
+      (void)test::neuron_swc(o, &facts);
+      EXPECT_NEAR(facts.samples, target, 0.1 * target) << target << " samples, " << dendrites;
+    }
   }
 }
 

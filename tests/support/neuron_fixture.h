@@ -17,7 +17,7 @@ namespace ramiform::test {
 enum class NeuronSoma {
   kSinglePoint,  ///< one type-1 sample of radius `soma_radius`
   kThreePoint,   ///< NeuroMorpho: centre plus two samples at -+ soma_radius along y
-  kContour,      ///< a closed outline of 16 samples in the xy plane, radius `soma_radius`
+  kContour,      ///< an outline of 16 samples (a chain) in the xy plane, at `soma_radius` from 0
   kCylinders,    ///< a stack of 7 overlapping samples along z (a spindle, widest in the middle)
 };
 
@@ -25,8 +25,9 @@ enum class NeuronSoma {
 struct NeuronOptions {
   std::uint64_t seed = 1;
   int dendrites = 6;  ///< primary dendrites (4..8 in the tests); the first is apical (type 4)
-  int target_samples = 3000;  ///< about this many samples in all (the branch lengths scale to it)
-  double soma_radius = 8.0;   ///< um
+  /// About this many samples in all, within 10 % (the branch lengths scale to it).
+  int target_samples = 3000;
+  double soma_radius = 8.0;  ///< um
   NeuronSoma soma = NeuronSoma::kSinglePoint;
   bool shuffle = false;  ///< write the samples in a random order (parents may follow children)
   int extra_trees = 0;   ///< further unconnected neurite fragments (roots without a soma)
