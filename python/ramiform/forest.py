@@ -268,14 +268,40 @@ def mesh_all(inputs, out_dir, client=None, suffix=".ply", **mesh_options):
                 record(i, mesh_tree(path, output, options, cli))
         else:
             from distributed import as_completed  # noqa: PLC0415
+            # A window of tasks in flight, refilled as trees finish: a city's million trees
+            # never sit in the scheduler at once (each pending task costs it memory).
+            window = max(8, 4 * _cluster_threads(client))
+            pending = iter(jobs)
             futures = {}
-            for i, path, output in jobs:
+
+            def submit(ac=None):
+                job = next(pending, None)
+                if job is None:
+                    return False
+                i, path, output = job
                 future = client.submit(mesh_tree, path, output, options, cli, pure=False,
                                        key=f"ramiform-tree-{i}-{digest}-{time.time_ns()}")
                 futures[future] = i
-            for future in as_completed(futures):
-                record(futures[future], future.result())
+                if ac is not None:
+                    ac.add(future)
+                return True
+
+            for _ in range(window):
+                if not submit():
+                    break
+            running = as_completed(list(futures))
+            for future in running:
+                record(futures.pop(future), future.result())
+                submit(running)
     return results
+
+
+def _cluster_threads(client):
+    """Worker threads of the cluster behind ``client`` (at least 1)."""
+    try:
+        return max(1, sum(client.nthreads().values()))
+    except Exception:  # noqa: BLE001 (a scheduler that cannot say: use the minimum window)
+        return 1
 
 
 def _mesh_options(words):
