@@ -378,6 +378,7 @@ def test_swc_labels_are_byte_identical_with_the_cli(work):
     assert (m.labels == 1).any() and (m.labels == 2).any() and (m.labels == 3).any()
     rf.write_mesh(str(work / "py.ply"), m)
     assert filecmp.cmp(work / "cli.ply", work / "py.ply", shallow=False)
+    np.testing.assert_array_equal(rf.read_mesh(str(work / "cli.ply")).labels, m.labels)
 
 
 @needs_cli

@@ -2,6 +2,7 @@
 // Copyright (c) 2026 the ramiform authors
 #include "ramiform/io/mesh_io.h"
 
+#include <cmath>
 #include <cstdio>
 #include <span>
 
@@ -237,7 +238,12 @@ TriMesh parse_mesh_ply(std::string_view bytes, const std::string& source_name) {
   const PlyHeader header = parse_ply_header(bytes, source);
   std::vector<PlyRequest> requests{vertex_request(header, {"x", "y", "z"}, source)};
   const bool has_normals = add_vertex_normals(header, requests[0], source);
+  const std::size_t uv_col = requests[0].scalars.size();
   const bool has_uvs = add_vertex_uvs(header, requests[0], source);
+  // Per-vertex labels as write_mesh stores them (the SWC type of the nearest node).
+  const std::size_t label_col = requests[0].scalars.size();
+  const auto label = optional_scalar(header.elements[requests[0].element], "swc_type", source);
+  if (label) requests[0].scalars.push_back(*label);
   const auto face = header.find("face");
   if (face) {
     const PlyElement& f = header.elements[*face];
@@ -260,11 +266,20 @@ TriMesh parse_mesh_ply(std::string_view bytes, const std::string& source_name) {
   mesh.positions.resize(nv);
   if (has_normals) mesh.normals.resize(nv);
   if (has_uvs) mesh.uvs.resize(nv);
+  if (label) mesh.vertex_labels.resize(nv);
   for (std::size_t i = 0; i < nv; ++i) {
     const double* row = &data[0].scalars[i * cols];
     mesh.positions[i] = Vec3(row[0], row[1], row[2]);
     if (has_normals) mesh.normals[i] = Vec3(row[3], row[4], row[5]);
-    if (has_uvs) mesh.uvs[i] = Vec2(row[cols - 2], row[cols - 1]);
+    if (has_uvs) mesh.uvs[i] = Vec2(row[uv_col], row[uv_col + 1]);
+    if (label) {
+      const double t = row[label_col];
+      if (!(t == std::floor(t) && std::abs(t) <= 2147483647.0)) {
+        throw InputError(source, "vertex", i,
+                         "swc_type " + format_number(t) + " is not a 32-bit whole number");
+      }
+      mesh.vertex_labels[i] = static_cast<std::int32_t>(t);
+    }
   }
   // A textured PLY mesh has its vertices split along the texture's seams; the copies sit at
   // identical positions, which give the seams back.

@@ -152,6 +152,37 @@ TEST(MeshObj, ErrorsNameTheLine) {
   EXPECT_INPUT_ERROR_AT(parse_mesh_obj("\n\n", "i.obj"), "i.obj", 0, "empty");
 }
 
+TEST(MeshPly, SwcTypeLabelsRoundTripBesideNormalsAndUvs) {
+  TempDir dir;
+  TriMesh m = awkward_mesh(true);
+  m.vertex_labels = {1, 3, -7, 2147483647};
+  write_mesh(m, dir.file("l.ply"));
+  const TriMesh back = read_mesh(dir.file("l.ply"));
+  expect_identical(back, m);
+  EXPECT_EQ(back.vertex_labels, m.vertex_labels);
+  // with texture coordinates the label column follows u and v
+  m.uvs = {Vec2(0, 0), Vec2(0.25, 1), Vec2(0.5, 0.5), Vec2(1, 0.125)};
+  write_mesh(m, dir.file("uv.ply"));
+  const TriMesh uv = read_mesh(dir.file("uv.ply"));
+  EXPECT_EQ(uv.vertex_labels, m.vertex_labels);
+  ASSERT_EQ(uv.uvs.size(), 4u);
+  EXPECT_EQ(uv.uvs[3], Vec2(1, 0.125));
+  // a label that is not a whole 32-bit number names the vertex
+  const std::string text =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float swc_type\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n"
+      "0 0 0 1\n1 0 0 3\n0 1 0 2.5\n3 0 1 2\n";
+  write_bytes(dir.file("bad.ply"), text);
+  try {
+    (void)read_mesh(dir.file("bad.ply"));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("vertex 2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("swc_type 2.5"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MeshPly, AsciiWithPolygonsExtraPropertiesAndNormals) {
   const std::string text =
       "ply\n"

@@ -19,7 +19,8 @@ namespace ramiform {
 /// Reads a mesh, choosing the format by the extension (case-insensitive): `.ply` (ASCII or
 /// binary; faces in a `vertex_indices` or `vertex_index` list of any integer type; optional
 /// per-vertex nx, ny, nz become `normals`, u v (or s t, texture_u texture_v) `uvs`, and then
-/// vertices at identical positions are taken as seam copies: `welded`), `.obj` (`v`, `vn`, `f` with v, v/vt, v//vn, v/vt/vn
+/// vertices at identical positions are taken as seam copies: `welded`; an integer `swc_type`
+/// becomes `vertex_labels`, as write_mesh stores them), `.obj` (`v`, `vn`, `f` with v, v/vt, v//vn, v/vt/vn
 /// corners, negative indices) or `.off`.
 ///
 /// Throws `InputError` naming the file and the line (text) or the element index (binary PLY,
