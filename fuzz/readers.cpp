@@ -116,6 +116,8 @@ void check_mesh(const TriMesh& m) {
   require(m.normals.empty() || m.normals.size() == m.positions.size(),
           "mesh normals: none or one per vertex");
   for (const Vec3& n : m.normals) require(finite(n), "mesh normals are finite");
+  require(m.vertex_labels.empty() || m.vertex_labels.size() == m.positions.size(),
+          "mesh labels (swc_type): none or one per vertex");
 }
 
 void check_points(const PointSet& p) {
