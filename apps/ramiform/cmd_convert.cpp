@@ -69,7 +69,8 @@ void register_convert(CLI::App& root, Action& action) {
       "to a skeleton file (.json; also .ply, .obj) and print its size and the "
       "cylinder import report.");
   c->add_option("IN", args->in_path,
-                "skeleton (.json, .ply, .obj) or cylinder model (.txt TreeQSM, .csv SimpleForest)")
+                "skeleton (.json, .ply, .obj), cylinder model (.txt TreeQSM, .csv SimpleForest) or SWC "
+                "neuron (.swc)")
       ->required();
   c->add_option("OUT", args->out_path, "output skeleton: .json (or .ply, .obj)")->required();
   c->add_option("--obj-radius", args->obj_radius,

@@ -65,7 +65,7 @@ void register_eval(CLI::App& root, Action& action) {
   CLI::App* c = root.add_subcommand(
       "eval", "Print the field value of a skeleton's surface at each point, one line each "
               "(inside where value > iso); with --gradient also the gradient.");
-  c->add_option("SKELETON", args->skeleton_path, "skeleton file (.json, .ply, .obj)")->required();
+  c->add_option("SKELETON", args->skeleton_path, "skeleton file (.json, .ply, .obj, .txt TreeQSM, .csv SimpleForest, .swc)")->required();
   c->add_option("--points", args->points_path, "points: text 'x y z [nx ny nz]' per line, or .ply")
       ->required();
   c->add_flag("--gradient", args->gradient, "also print the gradient: 'value gx gy gz'");

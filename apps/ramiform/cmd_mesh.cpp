@@ -84,8 +84,8 @@ std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
   auto args = std::make_shared<MeshArgs>();
   CLI::App* c = root.add_subcommand(
       "mesh", "Mesh the implicit surface of a skeleton (convolution surface by default).");
-  c->add_option("SKELETON", args->skeleton_path, "skeleton file (.json, .ply, .obj)")->required();
-  c->add_option("-o,--output", args->out_path, "output mesh (.ply binary or .obj); default SKELETON's name .ply");
+  c->add_option("SKELETON", args->skeleton_path, "skeleton file (.json, .ply, .obj, .txt TreeQSM, .csv SimpleForest, .swc)")->required();
+  c->add_option("-o,--output", args->out_path, "output mesh (.ply binary, .obj, .off or .glb); default SKELETON's name .ply");
   c->add_option("--method", args->job.method,
                 "polygonizer: tets (skeleton-bounded tetrahedra, default) or mc (uniform marching "
                 "cubes over the field's bounds)")
