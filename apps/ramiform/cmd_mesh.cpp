@@ -20,10 +20,10 @@ struct MeshArgs {
   MeshJobOptions job;
   FieldFlags field;
   CommonOptions common;
-  std::vector<double> lod_values;  ///< --lod
-  bool lod_budget = false;         ///< --lod-budget
-  std::ostream* out = &std::cout;  ///< the "wrote ..." line
-  std::ostream* err = &std::cerr;  ///< warnings
+  std::vector<double> lod_values;       ///< --lod
+  bool lod_budget = false;              ///< --lod-budget
+  std::ostream* out = &std::cout;       ///< the "wrote ..." line
+  std::ostream* err = &std::cerr;       ///< warnings
   nlohmann::json* stats_out = nullptr;  ///< when not null, receives the --stats figures
 };
 
@@ -39,8 +39,8 @@ int run_mesh(MeshArgs& args) {
   check_output_path(args.common.stats_path);
   const Skeleton skeleton = read_skeleton(args.skeleton_path, read_options(args.field));
   timer.lap("read");
-  const MeshJobResult result = mesh_skeleton(skeleton, options, args.job, args.out_path, timer,
-                                             scope.context());
+  const MeshJobResult result =
+      mesh_skeleton(skeleton, options, args.job, args.out_path, timer, scope.context());
   nlohmann::json stats = result.stats;
   stats["seconds"] = timer.seconds();
   write_stats(args.common.stats_path, stats);
@@ -48,8 +48,8 @@ int run_mesh(MeshArgs& args) {
   std::ostream& out = *args.out;
   std::ostream& err = *args.err;
   out << "wrote " << args.out_path << ": " << result.mesh.vertex_count() << " vertices, "
-            << result.mesh.triangle_count() << " triangles"
-            << (result.report.watertight ? ", watertight" : ", NOT watertight");
+      << result.mesh.triangle_count() << " triangles"
+      << (result.report.watertight ? ", watertight" : ", NOT watertight");
   if (!result.lod_triangles.empty()) {
     out << "; " << result.lod_triangles.size() << " levels of detail:";
     for (std::size_t k = 0; k < result.lod_triangles.size(); ++k) {
@@ -64,18 +64,16 @@ int run_mesh(MeshArgs& args) {
   const auto components = stats.value("components", std::size_t{0});
   const auto expected = stats.value("skeleton_components", std::size_t{0});
   if (components > expected) {
-    err << "ramiform: warning: " << args.out_path << " has " << components
-              << " components for " << expected
-              << " connected skeleton part(s): branches thinner than the lattice came apart ("
-              << (args.job.method == "mc" ? "use a smaller --cell" : "use more --levels") << ")\n";
+    err << "ramiform: warning: " << args.out_path << " has " << components << " components for "
+        << expected << " connected skeleton part(s): branches thinner than the lattice came apart ("
+        << (args.job.method == "mc" ? "use a smaller --cell" : "use more --levels") << ")\n";
   }
   if (args.job.method != "mc" && args.job.to_tolerance && !stats.value("tolerance_reached", true)) {
     err << "ramiform: warning: " << args.out_path << ": deviation p99 "
-              << stats.value("deviation_p99", 0.0) << " is above --tolerance "
-              << args.job.tolerance.tolerance << " (refinement stopped: "
-              << (stats["refine"].value("budget_reached", false) ? "triangle budget"
-                                                                   : "passes used up")
-              << ")\n";
+        << stats.value("deviation_p99", 0.0) << " is above --tolerance "
+        << args.job.tolerance.tolerance << " (refinement stopped: "
+        << (stats["refine"].value("budget_reached", false) ? "triangle budget" : "passes used up")
+        << ")\n";
   }
   return 0;
 }
@@ -84,8 +82,11 @@ std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
   auto args = std::make_shared<MeshArgs>();
   CLI::App* c = root.add_subcommand(
       "mesh", "Mesh the implicit surface of a skeleton (convolution surface by default).");
-  c->add_option("SKELETON", args->skeleton_path, "skeleton file (.json, .ply, .obj, .txt TreeQSM, .csv SimpleForest, .swc)")->required();
-  c->add_option("-o,--output", args->out_path, "output mesh (.ply binary, .obj, .off or .glb); default SKELETON's name .ply");
+  c->add_option("SKELETON", args->skeleton_path,
+                "skeleton file (.json, .ply, .obj, .txt TreeQSM, .csv SimpleForest, .swc)")
+      ->required();
+  c->add_option("-o,--output", args->out_path,
+                "output mesh (.ply binary, .obj, .off or .glb); default SKELETON's name .ply");
   c->add_option("--method", args->job.method,
                 "polygonizer: tets (skeleton-bounded tetrahedra, default) or mc (uniform marching "
                 "cubes over the field's bounds)")
@@ -163,17 +164,17 @@ std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
   auto* scale = c->get_option("--section-scale");
   add_field_options(*c, args->field);
   add_common_options(*c, args->common);
-  c->callback([args, cell, res, levels, scale, tolerance, max_triangles, samples, lod,
-               &action] {
+  c->callback([args, cell, res, levels, scale, tolerance, max_triangles, samples, lod, &action] {
     if (args->job.method != "mc" && (cell->count() > 0 || res->count() > 0)) {
       throw CLI::ValidationError(cell->count() > 0 ? "--cell" : "--resolution",
                                  "applies to --method mc only (the default method is tets)");
     }
     if (args->job.method == "mc" &&
         (levels->count() > 0 || scale->count() > 0 || tolerance->count() > 0)) {
-      throw CLI::ValidationError(
-          levels->count() > 0 ? "--levels" : (scale->count() > 0 ? "--section-scale" : "--tolerance"),
-          "applies to --method tets only");
+      throw CLI::ValidationError(levels->count() > 0
+                                     ? "--levels"
+                                     : (scale->count() > 0 ? "--section-scale" : "--tolerance"),
+                                 "applies to --method tets only");
     }
     args->job.to_tolerance = tolerance->count() > 0 || levels->count() == 0;
     for (const CLI::Option* o : {max_triangles, samples}) {

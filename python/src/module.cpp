@@ -79,11 +79,12 @@ void require_shape(const py::array& a, py::ssize_t width, const char* what) {
   const bool ok = width == 0 ? a.ndim() == 1 : (a.ndim() == 2 && a.shape(1) == width);
   if (!ok) {
     std::string shape = "(";
-    for (py::ssize_t k = 0; k < a.ndim(); ++k) shape += (k ? ", " : "") + std::to_string(a.shape(k));
+    for (py::ssize_t k = 0; k < a.ndim(); ++k)
+      shape += (k ? ", " : "") + std::to_string(a.shape(k));
     shape += a.ndim() == 1 ? ",)" : ")";
     throw InvalidArgument(std::string(what) + " must have shape " +
-                          (width == 0 ? "(N,)" : "(N, " + std::to_string(width) + ")") +
-                          ", got " + shape);
+                          (width == 0 ? "(N,)" : "(N, " + std::to_string(width) + ")") + ", got " +
+                          shape);
   }
 }
 
@@ -113,8 +114,9 @@ py::object to_python(const nlohmann::json& j) {
 
 Context make_context(int threads) {
   if (threads < 0 || threads > Context::kMaxThreads) {
-    throw InvalidArgument("threads must be 0 (all cores) to " + std::to_string(Context::kMaxThreads) +
-                          ", got " + std::to_string(threads));
+    throw InvalidArgument("threads must be 0 (all cores) to " +
+                          std::to_string(Context::kMaxThreads) + ", got " +
+                          std::to_string(threads));
   }
   return Context(threads);
 }
@@ -173,9 +175,9 @@ struct Mesh {
 /// A field, with the skeleton it was built from and the one a polygonizer follows.
 struct FieldHandle {
   FieldPtr field;
-  std::optional<Skeleton> source;   ///< the skeleton given (types, UVs and checks use it)
-  std::optional<Skeleton> meshed;   ///< the skeleton the polygonizer follows (split with a fit)
-  nlohmann::json fit;               ///< the radius fit's figures (null without fit_radii)
+  std::optional<Skeleton> source;  ///< the skeleton given (types, UVs and checks use it)
+  std::optional<Skeleton> meshed;  ///< the skeleton the polygonizer follows (split with a fit)
+  nlohmann::json fit;              ///< the radius fit's figures (null without fit_radii)
 };
 
 Skeleton make_skeleton(const Doubles& positions, const Doubles& radii, const Ints& edges,
@@ -203,8 +205,8 @@ Skeleton make_skeleton(const Doubles& positions, const Doubles& radii, const Int
     for (int j = 0; j < 2; ++j) {
       const std::int64_t v = e[2 * k + j];
       if (v < 0 || static_cast<std::size_t>(v) >= n) {
-        throw InvalidArgument("edges[" + std::to_string(k) + "] refers to node " + std::to_string(v) +
-                              " of " + std::to_string(n));
+        throw InvalidArgument("edges[" + std::to_string(k) + "] refers to node " +
+                              std::to_string(v) + " of " + std::to_string(n));
       }
       s.edges[k][j] = static_cast<std::uint32_t>(v);
     }
@@ -293,8 +295,8 @@ Mesh polygonize(const FieldHandle& f, const Skeleton* skeleton, const MeshJobOpt
   Context ctx = make_context(threads);
   Mesh out;
   interruptible(ctx, [&] {
-    MeshJobResult r = cli::polygonize_field(*f.field, skeleton != nullptr ? *skeleton : Skeleton{},
-                                            o, ctx);
+    MeshJobResult r =
+        cli::polygonize_field(*f.field, skeleton != nullptr ? *skeleton : Skeleton{}, o, ctx);
     out.mesh = std::move(r.mesh);
     out.stats = std::move(r.stats);
     finish_mesh(out.mesh, f, normals, ctx);
@@ -366,8 +368,9 @@ void bind_skeleton(py::module_& m) {
       .def("__len__", [](const Skeleton& s) { return s.nodes.size(); })
       .def_property_readonly("node_count", [](const Skeleton& s) { return s.nodes.size(); })
       .def_property_readonly("edge_count", [](const Skeleton& s) { return s.edges.size(); })
-      .def("components", [](const Skeleton& s) { return connected_components(s).count; },
-           "the number of connected parts")
+      .def(
+          "components", [](const Skeleton& s) { return connected_components(s).count; },
+          "the number of connected parts")
       .def("__repr__", [](const Skeleton& s) {
         return "<ramiform.Skeleton " + std::to_string(s.nodes.size()) + " nodes, " +
                std::to_string(s.edges.size()) + " edges>";
@@ -426,34 +429,30 @@ void bind_mesh(py::module_& m) {
              return Mesh{make_mesh(v, t, n), nlohmann::json::object()};
            }),
            py::arg("vertices"), py::arg("triangles"), py::arg("normals") = py::none())
-      .def_property_readonly(
-          "vertices",
-          [](py::object self) {
-            const TriMesh& t = self.cast<const Mesh&>().mesh;
-            return rows(t.positions.empty() ? nullptr : t.positions[0].data(), t.positions.size(), 3,
-                        self);
-          })
-      .def_property_readonly(
-          "triangles",
-          [](py::object self) {
-            const TriMesh& t = self.cast<const Mesh&>().mesh;
-            return rows(t.triangles.empty() ? nullptr : t.triangles[0].data(), t.triangles.size(),
-                        3, self);
-          })
-      .def_property_readonly(
-          "normals",
-          [](py::object self) -> py::object {
-            const TriMesh& t = self.cast<const Mesh&>().mesh;
-            if (t.normals.empty()) return py::none();
-            return rows(t.normals[0].data(), t.normals.size(), 3, self);
-          })
-      .def_property_readonly(
-          "uvs",
-          [](py::object self) -> py::object {
-            const TriMesh& t = self.cast<const Mesh&>().mesh;
-            if (t.uvs.empty()) return py::none();
-            return rows(t.uvs[0].data(), t.uvs.size(), 2, self);
-          })
+      .def_property_readonly("vertices",
+                             [](py::object self) {
+                               const TriMesh& t = self.cast<const Mesh&>().mesh;
+                               return rows(t.positions.empty() ? nullptr : t.positions[0].data(),
+                                           t.positions.size(), 3, self);
+                             })
+      .def_property_readonly("triangles",
+                             [](py::object self) {
+                               const TriMesh& t = self.cast<const Mesh&>().mesh;
+                               return rows(t.triangles.empty() ? nullptr : t.triangles[0].data(),
+                                           t.triangles.size(), 3, self);
+                             })
+      .def_property_readonly("normals",
+                             [](py::object self) -> py::object {
+                               const TriMesh& t = self.cast<const Mesh&>().mesh;
+                               if (t.normals.empty()) return py::none();
+                               return rows(t.normals[0].data(), t.normals.size(), 3, self);
+                             })
+      .def_property_readonly("uvs",
+                             [](py::object self) -> py::object {
+                               const TriMesh& t = self.cast<const Mesh&>().mesh;
+                               if (t.uvs.empty()) return py::none();
+                               return rows(t.uvs[0].data(), t.uvs.size(), 2, self);
+                             })
       .def_property_readonly(
           "labels",
           [](py::object self) -> py::object {
@@ -539,7 +538,8 @@ void bind_mesh(py::module_& m) {
         std::memcpy(nor.mutable_data(), p.normals.data(), p.normals.size() * sizeof(Vec3));
         return py::make_tuple(pos, nor);
       },
-      py::arg("path"), "Reads points (\"x y z [nx ny nz]\" text or PLY): (positions, normals or None).");
+      py::arg("path"),
+      "Reads points (\"x y z [nx ny nz]\" text or PLY): (positions, normals or None).");
 }
 
 void bind_field(py::module_& m) {
@@ -554,19 +554,22 @@ void bind_field(py::module_& m) {
                                   std::vector<double>{b.max().x(), b.max().y(), b.max().z()});
           },
           "(min, max) corners of a box holding the whole surface")
-      .def_property_readonly("skeleton",
-                             [](const FieldHandle& f) -> py::object {
-                               if (!f.meshed) return py::none();
-                               return py::cast(*f.meshed);
-                             },
-                             "the skeleton a polygonizer follows (split by fit_radii), or None")
-      .def_property_readonly("fit", [](const FieldHandle& f) { return to_python(f.fit); },
-                             "the radius fit's figures, or None")
+      .def_property_readonly(
+          "skeleton",
+          [](const FieldHandle& f) -> py::object {
+            if (!f.meshed) return py::none();
+            return py::cast(*f.meshed);
+          },
+          "the skeleton a polygonizer follows (split by fit_radii), or None")
+      .def_property_readonly(
+          "fit", [](const FieldHandle& f) { return to_python(f.fit); },
+          "the radius fit's figures, or None")
       .def_property_readonly("evaluations",
                              [](const FieldHandle& f) { return f.field->evaluations(); })
       .def(
           "evaluate",
-          [](const FieldHandle& f, const Doubles& points, bool gradients, int threads) -> py::object {
+          [](const FieldHandle& f, const Doubles& points, bool gradients,
+             int threads) -> py::object {
             const std::vector<Vec3> p = to_points(points, "points");
             Context ctx = make_context(threads);
             py::array_t<double> values(static_cast<py::ssize_t>(p.size()));
@@ -577,15 +580,14 @@ void bind_field(py::module_& m) {
               g = std::span<Vec3>(reinterpret_cast<Vec3*>(grads.mutable_data()), p.size());
             }
             std::span<double> v(values.mutable_data(), p.size());
-            interruptible(ctx, [&] {
-              f.field->evaluate(p, v, g, &ctx);
-            });
+            interruptible(ctx, [&] { f.field->evaluate(p, v, g, &ctx); });
             if (gradients) return py::make_tuple(values, grads);
             return values;
           },
           py::arg("points"), py::kw_only(), py::arg("gradients") = false, py::arg("threads") = 0,
           "values (K,) at points (K, 3); with gradients=True (values, gradients (K, 3))")
-      .def("__repr__", [](const FieldHandle& f) { return "<ramiform.Field " + f.field->describe() + ">"; });
+      .def("__repr__",
+           [](const FieldHandle& f) { return "<ramiform.Field " + f.field->describe() + ">"; });
 
   m.def(
       "skeleton_field",
@@ -619,8 +621,9 @@ void bind_polygonizers(py::module_& m) {
   const MarchingCubesOptions mc;
   m.def(
       "polygonize_tets",
-      [](const FieldHandle& f, const Skeleton* skeleton, std::optional<double> tolerance, int levels, double section_scale, bool cleanup,
-         std::size_t max_triangles, std::size_t deviation_samples, bool normals, int threads) {
+      [](const FieldHandle& f, const Skeleton* skeleton, std::optional<double> tolerance,
+         int levels, double section_scale, bool cleanup, std::size_t max_triangles,
+         std::size_t deviation_samples, bool normals, int threads) {
         MeshJobOptions o;
         o.method = "tets";
         o.tets.levels = levels;
@@ -767,39 +770,36 @@ void bind_grow_and_script(py::module_& m) {
         o.prune_steps = prune_steps;
         Context ctx = make_context(threads);
         ColonizationResult r;
-        interruptible(ctx, [&] {
-          r = grow_space_colonization(p, o, &ctx);
-        });
+        interruptible(ctx, [&] { r = grow_space_colonization(p, o, &ctx); });
         if (r.skeleton.edge_count() == 0) {
           throw InvalidArgument("grow: no branch grew: " + no_branch_reason(r, p, o));
         }
         if (r.stalled) {
-          PyErr_WarnEx(PyExc_RuntimeWarning,
-                       ("grow: " + std::to_string(r.points_reached) + " of " +
-                        std::to_string(r.points_total) + " attraction points reached: " +
-                        r.stall_reason)
-                           .c_str(),
-                       1);
+          PyErr_WarnEx(
+              PyExc_RuntimeWarning,
+              ("grow: " + std::to_string(r.points_reached) + " of " +
+               std::to_string(r.points_total) + " attraction points reached: " + r.stall_reason)
+                  .c_str(),
+              1);
         }
         return std::move(r.skeleton);
       },
       py::arg("points"), py::kw_only(), py::arg("step") = g.step,
-      py::arg("influence") = g.influence, py::arg("kill") = g.kill,
-      py::arg("roots") = py::none(),
+      py::arg("influence") = g.influence, py::arg("kill") = g.kill, py::arg("roots") = py::none(),
       py::arg("direction") = std::vector<double>{g.direction.x(), g.direction.y(), g.direction.z()},
       py::arg("tropism") = std::vector<double>{g.tropism.x(), g.tropism.y(), g.tropism.z()},
       py::arg("max_iterations") = g.max_iterations, py::arg("tip_radius") = g.tip_radius,
-      py::arg("pipe_exponent") = g.pipe_exponent, py::arg("smooth_iterations") = g.smooth_iterations,
-      py::arg("max_turn_deg") = g.max_turn_deg, py::arg("prune_steps") = g.prune_steps,
-      py::arg("threads") = 0,
+      py::arg("pipe_exponent") = g.pipe_exponent,
+      py::arg("smooth_iterations") = g.smooth_iterations, py::arg("max_turn_deg") = g.max_turn_deg,
+      py::arg("prune_steps") = g.prune_steps, py::arg("threads") = 0,
       "Space colonization (Runions et al. 2007) towards attraction points (K, 3) from roots "
       "(R, 3; default the origin), with pipe-model radii; a RuntimeWarning when some points "
       "were never reached.");
   m.def(
       "run_script",
       [](const std::string& text, const std::string& out, const std::string& input_dir,
-         const std::map<std::string, std::string>& params, std::uint64_t seed,
-         bool allow_any_path, int threads) {
+         const std::map<std::string, std::string>& params, std::uint64_t seed, bool allow_any_path,
+         int threads) {
         ScriptOptions o;
         o.out_dir = out;
         o.input_dir = input_dir;
