@@ -30,6 +30,10 @@ except ImportError as _error:  # the module was not built: ramiform.forest still
     _missing = _error
 
     def __getattr__(name):
+        # Only the module's names: anything else (a submodule such as `forest`, imported by
+        # `from ramiform import forest`) must stay an AttributeError, so that the import goes on.
+        if name.startswith("_") or name not in __all__:
+            raise AttributeError(f"module 'ramiform' has no attribute {name!r}")
         raise ImportError(
             f"ramiform.{name}: the compiled module ramiform._ramiform is not available "
             f"({_missing}); build ramiform with pybind11-dev and python3-dev installed "

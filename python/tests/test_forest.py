@@ -294,3 +294,20 @@ def test_bad_options_are_refused_before_any_tree(plot, tmp_path):
                           "--levels", "99"], capture_output=True, text=True, env=env, check=False)
     assert run.returncode == 1
     assert "levels" in run.stderr
+
+
+def test_forest_imports_without_the_compiled_module(tmp_path):
+    """A package without ramiform._ramiform (the sanitizer build, a CLI-only install): forest
+    imports and finds the executable; the module's names raise ImportError saying why."""
+    package = tmp_path / "ramiform"
+    package.mkdir()
+    for name in ("__init__.py", "forest.py"):
+        shutil.copy(os.path.join(os.path.dirname(forest.__file__), name), package / name)
+    code = ("from ramiform import forest\n"
+            "import ramiform\n"
+            "try:\n    ramiform.polygonize_tets\nexcept ImportError as e:\n    print('ok', e)\n")
+    env = dict(os.environ, PYTHONPATH=str(tmp_path))
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env=env, check=False)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.startswith("ok ramiform.polygonize_tets: the compiled module")
