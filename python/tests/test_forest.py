@@ -305,9 +305,13 @@ def test_forest_imports_without_the_compiled_module(tmp_path):
         shutil.copy(os.path.join(os.path.dirname(forest.__file__), name), package / name)
     code = ("from ramiform import forest\n"
             "import ramiform\n"
+            "print(ramiform.__file__)\n"
             "try:\n    ramiform.polygonize_tets\nexcept ImportError as e:\n    print('ok', e)\n")
     env = dict(os.environ, PYTHONPATH=str(tmp_path))
+    # run in tmp_path: `python -c` puts the working directory first on sys.path
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          env=env, check=False)
+                          env=env, cwd=tmp_path, check=False)
     assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.startswith("ok ramiform.polygonize_tets: the compiled module")
+    where, message = proc.stdout.split("\n", 1)
+    assert where == str(package / "__init__.py")
+    assert message.startswith("ok ramiform.polygonize_tets: the compiled module"), message
