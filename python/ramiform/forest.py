@@ -29,7 +29,9 @@ MANIFEST = "manifest.jsonl"
 
 
 def _find_cli():
-    """The ``ramiform`` executable used when the compiled module lacks ``mesh_file``."""
+    """The ``ramiform`` executable: each tree runs in its own process of it when it is found
+    (faster than the in-process ``ramiform.mesh_file``: the executable runs with transparent
+    huge pages and its malloc settings, docs/benchmarks.md "Forests on Dask")."""
     found = os.environ.get("RAMIFORM_BINARY") or shutil.which("ramiform")
     if found:
         return found
@@ -40,6 +42,14 @@ def _find_cli():
         if os.access(candidate, os.X_OK):
             return candidate
     return None
+
+
+def _program(cli):
+    """The executable to run: ``cli`` when given, none for ``cli=False`` (in-process
+    ``ramiform.mesh_file``), else the one _find_cli finds."""
+    if cli is False:
+        return None
+    return cli or _find_cli()
 
 
 def _mesh_file():
@@ -129,12 +139,12 @@ def mesh_tree(input_path, output_path, options, cli=None):
     start = time.perf_counter()
     try:
         record["input_sha256"] = file_hash(input_path)
-        mesh_file = None if cli else _mesh_file()
+        program = _program(cli)
+        mesh_file = None if program else _mesh_file()
         if mesh_file is not None:
             stats = mesh_file(input_path, partial, **options)
             stats = dict(stats)
         else:
-            program = cli or _find_cli()
             if program is None:
                 raise RuntimeError("neither ramiform.mesh_file nor a ramiform executable found")
             stats = _run_cli(program, input_path, partial, options)
@@ -161,7 +171,8 @@ def check_options(options, suffix=".ply", cli=None):
     missing = os.path.join(tempfile.gettempdir(),
                            f"ramiform-forest-absent-{os.getpid()}-{time.time_ns()}")
     probe_in, probe_out = os.path.join(missing, "probe.json"), os.path.join(missing, "p" + suffix)
-    mesh_file = None if cli else _mesh_file()
+    program = _program(cli)
+    mesh_file = None if program else _mesh_file()
     if mesh_file is not None:
         try:
             mesh_file(probe_in, probe_out, **options)
@@ -169,7 +180,6 @@ def check_options(options, suffix=".ply", cli=None):
             if str(e).startswith("mesh_file():"):
                 raise
         return
-    program = cli or _find_cli()
     if program is None:
         raise RuntimeError("neither ramiform.mesh_file nor a ramiform executable found")
     proc = subprocess.run([program, "mesh", probe_in, "-o", probe_out] + option_words(options),
@@ -226,8 +236,9 @@ def mesh_all(inputs, out_dir, client=None, suffix=".ply", **mesh_options):
     client: a ``distributed.Client`` (local or remote scheduler); None runs the trees serially
     in this process. mesh_options: the ``ramiform mesh`` options as keywords (levels=2,
     tolerance=0.02, fit_radii=True, ...); ``threads`` defaults to 1 per task, and results
-    never depend on it. ``cli=PATH`` forces the command-line executable instead of the
-    compiled module.
+    never depend on it. Each tree runs in a process of the ``ramiform`` executable when one is
+    found (``cli=PATH`` names it); ``cli=False`` meshes in the worker's own process with the
+    compiled module's ``mesh_file`` instead (the same bytes, about a quarter slower).
 
     Returns one record per input, in input order (the manifest's lines for this run, and the
     earlier records of skipped trees with ``"skipped": True``). A tree whose previous record

@@ -4,6 +4,7 @@
 LocalCluster of two worker processes, compared byte for byte with `ramiform mesh` and with a
 serial in-process run; the manifest, reruns that skip and redo (docs/forests.md)."""
 
+import filecmp
 import json
 import os
 import shutil
@@ -315,3 +316,18 @@ def test_forest_imports_without_the_compiled_module(tmp_path):
     where, message = proc.stdout.split("\n", 1)
     assert where == str(package / "__init__.py")
     assert message.startswith("ok ramiform.polygonize_tets: the compiled module"), message
+
+
+def test_in_process_mesh_file_writes_the_cli_bytes(plot, tmp_path):
+    """cli=False: the compiled module's mesh_file in this process, byte for byte the CLI's."""
+    pytest.importorskip("ramiform._ramiform")
+    _, in_dir = plot
+    for name in ("tree001.json", "tree008.swc", "tree013.txt", "broken.json"):
+        a = forest.mesh_tree(os.path.join(in_dir, name), str(tmp_path / ("a_" + name + ".ply")),
+                             OPTIONS, cli=False)
+        b = forest.mesh_tree(os.path.join(in_dir, name), str(tmp_path / ("b_" + name + ".ply")),
+                             OPTIONS, cli=BINARY)
+        assert a["triangles"] == b["triangles"] and a["checks"] == b["checks"]
+        assert (a["error"] is None) == (b["error"] is None) == (name != "broken.json")
+        if a["error"] is None:
+            assert filecmp.cmp(a["output"], b["output"], shallow=False)
