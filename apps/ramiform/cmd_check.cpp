@@ -28,19 +28,6 @@ struct CheckArgs {
   CommonOptions common;
 };
 
-/// The deviation figures under `prefix` ("deviation_" for the samples, "vertex_deviation_").
-void put_summary(nlohmann::json& j, const std::string& prefix, const DeviationSummary& s) {
-  j[prefix + "points"] = s.points;
-  j[prefix + "unresolved"] = s.unresolved;
-  j[prefix + "p50"] = s.p50;
-  j[prefix + "p99"] = s.p99;
-  j[prefix + "max"] = s.max;
-  j[prefix + "abs_p50"] = s.abs_p50;
-  j[prefix + "abs_p99"] = s.abs_p99;
-  j[prefix + "abs_max"] = s.abs_max;
-  j[prefix + "worst"] = {s.worst.x(), s.worst.y(), s.worst.z()};
-}
-
 void print_summary(const char* what, const DeviationSummary& s) {
   std::printf("%s p50 %.4g, p99 %.4g, max %.4g of the local radius (%zu points", what, s.p50,
               s.p99, s.max, s.points);
@@ -71,8 +58,8 @@ int run_check(const CheckArgs& args) {
     timer.lap("field");
     dev = measure_deviation(mesh, *surface.field, &surface.skeleton, args.deviation,
                             &scope.context());
-    put_summary(j, "deviation_", dev.samples);
-    put_summary(j, "vertex_deviation_", dev.vertices);
+    put_deviation_summary(j, "deviation_", dev.samples);
+    put_deviation_summary(j, "vertex_deviation_", dev.vertices);
     timer.lap("deviation");
   }
   if (args.json) {

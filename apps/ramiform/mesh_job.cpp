@@ -259,6 +259,19 @@ nlohmann::json check_json(const TriMesh& mesh, const Skeleton* skeleton, Context
   return j;
 }
 
+void put_deviation_summary(nlohmann::json& j, const std::string& prefix,
+                           const DeviationSummary& s) {
+  j[prefix + "points"] = s.points;
+  j[prefix + "unresolved"] = s.unresolved;
+  j[prefix + "p50"] = s.p50;
+  j[prefix + "p99"] = s.p99;
+  j[prefix + "max"] = s.max;
+  j[prefix + "abs_p50"] = s.abs_p50;
+  j[prefix + "abs_p99"] = s.abs_p99;
+  j[prefix + "abs_max"] = s.abs_max;
+  j[prefix + "worst"] = {s.worst.x(), s.worst.y(), s.worst.z()};
+}
+
 SkeletonSurface build_surface(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
                               bool fit_radii, StageTimer& timer, Context& ctx) {
   // With fit_radii the surface is the convolution surface of the split skeleton with fitted

@@ -13,6 +13,7 @@
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/mesh/bark_uv.h"
 #include "ramiform/mesh/checks.h"
+#include "ramiform/mesh/deviation.h"
 #include "ramiform/polygonize/lod.h"
 #include "ramiform/polygonize/marching_cubes.h"
 #include "ramiform/polygonize/refine.h"
@@ -88,6 +89,11 @@ void label_by_node_types(std::span<TriMesh> meshes, const Skeleton& skeleton, Co
 /// inside (generalized winding number): skeleton_nodes, skeleton_nodes_inside_count and the
 /// share skeleton_nodes_inside.
 [[nodiscard]] nlohmann::json check_json(const TriMesh& mesh, const Skeleton* skeleton, Context& ctx);
+
+/// The deviation figures of `check --json` under `prefix` ("deviation_" for the samples,
+/// "vertex_deviation_" for the vertices): points, unresolved, p50, p99, max, abs_*, worst.
+void put_deviation_summary(nlohmann::json& j, const std::string& prefix,
+                           const DeviationSummary& s);
 
 /// Builds the field (fitting radii if asked), polygonizes (every level of `options.lods`),
 /// adds normals and UVs, checks and writes `out_path` (atomically; one file per level unless a

@@ -506,13 +506,8 @@ void bind_mesh(py::module_& m) {
             o.seed = seed;
             const Skeleton* s = field->meshed ? &*field->meshed : nullptr;
             const DeviationReport d = measure_deviation(mesh.mesh, *field->field, s, o, &ctx);
-            j["deviation_p50"] = d.samples.p50;
-            j["deviation_p99"] = d.samples.p99;
-            j["deviation_max"] = d.samples.max;
-            j["deviation_points"] = d.samples.points;
-            j["deviation_unresolved"] = d.samples.unresolved;
-            j["vertex_deviation_p99"] = d.vertices.p99;
-            j["vertex_deviation_max"] = d.vertices.max;
+            cli::put_deviation_summary(j, "deviation_", d.samples);
+            cli::put_deviation_summary(j, "vertex_deviation_", d.vertices);
           }
         });
         return to_python(j);
