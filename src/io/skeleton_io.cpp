@@ -206,6 +206,15 @@ Skeleton parse_skeleton_json(std::string_view text, const std::string& source_na
       }
       s.node_types[i] = static_cast<std::int32_t>(type->get<std::int64_t>());
     }
+    const auto end = n.find("end");
+    if (end != n.end()) {
+      if (!end->is_string() || (*end != "open" && *end != "closed")) {
+        throw InputError(source, "node", i,
+                         "\"end\" must be \"open\" or \"closed\", got " + shown(*end));
+      }
+      if (s.open_ends.empty()) s.open_ends.assign(nodes->size(), 0);
+      s.open_ends[i] = *end == "open" ? 1 : 0;
+    }
   }
 
   const auto edges = doc.find("edges");
@@ -344,6 +353,7 @@ std::string skeleton_to_json(const Skeleton& skeleton) {
       out += ", \"type\": ";
       out += std::to_string(skeleton.node_types[i]);
     }
+    if (!skeleton.open_ends.empty() && skeleton.open_ends[i] != 0) out += ", \"end\": \"open\"";
     out += "}";
   }
   out += "\n  ],\n  \"edges\": [";

@@ -38,6 +38,11 @@ void validate(const Skeleton& skeleton, const std::string& source) {
                      std::to_string(skeleton.node_types.size()) + " node types for " +
                          std::to_string(skeleton.nodes.size()) + " nodes (need none or one each)");
   }
+  if (!skeleton.open_ends.empty() && skeleton.open_ends.size() != skeleton.nodes.size()) {
+    throw InputError(source, 0,
+                     std::to_string(skeleton.open_ends.size()) + " open-end flags for " +
+                         std::to_string(skeleton.nodes.size()) + " nodes (need none or one each)");
+  }
   Aabb box;
   for (std::size_t i = 0; i < skeleton.nodes.size(); ++i) {
     const auto& n = skeleton.nodes[i];

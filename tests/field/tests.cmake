@@ -8,6 +8,7 @@ set(RAMIFORM_field_TESTS
   field/primitives_test.cpp
   field/warps_test.cpp
   field/rbf_test.cpp
+  field/equipotential_test.cpp
   field/curves_test.cpp
   field/sweep_test.cpp
   field/sweep_region_test.cpp

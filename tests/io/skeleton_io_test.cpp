@@ -107,6 +107,25 @@ TEST(SkeletonJson, SyntaxErrorNamesTheLine) {
                         "JSON syntax error");
 }
 
+TEST(SkeletonJson, OpenEndsRoundTripAndBadValuesNameTheNode) {
+  const std::string text =
+      R"({"nodes":[{"position":[0,0,0],"radius":1},{"position":[0,0,5],"radius":1,"end":"open"},)"
+      R"({"position":[0,5,0],"radius":1,"end":"closed"}],"edges":[[0,1],[0,2]]})";
+  const Skeleton s = parse_skeleton_json(text, "o.json");
+  EXPECT_EQ(s.open_ends, (std::vector<std::uint8_t>{0, 1, 0}));
+  const Skeleton back = parse_skeleton_json(skeleton_to_json(s), "back.json");
+  EXPECT_EQ(back.open_ends, s.open_ends);
+  // No "end" anywhere: no flags at all.
+  EXPECT_TRUE(parse_skeleton_json(R"({"nodes":[{"position":[0,0,0],"radius":1}]})", "n.json")
+                  .open_ends.empty());
+  EXPECT_INPUT_ERROR_AT(
+      parse_skeleton_json(R"({"nodes":[{"position":[0,0,0],"radius":1,"end":"opened"}]})", "b.json"),
+      "b.json", 0, "node 0: \"end\" must be \"open\" or \"closed\"");
+  EXPECT_INPUT_ERROR_AT(
+      parse_skeleton_json(R"({"nodes":[{"position":[0,0,0],"radius":1,"end":1}]})", "c.json"),
+      "c.json", 0, "node 0: \"end\" must be");
+}
+
 TEST(SkeletonJson, StructuralErrorsNameTheElement) {
   const auto node = [](const std::string& second) {
     return R"({"nodes":[{"position":[0,0,0],"radius":1},)" + second + "]}";

@@ -28,14 +28,18 @@ struct Skeleton {
   /// 4 apical dendrite, others custom): empty, or one per node. Operations that build new
   /// skeletons (splitting, growth) may leave them empty.
   std::vector<std::int32_t> node_types;
+  /// Optional open-end flags for the equipotential surface (field/equipotential.h): empty, or
+  /// one per node, 1 where a leaf's end is open (sharp-edged) instead of closed and round.
+  /// Skeleton JSON spells it `"end": "open"` on a node.
+  std::vector<std::uint8_t> open_ends;
 
   [[nodiscard]] std::size_t node_count() const { return nodes.size(); }
   [[nodiscard]] std::size_t edge_count() const { return edges.size(); }
 };
 
 /// Checks every invariant and throws `InputError` naming the first offending element (`source`
-/// is the file name used in the message, may be empty): no nodes; `node_types` neither empty nor
-/// one per node; non-finite position; radius not finite or <= 0; edge index out of range; self-loop; duplicate edge (either orientation);
+/// is the file name used in the message, may be empty): no nodes; `node_types` or `open_ends` neither
+/// empty nor one per node; non-finite position; radius not finite or <= 0; edge index out of range; self-loop; duplicate edge (either orientation);
 /// zero-length edge (endpoints closer than tol::kCoincident times the skeleton's extent).
 void validate(const Skeleton& skeleton, const std::string& source = {});
 

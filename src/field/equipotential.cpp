@@ -1,0 +1,947 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/field/equipotential.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <numeric>
+#include <sstream>
+#include <string>
+
+#include "field/pointwise_field.h"
+#include "field/radius_fit_detail.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/core/parallel.h"
+
+namespace ramiform {
+
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+constexpr std::uint32_t kLeafSize = 8;
+constexpr std::size_t kMaxEdgeCharges = std::size_t{1} << 26;
+constexpr std::size_t kMaxCharges = std::size_t{1} << 26;
+constexpr double kBoundTheta = 0.5;  // clusters smaller than this times their distance: one box
+constexpr int kBoundsDepth = 10;     // octree levels refining bounds() at most
+constexpr std::size_t kBoundsCells = 20000;  // stop refining bounds() beyond this many cells
+constexpr double kMaxTipFactor = 50.0;
+constexpr double kForkGap = 1.5;
+constexpr double kHuber =
+    0.02;  // the fit's Huber threshold, relative to lambda  // the fit leaves out stations this
+           // many radii from a fork       // a closed leaf's charge is raised at most this much
+
+std::string fmt(double v) {
+  std::ostringstream o;
+  o.precision(17);
+  o << v;
+  return o.str();
+}
+
+void require(bool ok, const std::string& what, double v, const std::string& rule) {
+  if (!ok) throw InvalidArgument(what + " must be " + rule + ", got " + fmt(v));
+}
+
+// w(s) = s^(-(alpha - 1) / 2) for s = |r - c|^2 + h^2, with fast paths for integer alpha.
+struct PowerKernel {
+  double alpha = 4.0;
+  double half = 1.5;  // (alpha - 1) / 2
+  double h2 = 0.0;
+  int mode = 0;  // integer alpha 2..7, or 0 for pow
+
+  PowerKernel() = default;
+  PowerKernel(double a, double soft2) : alpha(a), half(0.5 * (a - 1.0)), h2(soft2) {
+    const double r = std::round(a);
+    mode = (r == a && r >= 2 && r <= 7) ? static_cast<int>(r) : 0;
+  }
+
+  [[nodiscard]] double w(double s) const {
+    const double i = 1.0 / s;
+    switch (mode) {
+      case 2:
+        return std::sqrt(i);
+      case 3:
+        return i;
+      case 4:
+        return i * std::sqrt(i);
+      case 5:
+        return i * i;
+      case 6:
+        return i * i * std::sqrt(i);
+      case 7:
+        return i * i * i;
+      default:
+        return std::pow(s, -half);
+    }
+  }
+  // grad of w(|p - c|^2 + h^2) with respect to p is dw * (p - c), dw = -(alpha - 1) w / s.
+  [[nodiscard]] double dw(double w_value, double s) const { return -(alpha - 1.0) * w_value / s; }
+};
+
+// Barnes-Hut treecode over the charges: a binary tree of clusters split at the median of the
+// longest axis, leaves of at most kLeafSize charges stored contiguously.
+class ChargeTree {
+ public:
+  ChargeTree(std::span<const Vec3> positions, std::span<const double> values, double alpha,
+             double theta)
+      : theta2_(theta * theta) {
+    const std::size_t n = positions.size();
+    Aabb all;
+    for (const Vec3& p : positions) all.extend(p);
+    extent_ = n > 0 ? all.diagonal().norm() : 0.0;
+    const double h = 1e-9 * std::max(extent_, 1e-300);
+    kernel_ = PowerKernel(alpha, h * h);
+    order_.resize(n);
+    std::iota(order_.begin(), order_.end(), 0U);
+    if (n > 0) {
+      nodes_.reserve(2 * (n / kLeafSize + 1));
+      build(positions, 0, static_cast<std::uint32_t>(n));
+    }
+    pos_.resize(n);
+    val_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      pos_[i] = positions[order_[i]];
+      val_[i] = values[order_[i]];
+    }
+    if (n > 0) summarize(0);
+    box_ = all;
+  }
+
+  [[nodiscard]] const PowerKernel& kernel() const { return kernel_; }
+  [[nodiscard]] const Aabb& box() const { return box_; }
+  [[nodiscard]] double total() const { return nodes_.empty() ? 0.0 : nodes_[0].q; }
+  [[nodiscard]] std::size_t size() const { return pos_.size(); }
+
+  // The potential at p, and its gradient in *grad when grad is set.
+  double eval(const Vec3& p, Vec3* grad) const {
+    double f = 0.0;
+    Vec3 g = Vec3::Zero();
+    if (nodes_.empty()) {
+      if (grad != nullptr) *grad = g;
+      return 0.0;
+    }
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& c = nodes_[stack[--top]];
+      if (!(c.q > 0)) continue;
+      const Vec3 d = p - c.centroid;
+      const double d2 = d.squaredNorm();
+      if (c.rho2 < theta2_ * d2) {
+        add_cluster(c, d, d2, f, g, grad != nullptr);
+      } else if (c.right == kNone) {
+        for (std::uint32_t i = c.first; i < c.first + c.count; ++i) {
+          const Vec3 di = p - pos_[i];
+          add(val_[i], di, di.squaredNorm(), f, g, grad != nullptr);
+        }
+      } else {
+        stack[top++] = c.right;
+        stack[top++] = c.first;
+      }
+    }
+    if (grad != nullptr) *grad = g;
+    return f;
+  }
+
+  // Conservative range of the potential over the box.
+  [[nodiscard]] Interval bound(const Aabb& box) const {
+    Interval r{0.0, 0.0};
+    if (nodes_.empty() || box.isEmpty()) return r;
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& c = nodes_[stack[--top]];
+      if (!(c.q > 0)) continue;
+      const double dmin2 = squared_distance(c.box, box);
+      const double size2 = c.box.diagonal().squaredNorm();
+      if (c.right == kNone && c.count > 1 && !(size2 < kBoundTheta * kBoundTheta * dmin2)) {
+        for (std::uint32_t i = c.first; i < c.first + c.count; ++i) {
+          const double lo2 = squared_distance(box, pos_[i]);
+          const double hi = max_distance(box, pos_[i]);
+          r.lo += val_[i] * kernel_.w(hi * hi + kernel_.h2);
+          r.hi += val_[i] * kernel_.w(lo2 + kernel_.h2);
+        }
+      } else if (c.right == kNone || size2 < kBoundTheta * kBoundTheta * dmin2) {
+        r.lo += c.q * kernel_.w(max_squared_distance(c.box, box) + kernel_.h2);
+        r.hi += c.q * kernel_.w(dmin2 + kernel_.h2);
+      } else {
+        stack[top++] = c.right;
+        stack[top++] = c.first;
+      }
+    }
+    // Rounding: the sums above are of positive terms; widen by a few ulps of the total.
+    r.lo = std::max(0.0, r.lo * (1.0 - 1e-12));
+    r.hi = r.hi * (1.0 + 1e-12);
+    return r;
+  }
+
+  // Charges (original indices) within distance `radius` of p, appended to out.
+  void near(const Vec3& p, double radius, std::vector<std::uint32_t>& out) const {
+    if (nodes_.empty()) return;
+    const double r2 = radius * radius;
+    std::uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& c = nodes_[stack[--top]];
+      if (squared_distance(c.box, p) > r2) continue;
+      if (c.right == kNone) {
+        for (std::uint32_t i = c.first; i < c.first + c.count; ++i) {
+          if ((pos_[i] - p).squaredNorm() <= r2) out.push_back(order_[i]);
+        }
+      } else {
+        stack[top++] = c.right;
+        stack[top++] = c.first;
+      }
+    }
+  }
+
+ private:
+  struct Node {
+    Vec3 centroid = Vec3::Zero();
+    double q = 0.0;     // total charge
+    double rho2 = 0.0;  // squared radius of the cluster around its centroid
+    // Second moments about the centroid, sum q (x - c)(x - c)^T: xx, xy, xz, yy, yz, zz.
+    std::array<double, 6> m{};
+    Aabb box;
+    std::uint32_t first = 0, count = 0;  // leaf: charges [first, first + count); inner: left
+    std::uint32_t right = kNone;         // inner: right child; leaf: kNone
+  };
+
+  static double max_squared_distance(const Aabb& a, const Aabb& b) {
+    const Vec3 d = (a.max() - b.min()).cwiseAbs().cwiseMax((b.max() - a.min()).cwiseAbs());
+    return d.squaredNorm();
+  }
+
+  // A far cluster: its monopole plus quadrupole (the dipole vanishes about the charge-weighted
+  // centroid). With k = alpha - 1, w = s^(-k/2) and u = 1/s, the quadrupole term of
+  // sum q w(|d - x|) is k w u ((k + 2) d.M.d u - tr M) / 2 and its gradient
+  // k (k + 2) w u^2 (2 M d - (k + 4) d.M.d u d + tr M d) / 2.
+  void add_cluster(const Node& c, const Vec3& d, double d2, double& f, Vec3& g,
+                   bool with_grad) const {
+    const double s = d2 + kernel_.h2;
+    const double w = kernel_.w(s);
+    const double u = 1.0 / s;
+    const double k = kernel_.alpha - 1.0;
+    const auto& m = c.m;
+    const Vec3 md(m[0] * d.x() + m[1] * d.y() + m[2] * d.z(),
+                  m[1] * d.x() + m[3] * d.y() + m[4] * d.z(),
+                  m[2] * d.x() + m[4] * d.y() + m[5] * d.z());
+    const double dmd = d.dot(md);
+    const double tr = m[0] + m[3] + m[5];
+    f += c.q * w + 0.5 * k * w * u * ((k + 2.0) * dmd * u - tr);
+    if (with_grad) {
+      g += (c.q * kernel_.dw(w, s)) * d +
+           (0.5 * k * (k + 2.0) * w * u * u) * (2.0 * md + (tr - (k + 4.0) * dmd * u) * d);
+    }
+  }
+
+  void add(double q, const Vec3& d, double d2, double& f, Vec3& g, bool with_grad) const {
+    const double s = d2 + kernel_.h2;
+    const double w = kernel_.w(s);
+    f += q * w;
+    if (with_grad) g += (q * kernel_.dw(w, s)) * d;
+  }
+
+  std::uint32_t build(std::span<const Vec3> positions, std::uint32_t begin, std::uint32_t end) {
+    const auto id = static_cast<std::uint32_t>(nodes_.size());
+    nodes_.emplace_back();
+    Aabb box;
+    for (std::uint32_t i = begin; i < end; ++i) box.extend(positions[order_[i]]);
+    nodes_[id].box = box;
+    if (end - begin <= kLeafSize) {
+      nodes_[id].first = begin;
+      nodes_[id].count = end - begin;
+      return id;
+    }
+    int axis = 0;
+    box.diagonal().maxCoeff(&axis);
+    const std::uint32_t mid = begin + (end - begin) / 2;
+    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                     [&](std::uint32_t a, std::uint32_t b) {
+                       const double pa = positions[a][axis], pb = positions[b][axis];
+                       return pa < pb || (pa == pb && a < b);
+                     });
+    const std::uint32_t left = build(positions, begin, mid);
+    const std::uint32_t right = build(positions, mid, end);
+    nodes_[id].first = left;
+    nodes_[id].right = right;
+    return id;
+  }
+
+  // Charge-weighted centroid, total and radius of every cluster (after pos_/val_ are sorted).
+  void summarize(std::uint32_t id) {
+    Node& c = nodes_[id];
+    std::uint32_t lo = 0, hi = 0;
+    if (c.right == kNone) {
+      lo = c.first;
+      hi = c.first + c.count;
+    } else {
+      summarize(c.first);
+      summarize(c.right);
+      lo = leaf_begin(c.first);
+      hi = leaf_end(c.right);
+    }
+    double q = 0.0;
+    Vec3 m = Vec3::Zero(), plain = Vec3::Zero();
+    for (std::uint32_t i = lo; i < hi; ++i) {
+      q += val_[i];
+      m += val_[i] * pos_[i];
+      plain += pos_[i];
+    }
+    c.q = q;
+    c.centroid = q > 0 ? Vec3(m / q) : Vec3(plain / static_cast<double>(hi - lo));
+    double rho2 = 0.0;
+    std::array<double, 6> mom{};
+    for (std::uint32_t i = lo; i < hi; ++i) {
+      const Vec3 x = pos_[i] - c.centroid;
+      rho2 = std::max(rho2, x.squaredNorm());
+      const double q_i = val_[i];
+      mom[0] += q_i * x.x() * x.x();
+      mom[1] += q_i * x.x() * x.y();
+      mom[2] += q_i * x.x() * x.z();
+      mom[3] += q_i * x.y() * x.y();
+      mom[4] += q_i * x.y() * x.z();
+      mom[5] += q_i * x.z() * x.z();
+    }
+    c.rho2 = rho2;
+    c.m = mom;
+  }
+  [[nodiscard]] std::uint32_t leaf_begin(std::uint32_t id) const {
+    while (nodes_[id].right != kNone) id = nodes_[id].first;
+    return nodes_[id].first;
+  }
+  [[nodiscard]] std::uint32_t leaf_end(std::uint32_t id) const {
+    while (nodes_[id].right != kNone) id = nodes_[id].right;
+    return nodes_[id].first + nodes_[id].count;
+  }
+
+  double theta2_;
+  double extent_ = 0.0;
+  PowerKernel kernel_;
+  Aabb box_;
+  std::vector<std::uint32_t> order_;  // sorted position -> original charge index
+  std::vector<Vec3> pos_;
+  std::vector<double> val_;
+  std::vector<Node> nodes_;
+};
+
+void check_charges(const ChargeSet& c) {
+  const std::size_t n = c.positions.size();
+  if (n == 0) throw InvalidArgument("equipotential field: no charges");
+  if (c.values.size() != n) {
+    throw InvalidArgument("equipotential field: " + std::to_string(c.values.size()) +
+                          " charge values for " + std::to_string(n) + " charges");
+  }
+  require(std::isfinite(c.alpha) && c.alpha >= 2.0 && c.alpha <= 16.0, "alpha", c.alpha,
+          "in [2, 16]");
+  double total = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!c.positions[i].allFinite()) {
+      throw InvalidArgument("equipotential field: charge " + std::to_string(i) +
+                            " has a non-finite position");
+    }
+    if (!std::isfinite(c.values[i]) || c.values[i] < 0) {
+      throw InvalidArgument("equipotential field: charge " + std::to_string(i) + " has value " +
+                            fmt(c.values[i]) + " (must be finite and >= 0)");
+    }
+    total += c.values[i];
+  }
+  if (!(total > 0) || !std::isfinite(total)) {
+    throw InvalidArgument("equipotential field: the charges sum to " + fmt(total) +
+                          " (must be finite and > 0)");
+  }
+}
+
+class EquipotentialField final : public detail::PointwiseField {
+ public:
+  EquipotentialField(const ChargeSet& charges, double lambda, double theta)
+      : PointwiseField(lambda),
+        tree_(charges.positions, charges.values, charges.alpha, theta),
+        alpha_(charges.alpha),
+        theta_(theta) {}
+
+  [[nodiscard]] Interval bound(const Aabb& box) const override { return tree_.bound(box); }
+
+  [[nodiscard]] Aabb bounds() const override {
+    std::call_once(bounds_once_, [&] { bounds_ = compute_bounds(); });
+    return bounds_;
+  }
+
+  [[nodiscard]] std::string describe() const override {
+    std::ostringstream o;
+    o << "equipotential surface, " << tree_.size() << " charges, alpha " << alpha_ << ", lambda "
+      << iso() << ", treecode theta " << theta_;
+    return o.str();
+  }
+
+ protected:
+  double at(const Vec3& p, Vec3* grad) const override { return tree_.eval(p, grad); }
+
+ private:
+  // f > lambda needs a point within (Q / lambda)^(1 / (alpha - 1)) of the charges' box; the
+  // box of the cells of an octree over that region whose bound reaches above lambda.
+  [[nodiscard]] Aabb compute_bounds() const {
+    const double lambda = iso();
+    const double reach = std::pow(tree_.total() / lambda, 1.0 / (alpha_ - 1.0));
+    Aabb root = tree_.box();
+    root.min().array() -= reach;
+    root.max().array() += reach;
+    std::vector<Aabb> cells{root}, next;
+    if (!(tree_.bound(root).hi > lambda)) return Aabb();
+    for (int depth = 0; depth < kBoundsDepth && cells.size() <= kBoundsCells; ++depth) {
+      next.clear();
+      for (const Aabb& c : cells) {
+        const Vec3 mid = c.center();
+        for (int k = 0; k < 8; ++k) {
+          Vec3 lo, hi;
+          for (int a = 0; a < 3; ++a) {
+            const bool up = ((k >> a) & 1) != 0;
+            lo[a] = up ? mid[a] : c.min()[a];
+            hi[a] = up ? c.max()[a] : mid[a];
+          }
+          const Aabb child(lo, hi);
+          if (tree_.bound(child).hi > lambda) next.push_back(child);
+        }
+      }
+      cells.swap(next);
+    }
+    Aabb out;
+    for (const Aabb& c : cells) out.extend(c);
+    return out;
+  }
+
+  ChargeTree tree_;
+  double alpha_;
+  double theta_;
+  mutable std::once_flag bounds_once_;
+  mutable Aabb bounds_;
+};
+
+void validate_options(const EquipotentialOptions& o, std::size_t edges) {
+  require(std::isfinite(o.alpha) && o.alpha >= 2.0 && o.alpha <= 16.0, "alpha", o.alpha,
+          "in [2, 16]");
+  require(std::isfinite(o.charge_spacing) && o.charge_spacing >= 0, "charge_spacing",
+          o.charge_spacing, "finite and >= 0");
+  require(std::isfinite(o.spacing_factor) && o.spacing_factor > 0, "spacing_factor",
+          o.spacing_factor, "finite and > 0");
+  require(std::isfinite(o.charge) && o.charge >= 0, "charge", o.charge, "finite and >= 0");
+  require(std::isfinite(o.lambda) && o.lambda >= 0, "lambda", o.lambda, "finite and >= 0");
+  require(std::isfinite(o.lambda_scale) && o.lambda_scale > 0, "lambda_scale", o.lambda_scale,
+          "finite and > 0");
+  require(std::isfinite(o.extension) && o.extension > 0 && o.extension <= 1000, "extension",
+          o.extension, "in (0, 1000]");
+  require(std::isfinite(o.theta) && o.theta >= 0 && o.theta <= 0.6, "theta", o.theta,
+          "in [0, 0.6]");
+  if (!o.edge_charges.empty()) {
+    if (o.edge_charges.size() != edges) {
+      throw InvalidArgument("edge_charges: " + std::to_string(o.edge_charges.size()) +
+                            " values for " + std::to_string(edges) + " edges");
+    }
+    for (std::size_t e = 0; e < edges; ++e) {
+      require(std::isfinite(o.edge_charges[e]) && o.edge_charges[e] > 0,
+              "edge_charges[" + std::to_string(e) + "]", o.edge_charges[e], "finite and > 0");
+    }
+  }
+}
+
+// Unit vectors perpendicular to u (any u != 0).
+void frame(const Vec3& u, Vec3& e1, Vec3& e2) {
+  const Vec3 t = std::abs(u.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  e1 = u.cross(t).normalized();
+  e2 = u.cross(e1).normalized();
+}
+
+// Raises the charge of every closed leaf (degree 1, not open) so that the mean potential of four
+// points at the leaf's radius around it, perpendicular to its edge, is lambda: the missing
+// potential times r^(alpha - 1) is added at the leaf (exact at those points).
+void compensate_tips(ChargeSet& c, const Skeleton& skeleton, double lambda, double theta) {
+  const std::size_t nn = skeleton.node_count();
+  std::vector<std::uint32_t> leaves;
+  for (std::size_t n = 0; n < nn; ++n) {
+    if (c.node_edge_offset[n + 1] - c.node_edge_offset[n] == 1 && c.open[n] == 0)
+      leaves.push_back(static_cast<std::uint32_t>(n));
+  }
+  if (leaves.empty()) return;
+  const ChargeTree tree(c.positions, c.values, c.alpha, theta);
+  std::vector<double> factor(leaves.size(), 1.0);
+  parallel::for_each(leaves.size(), 64, [&](std::size_t k) {
+    const std::uint32_t n = leaves[k];
+    const std::uint32_t e = c.node_edges[c.node_edge_offset[n]];
+    const std::uint32_t other =
+        skeleton.edges[e][0] == n ? skeleton.edges[e][1] : skeleton.edges[e][0];
+    const Vec3& p = skeleton.nodes[n].position;
+    Vec3 e1, e2;
+    frame((p - skeleton.nodes[other].position).normalized(), e1, e2);
+    const double r = skeleton.nodes[n].radius;
+    double f = 0.0;
+    for (const Vec3& d : {e1, e2, Vec3(-e1), Vec3(-e2)}) f += 0.25 * tree.eval(p + r * d, nullptr);
+    const double missing = lambda - f;
+    const double q = c.node_values[n];
+    if (missing > 0 && q > 0) {
+      factor[k] = std::min(kMaxTipFactor, 1.0 + missing * std::pow(r, c.alpha - 1.0) / q);
+    }
+  });
+  for (std::size_t k = 0; k < leaves.size(); ++k) c.node_factor[leaves[k]] = factor[k];
+  set_edge_charges(c, std::vector<double>(c.edge_values));
+}
+
+}  // namespace
+
+std::size_t edge_charge_count(double length, double spacing) {
+  if (!std::isfinite(spacing) || !(spacing > 0)) {
+    throw InvalidArgument("edge_charge_count: spacing must be finite and > 0, got " + fmt(spacing));
+  }
+  if (!std::isfinite(length) || !(length >= 0)) {
+    throw InvalidArgument("edge_charge_count: length must be finite and >= 0, got " + fmt(length));
+  }
+  const double count = std::ceil(length / spacing) - 1.0;
+  if (count > static_cast<double>(kMaxEdgeCharges)) {
+    throw InvalidArgument("edge_charge_count: an edge of length " + fmt(length) +
+                          " at charge spacing " + fmt(spacing) + " needs more than 2^26 charges");
+  }
+  return count > 0 ? static_cast<std::size_t>(count) : 0;
+}
+
+ChargeSet place_charges(const Skeleton& skeleton, const EquipotentialOptions& options) {
+  validate(skeleton);
+  validate_options(options, skeleton.edge_count());
+  const std::size_t nn = skeleton.node_count(), ne = skeleton.edge_count();
+  ChargeSet c;
+  c.alpha = options.alpha;
+  const std::vector<std::uint32_t> deg = degrees(skeleton);
+  c.node_edge_offset.assign(nn + 1, 0);
+  for (std::size_t n = 0; n < nn; ++n) c.node_edge_offset[n + 1] = c.node_edge_offset[n] + deg[n];
+  c.node_edges.resize(2 * ne);
+  const bool tapered = options.taper && options.charge == 0 && options.edge_charges.empty();
+  // The taper factor (r / r_e)^(alpha - 2) at radius r on edge e.
+  auto taper = [&](std::size_t e, double r) {
+    if (!tapered) return 1.0;
+    const double re = 0.5 * (skeleton.nodes[skeleton.edges[e][0]].radius +
+                             skeleton.nodes[skeleton.edges[e][1]].radius);
+    return std::pow(r / re, options.alpha - 2.0);
+  };
+  c.node_edge_scale.resize(2 * ne);
+  {
+    std::vector<std::uint32_t> fill(c.node_edge_offset.begin(), c.node_edge_offset.end() - 1);
+    for (std::size_t e = 0; e < ne; ++e) {
+      for (const std::uint32_t n : skeleton.edges[e]) {
+        c.node_edge_scale[fill[n]] = taper(e, skeleton.nodes[n].radius);
+        c.node_edges[fill[n]++] = static_cast<std::uint32_t>(e);
+      }
+    }
+  }
+  c.node_factor.assign(nn, 1.0);
+  c.open.assign(nn, 0);
+  for (std::size_t n = 0; n < nn; ++n) {
+    const bool flagged = !skeleton.open_ends.empty() && skeleton.open_ends[n] != 0;
+    if (deg[n] == 1 && (options.open_ends || flagged)) c.open[n] = 1;
+  }
+  // Per edge: spacing, charge count and value.
+  c.edge_spacing.resize(ne);
+  c.edge_values.resize(ne);
+  std::vector<std::size_t> counts(ne);
+  std::size_t total = nn;
+  for (std::size_t e = 0; e < ne; ++e) {
+    const SkeletonNode& a = skeleton.nodes[skeleton.edges[e][0]];
+    const SkeletonNode& b = skeleton.nodes[skeleton.edges[e][1]];
+    const double len = (b.position - a.position).norm();
+    const double d = options.charge_spacing > 0
+                         ? options.charge_spacing
+                         : options.spacing_factor * std::min(a.radius, b.radius);
+    c.edge_spacing[e] = d;
+    counts[e] = edge_charge_count(len, d);
+    total += counts[e];
+    if (!options.edge_charges.empty()) {
+      c.edge_values[e] = options.edge_charges[e];
+    } else if (options.charge > 0) {
+      c.edge_values[e] = options.charge;
+    } else {
+      const double r = 0.5 * (a.radius + b.radius);
+      const double step = len / static_cast<double>(counts[e] + 1);
+      c.edge_values[e] = step * std::pow(r, options.alpha - 2.0);
+    }
+    if (!std::isfinite(c.edge_values[e]) || !(c.edge_values[e] > 0)) {
+      throw InvalidArgument("edge " + std::to_string(e) + ": its charge value " +
+                            fmt(c.edge_values[e]) + " is not finite and > 0 (radius or length " +
+                            "out of range for alpha " + fmt(options.alpha) + ")");
+    }
+  }
+  std::vector<std::size_t> extension(nn, 0);
+  for (std::size_t n = 0; n < nn; ++n) {
+    if (c.open[n] == 0) continue;
+    const std::uint32_t e = c.node_edges[c.node_edge_offset[n]];
+    const double reach = options.extension * skeleton.nodes[n].radius;
+    extension[n] = static_cast<std::size_t>(std::ceil(reach / c.edge_spacing[e]));
+    if (extension[n] > kMaxEdgeCharges) {
+      throw InvalidArgument("node " + std::to_string(n) + ": its open end needs more than 2^26 " +
+                            "extension charges (extension / charge spacing too large)");
+    }
+    total += extension[n];
+  }
+  if (total > kMaxCharges) {
+    throw InvalidArgument("equipotential: " + std::to_string(total) +
+                          " charges exceed the limit of 2^26 (raise charge_spacing)");
+  }
+  c.positions.reserve(total);
+  c.values.reserve(total);
+  c.scale.reserve(total);
+  c.edge.reserve(total);
+  c.node.reserve(total);
+  // Node charges first, then each edge's inner charges, then the open ends' extensions.
+  c.node_values.resize(nn);
+  for (std::size_t n = 0; n < nn; ++n) {
+    c.positions.push_back(skeleton.nodes[n].position);
+    c.values.push_back(0.0);
+    c.scale.push_back(1.0);
+    c.edge.push_back(kNone);
+    c.node.push_back(static_cast<std::uint32_t>(n));
+  }
+  for (std::size_t e = 0; e < ne; ++e) {
+    const SkeletonNode& na = skeleton.nodes[skeleton.edges[e][0]];
+    const SkeletonNode& nb = skeleton.nodes[skeleton.edges[e][1]];
+    const Vec3& a = na.position;
+    const Vec3& b = nb.position;
+    for (std::size_t k = 1; k <= counts[e]; ++k) {
+      const double t = static_cast<double>(k) / static_cast<double>(counts[e] + 1);
+      c.positions.push_back(a + t * (b - a));
+      c.values.push_back(0.0);
+      c.scale.push_back(taper(e, na.radius + t * (nb.radius - na.radius)));
+      c.edge.push_back(static_cast<std::uint32_t>(e));
+      c.node.push_back(kNone);
+    }
+  }
+  for (std::size_t n = 0; n < nn; ++n) {
+    if (extension[n] == 0) continue;
+    const std::uint32_t e = c.node_edges[c.node_edge_offset[n]];
+    const std::uint32_t other =
+        skeleton.edges[e][0] == n ? skeleton.edges[e][1] : skeleton.edges[e][0];
+    const Vec3& p = skeleton.nodes[n].position;
+    const Vec3 u = (p - skeleton.nodes[other].position).normalized();
+    for (std::size_t k = 1; k <= extension[n]; ++k) {
+      c.positions.push_back(p + (static_cast<double>(k) * c.edge_spacing[e]) * u);
+      c.values.push_back(0.0);
+      c.scale.push_back(taper(e, skeleton.nodes[n].radius));
+      c.edge.push_back(e);
+      c.node.push_back(static_cast<std::uint32_t>(n));
+    }
+  }
+  // Isolated nodes: one charge that alone gives a sphere of the node's radius at the same
+  // potential as a long edge of that radius (so lambda estimates agree); or `charge`.
+  for (std::size_t n = 0; n < nn; ++n) {
+    if (deg[n] != 0) continue;
+    const double r = skeleton.nodes[n].radius;
+    c.node_values[n] = options.charge > 0 ? options.charge : std::pow(r, options.alpha - 1.0);
+  }
+  set_edge_charges(c, c.edge_values);
+  return c;
+}
+
+void set_edge_charges(ChargeSet& c, std::span<const double> edge_values) {
+  const std::size_t ne = c.edge_spacing.size();
+  if (edge_values.size() != ne) {
+    throw InvalidArgument("set_edge_charges: " + std::to_string(edge_values.size()) +
+                          " values for " + std::to_string(ne) + " edges");
+  }
+  for (std::size_t e = 0; e < ne; ++e) {
+    require(std::isfinite(edge_values[e]) && edge_values[e] >= 0, "edge value " + std::to_string(e),
+            edge_values[e], "finite and >= 0");
+  }
+  if (c.edge_values.data() != edge_values.data()) {
+    c.edge_values.assign(edge_values.begin(), edge_values.end());
+  }
+  const std::size_t nn = c.node_values.size();
+  for (std::size_t n = 0; n < nn; ++n) {
+    const std::uint32_t b = c.node_edge_offset[n], e = c.node_edge_offset[n + 1];
+    if (b == e) continue;  // isolated: keeps its own value
+    double s = 0.0;
+    for (std::uint32_t k = b; k < e; ++k)
+      s += c.edge_values[c.node_edges[k]] * c.node_edge_scale[k];
+    c.node_values[n] = c.node_factor[n] * s / static_cast<double>(e - b);
+  }
+  for (std::size_t i = 0; i < c.positions.size(); ++i) {
+    c.values[i] =
+        c.edge[i] != kNone ? c.edge_values[c.edge[i]] * c.scale[i] : c.node_values[c.node[i]];
+  }
+}
+
+double estimate_lambda(const ChargeSet& charges, const Skeleton& skeleton,
+                       std::span<const double> test_radius, double theta) {
+  check_charges(charges);
+  require(std::isfinite(theta) && theta >= 0 && theta <= 0.6, "theta", theta, "in [0, 0.6]");
+  const std::size_t ne = skeleton.edge_count();
+  if (test_radius.size() != ne) {
+    throw InvalidArgument("estimate_lambda: " + std::to_string(test_radius.size()) +
+                          " test radii for " + std::to_string(ne) + " edges");
+  }
+  std::vector<Vec3> tests;
+  if (ne == 0) {
+    // No edges: four points at each node's radius.
+    for (const SkeletonNode& n : skeleton.nodes) {
+      for (const Vec3& d : {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 1, 0), Vec3(0, -1, 0)})
+        tests.push_back(n.position + n.radius * d);
+    }
+  }
+  for (std::size_t e = 0; e < ne; ++e) {
+    require(std::isfinite(test_radius[e]) && test_radius[e] > 0, "test radius " + std::to_string(e),
+            test_radius[e], "finite and > 0");
+    const Vec3& a = skeleton.nodes[skeleton.edges[e][0]].position;
+    const Vec3& b = skeleton.nodes[skeleton.edges[e][1]].position;
+    Vec3 e1, e2;
+    frame((b - a).normalized(), e1, e2);
+    const Vec3 m = 0.5 * (a + b);
+    const double r = test_radius[e];
+    tests.push_back(m + r * e1);
+    tests.push_back(m + r * e2);
+    tests.push_back(m - r * e1);
+    tests.push_back(m - r * e2);
+  }
+  const ChargeTree tree(charges.positions, charges.values, charges.alpha, theta);
+  std::vector<double> v(tests.size());
+  parallel::for_each(tests.size(), 256,
+                     [&](std::size_t i) { v[i] = tree.eval(tests[i], nullptr); });
+  double s = 0.0;
+  for (const double x : v) s += x;  // fixed order: the same on any thread count
+  return s / static_cast<double>(tests.size());
+}
+
+FieldPtr make_equipotential_field(const ChargeSet& charges, double lambda, double theta) {
+  check_charges(charges);
+  require(std::isfinite(lambda) && lambda > 0, "lambda", lambda, "finite and > 0");
+  require(std::isfinite(theta) && theta >= 0 && theta <= 0.6, "theta", theta, "in [0, 0.6]");
+  return std::make_shared<EquipotentialField>(charges, lambda, theta);
+}
+
+Equipotential make_equipotential(const Skeleton& skeleton, const EquipotentialOptions& options) {
+  Equipotential out;
+  out.charges = place_charges(skeleton, options);
+  double lambda = options.lambda;
+  if (!(lambda > 0)) {
+    const bool paper = options.charge > 0 || !options.edge_charges.empty();
+    std::vector<double> radius(skeleton.edge_count());
+    for (std::size_t e = 0; e < radius.size(); ++e) {
+      radius[e] = paper ? out.charges.edge_values[e]
+                        : 0.5 * (skeleton.nodes[skeleton.edges[e][0]].radius +
+                                 skeleton.nodes[skeleton.edges[e][1]].radius);
+    }
+    lambda = estimate_lambda(out.charges, skeleton, radius, options.theta);
+    if (!paper && options.taper) compensate_tips(out.charges, skeleton, lambda, options.theta);
+  }
+  out.lambda = lambda * options.lambda_scale;
+  out.field = make_equipotential_field(out.charges, out.lambda, options.theta);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Charge fit.
+
+ChargeFitResult fit_charges(const ChargeSet& charges, const Skeleton& skeleton, double lambda,
+                            const ChargeFitOptions& options, double theta, Context* ctx) {
+  check_charges(charges);
+  require(std::isfinite(lambda) && lambda > 0, "lambda", lambda, "finite and > 0");
+  require(std::isfinite(theta) && theta >= 0 && theta <= 0.6, "theta", theta, "in [0, 0.6]");
+  detail::check_at_least(options.stations_per_edge, 1, "stations_per_edge");
+  detail::check_at_least(options.directions, 3, "directions");
+  detail::check_at_least(options.max_sweeps, 1, "max_sweeps");
+  require(std::isfinite(options.tolerance) && options.tolerance > 0, "tolerance", options.tolerance,
+          "finite and > 0");
+  const std::size_t ne = skeleton.edge_count();
+  if (charges.edge_spacing.size() != ne) {
+    throw InvalidArgument("fit_charges: the charges were placed for " +
+                          std::to_string(charges.edge_spacing.size()) +
+                          " edges, the skeleton has " + std::to_string(ne));
+  }
+  ChargeFitResult result;
+  result.edge_values = charges.edge_values;
+  if (ne == 0) return result;
+
+  // Samples on the requested tubes, outside every other edge's tube.
+  const std::vector<detail::EdgeGeometry> geo = detail::edge_geometry(skeleton);
+  const detail::TubeIndex tubes(geo);
+  const int ns = options.stations_per_edge, nd = options.directions;
+  std::vector<std::uint8_t> fork(skeleton.node_count(), 0);
+  for (std::size_t n = 0; n < skeleton.node_count(); ++n)
+    fork[n] = charges.node_edge_offset[n + 1] - charges.node_edge_offset[n] >= 3 ? 1 : 0;
+  const std::size_t per_edge = static_cast<std::size_t>(ns) * static_cast<std::size_t>(nd);
+  std::vector<Vec3> cand(ne * per_edge);
+  std::vector<std::uint8_t> keep(cand.size(), 0);
+  std::vector<double> cand_r(cand.size());
+  parallel::for_chunks(
+      ne, 16,
+      [&](std::size_t b, std::size_t e_end) {
+        std::vector<std::uint32_t> ids;
+        for (std::size_t e = b; e < e_end; ++e) {
+          const detail::EdgeGeometry& g = geo[e];
+          for (int k = 0; k < ns; ++k) {
+            const double t = (k + 0.5) / ns;
+            const Vec3 axis = g.a + (t * g.len) * g.u;
+            const double r = g.ra + t * (g.rb - g.ra);
+            // Stations in a fork's blend (within kForkGap radii of a node with three or more
+            // edges) are not fitted: there the blend is meant to be wider than either tube.
+            const bool in_blend = (fork[skeleton.edges[e][0]] && t * g.len < kForkGap * g.ra) ||
+                                  (fork[skeleton.edges[e][1]] && (1 - t) * g.len < kForkGap * g.rb);
+            for (int j = 0; j < nd; ++j) {
+              const double phi = 2.0 * M_PI * (j + 0.5 * (k % 2)) / nd;
+              const std::size_t s = e * per_edge + static_cast<std::size_t>(k * nd + j);
+              cand[s] = axis + r * (std::cos(phi) * g.e1 + std::sin(phi) * g.e2);
+              cand_r[s] = r;
+              keep[s] =
+                  !in_blend && !tubes.inside_other(cand[s], static_cast<std::uint32_t>(e), ids) ? 1
+                                                                                                : 0;
+            }
+          }
+        }
+      },
+      ctx);
+  std::vector<Vec3> pts;
+  std::vector<double> pr;
+  std::vector<std::uint32_t> owner;
+  for (std::size_t s = 0; s < cand.size(); ++s) {
+    if (keep[s] == 0) continue;
+    pts.push_back(cand[s]);
+    pr.push_back(cand_r[s]);
+    owner.push_back(static_cast<std::uint32_t>(s / per_edge));
+  }
+  result.samples = pts.size();
+  if (pts.empty()) return result;
+
+  // Near-field columns: each sample's exact coefficient for the edges whose charges lie within
+  // kNear requested radii (at least three charge spacings) of it. A charge of edge e adds w to
+  // column e; a node charge adds w / degree to each of its edges; isolated nodes are constant.
+  constexpr double kNear = 8.0;
+  const ChargeTree geometry(charges.positions, std::vector<double>(charges.positions.size(), 1.0),
+                            charges.alpha, 0.0);
+  const PowerKernel& kern = geometry.kernel();
+  struct Entry {
+    std::uint32_t edge;
+    double a;
+  };
+  const std::size_t np = pts.size();
+  std::vector<std::vector<Entry>> rows(np);
+  double max_spacing = 0.0;
+  for (const double d : charges.edge_spacing) max_spacing = std::max(max_spacing, d);
+  parallel::for_chunks(
+      np, 64,
+      [&](std::size_t b, std::size_t e_end) {
+        std::vector<std::uint32_t> near;
+        for (std::size_t s = b; s < e_end; ++s) {
+          near.clear();
+          const double radius = std::max(kNear * pr[s], 3.0 * charges.edge_spacing[owner[s]]);
+          geometry.near(pts[s], radius, near);
+          std::sort(near.begin(), near.end());
+          std::vector<Entry>& row = rows[s];
+          for (const std::uint32_t i : near) {
+            const double w = kern.w((pts[s] - charges.positions[i]).squaredNorm() + kern.h2);
+            if (charges.edge[i] != kNone) {
+              row.push_back({charges.edge[i], w * charges.scale[i]});
+            } else {
+              const std::uint32_t n = charges.node[i];
+              const std::uint32_t b0 = charges.node_edge_offset[n],
+                                  b1 = charges.node_edge_offset[n + 1];
+              for (std::uint32_t k = b0; k < b1; ++k) {
+                row.push_back({charges.node_edges[k], w * charges.node_factor[n] *
+                                                          charges.node_edge_scale[k] /
+                                                          static_cast<double>(b1 - b0)});
+              }
+            }
+          }
+          // Merge duplicate columns (sorted by edge, fixed order).
+          std::stable_sort(row.begin(), row.end(),
+                           [](const Entry& x, const Entry& y) { return x.edge < y.edge; });
+          std::size_t out = 0;
+          for (std::size_t k = 0; k < row.size(); ++k) {
+            if (out > 0 && row[out - 1].edge == row[k].edge) {
+              row[out - 1].a += row[k].a;
+            } else {
+              row[out++] = row[k];
+            }
+          }
+          row.resize(out);
+        }
+      },
+      ctx);
+  (void)max_spacing;
+  // Columns: per edge, (sample, coefficient), for the coordinate steps.
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> cols(ne);
+  for (std::size_t s = 0; s < np; ++s) {
+    for (const Entry& en : rows[s]) cols[en.edge].push_back({static_cast<std::uint32_t>(s), en.a});
+  }
+
+  std::vector<double> q(charges.edge_values.begin(), charges.edge_values.end());
+  ChargeSet work = charges;
+  std::vector<double> near_f(np), far_f(np), total_f(np);
+  auto near_value = [&](std::size_t s) {
+    double v = 0.0;
+    for (const Entry& en : rows[s]) v += en.a * q[en.edge];
+    return v;
+  };
+  auto full_field = [&](std::vector<double>& out) {
+    set_edge_charges(work, q);
+    const ChargeTree tree(work.positions, work.values, work.alpha, theta);
+    parallel::for_each(
+        np, 256, [&](std::size_t s) { out[s] = tree.eval(pts[s], nullptr); }, ctx);
+  };
+  constexpr int kMaxRounds = 30;
+  double previous = std::numeric_limits<double>::infinity();
+  for (int round = 0; round < kMaxRounds; ++round) {
+    ++result.rounds;
+    full_field(total_f);
+    for (std::size_t s = 0; s < np; ++s) far_f[s] = total_f[s] - near_value(s);
+    // residual r_s = near(q) + far - lambda, relative to lambda.
+    std::vector<double> res(np);
+    for (std::size_t s = 0; s < np; ++s) res[s] = near_value(s) + far_f[s] - lambda;
+    // Huber weights from this round's residuals: a sample farther than kHuber * lambda from
+    // lambda (a fork's crotch, where the blend is wider than either tube by design) pulls
+    // linearly, not quadratically, so it cannot shrink its whole edge.
+    std::vector<double> wt(np);
+    for (std::size_t s = 0; s < np; ++s) {
+      const double r = std::abs(res[s]) / lambda;
+      wt[s] = r <= kHuber ? 1.0 : kHuber / r;
+    }
+    std::vector<double> norm2(ne, 0.0);
+    for (std::size_t e = 0; e < ne; ++e) {
+      for (const auto& [s, a] : cols[e]) norm2[e] += wt[s] * a * a;
+    }
+    for (int sweep = 0; sweep < options.max_sweeps; ++sweep) {
+      ++result.sweeps;
+      double change = 0.0;
+      for (std::size_t e = 0; e < ne; ++e) {
+        if (!(norm2[e] > 0)) continue;
+        double dot = 0.0;
+        for (const auto& [s, a] : cols[e]) dot += wt[s] * a * res[s];
+        const double nq = std::max(0.0, q[e] - dot / norm2[e]);
+        const double dq = nq - q[e];
+        if (dq == 0.0) continue;
+        for (const auto& [s, a] : cols[e]) res[s] += a * dq;
+        change = std::max(change, std::abs(dq) / std::max(std::abs(nq), 1e-300));
+        q[e] = nq;
+      }
+      if (change < 0.1 * options.tolerance) break;
+    }
+    full_field(total_f);
+    double mx = 0.0, ss = 0.0;
+    for (std::size_t s = 0; s < np; ++s) {
+      const double r = total_f[s] / lambda - 1.0;
+      mx = std::max(mx, std::abs(r));
+      ss += r * r;
+    }
+    result.residual_max = mx;
+    result.residual_rms = std::sqrt(ss / static_cast<double>(np));
+    if (std::abs(previous - mx) < options.tolerance) break;
+    previous = mx;
+  }
+  // Edges with no samples (all inside other tubes) or a zero column keep a value: the mean of
+  // their fitted neighbours' values keeps them from vanishing inside their neighbours' blend.
+  result.active = 0;
+  for (std::size_t e = 0; e < ne; ++e) {
+    if (q[e] == 0.0) ++result.active;
+  }
+  result.edge_values = q;
+  return result;
+}
+
+}  // namespace ramiform
