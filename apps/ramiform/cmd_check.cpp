@@ -3,8 +3,8 @@
 // `ramiform check MESH [--skeleton SKELETON] [--deviation SKELETON [field options]] [--json]`
 
 #include <cstdio>
-#include <optional>
 #include <iostream>
+#include <optional>
 
 #include "commands.h"
 #include "common.h"
@@ -29,8 +29,8 @@ struct CheckArgs {
 };
 
 void print_summary(const char* what, const DeviationSummary& s) {
-  std::printf("%s p50 %.4g, p99 %.4g, max %.4g of the local radius (%zu points", what, s.p50,
-              s.p99, s.max, s.points);
+  std::printf("%s p50 %.4g, p99 %.4g, max %.4g of the local radius (%zu points", what, s.p50, s.p99,
+              s.max, s.points);
   if (s.unresolved > 0) std::printf(", %zu unresolved", s.unresolved);
   std::printf(")\n");
 }
@@ -54,7 +54,8 @@ int run_check(const CheckArgs& args) {
     const SkeletonFieldOptions options = field_options(args.field);
     const Skeleton skeleton = read_skeleton(args.deviation_path, read_options(args.field));
     const SkeletonSurface surface =
-        build_surface(skeleton, options, args.fit_radii, timer, scope.context());
+        build_surface(skeleton, options, args.fit_radii, timer, scope.context(),
+                      equipotential_options(args.field));
     timer.lap("field");
     dev = measure_deviation(mesh, *surface.field, &surface.skeleton, args.deviation,
                             &scope.context());
@@ -76,12 +77,14 @@ int run_check(const CheckArgs& args) {
     std::printf("manifold    %s (%zu non-manifold vertices, %zu degenerate triangles)\n",
                 yes(j["manifold"].get<bool>()), n("nonmanifold_vertices"),
                 n("degenerate_triangles"));
-    std::printf("components  %zu\neuler       %lld\n", n("components"), j["euler"].get<long long>());
-    std::printf("angles      min %.3f deg, median %.3f deg; %.2f %% of triangles below 10 deg, "
-                "%.2f %% below 1 deg\n",
-                j["min_angle_deg"].get<double>(), j["median_angle_deg"].get<double>(),
-                100.0 * j["triangles_below_10_deg"].get<double>(),
-                100.0 * j["triangles_below_1_deg"].get<double>());
+    std::printf("components  %zu\neuler       %lld\n", n("components"),
+                j["euler"].get<long long>());
+    std::printf(
+        "angles      min %.3f deg, median %.3f deg; %.2f %% of triangles below 10 deg, "
+        "%.2f %% below 1 deg\n",
+        j["min_angle_deg"].get<double>(), j["median_angle_deg"].get<double>(),
+        100.0 * j["triangles_below_10_deg"].get<double>(),
+        100.0 * j["triangles_below_1_deg"].get<double>());
     if (skeleton) {
       std::printf("skeleton    %zu of %zu nodes inside\n", n("skeleton_nodes_inside_count"),
                   n("skeleton_nodes"));
@@ -102,10 +105,11 @@ int run_check(const CheckArgs& args) {
 void register_check(CLI::App& root, Action& action) {
   auto args = std::make_shared<CheckArgs>();
   CLI::App* c = root.add_subcommand(
-      "check", "Check a mesh: watertight, oriented, manifold, components, Euler characteristic, "
-               "triangle angles; optionally which skeleton nodes lie inside (generalized winding "
-               "number); optionally how far the mesh lies from a skeleton's surface (deviation "
-               "relative to the local radius). Exit 0 even when a check fails.");
+      "check",
+      "Check a mesh: watertight, oriented, manifold, components, Euler characteristic, "
+      "triangle angles; optionally which skeleton nodes lie inside (generalized winding "
+      "number); optionally how far the mesh lies from a skeleton's surface (deviation "
+      "relative to the local radius). Exit 0 even when a check fails.");
   c->add_option("MESH", args->mesh_path, "mesh file (.ply, .obj, .off)")->required();
   c->add_option("--skeleton", args->skeleton_path,
                 "skeleton whose nodes must lie inside (reports skeleton_nodes_inside, 0..1)");
@@ -117,7 +121,8 @@ void register_check(CLI::App& root, Action& action) {
               "--deviation: the surface with fitted radii, as `mesh --fit-radii` builds it");
   DeviationOptions& d = args->deviation;
   c->add_option("--samples", d.samples,
-                with_default("--deviation: area-weighted points on the mesh", static_cast<double>(d.samples)));
+                with_default("--deviation: area-weighted points on the mesh",
+                             static_cast<double>(d.samples)));
   c->add_option("--seed", d.seed,
                 with_default("--deviation: seed of the points", static_cast<double>(d.seed)));
   c->add_option("--search-radii", d.search_radii,

@@ -28,7 +28,9 @@ int run_eval(const EvalArgs& args) {
   const Skeleton skeleton = read_skeleton(args.skeleton_path, read_options(args.field));
   const PointSet points = read_points(args.points_path);
   timer.lap("read");
-  const FieldPtr field = make_skeleton_field(skeleton, options);
+  const EquipotentialOptions* eq = equipotential_options(args.field);
+  const FieldPtr field = eq != nullptr ? make_equipotential(skeleton, *eq).field
+                                       : make_skeleton_field(skeleton, options);
   timer.lap("field");
   std::vector<double> values(points.size());
   std::vector<Vec3> gradients(args.gradient ? points.size() : 0);
@@ -63,9 +65,12 @@ int run_eval(const EvalArgs& args) {
 void register_eval(CLI::App& root, Action& action) {
   auto args = std::make_shared<EvalArgs>();
   CLI::App* c = root.add_subcommand(
-      "eval", "Print the field value of a skeleton's surface at each point, one line each "
-              "(inside where value > iso); with --gradient also the gradient.");
-  c->add_option("SKELETON", args->skeleton_path, "skeleton file (.json, .ply, .obj, .txt TreeQSM, .csv SimpleForest, .swc)")->required();
+      "eval",
+      "Print the field value of a skeleton's surface at each point, one line each "
+      "(inside where value > iso); with --gradient also the gradient.");
+  c->add_option("SKELETON", args->skeleton_path,
+                "skeleton file (.json, .ply, .obj, .txt TreeQSM, .csv SimpleForest, .swc)")
+      ->required();
   c->add_option("--points", args->points_path, "points: text 'x y z [nx ny nz]' per line, or .ply")
       ->required();
   c->add_flag("--gradient", args->gradient, "also print the gradient: 'value gx gy gz'");

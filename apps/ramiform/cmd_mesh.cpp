@@ -39,8 +39,8 @@ int run_mesh(MeshArgs& args) {
   check_output_path(args.common.stats_path);
   const Skeleton skeleton = read_skeleton(args.skeleton_path, read_options(args.field));
   timer.lap("read");
-  const MeshJobResult result =
-      mesh_skeleton(skeleton, options, args.job, args.out_path, timer, scope.context());
+  const MeshJobResult result = mesh_skeleton(skeleton, options, args.job, args.out_path, timer,
+                                             scope.context(), equipotential_options(args.field));
   nlohmann::json stats = result.stats;
   stats["seconds"] = timer.seconds();
   write_stats(args.common.stats_path, stats);
@@ -68,7 +68,24 @@ int run_mesh(MeshArgs& args) {
         << expected << " connected skeleton part(s): branches thinner than the lattice came apart ("
         << (args.job.method == "mc" ? "use a smaller --cell" : "use more --levels") << ")\n";
   }
-  if (args.job.method != "mc" && args.job.to_tolerance && !stats.value("tolerance_reached", true)) {
+  if (args.job.method == "particles" &&
+      stats.value("converged", std::size_t{0}) < stats.value("particles", std::size_t{0})) {
+    const std::size_t left =
+        stats.value("particles", std::size_t{0}) - stats.value("converged", std::size_t{0});
+    err << "ramiform: failure: " << args.out_path << ": " << left << " of "
+        << stats.value("particles", std::size_t{0})
+        << " particles did not reach the surface within --delta " << args.job.particles.delta
+        << " after " << stats.value("iterations", 0) << " iterations (particles";
+    std::size_t shown = 0;
+    for (const auto& i : stats["unconverged"]) {
+      if (shown++ == 10) break;
+      err << ' ' << i.get<std::uint32_t>();
+    }
+    err << (left > 10 ? " ..." : "") << "; the mesh was written; raise --max-iterations)\n";
+    return 3;
+  }
+  if (args.job.method == "tets" && args.job.to_tolerance &&
+      !stats.value("tolerance_reached", true)) {
     err << "ramiform: warning: " << args.out_path << ": deviation p99 "
         << stats.value("deviation_p99", 0.0) << " is above --tolerance "
         << args.job.tolerance.tolerance << " (refinement stopped: "
@@ -88,9 +105,11 @@ std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
   c->add_option("-o,--output", args->out_path,
                 "output mesh (.ply binary, .obj, .off or .glb); default SKELETON's name .ply");
   c->add_option("--method", args->job.method,
-                "polygonizer: tets (skeleton-bounded tetrahedra, default) or mc (uniform marching "
-                "cubes over the field's bounds)")
-      ->check(CLI::IsMember({"tets", "mc"}));
+                "polygonizer: tets (skeleton-bounded tetrahedra, default), mc (uniform marching "
+                "cubes over the field's bounds) or particles (particles moved onto the surface "
+                "and joined by the skeleton's structure; Gruber & Wallner 2014; the surface "
+                "defaults to equipotential)")
+      ->check(CLI::IsMember({"tets", "mc", "particles"}));
   TetrahedralOptions& tets = args->job.tets;
   tets.levels = args->job.tolerance.tets.levels;
   ToleranceOptions& tol = args->job.tolerance;
@@ -135,7 +154,8 @@ std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
   c->add_flag("--fit-radii", args->job.fit_radii,
               "convolution surface: split long/tapered edges and fit one weight per piece by "
               "non-negative least squares so the surface passes through the nodes' radii; "
-              "adds radius_error_* to --stats");
+              "equipotential surface: fit one charge value per edge the same way; adds "
+              "radius_error_* to --stats");
   c->add_flag("--radius-error", args->job.radius_error,
               "measure the surface's radius error against the skeleton's radii (in --stats)");
   add_output_options(*c, args->job);
@@ -150,6 +170,41 @@ std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
   c->add_flag("--lod-budget", args->lod_budget,
               "read the --lod values as triangle budgets: each level is the finest mesh within "
               "its budget");
+  ParticleMeshOptions& pm = args->job.particles;
+  std::vector<CLI::Option*> particle_options;
+  particle_options.push_back(
+      c->add_option("--n-circ", pm.n_circ,
+                    with_default("particles: particles on each ring around an edge", pm.n_circ))
+          ->check(CLI::Range(3, 1024)));
+  particle_options.push_back(
+      c->add_option(
+           "--n-sphere", pm.n_sphere,
+           with_default("particles: particles on each junction sphere before removal", pm.n_sphere))
+          ->check(CLI::Range(4, 100000)));
+  particle_options.push_back(
+      c->add_option("--placement-radius", pm.placement_radius,
+                    "particles: the placement radius R of the rings (model units); default per "
+                    "edge " +
+                        format_number(pm.placement_factor) + " times its mean node radius")
+          ->check(CLI::PositiveNumber));
+  particle_options.push_back(
+      c->add_option("--delta", pm.delta,
+                    with_default("particles: a particle has converged when |f - lambda| <= "
+                                 "delta * lambda",
+                                 pm.delta))
+          ->check(CLI::Range(1e-12, 0.5)));
+  particle_options.push_back(
+      c->add_option("--max-iterations", pm.max_iterations,
+                    with_default("particles: movement iterations at most (then exit 3 naming the "
+                                 "particles that did not converge)",
+                                 pm.max_iterations))
+          ->check(CLI::Range(1, 100000)));
+  particle_options.push_back(
+      c->add_option("--relax", pm.relax,
+                    with_default("particles: rounds of tangential relaxation after convergence "
+                                 "(0: the paper's method alone)",
+                                 pm.relax))
+          ->check(CLI::Range(0, 1000)));
   MarchingCubesOptions& mc = args->job.mc;
   auto* cell = c->add_option("--cell", mc.cell_size, "mc: cell edge length (model units)")
                    ->check(CLI::PositiveNumber);
@@ -164,8 +219,24 @@ std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
   auto* scale = c->get_option("--section-scale");
   add_field_options(*c, args->field);
   add_common_options(*c, args->common);
-  c->callback([args, cell, res, levels, scale, tolerance, max_triangles, samples, lod, &action] {
-    if (args->job.method != "mc" && (cell->count() > 0 || res->count() > 0)) {
+  c->callback([args, cell, res, levels, scale, tolerance, max_triangles, samples, lod,
+               particle_options, &action] {
+    if (args->job.method != "particles") {
+      for (CLI::Option* o : particle_options) {
+        if (o->count() > 0) {
+          throw CLI::ValidationError(o->get_name(), "applies to --method particles only");
+        }
+      }
+    } else {
+      if (!args->field.surface_given) args->field.surface = "equipotential";
+      if (levels->count() > 0 || scale->count() > 0 || tolerance->count() > 0 ||
+          cell->count() > 0 || res->count() > 0 || lod->count() > 0) {
+        throw CLI::ValidationError("--method particles",
+                                   "takes no --levels, --section-scale, --tolerance, --cell, "
+                                   "--resolution or --lod");
+      }
+    }
+    if (args->job.method == "tets" && (cell->count() > 0 || res->count() > 0)) {
       throw CLI::ValidationError(cell->count() > 0 ? "--cell" : "--resolution",
                                  "applies to --method mc only (the default method is tets)");
     }
@@ -178,14 +249,14 @@ std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
     }
     args->job.to_tolerance = tolerance->count() > 0 || levels->count() == 0;
     for (const CLI::Option* o : {max_triangles, samples}) {
-      if (o->count() > 0 && (args->job.method == "mc" || !args->job.to_tolerance)) {
+      if (o->count() > 0 && (args->job.method != "tets" || !args->job.to_tolerance)) {
         throw CLI::ValidationError(o->get_name(),
                                    "applies to the tolerance mesher only (--method tets without "
                                    "--levels alone)");
       }
     }
     if (lod->count() > 0) {
-      if (args->job.method == "mc" || !args->job.to_tolerance) {
+      if (args->job.method != "tets" || !args->job.to_tolerance) {
         throw CLI::ValidationError("--lod",
                                    "applies to the tolerance mesher only (--method tets without "
                                    "--levels alone)");

@@ -43,10 +43,16 @@ RunScope::RunScope(const CommonOptions& options) : context_(options.threads) {
 RunScope::~RunScope() = default;
 
 void add_field_options(CLI::App& app, FieldFlags& flags) {
-  app.add_option("--surface", flags.surface,
-                 "convolution (Cauchy kernel integrated along the skeleton) or distance (kernel of "
-                 "the distance to each segment)")
-      ->check(CLI::IsMember({"convolution", "distance"}));
+  app.add_option_function<std::string>(
+         "--surface",
+         [&flags](const std::string& v) {
+           flags.surface = v;
+           flags.surface_given = true;
+         },
+         "convolution (Cauchy kernel integrated along the skeleton, default), distance (kernel "
+         "of the distance to each segment) or equipotential (potential of point charges along "
+         "the skeleton, Gruber & Wallner 2014; the default of --method particles)")
+      ->check(CLI::IsMember({"convolution", "distance", "equipotential"}));
   app.add_option("--kernel", flags.kernel,
                  "kernel: cauchy[:s*r] (convolution), wyvill, blinn[:B], metaball, "
                  "inverse-power[:alpha] (distance); default cauchy / wyvill");
@@ -55,10 +61,56 @@ void add_field_options(CLI::App& app, FieldFlags& flags) {
   app.add_option("--obj-radius", flags.obj_radius,
                  "radius of every node of an OBJ skeleton (OBJ files carry no radius)")
       ->check(CLI::PositiveNumber);
+  EquipotentialOptions& e = flags.equipotential;
+  auto mark = [&flags](double& target) {
+    return [&flags, &target](double v) {
+      target = v;
+      flags.equipotential_flags = true;
+    };
+  };
+  app.add_option_function<double>(
+         "--alpha", mark(e.alpha),
+         with_default("equipotential: field exponent alpha, potential q / r^(alpha - 1); higher "
+                      "is more cylindrical, sharper blends",
+                      e.alpha, 2, 16))
+      ->check(CLI::Range(2.0, 16.0));
+  app.add_option_function<double>(
+         "--charge-spacing", mark(e.charge_spacing),
+         "equipotential: distance d_c between charges along an edge (model units); default per "
+         "edge " +
+             format_number(e.spacing_factor) + " times its smaller node radius")
+      ->check(CLI::PositiveNumber);
+  app.add_option_function<double>(
+         "--charge", mark(e.charge),
+         "equipotential: one charge value for every edge (the paper's figures); default per "
+         "edge from the node radii (--fit-radii fits them to the radii)")
+      ->check(CLI::PositiveNumber);
+  app.add_option_function<double>(
+         "--lambda", mark(e.lambda),
+         "equipotential: the iso value lambda; default estimated by the paper's eq. 2")
+      ->check(CLI::PositiveNumber);
+  app.add_option_function<double>(
+         "--lambda-scale", mark(e.lambda_scale),
+         with_default("equipotential: multiplies lambda (the paper's Figure 4: 1, 0.5, 0.2; "
+                      "smaller is thicker)",
+                      e.lambda_scale))
+      ->check(CLI::PositiveNumber);
+  app.add_flag_function(
+      "--open-ends",
+      [&flags](std::int64_t) {
+        flags.equipotential.open_ends = true;
+        flags.equipotential_flags = true;
+      },
+      "equipotential: open, sharp-edged ends at every leaf (the particle mesh gets one boundary "
+      "loop per leaf); a node's \"end\": \"open\" in skeleton JSON opens one");
 }
 
 SkeletonFieldOptions field_options(const FieldFlags& flags) {
   SkeletonFieldOptions o;
+  if (flags.surface == "equipotential") {
+    (void)equipotential_options(flags);
+    return o.resolved();
+  }
   o.surface = flags.surface == "distance" ? SurfaceKind::kDistance : SurfaceKind::kConvolution;
   if (!flags.kernel.empty()) {
     o.kernel = parse_kernel(flags.kernel);
@@ -73,6 +125,27 @@ SkeletonFieldOptions field_options(const FieldFlags& flags) {
   }
   o.iso = flags.iso;
   return o.resolved();
+}
+
+const EquipotentialOptions* equipotential_options(const FieldFlags& flags) {
+  if (flags.surface != "equipotential") {
+    if (flags.equipotential_flags) {
+      throw InvalidArgument(
+          "--alpha, --charge-spacing, --charge, --lambda, --lambda-scale and "
+          "--open-ends apply to --surface equipotential (or --method "
+          "particles) only");
+    }
+    return nullptr;
+  }
+  if (!flags.kernel.empty()) {
+    throw InvalidArgument(
+        "--kernel applies to convolution and distance surfaces, not to "
+        "--surface equipotential");
+  }
+  if (flags.iso != 0.0) {
+    throw InvalidArgument("--iso: the equipotential surface's iso value is --lambda");
+  }
+  return &flags.equipotential;
 }
 
 SkeletonReadOptions read_options(const FieldFlags& flags) {

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "ramiform/core/context.h"
+#include "ramiform/field/equipotential.h"
 #include "ramiform/field/skeleton_field.h"
 #include "ramiform/io/skeleton_io.h"
 
@@ -23,13 +24,14 @@ namespace ramiform::cli {
 
 /// Options every subcommand takes.
 struct CommonOptions {
-  int threads = 0;         ///< --threads N (0 = all cores)
-  std::string stats_path;  ///< --stats FILE.json
+  int threads = 0;               ///< --threads N (0 = all cores)
+  std::string stats_path;        ///< --stats FILE.json
   std::uint64_t max_memory = 0;  ///< --max-memory SIZE in bytes (0 = the available memory)
 };
 void add_common_options(CLI::App& app, CommonOptions& options);
 
-/// The Context of one command run: --threads and --max-memory, passed to every library call (no global setting).
+/// The Context of one command run: --threads and --max-memory, passed to every library call (no
+/// global setting).
 class RunScope {
  public:
   explicit RunScope(const CommonOptions& options);
@@ -42,16 +44,25 @@ class RunScope {
   Context context_;
 };
 
-/// Options that pick the field built from a skeleton: --surface, --kernel, --iso, --obj-radius.
+/// Options that pick the field built from a skeleton: --surface, --kernel, --iso, --obj-radius,
+/// and for --surface equipotential --alpha, --charge-spacing, --charge, --lambda,
+/// --lambda-scale, --open-ends.
 struct FieldFlags {
   std::string surface = "convolution";
   std::string kernel;  // empty: cauchy for convolution, wyvill for distance
   double iso = 0.0;
   double obj_radius = 0.0;
+  EquipotentialOptions equipotential;  // --surface equipotential
+  bool surface_given = false;          // --surface was on the command line
+  bool equipotential_flags = false;    // one of the equipotential options was given
 };
 void add_field_options(CLI::App& app, FieldFlags& flags);
-/// Throws InvalidArgument naming the flag on a bad value.
+/// Throws InvalidArgument naming the flag on a bad value. For --surface equipotential the
+/// result is unused (the surface is described by equipotential_options()).
 [[nodiscard]] SkeletonFieldOptions field_options(const FieldFlags& flags);
+/// The equipotential surface's options with --surface equipotential, else null (InvalidArgument
+/// when equipotential options come without it, or --kernel/--iso with it).
+[[nodiscard]] const EquipotentialOptions* equipotential_options(const FieldFlags& flags);
 [[nodiscard]] SkeletonReadOptions read_options(const FieldFlags& flags);
 
 /// `text` + " (default D)" or " (default D, MIN–MAX)": the one way an option's help states the

@@ -146,12 +146,10 @@ void put_tets_stats(const TetrahedralOptions& o, const TetrahedralStats& st, Mes
     r.stats["median_angle_deg_before_cleanup"] = st.median_angle_before;
   }
   r.stats["root_evaluations"] = st.root_evaluations;
-  r.stats["tets_seconds"] = {{"polyhedron", st.seconds_polyhedron},
-                             {"tetrahedralize", st.seconds_tetrahedralize},
-                             {"region", st.seconds_region},
-                             {"subdivide", st.seconds_subdivide},
-                             {"extract", st.seconds_extract},
-                             {"cleanup", st.seconds_cleanup}};
+  r.stats["tets_seconds"] = {
+      {"polyhedron", st.seconds_polyhedron}, {"tetrahedralize", st.seconds_tetrahedralize},
+      {"region", st.seconds_region},         {"subdivide", st.seconds_subdivide},
+      {"extract", st.seconds_extract},       {"cleanup", st.seconds_cleanup}};
 }
 
 void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJobOptions& options,
@@ -273,7 +271,32 @@ void put_deviation_summary(nlohmann::json& j, const std::string& prefix,
 }
 
 SkeletonSurface build_surface(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
-                              bool fit_radii, StageTimer& timer, Context& ctx) {
+                              bool fit_radii, StageTimer& timer, Context& ctx,
+                              const EquipotentialOptions* equipotential) {
+  if (equipotential != nullptr) {
+    // Gruber & Wallner 2014 §3.2-3.4; with fit_radii the charge values are fitted by NNLS so
+    // that the surface passes through the requested radii (fit_charges, lambda fixed).
+    SkeletonSurface s;
+    s.skeleton = skeleton;
+    auto eq = std::make_shared<Equipotential>(make_equipotential(skeleton, *equipotential));
+    if (fit_radii) {
+      const ChargeFitResult fit =
+          fit_charges(eq->charges, skeleton, eq->lambda, {}, equipotential->theta, &ctx);
+      set_edge_charges(eq->charges, fit.edge_values);
+      eq->field = make_equipotential_field(eq->charges, eq->lambda, equipotential->theta);
+      s.fit_stats = {{"edges", skeleton.edge_count()},
+                     {"samples", fit.samples},
+                     {"rounds", fit.rounds},
+                     {"sweeps", fit.sweeps},
+                     {"residual_rms", fit.residual_rms},
+                     {"residual_max", fit.residual_max},
+                     {"zero_charges", fit.active}};
+      timer.lap("fit");
+    }
+    s.field = eq->field;
+    s.equipotential = std::move(eq);
+    return s;
+  }
   // With fit_radii the surface is the convolution surface of the split skeleton with fitted
   // per-piece weights (Zhu, Guo & Jin 2013, "Efficient polygonization of tree trunks modeled by
   // convolution surfaces", §2.2.2); the polygonizer follows the split skeleton too.
@@ -366,17 +389,26 @@ nlohmann::json uv_stats(const BarkUvStats& st) {
 
 MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions& field_options,
                             const MeshJobOptions& options, const std::string& out_path,
-                            StageTimer& timer, Context& ctx) {
+                            StageTimer& timer, Context& ctx,
+                            const EquipotentialOptions* equipotential) {
   MeshJobResult r;
-  SkeletonSurface surface = build_surface(skeleton, field_options, options.fit_radii, timer, ctx);
+  SkeletonSurface surface =
+      build_surface(skeleton, field_options, options.fit_radii, timer, ctx, equipotential);
   if (options.fit_radii) r.stats["fit"] = surface.fit_stats;
+  if (surface.equipotential) {
+    r.stats["surface"] = "equipotential";
+    r.stats["charges"] = surface.equipotential->charges.positions.size();
+    r.stats["lambda"] = surface.equipotential->lambda;
+    r.stats["alpha"] = surface.equipotential->charges.alpha;
+  }
   const Skeleton& meshed = surface.skeleton;
   const FieldPtr field = surface.field;
   timer.lap("field");
   std::vector<TriMesh> levels;
   if (!options.lods.empty()) {
-    if (options.method == "mc" || !options.to_tolerance) {
-      throw InvalidArgument("--lod needs the tolerance mesher (--method tets without --levels alone)");
+    if (options.method != "tets" || !options.to_tolerance) {
+      throw InvalidArgument(
+          "--lod needs the tolerance mesher (--method tets without --levels alone)");
     }
     ToleranceOptions o = options.tolerance;
     o.tets = options.tets;
@@ -400,6 +432,25 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
     }
     r.stats["lods"] = lods;
     r.mesh = levels[0];
+  } else if (options.method == "particles") {
+    ParticleMeshStats st;
+    if (surface.equipotential) {
+      r.mesh = polygonize_particles(*surface.equipotential, meshed, options.particles, &ctx, &st);
+    } else {
+      r.mesh =
+          polygonize_particles(*field, meshed, {}, meshed.open_ends, options.particles, &ctx, &st);
+    }
+    nlohmann::json unconverged = nlohmann::json::array();
+    for (const std::uint32_t i : st.unconverged) unconverged.push_back(i);
+    r.stats["particles"] = st.particles;
+    r.stats["converged"] = st.converged;
+    r.stats["unconverged"] = unconverged;
+    r.stats["iterations"] = st.iterations;
+    r.stats["open_loops"] = st.open_loops;
+    r.stats["fallback_junctions"] = st.fallback_junctions;
+    r.stats["seconds_layout"] = st.seconds_layout;
+    r.stats["seconds_move"] = st.seconds_move;
+    r.stats["seconds_relax"] = st.seconds_relax;
   } else {
     MeshJobResult p = polygonize_field(*field, meshed, options, ctx);
     r.mesh = std::move(p.mesh);
@@ -407,7 +458,7 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
   }
   timer.lap("polygonize");
   const std::uint64_t evals = field->evaluations();
-  if (options.fit_radii || options.radius_error) {
+  if (options.fit_radii || options.radius_error || options.method == "particles") {
     const RadiusErrorReport e = measure_radius_error(*field, skeleton, {}, &ctx);
     r.stats["radius_error_median"] = e.median;
     r.stats["radius_error_p90"] = e.p90;

@@ -24,6 +24,7 @@
 #include <condition_variable>
 #include <cstring>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -35,12 +36,14 @@
 #include "common.h"
 #include "mesh_job.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/field/equipotential.h"
 #include "ramiform/grow/space_colonization.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/points_io.h"
 #include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/deviation.h"
 #include "ramiform/mesh/normals.h"
+#include "ramiform/polygonize/particles.h"
 #include "ramiform/script/script.h"
 #include "ramiform/skeleton/generate.h"
 
@@ -178,10 +181,32 @@ struct FieldHandle {
   std::optional<Skeleton> source;  ///< the skeleton given (types, UVs and checks use it)
   std::optional<Skeleton> meshed;  ///< the skeleton the polygonizer follows (split with a fit)
   nlohmann::json fit;              ///< the radius fit's figures (null without fit_radii)
+  /// surface="equipotential": its charges and lambda (`field` is its field)
+  std::shared_ptr<const Equipotential> equipotential;
 };
 
+/// Per-node open-end flags from an array (N,) of 0/1 (or bools), or none: empty.
+std::vector<std::uint8_t> open_end_flags(const std::optional<Ints>& flags, std::size_t nodes) {
+  if (!flags) return {};
+  require_shape(*flags, 0, "open_ends");
+  if (static_cast<std::size_t>(flags->shape(0)) != nodes) {
+    throw InvalidArgument("open_ends has " + std::to_string(flags->shape(0)) + " values for " +
+                          std::to_string(nodes) + " nodes");
+  }
+  std::vector<std::uint8_t> out(nodes);
+  for (std::size_t i = 0; i < nodes; ++i) {
+    const std::int64_t v = flags->data()[i];
+    if (v != 0 && v != 1) {
+      throw InvalidArgument("open_ends[" + std::to_string(i) + "] must be 0 or 1, got " +
+                            std::to_string(v));
+    }
+    out[i] = static_cast<std::uint8_t>(v);
+  }
+  return out;
+}
+
 Skeleton make_skeleton(const Doubles& positions, const Doubles& radii, const Ints& edges,
-                       const std::optional<Ints>& types) {
+                       const std::optional<Ints>& types, const std::optional<Ints>& open_ends) {
   require_shape(positions, 3, "positions");
   require_shape(radii, 0, "radii");
   if (edges.size() != 0 || edges.ndim() != 1) require_shape(edges, 2, "edges");
@@ -219,6 +244,7 @@ Skeleton make_skeleton(const Doubles& positions, const Doubles& radii, const Int
     }
     s.node_types.assign(types->data(), types->data() + n);
   }
+  s.open_ends = open_end_flags(open_ends, n);
   validate(s, "Skeleton");
   return s;
 }
@@ -261,6 +287,60 @@ SkeletonFieldOptions field_options(const std::string& surface, const std::string
   flags.kernel = kernel;
   flags.iso = iso;
   return cli::field_options(flags);
+}
+
+/// The keywords of the equipotential surface (skeleton_field, mesh_skeleton); the defaults are
+/// EquipotentialOptions'.
+struct EquipotentialArgs {
+  double alpha = EquipotentialOptions{}.alpha;
+  double charge = EquipotentialOptions{}.charge;
+  double charge_spacing = EquipotentialOptions{}.charge_spacing;
+  double lambda = EquipotentialOptions{}.lambda;
+  double lambda_scale = EquipotentialOptions{}.lambda_scale;
+  bool open_ends = EquipotentialOptions{}.open_ends;
+};
+
+/// With surface "equipotential" the options of `a` in `out` (returned), else null; ValueError
+/// for an equipotential keyword set with another surface, or kernel/iso with this one.
+const EquipotentialOptions* equipotential_options(const std::string& surface,
+                                                  const EquipotentialArgs& a,
+                                                  const std::string& kernel, double iso,
+                                                  EquipotentialOptions& out) {
+  const EquipotentialArgs defaults;
+  if (surface != "equipotential") {
+    const std::pair<const char*, bool> set[] = {
+        {"alpha", a.alpha != defaults.alpha},
+        {"charge", a.charge != defaults.charge},
+        {"charge_spacing", a.charge_spacing != defaults.charge_spacing},
+        {"lambda_", a.lambda != defaults.lambda},
+        {"lambda_scale", a.lambda_scale != defaults.lambda_scale},
+        {"open_ends", a.open_ends != defaults.open_ends}};
+    for (const auto& [name, given] : set) {
+      if (given) {
+        throw InvalidArgument(std::string(name) +
+                              " applies to surface='equipotential' only, not to surface='" +
+                              surface + "'");
+      }
+    }
+    return nullptr;
+  }
+  if (!kernel.empty()) {
+    throw InvalidArgument(
+        "kernel applies to the convolution and distance surfaces, not to "
+        "surface='equipotential' (its falloff is alpha)");
+  }
+  if (iso != 0.0) {
+    throw InvalidArgument(
+        "iso: the equipotential surface's iso value is lambda_ (times "
+        "lambda_scale)");
+  }
+  out.alpha = a.alpha;
+  out.charge = a.charge;
+  out.charge_spacing = a.charge_spacing;
+  out.lambda = a.lambda;
+  out.lambda_scale = a.lambda_scale;
+  out.open_ends = a.open_ends;
+  return &out;
 }
 
 UpAxis up_axis(const std::string& up) {
@@ -329,9 +409,10 @@ void bind_skeleton(py::module_& m) {
                        "A line skeleton: nodes with positions and radii, edges between them, and "
                        "optional per-node types (SWC).")
       .def(py::init(&make_skeleton), py::arg("positions"), py::arg("radii"), py::arg("edges"),
-           py::arg("types") = py::none(),
+           py::arg("types") = py::none(), py::kw_only(), py::arg("open_ends") = py::none(),
            "positions (N, 3) float, radii (N,) > 0, edges (M, 2) node indices, types (N,) int or "
-           "None. Validated: ValueError names the bad element.")
+           "None, open_ends (N,) 0/1 or None (1: the leaf's end is open for the equipotential "
+           "surface). Validated: ValueError names the bad element.")
       .def_property_readonly(
           "positions",
           [](py::object self) {
@@ -365,6 +446,20 @@ void bind_skeleton(py::module_& m) {
                         {sizeof(std::int32_t)}, self);
           },
           "(N,) int32 node types (SWC), or None")
+      .def_property(
+          "open_ends",
+          [](py::object self) -> py::object {
+            const auto& s = self.cast<const Skeleton&>();
+            if (s.open_ends.empty()) return py::none();
+            return view(s.open_ends.data(), {static_cast<py::ssize_t>(s.open_ends.size())},
+                        {sizeof(std::uint8_t)}, self);
+          },
+          [](Skeleton& s, const std::optional<Ints>& flags) {
+            std::vector<std::uint8_t> f = open_end_flags(flags, s.nodes.size());
+            s.open_ends = std::move(f);
+          },
+          "(N,) uint8 open-end flags (1: a leaf whose end is open, skeleton JSON's "
+          "\"end\": \"open\"), or None (every end closed); settable with an (N,) array or None")
       .def("__len__", [](const Skeleton& s) { return s.nodes.size(); })
       .def_property_readonly("node_count", [](const Skeleton& s) { return s.nodes.size(); })
       .def_property_readonly("edge_count", [](const Skeleton& s) { return s.edges.size(); })
@@ -559,6 +654,25 @@ void bind_field(py::module_& m) {
       .def_property_readonly(
           "fit", [](const FieldHandle& f) { return to_python(f.fit); },
           "the radius fit's figures, or None")
+      .def_property_readonly(
+          "charges",
+          [](py::object self) -> py::object {
+            const auto& f = self.cast<const FieldHandle&>();
+            if (!f.equipotential) return py::none();
+            const ChargeSet& c = f.equipotential->charges;
+            py::dict d;
+            d["positions"] = rows(c.positions.empty() ? nullptr : c.positions[0].data(),
+                                  c.positions.size(), 3, self);
+            d["values"] = view(c.values.data(), {static_cast<py::ssize_t>(c.values.size())},
+                               {sizeof(double)}, self);
+            d["edge_values"] =
+                view(c.edge_values.data(), {static_cast<py::ssize_t>(c.edge_values.size())},
+                     {sizeof(double)}, self);
+            d["alpha"] = c.alpha;
+            return d;
+          },
+          "surface='equipotential': {'positions': (K, 3), 'values': (K,), 'edge_values': (M,), "
+          "'alpha'} (read-only views), else None; the iso value `iso` is lambda")
       .def_property_readonly("evaluations",
                              [](const FieldHandle& f) { return f.field->evaluations(); })
       .def(
@@ -584,30 +698,48 @@ void bind_field(py::module_& m) {
       .def("__repr__",
            [](const FieldHandle& f) { return "<ramiform.Field " + f.field->describe() + ">"; });
 
+  const EquipotentialArgs ea;
   m.def(
       "skeleton_field",
       [](const Skeleton& s, const std::string& surface, const std::string& kernel, double iso,
-         bool fit_radii, int threads) {
-        const SkeletonFieldOptions o = field_options(surface, kernel, iso);
+         bool fit_radii, double alpha, double charge, double charge_spacing, double lambda,
+         double lambda_scale, bool open_ends, int threads) {
+        EquipotentialOptions eo;
+        const EquipotentialOptions* equipotential = equipotential_options(
+            surface, {alpha, charge, charge_spacing, lambda, lambda_scale, open_ends}, kernel, iso,
+            eo);
+        const SkeletonFieldOptions o =
+            equipotential != nullptr ? SkeletonFieldOptions{} : field_options(surface, kernel, iso);
         Context ctx = make_context(threads);
         FieldHandle f;
         interruptible(ctx, [&] {
           cli::StageTimer timer;
-          cli::SkeletonSurface surf = cli::build_surface(s, o, fit_radii, timer, ctx);
+          cli::SkeletonSurface surf =
+              cli::build_surface(s, o, fit_radii, timer, ctx, equipotential);
           f.field = surf.field;
           f.source = s;
           f.meshed = std::move(surf.skeleton);
           f.fit = std::move(surf.fit_stats);
+          f.equipotential = std::move(surf.equipotential);
         });
         return f;
       },
       py::arg("skeleton"), py::kw_only(), py::arg("surface") = "convolution",
       py::arg("kernel") = "", py::arg("iso") = fo.iso, py::arg("fit_radii") = false,
+      py::arg("alpha") = ea.alpha, py::arg("charge") = ea.charge,
+      py::arg("charge_spacing") = ea.charge_spacing, py::arg("lambda_") = ea.lambda,
+      py::arg("lambda_scale") = ea.lambda_scale, py::arg("open_ends") = ea.open_ends,
       py::arg("threads") = 0,
       "The implicit surface of a skeleton, as `ramiform mesh` builds it: surface 'convolution' "
-      "(Cauchy kernel, the default) or 'distance'; kernel as --kernel ('' = the surface's "
-      "default); iso 0 = the kernel's; fit_radii: split edges and fit weights so the surface "
-      "passes through the radii (convolution only).");
+      "(Cauchy kernel, the default), 'distance' or 'equipotential' (point charges along the "
+      "skeleton, Gruber & Wallner 2014: potential q / r^(alpha - 1), surface at lambda); kernel "
+      "as --kernel ('' = the surface's default); iso 0 = the kernel's; fit_radii: split edges "
+      "and fit weights (convolution) or fit one charge value per edge (equipotential) so the "
+      "surface passes through the radii. Equipotential only, as the CLI's --alpha, --charge, "
+      "--charge-spacing, --lambda, --lambda-scale, --open-ends: alpha (2-16), charge (0 = per "
+      "edge from the radii), charge_spacing (0 = half the smaller node radius), lambda_ (0 = "
+      "estimated by eq. 2), lambda_scale, open_ends (every leaf open; Skeleton.open_ends opens "
+      "single leaves).");
 }
 
 void bind_polygonizers(py::module_& m) {
@@ -658,17 +790,45 @@ void bind_polygonizers(py::module_& m) {
       py::arg("resolution") = mc.resolution, py::arg("normals") = true, py::arg("threads") = 0,
       "Marching cubes over the field's bounds (pruned by its bound): a cell edge length, or "
       "`resolution` cells along the longest side.");
+  const ParticleMeshOptions pm;
+  const EquipotentialArgs ea;
   m.def(
       "mesh_skeleton",
       [](const Skeleton& s, std::optional<std::string> out, const std::string& method,
          std::optional<double> tolerance, std::optional<int> levels, double section_scale,
-         bool fit_radii, const std::string& surface, const std::string& kernel, double iso,
-         const std::string& up, bool normals, std::optional<bool> uv, int threads) {
+         bool fit_radii, std::optional<std::string> surface, const std::string& kernel, double iso,
+         double alpha, double charge, double charge_spacing, double lambda, double lambda_scale,
+         bool open_ends, int n_circ, int n_sphere, double placement_radius, double delta,
+         int max_iterations, int relax, const std::string& up, bool normals, std::optional<bool> uv,
+         int threads) {
         MeshJobOptions o;
         o.method = method;
-        if (method != "tets" && method != "mc") {
-          throw InvalidArgument("method must be 'tets' or 'mc', got '" + method + "'");
+        if (method != "tets" && method != "mc" && method != "particles") {
+          throw InvalidArgument("method must be 'tets', 'mc' or 'particles', got '" + method + "'");
         }
+        ParticleMeshOptions& p = o.particles;
+        const std::pair<const char*, bool> particle_set[] = {
+            {"n_circ", n_circ != p.n_circ},
+            {"n_sphere", n_sphere != p.n_sphere},
+            {"placement_radius", placement_radius != p.placement_radius},
+            {"delta", delta != p.delta},
+            {"max_iterations", max_iterations != p.max_iterations},
+            {"relax", relax != p.relax}};
+        if (method != "particles") {
+          for (const auto& [name, given] : particle_set) {
+            if (given) {
+              throw InvalidArgument(std::string(name) + " applies to method='particles' only");
+            }
+          }
+        } else if (tolerance || levels || section_scale != o.tets.section_scale) {
+          throw InvalidArgument("method='particles' takes no tolerance, levels or section_scale");
+        }
+        p.n_circ = n_circ;
+        p.n_sphere = n_sphere;
+        p.placement_radius = placement_radius;
+        p.delta = delta;
+        p.max_iterations = max_iterations;
+        p.relax = relax;
         o.to_tolerance = tolerance.has_value() || !levels.has_value();
         if (tolerance) o.tolerance.tolerance = *tolerance;
         o.tets.levels = levels.value_or(o.tolerance.tets.levels);
@@ -677,29 +837,67 @@ void bind_polygonizers(py::module_& m) {
         o.write.up = up_axis(up);
         o.write.normals = normals;
         if (uv) o.uv = *uv ? 1 : 0;
-        const SkeletonFieldOptions fo = field_options(surface, kernel, iso);
+        // The particle mesher's surface is the equipotential one unless another is asked for
+        // (as `ramiform mesh --method particles`).
+        const std::string kind =
+            surface.value_or(method == "particles" ? "equipotential" : "convolution");
+        EquipotentialOptions eo;
+        const EquipotentialOptions* equipotential = equipotential_options(
+            kind, {alpha, charge, charge_spacing, lambda, lambda_scale, open_ends}, kernel, iso,
+            eo);
+        const SkeletonFieldOptions fo =
+            equipotential != nullptr ? SkeletonFieldOptions{} : field_options(kind, kernel, iso);
         const std::string path = out.value_or("");
         if (!path.empty()) cli::check_output_path(path, cli::kMeshFormats);
         Context ctx = make_context(threads);
         Mesh result;
         interruptible(ctx, [&] {
           cli::StageTimer timer;
-          MeshJobResult r = cli::mesh_skeleton(s, fo, o, path, timer, ctx);
+          MeshJobResult r = cli::mesh_skeleton(s, fo, o, path, timer, ctx, equipotential);
           result.mesh = std::move(r.mesh);
           result.stats = std::move(r.stats);
         });
+        if (method == "particles") {
+          const auto particles = result.stats.value("particles", std::size_t{0});
+          const auto converged = result.stats.value("converged", std::size_t{0});
+          if (converged < particles) {
+            const std::string message =
+                "mesh_skeleton: " + std::to_string(particles - converged) + " of " +
+                std::to_string(particles) + " particles did not reach the surface within delta " +
+                format_number(delta) + " after " +
+                std::to_string(result.stats.value("iterations", 0)) +
+                " iterations (stats['unconverged'] lists them); raise max_iterations";
+            if (PyErr_WarnEx(PyExc_RuntimeWarning, message.c_str(), 1) != 0) {
+              throw py::error_already_set();
+            }
+          }
+        }
         return result;
       },
       py::arg("skeleton"), py::arg("out") = py::none(), py::kw_only(), py::arg("method") = "tets",
       py::arg("tolerance") = py::none(), py::arg("levels") = py::none(),
       py::arg("section_scale") = tets.section_scale, py::arg("fit_radii") = false,
-      py::arg("surface") = "convolution", py::arg("kernel") = "", py::arg("iso") = 0.0,
+      py::arg("surface") = py::none(), py::arg("kernel") = "", py::arg("iso") = 0.0,
+      py::arg("alpha") = ea.alpha, py::arg("charge") = ea.charge,
+      py::arg("charge_spacing") = ea.charge_spacing, py::arg("lambda_") = ea.lambda,
+      py::arg("lambda_scale") = ea.lambda_scale, py::arg("open_ends") = ea.open_ends,
+      py::arg("n_circ") = pm.n_circ, py::arg("n_sphere") = pm.n_sphere,
+      py::arg("placement_radius") = pm.placement_radius, py::arg("delta") = pm.delta,
+      py::arg("max_iterations") = pm.max_iterations, py::arg("relax") = pm.relax,
       py::arg("up") = "z", py::arg("normals") = true, py::arg("uv") = py::none(),
       py::arg("threads") = 0,
       "`ramiform mesh` in one call: field, polygonizer, normals, UVs (uv=None: by the output's "
       "format), SWC labels, checks; writes `out` when given (byte-identical to the CLI with the "
       "same options) and returns the mesh with the --stats figures in `stats`. tolerance and "
-      "levels as the CLI's --tolerance and --levels (levels alone: the uniform mesher).");
+      "levels as the CLI's --tolerance and --levels (levels alone: the uniform mesher). "
+      "method='particles' is `--method particles` (Gruber & Wallner 2014) with n_circ, "
+      "n_sphere, placement_radius (0 = per edge its mean node radius), delta, max_iterations "
+      "and relax as --n-circ ... --relax; its stats add particles, converged, unconverged, "
+      "iterations, open_loops and radius_error_*, and a RuntimeWarning says when a particle did "
+      "not converge (the CLI exits 3). surface None is 'convolution', or 'equipotential' with "
+      "method='particles'; the equipotential keywords (alpha, charge, charge_spacing, lambda_, "
+      "lambda_scale, open_ends) are skeleton_field's, and its stats add charges, lambda and "
+      "alpha.");
 }
 
 /// `ramiform mesh WORDS...` in this process (ramiform.mesh_file builds the words from keywords):

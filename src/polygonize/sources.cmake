@@ -6,6 +6,8 @@ list(APPEND RAMIFORM_POLYGONIZE_SOURCES
   src/polygonize/edge_roots.cpp
   src/polygonize/improve.cpp
   src/polygonize/lod.cpp
+  src/polygonize/particle_layout.cpp
+  src/polygonize/particles.cpp
   src/polygonize/refine.cpp
   src/polygonize/tetrahedral.cpp
   src/polygonize/tetrahedral_checks.cpp

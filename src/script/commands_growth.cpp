@@ -135,11 +135,25 @@ CommandResult run_point_set_mesh(Call& c) {
                 " (near " + c.arg(1).text + ")");
 }
 
-Object tree_object(Skeleton skeleton, std::string summary) {
+// surface=convolution|equipotential of grow and lsystem, with the equipotential options
+// (read before the skeleton is made, so that a bad option fails first).
+std::optional<EquipotentialRequest> tree_surface(const Call& c) {
+  const std::string surface =
+      c.option_word("surface", "convolution", {"convolution", "equipotential"});
+  return equipotential_request(c, surface == "equipotential", surface);
+}
+
+Object tree_object(const Call& c, Skeleton skeleton, std::string summary,
+                   const std::optional<EquipotentialRequest>& equipotential) {
   Object o;
   o.kind = ObjectKind::kShape;
-  SkeletonFieldOptions field;  // Cauchy convolution surface: smooth forks
-  o.field = make_skeleton_field(skeleton, field);
+  if (equipotential) {
+    o.equipotential = build_equipotential(c, skeleton, *equipotential, summary);
+    o.field = o.equipotential->field;
+  } else {
+    SkeletonFieldOptions field;  // Cauchy convolution surface: smooth forks
+    o.field = make_skeleton_field(skeleton, field);
+  }
   o.skeleton = std::move(skeleton);
   o.summary = std::move(summary);
   return o;
@@ -151,6 +165,7 @@ CommandResult run_grow(Call& c) {
   if (c.arg(1).text != "from")
     c.fail(c.arg(1), "expected the word 'from', got '" + shown(c.arg(1).text) + "'");
   const PointSet& points = point_set(c, c.arg(2));
+  const std::optional<EquipotentialRequest> surface = tree_surface(c);
   ColonizationOptions o;
   o.step = c.option_positive("step", o.step);
   o.influence = c.option_positive("influence", o.influence);
@@ -169,9 +184,8 @@ CommandResult run_grow(Call& c) {
            "prune must be a number of growth steps >= 0, got " + c.option_token("prune")->text);
   o.max_turn_deg = c.option_number("max_turn", o.max_turn_deg);
   if (!(o.max_turn_deg > 0 && o.max_turn_deg <= 180))
-    c.fail(*c.option_token("max_turn"),
-           "max_turn must be an angle in (0, 180] degrees, got " +
-               c.option_token("max_turn")->text);
+    c.fail(*c.option_token("max_turn"), "max_turn must be an angle in (0, 180] degrees, got " +
+                                            c.option_token("max_turn")->text);
   FieldPtr avoid;
   if (const Token* t = c.option_token("avoid")) {
     avoid = c.object_named(*t, ObjectKind::kShape).field;
@@ -190,7 +204,7 @@ CommandResult run_grow(Call& c) {
     c.fail("grew no branch from " + shown(c.arg(2).text) + ": " +
            no_branch_reason(r, points.positions, o) + advice);
   }
-  c.define(name, tree_object(r.skeleton, summary));
+  c.define(name, tree_object(c, r.skeleton, summary, surface));
   return {c.spec().name,
           name + ": " + summary_text(c.session().objects.at(name)) + "; " +
               cleanup_summary(r.cleanup, format_number(kShortTipSteps) + " steps"),
@@ -200,6 +214,7 @@ CommandResult run_grow(Call& c) {
 CommandResult run_lsystem(Call& c) {
   c.expect_count(2, 2, "TREE EXAMPLE|FILE");
   const std::string name = c.new_name(0);
+  const std::optional<EquipotentialRequest> surface = tree_surface(c);
   std::string text;
   std::string source;
   for (const auto& [example, body] : lsystem_examples()) {
@@ -241,7 +256,7 @@ CommandResult run_lsystem(Call& c) {
                          " iterations");
   const std::string summary = "L-system " + c.arg(1).text + ", " + std::to_string(o.iterations) +
                               " iterations, " + std::to_string(skeleton.node_count()) + " nodes";
-  c.define(name, tree_object(std::move(skeleton), summary));
+  c.define(name, tree_object(c, std::move(skeleton), summary, surface));
   return {c.spec().name, name + ": " + summary_text(c.session().objects.at(name)), false};
 }
 
@@ -257,6 +272,13 @@ CommandResult run_save_skeleton(Call& c) {
           c.arg(1).text + ": " + std::to_string(obj.skeleton->node_count()) + " nodes, " +
               std::to_string(obj.skeleton->edge_count()) + " edges",
           true};
+}
+
+// A command's options and surface= with the equipotential options.
+std::vector<std::string> with_surface(std::vector<std::string> keys) {
+  keys.push_back("surface");
+  keys.insert(keys.end(), equipotential_keys().begin(), equipotential_keys().end());
+  return keys;
 }
 
 }  // namespace
@@ -314,7 +336,8 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
       {"grow",
        "grow TREE from POINTS [step=D] [influence=DI] [kill=DK] [root=X,Y,Z] "
        "[direction=X,Y,Z] [tropism=X,Y,Z] [max_iterations=N] [tip_radius=R] [pipe_exponent=N] "
-       "[avoid=SHAPE] [smooth=N] [prune=K] [max_turn=DEG]",
+       "[avoid=SHAPE] [smooth=N] [prune=K] [max_turn=DEG] [surface=convolution|equipotential] "
+       "[alpha=A ...]",
        "Space colonization (Runions et al. 2007, thesis §2.5): grows a tree from `root` toward "
        "the points in steps of `step`" +
            default_text(grow.step) + "; points within `influence`" + default_text(grow.influence) +
@@ -329,32 +352,38 @@ void add_growth_commands(std::vector<CommandSpec>& out) {
            default_text(grow.smooth_iterations, 0, BranchCleanupOptions::kMaxSmoothIterations) +
            " Laplacian passes along unbranched chains (forks, root and tips stay), removing "
            "chain nodes that still turn by more than `max_turn`" +
-           default_text(grow.max_turn_deg) +
-           " degrees, and `prune`" + default_text(grow.prune_steps) +
+           default_text(grow.max_turn_deg) + " degrees, and `prune`" +
+           default_text(grow.prune_steps) +
            " removes tip branches of at most that many steps (stubs); after removals the radii are "
            "recomputed. The "
            "message reports what changed and the turn angles and short tips before and after. "
-           "TREE is a shape (Cauchy convolution "
-           "surface of the skeleton); save_mesh method=tets meshes it, save_skeleton writes the "
+           "TREE is a shape: the Cauchy convolution surface of the skeleton, or with "
+           "`surface`=equipotential its equipotential surface (the options alpha=, charge=, "
+           "charge_spacing=, lambda=, lambda_scale=, open_ends=, fit_radii= as for skeleton); "
+           "save_mesh method=tets or method=particles meshes it, save_skeleton writes the "
            "skeleton.",
        "sphere crown 3 center=0,0,5\npoint_set_gen crown uniform count=300\n"
        "grow tree from crown step=0.4 influence=2 kill=0.8 smooth=8 prune=2\n"
        "save_skeleton tree tree.json",
-       {"step", "influence", "kill", "root", "direction", "tropism", "max_iterations", "tip_radius",
-        "pipe_exponent", "avoid", "smooth", "prune", "max_turn"},
+       with_surface({"step", "influence", "kill", "root", "direction", "tropism", "max_iterations",
+                     "tip_radius", "pipe_exponent", "avoid", "smooth", "prune", "max_turn"}),
        run_grow,
        {}});
   out.push_back(
       {"lsystem",
-       "lsystem TREE EXAMPLE|FILE [iterations=N] [angle=DEG] [step=L] [width=W] [radii=width|pipe]",
+       "lsystem TREE EXAMPLE|FILE [iterations=N] [angle=DEG] [step=L] [width=W] [radii=width|pipe] "
+       "[surface=convolution|equipotential] [alpha=A ...]",
        "A skeleton from a bracketed parametric L-system (docs/growth.md): one of the built-in "
        "examples or a file, derived `iterations`" +
            default_text(ls.iterations, 0, LSystemOptions::kMaxIterations) +
            " times; the turtle turns by `angle`" + default_text(ls.angle_deg) +
            " degrees, moves by `step`" + default_text(ls.step) + " and starts with `width`" +
-           default_text(ls.width) + ".",
+           default_text(ls.width) +
+           ". TREE is the Cauchy convolution surface of the skeleton, or with "
+           "`surface`=equipotential its equipotential surface (options as for skeleton).",
        "lsystem plant abop_fig1_24a iterations=4\nsave_skeleton plant plant.json",
-       {"iterations", "angle", "step", "width", "radii", "tip_radius", "pipe_exponent"},
+       with_surface(
+           {"iterations", "angle", "step", "width", "radii", "tip_radius", "pipe_exponent"}),
        run_lsystem,
        {}});
   out.push_back(

@@ -17,6 +17,7 @@
 #include "ramiform/mesh/normals.h"
 #include "ramiform/polygonize/lod.h"
 #include "ramiform/polygonize/marching_cubes.h"
+#include "ramiform/polygonize/particles.h"
 #include "ramiform/polygonize/refine.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "session.h"
@@ -26,6 +27,72 @@ namespace {
 
 /// Most points the `deviation` command samples on a mesh.
 constexpr int kMaxDeviationSamples = 10'000'000;
+
+// The ranges ParticleMeshOptions documents and polygonize_particles checks (polygonize/
+// particles.h), checked here too so that the error points at the token.
+constexpr int kMinCirc = 3, kMaxCirc = 4096;
+constexpr int kMinSphere = 4, kMaxSphere = 65536;
+constexpr int kMaxParticleIterations = 100'000;
+constexpr int kMaxRelax = 100;
+
+const std::vector<std::string> kParticleKeys = {"n_circ", "n_sphere",       "placement_radius",
+                                                "delta",  "max_iterations", "relax"};
+const std::vector<std::string> kMcKeys = {"cell", "resolution"};
+const std::vector<std::string> kTetsKeys = {"levels", "section_scale", "tolerance", "lod",
+                                            "lod_budget"};
+
+// Fails at the first of `keys` given: they apply to `method` only.
+void refuse(const Call& c, const std::vector<std::string>& keys, const std::string& method) {
+  for (const std::string& key : keys) {
+    if (const Token* t = c.option_token(key)) c.fail(*t, key + "= applies to method=" + method);
+  }
+}
+
+std::string count_text(std::size_t n);
+
+// save_mesh method=particles: the particle mesher of Gruber & Wallner 2014 around the shape's
+// skeleton; at the charges of an equipotential surface, else rings at the default spacing and
+// the skeleton file's open ends. Fails when a particle did not reach the surface.
+TriMesh particle_mesh(const Call& c, const Object& obj, std::string& how, std::size_t& open_loops) {
+  using P = ParticleMeshOptions;
+  P o;
+  o.n_circ = c.option_integer("n_circ", o.n_circ, kMinCirc, kMaxCirc);
+  o.n_sphere = c.option_integer("n_sphere", o.n_sphere, kMinSphere, kMaxSphere);
+  o.placement_radius = c.option_positive("placement_radius", o.placement_radius);
+  o.delta = c.option_number("delta", o.delta);
+  if (!(o.delta > 0 && o.delta < 1)) {
+    c.fail(*c.option_token("delta"), "delta must be in (0, 1) (relative to the iso value), got " +
+                                         c.option_token("delta")->text);
+  }
+  o.max_iterations =
+      c.option_integer("max_iterations", o.max_iterations, 1, kMaxParticleIterations);
+  o.relax = c.option_integer("relax", o.relax, 0, kMaxRelax);
+  ParticleMeshStats st;
+  TriMesh mesh;
+  const Skeleton& skeleton = *obj.skeleton;
+  if (obj.equipotential) {
+    mesh = polygonize_particles(*obj.equipotential, skeleton, o, c.session().ctx, &st);
+  } else {
+    mesh =
+        polygonize_particles(*obj.field, skeleton, {}, skeleton.open_ends, o, c.session().ctx, &st);
+  }
+  if (st.converged < st.particles) {
+    std::string which;
+    for (std::size_t k = 0; k < st.unconverged.size() && k < 10; ++k) {
+      which += (k > 0 ? " " : "") + std::to_string(st.unconverged[k]);
+    }
+    const std::size_t left = st.particles - st.converged;
+    c.fail(count_text(left) + " of " + count_text(st.particles) +
+           " particles did not reach the surface within delta " + format_number(o.delta) +
+           " after " + std::to_string(st.iterations) + " iterations (particles " + which +
+           (left > 10 ? " ..." : "") + "); raise max_iterations= (now " +
+           std::to_string(o.max_iterations) + ") or delta=; nothing was written");
+  }
+  how = "particles: " + count_text(st.particles) + " particles, " + count_text(st.converged) +
+        " converged, " + std::to_string(st.iterations) + " iterations";
+  open_loops = st.open_loops;
+  return mesh;
+}
 
 CommandResult run_param(Call& c) {
   c.expect_count(2, 2, "NAME VALUE");
@@ -87,8 +154,8 @@ std::vector<LodLevel> lod_option(const Call& c) {
       l.tolerance = v;
     } else {
       if (!(v >= 1 && v <= 4e9 && v == std::floor(v))) {
-        c.fail(*t, "lod_budget= takes triangle counts (positive whole numbers), got '" +
-                       part.text + "'");
+        c.fail(*t, "lod_budget= takes triangle counts (positive whole numbers), got '" + part.text +
+                       "'");
       }
       l.max_triangles = static_cast<std::size_t>(v);
     }
@@ -104,7 +171,8 @@ CommandResult run_save_mesh(Call& c) {
   const Object& obj = c.object(0, ObjectKind::kShape);
   // Levels of detail come from the tolerance mesher: lod= makes tets the default method.
   const bool lod_given = c.has_option("lod") || c.has_option("lod_budget");
-  const std::string method = c.option_word("method", lod_given ? "tets" : "mc", {"mc", "tets"});
+  const std::string method =
+      c.option_word("method", lod_given ? "tets" : "mc", {"mc", "tets", "particles"});
   for (std::size_t i = 1; i < c.count(); ++i) {
     const std::string ext = lower_extension(c.arg(i).text);
     if (ext != ".ply" && ext != ".obj" && ext != ".off" && ext != ".glb") {
@@ -123,16 +191,24 @@ CommandResult run_save_mesh(Call& c) {
   TriMesh mesh;
   std::vector<TriMesh> levels;
   std::string how;
-  if (method == "tets") {
+  std::size_t open_loops = 0;  // method=particles: boundary loops at open ends
+  if (method != "particles") refuse(c, kParticleKeys, "particles");
+  if (method == "particles") {
+    if (!obj.skeleton) {
+      c.fail(c.arg(0),
+             "method=particles needs a shape made by skeleton, grow or lsystem (unchanged "
+             "since); use method=mc");
+    }
+    refuse(c, kMcKeys, "mc");
+    refuse(c, kTetsKeys, "tets");
+    mesh = particle_mesh(c, obj, how, open_loops);
+  } else if (method == "tets") {
     if (!obj.skeleton) {
       c.fail(c.arg(0),
              "method=tets needs a shape made by skeleton, grow or lsystem (unchanged since); use "
              "method=mc");
     }
-    for (const char* key : {"cell", "resolution"}) {
-      if (const Token* t = c.option_token(key))
-        c.fail(*t, std::string(key) + "= applies to method=mc");
-    }
+    refuse(c, kMcKeys, "mc");
     using Tets = TetrahedralOptions;
     using Tol = ToleranceOptions;
     Tol t;
@@ -173,10 +249,7 @@ CommandResult run_save_mesh(Call& c) {
             (st.reached ? "" : " (NOT reached)");
     }
   } else {
-    for (const char* key : {"levels", "section_scale", "tolerance", "lod", "lod_budget"}) {
-      if (const Token* t = c.option_token(key))
-        c.fail(*t, std::string(key) + "= applies to method=tets");
-    }
+    refuse(c, kTetsKeys, "tets");
     if (c.has_option("cell") && c.has_option("resolution")) {
       c.fail(*c.option_token("resolution"), "give cell= or resolution=, not both");
     }
@@ -242,11 +315,16 @@ CommandResult run_save_mesh(Call& c) {
     }
     counts += " triangles";
   }
+  std::string closed =
+      report.watertight && report.oriented && report.manifold ? "watertight" : "NOT watertight";
+  // Open ends asked for: the boundary is one loop per open end, by construction.
+  if (open_loops > 0 && report.oriented && report.manifold) {
+    closed = "open at " + std::to_string(open_loops) + " end(s) as asked (" +
+             count_text(report.boundary_edges) + " boundary edges), otherwise manifold";
+  }
   return {c.spec().name,
-          files + ": " + counts + " (" + how + "), " +
-              (report.watertight && report.oriented && report.manifold ? "watertight"
-                                                                       : "NOT watertight") +
-              ", " + std::to_string(report.components) + " component(s)",
+          files + ": " + counts + " (" + how + "), " + closed + ", " +
+              std::to_string(report.components) + " component(s)",
           true};
 }
 
@@ -372,6 +450,7 @@ void add_output_commands(std::vector<CommandSpec>& out) {
   const Mc mc;
   const Tets tets;
   const Tol tol;
+  const ParticleMeshOptions pm;
   out.push_back(
       {"param",
        "param NAME VALUE",
@@ -383,9 +462,10 @@ void add_output_commands(std::vector<CommandSpec>& out) {
        {}});
   out.push_back(
       {"save_mesh",
-       "save_mesh NAME FILE [FILE ...] [resolution=N | cell=H] [method=mc|tets] [tolerance=T] "
-       "[levels=N] [section_scale=S] [lod=T1,T2,... | lod_budget=N1,N2,...] [up=z|y] "
-       "[normals=yes|no] [uv=auto|yes|no]",
+       "save_mesh NAME FILE [FILE ...] [resolution=N | cell=H] [method=mc|tets|particles] "
+       "[tolerance=T] [levels=N] [section_scale=S] [lod=T1,T2,... | lod_budget=N1,N2,...] "
+       "[n_circ=N] [n_sphere=N] [placement_radius=R] [delta=D] [max_iterations=N] [relax=N] "
+       "[up=z|y] [normals=yes|no] [uv=auto|yes|no]",
        "Polygonizes a shape once and writes it to every FILE (.ply, .obj, .off, .glb) inside the "
        "output directory: marching cubes over the shape's bounds, `resolution` cells along the "
        "longest side" +
@@ -402,14 +482,31 @@ void add_output_commands(std::vector<CommandSpec>& out) {
            "; `levels` without `tolerance` gives the paper's uniform levels, unrefined. "
            "`lod` (tolerances, finest first, e.g. lod=0.05,0.15,0.4) or `lod_budget` (triangle "
            "counts, e.g. lod_budget=1000000,300000,100000) makes levels of detail with the "
-           "tolerance mesher (method=tets is then the default): a .glb holds them all (nodes LOD0, LOD1, ..., MSFT_lod), another "
-           "format gets one file per level (t.lod0.ply, t.lod1.ply, ...). Files get the field's "
+           "tolerance mesher (method=tets is then the default): a .glb holds them all (nodes LOD0, "
+           "LOD1, ..., MSFT_lod), another "
+           "format gets one file per level (t.lod0.ply, t.lod1.ply, ...). method=particles "
+           "(for a shape made by skeleton, grow or lsystem; Gruber & Wallner 2014) places "
+           "`n_circ`" +
+           default_text(pm.n_circ, kMinCirc, kMaxCirc) +
+           " particles on rings around every edge (at the charges of an equipotential surface, "
+           "else every half the smaller node radius) and `n_sphere`" +
+           default_text(pm.n_sphere, kMinSphere, kMaxSphere) +
+           " on a sphere at every junction, rings of radius `placement_radius` (default per edge "
+           "its mean node radius), joins them by the skeleton's structure and moves them onto "
+           "the surface by Newton steps until |f - iso| <= `delta`" +
+           default_text(pm.delta) + " times the iso value, for at most `max_iterations`" +
+           default_text(pm.max_iterations, 1, kMaxParticleIterations) + " rounds, then `relax`" +
+           default_text(pm.relax, 0, kMaxRelax) +
+           " rounds of tangential relaxation; the message gives the particles, how many "
+           "converged and the iterations, and the command fails (nothing is written) when a "
+           "particle did not converge. Files get the field's "
            "normals (`normals`=yes|no, default yes) and bark UVs along the skeleton (`uv`="
            "auto|yes|no; auto: for .glb and .obj); `up`=z|y is the up axis of .ply, .obj and "
            ".off files (default z; a .glb is always +Y up).",
        "save_mesh s3 s3.ply resolution=128",
-       {"resolution", "cell", "method", "tolerance", "levels", "section_scale", "lod",
-        "lod_budget", "up", "normals", "uv"},
+       {"resolution", "cell", "method", "tolerance", "levels", "section_scale", "lod", "lod_budget",
+        "n_circ", "n_sphere", "placement_radius", "delta", "max_iterations", "relax", "up",
+        "normals", "uv"},
        run_save_mesh,
        {}});
   out.push_back(
@@ -419,7 +516,8 @@ void add_output_commands(std::vector<CommandSpec>& out) {
        "the surface of shape NAME, as `ramiform check --deviation` does: `samples` "
        "area-weighted points on the mesh (default " +
            std::to_string(DeviationOptions{}.samples) + ", 0–" +
-           std::to_string(kMaxDeviationSamples) + ", seed `seed`) and every vertex are "
+           std::to_string(kMaxDeviationSamples) +
+           ", seed `seed`) and every vertex are "
            "projected onto the surface. For a shape made by skeleton, grow or lsystem the "
            "distances are relative to the local skeleton radius, otherwise in model units.",
        "deviation t t.ply samples=50000",

@@ -192,22 +192,38 @@ CommandResult run_skeleton(Call& c) {
   c.expect_count(2, 2, "NAME FILE");
   const std::string name = c.new_name(0);
   const std::string path = c.input_path(1);
-  const std::string surface = c.option_word("surface", "distance", {"distance", "convolution"});
+  const std::string surface =
+      c.option_word("surface", "distance", {"distance", "convolution", "equipotential"});
+  const std::optional<EquipotentialRequest> equipotential =
+      equipotential_request(c, surface == "equipotential", surface);
   SkeletonFieldOptions o;
-  if (surface == "convolution") {
+  if (surface == "convolution" || surface == "equipotential") {
     o.surface = SurfaceKind::kConvolution;
     o.kernel = Kernel{KernelKind::kCauchy, 0.0};
     if (const Token* t = c.option_token("kernel")) {
-      c.fail(*t, "convolution surfaces use the Cauchy kernel; kernel= applies to surface=distance");
+      c.fail(*t, surface == "convolution"
+                     ? "convolution surfaces use the Cauchy kernel; kernel= applies to "
+                       "surface=distance"
+                     : "kernel= applies to surface=distance; the equipotential surface's "
+                       "falloff is alpha=");
     }
   } else {
     o = distance_options(c);
   }
   Skeleton skeleton = read_skeleton(path);
-  Object obj = shape(make_skeleton_field(skeleton, o),
-                     "skeleton from " + c.arg(1).text + ", " +
-                         std::to_string(skeleton.nodes.size()) + " nodes, " +
-                         std::to_string(skeleton.edges.size()) + " edges, " + surface + " surface");
+  std::string summary = "skeleton from " + c.arg(1).text + ", " +
+                        std::to_string(skeleton.nodes.size()) + " nodes, " +
+                        std::to_string(skeleton.edges.size()) + " edges";
+  Object obj;
+  if (equipotential) {
+    obj = shape(nullptr, "");
+    obj.equipotential = build_equipotential(c, skeleton, *equipotential, summary);
+    obj.field = obj.equipotential->field;
+  } else {
+    obj = shape(make_skeleton_field(skeleton, o), "");
+    summary += ", " + surface + " surface";
+  }
+  obj.summary = std::move(summary);
   obj.skeleton = std::move(skeleton);
   c.define(name, std::move(obj));
   return defined(c, name);
@@ -278,6 +294,7 @@ CommandResult rebind(Call& c, FieldPtr field, const std::string& what) {
   Object& obj = c.session().objects.at(name);
   obj.field = std::move(field);
   obj.skeleton.reset();
+  obj.equipotential.reset();
   // The summary keeps the first transforms while it has room and counts the rest, so that a
   // long chain of transforms does not grow it (and every result that copies it) without limit.
   if (obj.more_transforms == 0 && obj.summary.size() + 2 + what.size() <= kMaxSummary) {
@@ -429,6 +446,9 @@ CommandResult run_rbf(Call& c) {
 
 void add_shape_commands(std::vector<CommandSpec>& out) {
   const std::vector<std::string> prim = kPrimitiveOptions;
+  std::vector<std::string> skeleton_options = {"surface", "kernel"};
+  skeleton_options.insert(skeleton_options.end(), equipotential_keys().begin(),
+                          equipotential_keys().end());
   out.push_back(
       {"sphere",
        "sphere NAME [RADIUS] [center=X,Y,Z] [kernel=K]",
@@ -491,11 +511,17 @@ void add_shape_commands(std::vector<CommandSpec>& out) {
        {}});
   out.push_back(
       {"skeleton",
-       "skeleton NAME FILE [surface=distance|convolution] [kernel=K]",
+       "skeleton NAME FILE [surface=distance|convolution|equipotential] [kernel=K] [alpha=A] "
+       "[charge=Q] [charge_spacing=D] [lambda=L] [lambda_scale=S] [open_ends=yes|no] "
+       "[fit_radii=yes|no]",
        "A line skeleton read from a file (.json, .ply, .obj, TreeQSM .txt, SimpleForest .csv), "
-       "as a distance surface (Wyvill by default) or a Cauchy convolution surface.",
+       "as a distance surface (Wyvill by default), a Cauchy convolution surface or an "
+       "equipotential surface. " +
+           equipotential_help() +
+           "; these options apply to surface=equipotential only. save_mesh method=particles "
+           "meshes it with particles placed at the charges.",
        "skeleton tree fork.json surface=convolution",
-       {"surface", "kernel"},
+       skeleton_options,
        run_skeleton,
        {}});
   out.push_back(

@@ -203,8 +203,7 @@ Call::Call(ScriptSession::Impl& session, const CommandSpec& spec, std::vector<To
 void Call::fail(const Token& token, const std::string& problem) const {
   // Commands quote their tokens with shown(); escaping the whole problem as well keeps a
   // message printable when a library message or a command echoes text unescaped.
-  throw InputError(file_, line_, token.column,
-                   spec_.name + ": " + printable_text(problem));
+  throw InputError(file_, line_, token.column, spec_.name + ": " + printable_text(problem));
 }
 
 void Call::fail(const std::string& problem) const { fail(command_, problem); }
@@ -297,8 +296,8 @@ const Object& Call::object_named(const Token& token, ObjectKind kind) const {
     for (const auto& [name, obj] : session_.objects) {
       if (obj.kind == kind) known.push_back(name);
     }
-    fail(token, "unknown " + kind_name(kind) + " '" + shown(token.text) + "'" + hint(token.text, known) +
-                    (known.empty() ? "; none is defined yet" : ""));
+    fail(token, "unknown " + kind_name(kind) + " '" + shown(token.text) + "'" +
+                    hint(token.text, known) + (known.empty() ? "; none is defined yet" : ""));
   }
   if (it->second.kind != kind) {
     fail(token, "'" + shown(token.text) + "' is a " + kind_name(it->second.kind) + ", expected a " +
@@ -444,6 +443,96 @@ std::string summary_text(const Object& object) {
   if (object.more_transforms == 0) return object.summary;
   return object.summary + ", ... (" + std::to_string(object.more_transforms) + " more transform" +
          (object.more_transforms == 1 ? ")" : "s)");
+}
+
+namespace {
+
+// The range of alpha that make_equipotential accepts (field/equipotential.h), checked here too
+// so that the error points at the token.
+constexpr double kMinAlpha = 2.0;
+constexpr double kMaxAlpha = 16.0;
+
+}  // namespace
+
+const std::vector<std::string>& equipotential_keys() {
+  static const std::vector<std::string> keys = {
+      "alpha", "charge", "charge_spacing", "lambda", "lambda_scale", "open_ends", "fit_radii"};
+  return keys;
+}
+
+std::optional<EquipotentialRequest> equipotential_request(const Call& c, bool equipotential,
+                                                          const std::string& surface) {
+  if (!equipotential) {
+    for (const std::string& key : equipotential_keys()) {
+      if (const Token* t = c.option_token(key)) {
+        c.fail(*t, key + "= applies to surface=equipotential, not to surface=" + surface);
+      }
+    }
+    return std::nullopt;
+  }
+  EquipotentialRequest r;
+  EquipotentialOptions& o = r.options;
+  o.alpha = c.option_number("alpha", o.alpha);
+  if (!(o.alpha >= kMinAlpha && o.alpha <= kMaxAlpha)) {
+    c.fail(*c.option_token("alpha"), "alpha must be in " + range_text(kMinAlpha, kMaxAlpha) +
+                                         ", got " + c.option_token("alpha")->text);
+  }
+  o.charge = c.option_positive("charge", o.charge);
+  o.charge_spacing = c.option_positive("charge_spacing", o.charge_spacing);
+  o.lambda = c.option_positive("lambda", o.lambda);
+  o.lambda_scale = c.option_positive("lambda_scale", o.lambda_scale);
+  o.open_ends = c.option_word("open_ends", o.open_ends ? "yes" : "no", {"yes", "no"}) == "yes";
+  r.fit_radii = c.option_word("fit_radii", "no", {"yes", "no"}) == "yes";
+  // The potential is linear in the charges: the fit meets any lambda with scaled charges, so a
+  // lambda_scale would change the numbers but not the surface.
+  if (r.fit_radii && c.has_option("lambda_scale")) {
+    c.fail(*c.option_token("lambda_scale"),
+           "lambda_scale= does not change the surface with fit_radii=yes (the fitted charges "
+           "scale with lambda); leave one of them out");
+  }
+  return r;
+}
+
+std::shared_ptr<const Equipotential> build_equipotential(const Call& c, const Skeleton& skeleton,
+                                                         const EquipotentialRequest& request,
+                                                         std::string& summary) {
+  const EquipotentialOptions& o = request.options;
+  auto eq = std::make_shared<Equipotential>(make_equipotential(skeleton, o));
+  std::string fitted;
+  if (request.fit_radii) {
+    const ChargeFitResult fit =
+        fit_charges(eq->charges, skeleton, eq->lambda, {}, o.theta, c.session().ctx);
+    set_edge_charges(eq->charges, fit.edge_values);
+    eq->field = make_equipotential_field(eq->charges, eq->lambda, o.theta);
+    fitted = "; charges fitted to the radii, potential residual rms " +
+             format_number(fit.residual_rms) + ", max " + format_number(fit.residual_max);
+  }
+  std::size_t open = 0;
+  for (const std::uint8_t flag : eq->charges.open) open += flag != 0 ? 1 : 0;
+  summary += ", equipotential surface (alpha " + format_number(eq->charges.alpha) + ", " +
+             std::to_string(eq->charges.positions.size()) + " charges, lambda " +
+             format_number(eq->lambda) +
+             (open > 0 ? ", " + std::to_string(open) + " open end(s)" : "") + fitted + ")";
+  return eq;
+}
+
+std::string equipotential_help() {
+  const EquipotentialOptions o;
+  return "surface=equipotential is the potential of point charges along the skeleton (Gruber & "
+         "Wallner 2014), f = sum q_i / |p - c_i|^(alpha - 1), with the surface at f = lambda: "
+         "`alpha`" +
+         default_text(o.alpha, kMinAlpha, kMaxAlpha) +
+         " (higher is more cylindrical, sharper blends); `charge`, one charge value for every "
+         "edge (default per edge from its radii); `charge_spacing`, the distance between charges "
+         "along an edge (default per edge " +
+         format_number(o.spacing_factor) +
+         " times its smaller node radius); `lambda`, the iso value (default estimated by the "
+         "paper's eq. 2) times `lambda_scale`" +
+         default_text(o.lambda_scale) +
+         " (smaller is thicker: Figure 4); `open_ends`=yes|no (default no) makes every leaf an "
+         "open, sharp-edged end (a skeleton file's \"end\": \"open\" opens one); "
+         "`fit_radii`=yes|no (default no) fits one charge value per edge so that the surface "
+         "passes through the radii";
 }
 
 }  // namespace script

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -19,6 +20,7 @@
 #include "ramiform/core/numbers.h"
 #include "ramiform/core/types.h"
 #include "ramiform/field/curves.h"
+#include "ramiform/field/equipotential.h"
 #include "ramiform/field/field.h"
 #include "ramiform/script/script.h"
 #include "ramiform/skeleton/skeleton.h"
@@ -65,10 +67,13 @@ struct Object {
   ObjectKind kind = ObjectKind::kShape;
   FieldPtr field;                    // kShape
   std::optional<Skeleton> skeleton;  // kShape straight from `skeleton` (for method=tets)
-  Curve2 curve2;                     // kCurve2
-  Curve3 curve3;                     // kCurve3
-  std::string summary;               // one line for `info` and `list` (<= kMaxSummary bytes)
-  std::size_t more_transforms = 0;   // transforms left out of the full summary
+  // kShape with surface=equipotential: its charges and lambda (`field` is its field); dropped
+  // with `skeleton` (save_mesh method=particles puts its rings at the charges).
+  std::shared_ptr<const Equipotential> equipotential;
+  Curve2 curve2;                    // kCurve2
+  Curve3 curve3;                    // kCurve3
+  std::string summary;              // one line for `info` and `list` (<= kMaxSummary bytes)
+  std::size_t more_transforms = 0;  // transforms left out of the full summary
 };
 
 /// The object's summary as shown by `info`, `list` and the commands that define it.
@@ -198,6 +203,33 @@ class Call {
 
 /// "1,2,3" for messages (numbers as ramiform::format_number).
 std::string format_vec3(const Vec3& v);
+
+/// The option keys of the equipotential surface (Gruber & Wallner 2014) that `skeleton`, `grow`
+/// and `lsystem` take with surface=equipotential: alpha, charge, charge_spacing, lambda,
+/// lambda_scale, open_ends, fit_radii.
+const std::vector<std::string>& equipotential_keys();
+
+/// The equipotential surface a command asked for.
+struct EquipotentialRequest {
+  EquipotentialOptions options;
+  bool fit_radii = false;  ///< fit one charge value per edge to the radii (fit_charges)
+};
+
+/// With `equipotential`, the equipotential options of `c` (each checked at its token); without,
+/// fails at the first equipotential option given ("... applies to surface=equipotential, not to
+/// surface=`surface`").
+std::optional<EquipotentialRequest> equipotential_request(const Call& c, bool equipotential,
+                                                          const std::string& surface);
+
+/// The equipotential surface of `skeleton` as `request` says (charge values fitted to the radii
+/// with fit_radii), and `summary` gets its figures (", equipotential surface (alpha A, ...)").
+std::shared_ptr<const Equipotential> build_equipotential(const Call& c, const Skeleton& skeleton,
+                                                         const EquipotentialRequest& request,
+                                                         std::string& summary);
+
+/// The sentence of help texts and docs/language.md that describes the equipotential options
+/// (with their defaults, default_text style).
+std::string equipotential_help();
 
 // Help texts state an options struct's default and range with ramiform::default_text
 // (core/numbers.h); docs/language.md writes them the same way, after the option's name in

@@ -9,6 +9,8 @@ set(RAMIFORM_polygonize_TESTS
   polygonize/coarsen_test.cpp
   polygonize/delaunay_test.cpp
   polygonize/edge_roots_test.cpp
+  polygonize/particle_layout_test.cpp
+  polygonize/particles_test.cpp
   polygonize/memory_budget_test.cpp)
 
 # The generator of src/polygonize/mc_tables.inc (header-only logic in tools/mc_table_generator.h,

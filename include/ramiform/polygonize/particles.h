@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+/// \file
+/// The equipotential particle mesher (Gruber & Wallner 2014, "Polygonization of Line Skeletons
+/// by Using Equipotential Surfaces – A Practical Description", J. Geometry and Graphics 18(1)):
+/// particles placed around a line skeleton (§3.3) are moved onto the surface f == iso of a field
+/// built around that skeleton (§3.5), and the triangles that join them come from the placement's
+/// structure, not from the moved points (§3.6 leaves the triangulation open; ours is in
+/// src/polygonize/particle_layout.h).
+///
+/// Placement (§3.3): n_circ particles on a ring of radius R around every edge charge and at
+/// every leaf, half-spheres at closed leaves, a ring in the symmetry plane at a vertex whose two
+/// edges meet at more than gamma, and n_sphere particles on a sphere of radius sphere_factor x R
+/// at every other vertex, less those inside the union of the cylinders and spheres. The rings sit
+/// at the charge positions (edge_charge_count() of field/equipotential.h with the edge's d_c).
+/// The triangles are a 2-manifold by construction: closed where every leaf is closed, with one
+/// boundary loop (the leaf's ring) per open end, one component per connected skeleton component.
+///
+/// Movement (§3.5, our variant): every round evaluates all particles not yet converged in one
+/// batch (values and gradients) and moves each along the normalized gradient by the Newton step
+/// (iso - f) / |grad f|, clamped to max_step times the particle's local R; a particle's clamp is
+/// halved whenever the sign of f - iso flips, so nothing oscillates. The paper's move by a fixed
+/// delta in the direction sgn(potential - lambda) is the case of a clamp that always binds. The
+/// paper stops at |potential - lambda| <= delta, which compares a potential with the step length
+/// it also calls delta; here the step is the clamp and convergence is relative to the iso value:
+/// |f - iso| <= delta |iso|. Converged particles no longer move.
+///
+/// Relaxation (ours; it replaces the particle repulsion §5 suggests for acute forks and close
+/// branches): each round moves every particle toward the centroid of its mesh neighbours,
+/// projected onto its tangent plane (the plane orthogonal to grad f), all at once from the old
+/// positions, and then projects all of them back onto the surface with the same Newton steps. A
+/// particle that does not converge again goes back to where it was before the round. Open-end
+/// loops stay where the movement put them.
+///
+/// The result is deterministic and byte-identical for any thread count.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "ramiform/core/context.h"
+#include "ramiform/core/geometry.h"
+#include "ramiform/field/equipotential.h"
+#include "ramiform/field/field.h"
+#include "ramiform/skeleton/skeleton.h"
+
+namespace ramiform {
+
+/// Options of polygonize_particles() (the paper's Table 1 where it has them). Validated at
+/// entry: InvalidArgument naming the option.
+struct ParticleMeshOptions {
+  int n_circ = 12;    ///< n_circ: particles on each ring around an edge (3..4096)
+  int n_sphere = 48;  ///< n_sphere: particles on a junction sphere before removal (4..65536)
+  double sphere_factor = 1.5;  ///< junction sphere radius / the largest incident R (> 1)
+  /// gamma: a vertex whose two edges meet at more than this angle (degrees, (0, 180]) gets one
+  /// ring in their symmetry plane instead of a sphere.
+  double gamma_degrees = 160;
+  /// R, the placement radius (model units, > 0), or 0: per edge placement_factor times the mean
+  /// radius of its two nodes. An isolated node's sphere has the node's radius.
+  double placement_radius = 0;
+  double placement_factor = 1.0;  ///< R per edge when placement_radius is 0 (> 0)
+  /// Convergence: a particle is on the surface when |f - iso| <= delta |iso| (relative, in
+  /// (0, 1); the paper's |potential - lambda| <= delta mixes a step length and a potential).
+  double delta = 1e-3;
+  /// Largest move per round, times the particle's local R (its edge's R; at a vertex, the
+  /// largest R of its edges; at an isolated node its radius). > 0.
+  double max_step = 0.25;
+  int max_iterations = 200;  ///< evaluation rounds of one projection at most (>= 1)
+  /// Rounds of tangential relaxation after convergence (0..100; 0 = the paper's pure method).
+  int relax = 2;
+};
+
+/// What one polygonize_particles() run did.
+struct ParticleMeshStats {
+  std::size_t particles = 0;  ///< particles (= mesh vertices)
+  std::size_t converged = 0;  ///< particles with |f - iso| <= delta |iso| at the end
+  /// Evaluation rounds of the first projection (the movement of §3.5; <= max_iterations).
+  int iterations = 0;
+  /// The first (at most 100) particles not converged, ascending vertex indices.
+  std::vector<std::uint32_t> unconverged;
+  /// Junctions joined by the layout's combinatorial patch instead of a convex hull (poorer
+  /// triangles, still a valid surface).
+  std::size_t fallback_junctions = 0;
+  std::size_t open_loops = 0;     ///< boundary loops (one per open end)
+  std::uint64_t evaluations = 0;  ///< field evaluations made (each with a gradient)
+  double min_angle = 0;           ///< smallest triangle corner angle, degrees
+  double median_angle = 0;        ///< median triangle corner angle, degrees
+  double seconds_layout = 0;      ///< wall time of the placement and triangulation
+  double seconds_move = 0;        ///< wall time of the first projection
+  double seconds_relax = 0;       ///< wall time of the relaxation rounds
+};
+
+/// Meshes the surface f == iso of `field` around `skeleton`, the skeleton the field was built
+/// around (validated: InputError; isolated nodes allowed). `edge_spacing`: per edge, the charge
+/// spacing d_c where the rings go (model units, > 0), or empty: per edge 0.5 times the smaller
+/// radius of its two nodes. `open_end`: per node, non-zero for a leaf whose end is open (ignored
+/// on other nodes), or empty: every end closed. The field's iso value must be non-zero (the
+/// convergence test is relative to it). Vertices are the particles (normals left empty),
+/// triangles counter-clockwise seen from outside. Particles that did not converge stay in the
+/// mesh at their last position and are listed in `stats` (which may be null). Throws
+/// InvalidArgument for bad options (naming the option) or sizes, Cancelled through `ctx`.
+[[nodiscard]] TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
+                                           std::span<const double> edge_spacing,
+                                           std::span<const std::uint8_t> open_end,
+                                           const ParticleMeshOptions& options = {},
+                                           Context* ctx = nullptr,
+                                           ParticleMeshStats* stats = nullptr);
+
+/// The same for the equipotential surface of field/equipotential.h: uses eq.field, the charge
+/// spacings eq.charges.edge_spacing (rings at the charges) and the open ends eq.charges.open.
+/// `skeleton` is the one `eq` was made from. Throws InvalidArgument when eq has no field.
+[[nodiscard]] TriMesh polygonize_particles(const Equipotential& eq, const Skeleton& skeleton,
+                                           const ParticleMeshOptions& options = {},
+                                           Context* ctx = nullptr,
+                                           ParticleMeshStats* stats = nullptr);
+
+}  // namespace ramiform

@@ -1,0 +1,462 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+//
+// The equipotential particle mesher (polygonize/particles.h) on small skeletons, with the
+// convolution field and with the equipotential field: every particle ends on the surface
+// (recomputed here), the mesh is a consistently oriented 2-manifold, closed for closed ends and
+// with one boundary loop of n_circ edges per open end, one component per skeleton component,
+// every node inside the field and inside the mesh, positive volume; the connectivity is the
+// layout's; results are byte-identical for 1 and 2 threads; bad options throw.
+
+#include "ramiform/polygonize/particles.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <map>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "polygonize/particle_layout.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/field/equipotential.h"
+#include "ramiform/field/skeleton_field.h"
+#include "ramiform/mesh/checks.h"
+#include "ramiform/mesh/winding.h"
+#include "ramiform/skeleton/generate.h"
+#include "support/fixtures.h"
+#include "support/mesh_checkers.h"
+
+namespace ramiform {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+Vec3 spherical(double length, double polar_degrees, double azimuth_degrees = 0) {
+  const double t = polar_degrees * kPi / 180.0;
+  const double a = azimuth_degrees * kPi / 180.0;
+  return length * Vec3(std::sin(t) * std::cos(a), std::sin(t) * std::sin(a), std::cos(t));
+}
+
+// A trunk from below to node 1 at the origin and two branches leaving it `angle` apart.
+Skeleton fork(double angle_degrees) {
+  Skeleton s;
+  s.nodes = {{Vec3(0, 0, -8), 1.0},
+             {Vec3(0, 0, 0), 1.0},
+             {spherical(10, 0.5 * angle_degrees), 0.7},
+             {spherical(10, -0.5 * angle_degrees), 0.7}};
+  s.edges = {{0, 1}, {1, 2}, {1, 3}};
+  return s;
+}
+
+// A fork whose branches then run side by side, their axes 2.4 apart (radius 0.6): the tubes
+// are 1.2, two radii, apart.
+Skeleton near_parallel() {
+  Skeleton s;
+  s.nodes = {{Vec3(0, 0, -6), 1.0},  {Vec3(0, 0, 0), 0.8},     {Vec3(-1.2, 0, 3), 0.6},
+             {Vec3(1.2, 0, 3), 0.6}, {Vec3(-1.2, 0, 14), 0.6}, {Vec3(1.2, 0, 14), 0.6}};
+  s.edges = {{0, 1}, {1, 2}, {1, 3}, {2, 4}, {3, 5}};
+  return s;
+}
+
+// Trunk + 2 + 4 edges.
+Skeleton three_level_tree() {
+  BranchingTreeOptions o;
+  o.segments = 7;
+  o.tip_radius = 0.25;
+  o.trunk_length = 4.0;
+  o.branch_angle_deg = 35;
+  return branching_tree(o);
+}
+
+// A path bent by 10 degrees at node 1 (edges meeting at 170 degrees: a straight-through ring).
+Skeleton bent_path() {
+  Skeleton s;
+  s.nodes = {{Vec3(0, 0, 0), 1.0}, {Vec3(8, 0, 0), 1.0}, {Vec3(8, 0, 0) + spherical(8, 80), 0.9}};
+  s.edges = {{0, 1}, {1, 2}};
+  return s;
+}
+
+// An isolated node next to (not touching) a segment: two components.
+Skeleton isolated_and_segment() {
+  Skeleton s = test::single_segment(Vec3(0, 0, 0), Vec3(0, 0, 8), 1.0, 0.8);
+  s.nodes.push_back({Vec3(6, 0, 4), 1.5});
+  return s;
+}
+
+FieldPtr convolution(const Skeleton& s) { return make_skeleton_field(s); }
+
+std::vector<std::uint8_t> open_flags(const Skeleton& s, std::vector<std::uint32_t> open) {
+  std::vector<std::uint8_t> flags(s.nodes.size(), 0);
+  for (const std::uint32_t v : open) flags[v] = 1;
+  return flags;
+}
+
+// Boundary loops of the mesh: components of the graph of its boundary edges.
+std::size_t boundary_loops(const TriMesh& mesh) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> count;
+  for (const auto& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k];
+      const std::uint32_t b = t[(k + 1) % 3];
+      ++count[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  std::vector<std::uint32_t> parent(mesh.positions.size());
+  for (std::uint32_t i = 0; i < parent.size(); ++i) parent[i] = i;
+  const auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::vector<char> on_boundary(mesh.positions.size(), 0);
+  for (const auto& [e, c] : count) {
+    if (c != 1) continue;
+    on_boundary[e.first] = on_boundary[e.second] = 1;
+    parent[find(e.first)] = find(e.second);
+  }
+  std::size_t loops = 0;
+  for (std::uint32_t i = 0; i < parent.size(); ++i) {
+    if (on_boundary[i] != 0 && find(i) == i) ++loops;
+  }
+  return loops;
+}
+
+// Every property the mesher promises, checked independently of its statistics.
+void expect_valid(const TriMesh& mesh, const ParticleMeshStats& stats, const Field& field,
+                  const Skeleton& s, std::span<const std::uint8_t> open = {},
+                  const ParticleMeshOptions& o = {}) {
+  ASSERT_FALSE(mesh.triangles.empty());
+  EXPECT_TRUE(mesh.normals.empty());
+  EXPECT_EQ(stats.particles, mesh.positions.size());
+  EXPECT_EQ(stats.converged, stats.particles);
+  EXPECT_TRUE(stats.unconverged.empty());
+  EXPECT_GE(stats.iterations, 1);
+  EXPECT_LE(stats.iterations, o.max_iterations);
+  EXPECT_GE(stats.evaluations, stats.particles);
+
+  // On the surface: |f - iso| <= delta iso at every vertex, evaluated here again.
+  std::vector<double> f(mesh.positions.size());
+  field.evaluate(mesh.positions, f);
+  std::size_t off = 0;
+  double worst = 0;
+  for (const double v : f) {
+    const double r = std::abs(v - field.iso()) / field.iso();
+    worst = std::max(worst, r);
+    if (!(r <= o.delta)) ++off;
+  }
+  EXPECT_EQ(off, 0U) << "worst relative residual " << worst;
+
+  std::size_t open_leaves = 0;
+  const auto degree = degrees(s);
+  for (std::size_t v = 0; v < s.nodes.size(); ++v) {
+    if (!open.empty() && open[v] != 0 && degree[v] == 1) ++open_leaves;
+  }
+  const MeshReport r = check_mesh(mesh);
+  EXPECT_TRUE(r.manifold) << test::describe(r);
+  EXPECT_TRUE(r.oriented) << test::describe(r);
+  EXPECT_EQ(r.degenerate_triangles, 0U) << test::describe(r);
+  EXPECT_EQ(r.watertight, open_leaves == 0) << test::describe(r);
+  EXPECT_EQ(r.boundary_edges, open_leaves * static_cast<std::size_t>(o.n_circ));
+  EXPECT_EQ(boundary_loops(mesh), open_leaves);
+  EXPECT_EQ(stats.open_loops, open_leaves);
+  const auto components = connected_components(s);
+  EXPECT_EQ(r.components, components.count) << test::describe(r);
+  const long long cycles = static_cast<long long>(s.edges.size()) -
+                           static_cast<long long>(s.nodes.size()) + components.count;
+  EXPECT_EQ(r.euler, 2LL * components.count - 2 * cycles - static_cast<long long>(open_leaves));
+  EXPECT_DOUBLE_EQ(stats.min_angle, r.min_angle_deg);
+  EXPECT_GT(stats.min_angle, 0.0);
+
+  // Every node inside the field and (away from the open loops, which it sits in) the mesh.
+  const WindingNumber winding(mesh);
+  for (std::size_t v = 0; v < s.nodes.size(); ++v) {
+    EXPECT_GT(field.value(s.nodes[v].position), field.iso()) << "node " << v;
+    if (!open.empty() && open[v] != 0 && degree[v] == 1) continue;
+    EXPECT_GT(winding(s.nodes[v].position), 0.5) << "node " << v;
+  }
+  if (open_leaves == 0) {
+    EXPECT_GT(signed_volume(mesh), 0.0);
+  }
+}
+
+struct Meshed {
+  TriMesh mesh;
+  ParticleMeshStats stats;
+};
+
+Meshed mesh_convolution(const Skeleton& s, std::span<const std::uint8_t> open = {},
+                        const ParticleMeshOptions& o = {}, int threads = 2) {
+  const FieldPtr field = convolution(s);
+  Context ctx(threads);
+  Meshed run;
+  run.mesh = polygonize_particles(*field, s, {}, open, o, &ctx, &run.stats);
+  expect_valid(run.mesh, run.stats, *field, s, open, o);
+  return run;
+}
+
+TEST(ParticleMesh, SingleEdge) {
+  const Skeleton s = test::single_segment();
+  const Meshed run = mesh_convolution(s);
+  // Rings at the charges (0.5 r spacing: 19 on a 10-long edge) and two caps.
+  EXPECT_GT(run.stats.particles, 19U * 12U);
+}
+
+TEST(ParticleMesh, YFork) { (void)mesh_convolution(test::y_fork()); }
+
+TEST(ParticleMesh, AcuteFork20Degrees) { (void)mesh_convolution(fork(20)); }
+
+TEST(ParticleMesh, NearParallelBranches) { (void)mesh_convolution(near_parallel()); }
+
+TEST(ParticleMesh, ThreeLevelBinaryTree) {
+  const Skeleton s = three_level_tree();
+  ASSERT_EQ(s.edges.size(), 7U);
+  (void)mesh_convolution(s);
+}
+
+TEST(ParticleMesh, IsolatedNodeIsItsOwnComponent) {
+  const Skeleton s = isolated_and_segment();
+  const Meshed run = mesh_convolution(s);
+  EXPECT_EQ(check_mesh(run.mesh).components, 2U);
+  // The isolated node's sphere particles lie at its convolution radius (the field of a point
+  // primitive is radially symmetric, so the projection moves them radially).
+  double lo = 1e9;
+  double hi = 0;
+  for (const Vec3& p : run.mesh.positions) {
+    const double d = (p - s.nodes[2].position).norm();
+    if (d < 3.0) {
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+  }
+  EXPECT_LT(hi - lo, 0.05 * s.nodes[2].radius) << lo << " " << hi;
+}
+
+TEST(ParticleMesh, StraightThroughVertex170Degrees) { (void)mesh_convolution(bent_path()); }
+
+TEST(ParticleMesh, OpenEndsGiveOneLoopEach) {
+  const Skeleton s = test::y_fork();
+  const auto open = open_flags(s, {0, 2, 3});
+  const Meshed run = mesh_convolution(s, open);
+  EXPECT_EQ(run.stats.open_loops, 3U);
+  const auto some = open_flags(s, {2, 1});  // node 1 is no leaf: ignored
+  const Meshed partly = mesh_convolution(s, some);
+  EXPECT_EQ(partly.stats.open_loops, 1U);
+}
+
+// The triangles are the layout's, whatever the movement does; vertices are the particles.
+TEST(ParticleMesh, ConnectivityIsTheLayouts) {
+  const Skeleton s = test::y_fork();
+  const FieldPtr field = convolution(s);
+  ParticleMeshStats stats;
+  const TriMesh mesh = polygonize_particles(*field, s, {}, {}, {}, nullptr, &stats);
+  detail::ParticleLayoutInput in;
+  in.skeleton = &s;
+  for (const auto& e : s.edges) {
+    const double ra = s.nodes[e[0]].radius;
+    const double rb = s.nodes[e[1]].radius;
+    in.edge_radius.push_back(0.5 * (ra + rb));
+    in.edge_spacing.push_back(0.5 * std::min(ra, rb));
+  }
+  const detail::ParticleLayout layout = detail::build_particle_layout(in, {});
+  EXPECT_EQ(mesh.triangles, layout.triangles);
+  EXPECT_EQ(mesh.positions.size(), layout.positions.size());
+  // Explicit spacings change where the rings go: twice the spacing, about half the rings.
+  std::vector<double> spacing = in.edge_spacing;
+  for (double& d : spacing) d *= 2;
+  ParticleMeshStats coarse;
+  (void)polygonize_particles(*field, s, spacing, {}, {}, nullptr, &coarse);
+  EXPECT_LT(coarse.particles, stats.particles * 3 / 4);
+  EXPECT_EQ(coarse.converged, coarse.particles);
+}
+
+TEST(ParticleMesh, IdenticalForOneAndTwoThreads) {
+  const Skeleton s = three_level_tree();
+  const auto open = open_flags(s, {static_cast<std::uint32_t>(s.nodes.size() - 1)});
+  const FieldPtr field = convolution(s);
+  Context one(1);
+  Context two(2);
+  ParticleMeshStats a;
+  ParticleMeshStats b;
+  const TriMesh ma = polygonize_particles(*field, s, {}, open, {}, &one, &a);
+  const TriMesh mb = polygonize_particles(*field, s, {}, open, {}, &two, &b);
+  ASSERT_EQ(ma.positions.size(), mb.positions.size());
+  for (std::size_t i = 0; i < ma.positions.size(); ++i) {
+    ASSERT_EQ(ma.positions[i].x(), mb.positions[i].x()) << i;
+    ASSERT_EQ(ma.positions[i].y(), mb.positions[i].y()) << i;
+    ASSERT_EQ(ma.positions[i].z(), mb.positions[i].z()) << i;
+  }
+  EXPECT_EQ(ma.triangles, mb.triangles);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.evaluations, b.evaluations);
+  EXPECT_EQ(a.converged, b.converged);
+
+  // The equipotential field (a treecode) too.
+  const Equipotential eq = make_equipotential(s);
+  const TriMesh ea = polygonize_particles(eq, s, {}, &one);
+  const TriMesh eb = polygonize_particles(eq, s, {}, &two);
+  ASSERT_EQ(ea.positions.size(), eb.positions.size());
+  EXPECT_EQ(
+      0, std::memcmp(ea.positions.data(), eb.positions.data(), ea.positions.size() * sizeof(Vec3)));
+  EXPECT_EQ(ea.triangles, eb.triangles);
+}
+
+// Too few rounds: the particles not on the surface are listed, ascending, at most 100, and
+// each listed one really is off the surface.
+TEST(ParticleMesh, ReportsUnconvergedParticles) {
+  const Skeleton s = test::y_fork();
+  const FieldPtr field = convolution(s);
+  ParticleMeshOptions o;
+  o.max_iterations = 2;
+  o.max_step = 0.02;
+  o.relax = 0;
+  ParticleMeshStats stats;
+  const TriMesh mesh = polygonize_particles(*field, s, {}, {}, o, nullptr, &stats);
+  EXPECT_EQ(stats.iterations, 2);
+  EXPECT_LT(stats.converged, stats.particles);
+  ASSERT_FALSE(stats.unconverged.empty());
+  EXPECT_EQ(stats.unconverged.size(),
+            std::min<std::size_t>(100, stats.particles - stats.converged));
+  EXPECT_TRUE(std::is_sorted(stats.unconverged.begin(), stats.unconverged.end()));
+  for (const std::uint32_t i : stats.unconverged) {
+    const double r = std::abs(field->value(mesh.positions[i]) - field->iso()) / field->iso();
+    EXPECT_GT(r, o.delta) << i;
+  }
+  // The mesh keeps every particle; its connectivity does not depend on convergence.
+  EXPECT_EQ(mesh.positions.size(), stats.particles);
+  EXPECT_TRUE(check_mesh(mesh).watertight);
+}
+
+// The paper's pure method (no relaxation) converges too; relaxation does not make the worst
+// triangle worse at the acute fork and keeps every particle on the surface.
+TEST(ParticleMesh, RelaxationKeepsParticlesOnTheSurface) {
+  const Skeleton s = fork(20);
+  ParticleMeshOptions pure;
+  pure.relax = 0;
+  const Meshed a = mesh_convolution(s, {}, pure);
+  ParticleMeshOptions relaxed;
+  relaxed.relax = 3;
+  const Meshed b = mesh_convolution(s, {}, relaxed);
+  EXPECT_EQ(a.stats.iterations, b.stats.iterations);
+  EXPECT_GE(b.stats.median_angle, a.stats.median_angle);
+  EXPECT_GT(b.stats.evaluations, a.stats.evaluations);
+}
+
+TEST(ParticleMesh, RejectsBadOptions) {
+  const Skeleton s = test::y_fork();
+  const FieldPtr field = convolution(s);
+  const auto expect_rejects = [&](ParticleMeshOptions o, const std::string& name) {
+    try {
+      (void)polygonize_particles(*field, s, {}, {}, o);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const InvalidArgument& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
+  ParticleMeshOptions o;
+  o.n_circ = 2;
+  expect_rejects(o, "n_circ");
+  o = {};
+  o.n_sphere = 3;
+  expect_rejects(o, "n_sphere");
+  o = {};
+  o.sphere_factor = 1.0;
+  expect_rejects(o, "sphere_factor");
+  o = {};
+  o.gamma_degrees = 0;
+  expect_rejects(o, "gamma_degrees");
+  o = {};
+  o.placement_radius = -1;
+  expect_rejects(o, "placement_radius");
+  o = {};
+  o.placement_factor = 0;
+  expect_rejects(o, "placement_factor");
+  o = {};
+  o.delta = 0;
+  expect_rejects(o, "delta");
+  o = {};
+  o.delta = std::nan("");
+  expect_rejects(o, "delta");
+  o = {};
+  o.max_step = 0;
+  expect_rejects(o, "max_step");
+  o = {};
+  o.max_iterations = 0;
+  expect_rejects(o, "max_iterations");
+  o = {};
+  o.relax = -1;
+  expect_rejects(o, "relax");
+
+  const std::vector<double> short_spacing(s.edges.size() - 1, 0.5);
+  EXPECT_THROW((void)polygonize_particles(*field, s, short_spacing, {}), InvalidArgument);
+  std::vector<double> bad_spacing(s.edges.size(), 0.5);
+  bad_spacing[1] = 0;
+  EXPECT_THROW((void)polygonize_particles(*field, s, bad_spacing, {}), InvalidArgument);
+  const std::vector<std::uint8_t> short_open(s.nodes.size() - 1, 0);
+  EXPECT_THROW((void)polygonize_particles(*field, s, {}, short_open), InvalidArgument);
+  Equipotential empty;
+  EXPECT_THROW((void)polygonize_particles(empty, s), InvalidArgument);
+  Skeleton broken = s;
+  broken.edges.push_back({0, 0});
+  EXPECT_THROW((void)polygonize_particles(*field, broken, {}, {}), InputError);
+}
+
+// Random directions: forks of every angle, branches passing near each other.
+TEST(ParticleMesh, RandomTrees) {
+  for (const std::uint64_t seed : {1U, 2U, 3U}) {
+    SCOPED_TRACE(seed);
+    (void)mesh_convolution(test::random_tree(seed, 30));
+  }
+}
+
+// ---- The equipotential field (field/equipotential.h) ----
+
+Meshed mesh_equipotential(const Skeleton& s, const EquipotentialOptions& eo = {},
+                          const ParticleMeshOptions& o = {}) {
+  const Equipotential eq = make_equipotential(s, eo);
+  Context ctx(2);
+  Meshed run;
+  run.mesh = polygonize_particles(eq, s, o, &ctx, &run.stats);
+  expect_valid(run.mesh, run.stats, *eq.field, s, eq.charges.open, o);
+  return run;
+}
+
+TEST(ParticleMeshEquipotential, SingleEdgeAndYFork) {
+  (void)mesh_equipotential(test::single_segment());
+  (void)mesh_equipotential(test::y_fork());
+}
+
+TEST(ParticleMeshEquipotential, AcuteForkAndNearParallelBranches) {
+  (void)mesh_equipotential(fork(20));
+  (void)mesh_equipotential(near_parallel());
+}
+
+TEST(ParticleMeshEquipotential, TreeBentPathAndIsolatedNode) {
+  (void)mesh_equipotential(three_level_tree());
+  (void)mesh_equipotential(bent_path());
+  (void)mesh_equipotential(isolated_and_segment());
+}
+
+TEST(ParticleMeshEquipotential, RandomTrees) {
+  for (const std::uint64_t seed : {1U, 2U, 3U}) {
+    SCOPED_TRACE(seed);
+    (void)mesh_equipotential(test::random_tree(seed, 30));
+  }
+}
+
+TEST(ParticleMeshEquipotential, OpenEnds) {
+  Skeleton s = test::y_fork();
+  s.open_ends = open_flags(s, {2, 3});
+  const Meshed run = mesh_equipotential(s);
+  EXPECT_EQ(run.stats.open_loops, 2U);
+  EquipotentialOptions all;
+  all.open_ends = true;
+  const Meshed every = mesh_equipotential(test::y_fork(), all);
+  EXPECT_EQ(every.stats.open_loops, 3U);
+}
+
+}  // namespace
+}  // namespace ramiform
