@@ -13,8 +13,11 @@
 
 #include "polygonize/delaunay.h"
 #include "ramiform/core/random.h"
+#include "ramiform/field/equipotential.h"
 #include "ramiform/field/skeleton_field.h"
+#include "ramiform/grow/lsystem.h"
 #include "ramiform/polygonize/marching_cubes.h"
+#include "ramiform/polygonize/particles.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/skeleton/generate.h"
 
@@ -58,6 +61,35 @@ void BM_Tetrahedral(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(triangles);
 }
 
+// The equipotential particle mesher (Gruber & Wallner 2014) with its defaults, field built once:
+// particles placed, converged and relaxed per second. Argument 0: the built-in L-system
+// `binary` at range(1) iterations (4: about the size of the paper's Figure 6, 6: Figure 7);
+// argument 1: a branching tree of range(1) segments.
+void BM_Particles(benchmark::State& state) {
+  Skeleton s;
+  if (state.range(0) == 0) {
+    LSystemOptions lo;
+    lo.iterations = static_cast<int>(state.range(1));
+    for (const auto& [name, text] : lsystem_examples()) {
+      if (name == "binary") s = lsystem_skeleton(text, name, lo);
+    }
+  } else {
+    BranchingTreeOptions tree;
+    tree.segments = static_cast<std::size_t>(state.range(1));
+    s = branching_tree(tree);
+  }
+  const Equipotential eq = make_equipotential(s, {});
+  ParticleMeshStats stats;
+  for (auto _ : state) {
+    const TriMesh m = polygonize_particles(eq, s, {}, nullptr, &stats);
+    benchmark::DoNotOptimize(m.positions.data());
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * stats.particles));
+  state.counters["particles"] = static_cast<double>(stats.particles);
+  state.counters["evaluations"] = static_cast<double>(stats.evaluations);
+  state.counters["min_angle"] = stats.min_angle;
+}
+
 // The Delaunay tetrahedralization (Bowyer-Watson, exact predicates) of N uniform random points
 // in the unit cube.
 void BM_Delaunay(benchmark::State& state) {
@@ -73,6 +105,7 @@ void BM_Delaunay(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_Delaunay)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Particles)->Args({0, 4})->Args({0, 6})->Args({1, 200})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Tetrahedral)->ArgsProduct({{200, 1000}, {2, 3}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_MarchingCubes)->Arg(64)->Arg(128)->Arg(256)->Arg(512)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -290,7 +290,7 @@ SkeletonSurface build_surface(const Skeleton& skeleton, const SkeletonFieldOptio
                      {"sweeps", fit.sweeps},
                      {"residual_rms", fit.residual_rms},
                      {"residual_max", fit.residual_max},
-                     {"zero_charges", fit.active}};
+                     {"charges_at_floor", fit.active}};
       timer.lap("fit");
     }
     s.field = eq->field;

@@ -749,6 +749,7 @@ ChargeFitResult fit_charges(const ChargeSet& charges, const Skeleton& skeleton, 
   detail::check_at_least(options.max_sweeps, 1, "max_sweeps");
   require(std::isfinite(options.tolerance) && options.tolerance > 0, "tolerance", options.tolerance,
           "finite and > 0");
+  require(options.floor >= 0 && options.floor < 1, "floor", options.floor, "in [0, 1)");
   const std::size_t ne = skeleton.edge_count();
   if (charges.edge_spacing.size() != ne) {
     throw InvalidArgument("fit_charges: the charges were placed for " +
@@ -872,6 +873,8 @@ ChargeFitResult fit_charges(const ChargeSet& charges, const Skeleton& skeleton, 
   }
 
   std::vector<double> q(charges.edge_values.begin(), charges.edge_values.end());
+  std::vector<double> lower(ne);
+  for (std::size_t e = 0; e < ne; ++e) lower[e] = options.floor * q[e];
   ChargeSet work = charges;
   std::vector<double> near_f(np), far_f(np), total_f(np);
   auto near_value = [&](std::size_t s) {
@@ -913,7 +916,7 @@ ChargeFitResult fit_charges(const ChargeSet& charges, const Skeleton& skeleton, 
         if (!(norm2[e] > 0)) continue;
         double dot = 0.0;
         for (const auto& [s, a] : cols[e]) dot += wt[s] * a * res[s];
-        const double nq = std::max(0.0, q[e] - dot / norm2[e]);
+        const double nq = std::max(lower[e], q[e] - dot / norm2[e]);
         const double dq = nq - q[e];
         if (dq == 0.0) continue;
         for (const auto& [s, a] : cols[e]) res[s] += a * dq;
@@ -934,11 +937,11 @@ ChargeFitResult fit_charges(const ChargeSet& charges, const Skeleton& skeleton, 
     if (std::abs(previous - mx) < options.tolerance) break;
     previous = mx;
   }
-  // Edges with no samples (all inside other tubes) or a zero column keep a value: the mean of
-  // their fitted neighbours' values keeps them from vanishing inside their neighbours' blend.
+  // Edges without samples of their own keep their starting value unless their charges reach
+  // other edges' samples; none falls below the floor (see ChargeFitOptions::floor).
   result.active = 0;
   for (std::size_t e = 0; e < ne; ++e) {
-    if (q[e] == 0.0) ++result.active;
+    if (q[e] <= lower[e]) ++result.active;
   }
   result.edge_values = q;
   return result;
