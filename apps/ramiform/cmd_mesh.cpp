@@ -68,6 +68,13 @@ int run_mesh(MeshArgs& args) {
         << expected << " connected skeleton part(s): branches thinner than the lattice came apart ("
         << (args.job.method == "mc" ? "use a smaller --cell" : "use more --levels") << ")\n";
   }
+  if (const auto folded = stats.value("inverted_triangles", std::size_t{0}); folded > 0) {
+    err << "ramiform: warning: " << args.out_path << ": " << folded << " of "
+        << stats.value("triangles", std::size_t{0})
+        << " triangles face into the surface: the surfaces of branches that are not joined in "
+           "the skeleton merge there and the particle mesh folds over itself (--method tets "
+           "meshes the merged surface)\n";
+  }
   if (args.job.method == "particles" &&
       stats.value("converged", std::size_t{0}) < stats.value("particles", std::size_t{0})) {
     const std::size_t left =
@@ -173,14 +180,15 @@ std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
   ParticleMeshOptions& pm = args->job.particles;
   std::vector<CLI::Option*> particle_options;
   particle_options.push_back(
-      c->add_option("--n-circ", pm.n_circ,
-                    with_default("particles: particles on each ring around an edge", pm.n_circ))
-          ->check(CLI::Range(3, 1024)));
-  particle_options.push_back(
       c->add_option(
-           "--n-sphere", pm.n_sphere,
-           with_default("particles: particles on each junction sphere before removal", pm.n_sphere))
-          ->check(CLI::Range(4, 100000)));
+           "--n-circ", pm.n_circ,
+           with_default("particles: particles on each ring around an edge", pm.n_circ, 3, 4096))
+          ->check(CLI::Range(3, 4096)));
+  particle_options.push_back(
+      c->add_option("--n-sphere", pm.n_sphere,
+                    with_default("particles: particles on each junction sphere before removal",
+                                 pm.n_sphere, 4, 65536))
+          ->check(CLI::Range(4, 65536)));
   particle_options.push_back(
       c->add_option("--placement-radius", pm.placement_radius,
                     "particles: the placement radius R of the rings (model units); default per "
@@ -203,8 +211,8 @@ std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
       c->add_option("--relax", pm.relax,
                     with_default("particles: rounds of tangential relaxation after convergence "
                                  "(0: the paper's method alone)",
-                                 pm.relax))
-          ->check(CLI::Range(0, 1000)));
+                                 pm.relax, 0, 100))
+          ->check(CLI::Range(0, 100)));
   MarchingCubesOptions& mc = args->job.mc;
   auto* cell = c->add_option("--cell", mc.cell_size, "mc: cell edge length (model units)")
                    ->check(CLI::PositiveNumber);
@@ -235,6 +243,21 @@ std::shared_ptr<MeshArgs> add_mesh(CLI::App& root, Action& action) {
                                    "takes no --levels, --section-scale, --tolerance, --cell, "
                                    "--resolution or --lod");
       }
+    }
+    // Equipotential options without the equipotential surface, or --kernel/--iso with it, are
+    // a usage error like the other misplaced options (exit 1), not bad input.
+    try {
+      (void)equipotential_options(args->field);
+    } catch (const InvalidArgument& e) {
+      throw CLI::ValidationError(e.what());
+    }
+    // As in the scene language: the fitted charges scale with lambda, so --lambda-scale would
+    // change the numbers and not the surface.
+    if (args->field.surface == "equipotential" && args->job.fit_radii &&
+        args->field.equipotential.lambda_scale != EquipotentialOptions{}.lambda_scale) {
+      throw CLI::ValidationError("--lambda-scale",
+                                 "does not change the surface with --fit-radii (the fitted "
+                                 "charges scale with lambda)");
     }
     if (args->job.method == "tets" && (cell->count() > 0 || res->count() > 0)) {
       throw CLI::ValidationError(cell->count() > 0 ? "--cell" : "--resolution",

@@ -276,6 +276,11 @@ SkeletonSurface build_surface(const Skeleton& skeleton, const SkeletonFieldOptio
   if (equipotential != nullptr) {
     // Gruber & Wallner 2014 §3.2-3.4; with fit_radii the charge values are fitted by NNLS so
     // that the surface passes through the requested radii (fit_charges, lambda fixed).
+    if (fit_radii && equipotential->lambda_scale != EquipotentialOptions{}.lambda_scale) {
+      throw InvalidArgument(
+          "lambda_scale does not change the surface with fit_radii (the fitted charges scale "
+          "with lambda)");
+    }
     SkeletonSurface s;
     s.skeleton = skeleton;
     auto eq = std::make_shared<Equipotential>(make_equipotential(skeleton, *equipotential));
@@ -448,6 +453,7 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
     r.stats["iterations"] = st.iterations;
     r.stats["open_loops"] = st.open_loops;
     r.stats["fallback_junctions"] = st.fallback_junctions;
+    r.stats["inverted_triangles"] = st.inverted_triangles;
     r.stats["seconds_layout"] = st.seconds_layout;
     r.stats["seconds_move"] = st.seconds_move;
     r.stats["seconds_relax"] = st.seconds_relax;

@@ -177,6 +177,9 @@ def test_fit_radii_brings_the_surface_to_the_radii():
     mesh = rf.mesh_skeleton(fork, method="particles", fit_radii=True)
     assert "fit" in mesh.stats and mesh.stats["converged"] == mesh.stats["particles"]
     assert rf.check(mesh, skeleton=fork)["watertight"]
+    # The fitted charges scale with lambda: lambda_scale would not change the surface.
+    with pytest.raises(ValueError, match="lambda_scale"):
+        rf.skeleton_field(fork, surface="equipotential", fit_radii=True, lambda_scale=0.5)
 
 
 def test_particles_mesh_other_surfaces_too():

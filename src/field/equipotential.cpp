@@ -27,11 +27,10 @@ constexpr std::size_t kMaxCharges = std::size_t{1} << 26;
 constexpr double kBoundTheta = 0.5;  // clusters smaller than this times their distance: one box
 constexpr int kBoundsDepth = 10;     // octree levels refining bounds() at most
 constexpr std::size_t kBoundsCells = 20000;  // stop refining bounds() beyond this many cells
-constexpr double kMaxTipFactor = 50.0;
-constexpr double kForkGap = 1.5;
-constexpr double kHuber =
-    0.02;  // the fit's Huber threshold, relative to lambda  // the fit leaves out stations this
-           // many radii from a fork       // a closed leaf's charge is raised at most this much
+constexpr double kMaxTipFactor = 50.0;       // a closed leaf's charge is raised at most this much
+constexpr double kForkGap = 1.5;    // the fit leaves out stations this many radii from a fork
+constexpr double kHuber = 0.02;     // the fit's Huber threshold, relative to lambda
+constexpr std::size_t kGroup = 32;  // points evaluated together by one shared traversal
 
 std::string fmt(double v) {
   std::ostringstream o;
@@ -133,10 +132,7 @@ class ChargeTree {
       if (c.rho2 < theta2_ * d2) {
         add_cluster(c, d, d2, f, g, grad != nullptr);
       } else if (c.right == kNone) {
-        for (std::uint32_t i = c.first; i < c.first + c.count; ++i) {
-          const Vec3 di = p - pos_[i];
-          add(val_[i], di, di.squaredNorm(), f, g, grad != nullptr);
-        }
+        add_leaf(c, p, f, g, grad != nullptr);
       } else {
         stack[top++] = c.right;
         stack[top++] = c.first;
@@ -144,6 +140,46 @@ class ChargeTree {
     }
     if (grad != nullptr) *grad = g;
     return f;
+  }
+
+  // eval() at n <= kGroup points at once, bit for bit the same values and gradients (`g` may be
+  // null): the clusters every point of the group would treat alike are decided once for the
+  // group's box, in eval()'s depth-first order, and each point adds the same terms in the same
+  // order as its own traversal would. Where the box does not decide (a cluster far from some
+  // points and near others, or within rounding of the criterion), each point decides itself:
+  // a point that takes such a cluster whole skips the actions of its subtree.
+  void eval_group(const Vec3* p, std::size_t n, double* f, Vec3* g) const {
+    for (std::size_t k = 0; k < n; ++k) {
+      f[k] = 0.0;
+      if (g != nullptr) g[k] = Vec3::Zero();
+    }
+    if (nodes_.empty() || n == 0) return;
+    Aabb box;
+    for (std::size_t k = 0; k < n; ++k) box.extend(p[k]);
+    thread_local std::vector<Action> actions;
+    actions.clear();
+    collect(0, box, actions);
+    const bool wg = g != nullptr;
+    Vec3 unused = Vec3::Zero();
+    std::array<std::uint32_t, kGroup> skip{};
+    for (std::uint32_t a = 0; a < actions.size(); ++a) {
+      const Action act = actions[a];
+      const Node& c = nodes_[act.node];
+      for (std::size_t k = 0; k < n; ++k) {
+        if (a < skip[k]) continue;
+        Vec3& gk = wg ? g[k] : unused;
+        const Vec3 d = p[k] - c.centroid;
+        const double d2 = d.squaredNorm();
+        const bool far =
+            act.kind == Action::kFar || (act.kind != Action::kOpen && c.rho2 < theta2_ * d2);
+        if (far) {
+          add_cluster(c, d, d2, f[k], gk, wg);
+          if (act.kind == Action::kSplit) skip[k] = act.end;
+        } else if (c.right == kNone) {
+          add_leaf(c, p[k], f[k], gk, wg);
+        }
+      }
+    }
   }
 
   // Conservative range of the potential over the box.
@@ -212,6 +248,39 @@ class ChargeTree {
     std::uint32_t right = kNone;         // inner: right child; leaf: kNone
   };
 
+  // One step of a group's evaluation (eval_group): a cluster every point takes whole (kFar), a
+  // leaf every point opens (kOpen), or a cluster each point decides on (kSplit; an inner
+  // node's children follow it up to `end`, which the points that take it whole skip).
+  struct Action {
+    enum Kind : std::uint8_t { kFar, kOpen, kSplit };
+    std::uint32_t node = 0;
+    std::uint32_t end = 0;
+    Kind kind = kFar;
+  };
+
+  // The actions of the subtree at `id` for the points in `box`, in eval()'s order (left child
+  // first). The box decides only with a margin of 1e-9 over rounding in either direction.
+  void collect(std::uint32_t id, const Aabb& box, std::vector<Action>& out) const {
+    const Node& c = nodes_[id];
+    if (!(c.q > 0)) return;
+    const double near2 = squared_distance(box, c.centroid);
+    const double far = max_distance(box, c.centroid);
+    if (c.rho2 < theta2_ * near2 * (1.0 - 1e-9)) {
+      out.push_back({id, 0, Action::kFar});
+      return;
+    }
+    const bool open = c.rho2 >= theta2_ * far * far * (1.0 + 1e-9);
+    if (c.right == kNone) {
+      out.push_back({id, 0, open ? Action::kOpen : Action::kSplit});
+      return;
+    }
+    const auto at = static_cast<std::uint32_t>(out.size());
+    if (!open) out.push_back({id, 0, Action::kSplit});
+    collect(c.first, box, out);
+    collect(c.right, box, out);
+    if (!open) out[at].end = static_cast<std::uint32_t>(out.size());
+  }
+
   static double max_squared_distance(const Aabb& a, const Aabb& b) {
     const Vec3 d = (a.max() - b.min()).cwiseAbs().cwiseMax((b.max() - a.min()).cwiseAbs());
     return d.squaredNorm();
@@ -245,6 +314,14 @@ class ChargeTree {
     const double w = kernel_.w(s);
     f += q * w;
     if (with_grad) g += (q * kernel_.dw(w, s)) * d;
+  }
+
+  // Every charge of the leaf c, summed exactly.
+  void add_leaf(const Node& c, const Vec3& p, double& f, Vec3& g, bool with_grad) const {
+    for (std::uint32_t i = c.first; i < c.first + c.count; ++i) {
+      const Vec3 di = p - pos_[i];
+      add(val_[i], di, di.squaredNorm(), f, g, with_grad);
+    }
   }
 
   std::uint32_t build(std::span<const Vec3> positions, std::uint32_t begin, std::uint32_t end) {
@@ -357,10 +434,10 @@ void check_charges(const ChargeSet& c) {
   }
 }
 
-class EquipotentialField final : public detail::PointwiseField {
+class EquipotentialField final : public Field {
  public:
   EquipotentialField(const ChargeSet& charges, double lambda, double theta)
-      : PointwiseField(lambda),
+      : Field(lambda),
         tree_(charges.positions, charges.values, charges.alpha, theta),
         alpha_(charges.alpha),
         theta_(theta) {}
@@ -380,7 +457,24 @@ class EquipotentialField final : public detail::PointwiseField {
   }
 
  protected:
-  double at(const Vec3& p, Vec3* grad) const override { return tree_.eval(p, grad); }
+  // Groups of kGroup consecutive points share one traversal (ChargeTree::eval_group: the same
+  // values as one point at a time); the groups, like the parallel chunks, do not depend on the
+  // thread count.
+  void do_evaluate(std::span<const Vec3> points, std::span<double> values,
+                   std::span<Vec3> gradients, const Context* ctx) const override {
+    Vec3* g = gradients.empty() ? nullptr : gradients.data();
+    auto body = [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; i += kGroup) {
+        tree_.eval_group(points.data() + i, std::min(kGroup, e - i), values.data() + i,
+                         g == nullptr ? nullptr : g + i);
+      }
+    };
+    if (points.size() >= 4 * detail::kPointwiseGrain) {
+      parallel::for_chunks(points.size(), detail::kPointwiseGrain, body, ctx);
+    } else {
+      body(0, points.size());
+    }
+  }
 
  private:
   // f > lambda needs a point within (Q / lambda)^(1 / (alpha - 1)) of the charges' box; the

@@ -174,53 +174,100 @@ Neighbours one_rings(std::size_t n, const std::vector<std::array<std::uint32_t, 
   return nb;
 }
 
-// Tangential relaxation rounds (see the header), then re-projection; a particle that does not
-// converge again is put back.
-void relax(const Field& field, const ParticleMeshOptions& o, const detail::ParticleLayout& layout,
-           Particles& p, std::uint64_t& evaluations, const Context* ctx) {
+// One smoothing round over the particles flagged in `region` (all when empty): each moves
+// kRelaxWeight of the way to its neighbours' centroid, only along its tangent plane when
+// `tangential`, all from the old positions; then the moved ones are projected again, and a
+// particle that does not converge again is put back. Returns false when nothing moved.
+bool smooth_round(const Field& field, const ParticleMeshOptions& o, const Neighbours& nb,
+                  const std::vector<std::uint8_t>& fixed, const std::vector<std::uint8_t>& region,
+                  bool tangential, Particles& p, std::uint64_t& evaluations, const Context* ctx) {
   const std::size_t n = p.position.size();
-  const Neighbours nb = one_rings(n, layout.triangles);
+  std::vector<Vec3> moved = p.position;
+  std::vector<std::uint8_t> is_moved(n, 0);
+  parallel::for_each(
+      n, kGrain,
+      [&](std::size_t i) {
+        const std::size_t b = nb.start[i];
+        const std::size_t e = nb.start[i + 1];
+        const double norm = p.gradient[i].norm();
+        if (fixed[i] != 0 || e == b || !std::isfinite(norm) || !(norm > 0)) return;
+        if (!region.empty() && region[i] == 0) return;
+        Vec3 centroid = Vec3::Zero();
+        for (std::size_t k = b; k < e; ++k) centroid += p.position[nb.index[k]];
+        centroid /= static_cast<double>(e - b);
+        Vec3 d = centroid - p.position[i];
+        if (tangential) {
+          const Vec3 normal = p.gradient[i] / norm;
+          d -= d.dot(normal) * normal;
+        }
+        if (!d.allFinite()) return;
+        moved[i] = p.position[i] + kRelaxWeight * d;
+        is_moved[i] = 1;
+      },
+      ctx);
+  std::vector<std::uint32_t> which;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (is_moved[i] != 0) which.push_back(i);
+  }
+  if (which.empty()) return false;
+  std::vector<Vec3> old_position(which.size()), old_gradient(which.size());
+  std::vector<double> old_residual(which.size());
+  std::vector<std::uint8_t> old_converged(which.size());
+  for (std::size_t k = 0; k < which.size(); ++k) {
+    const std::uint32_t i = which[k];
+    old_position[k] = p.position[i];
+    old_gradient[k] = p.gradient[i];
+    old_residual[k] = p.residual[i];
+    old_converged[k] = p.converged[i];
+    p.position[i] = moved[i];
+  }
+  (void)project(field, o, which, p, evaluations, ctx);
+  for (std::size_t k = 0; k < which.size(); ++k) {
+    const std::uint32_t i = which[k];
+    if (p.converged[i] != 0) continue;
+    p.position[i] = old_position[k];
+    p.gradient[i] = old_gradient[k];
+    p.residual[i] = old_residual[k];
+    p.converged[i] = old_converged[k];
+  }
+  return true;
+}
+
+// The particles on the boundary loops of open ends: they stay where the movement put them.
+std::vector<std::uint8_t> fixed_particles(std::size_t n, const detail::ParticleLayout& layout) {
   std::vector<std::uint8_t> fixed(n, 0);
   for (const auto& loop : layout.open_loops) {
     for (const std::uint32_t i : loop) fixed[i] = 1;
   }
+  return fixed;
+}
+
+// Tangential relaxation rounds (see the header).
+void relax(const Field& field, const ParticleMeshOptions& o, const detail::ParticleLayout& layout,
+           const Neighbours& nb, Particles& p, std::uint64_t& evaluations, const Context* ctx) {
+  const std::vector<std::uint8_t> fixed = fixed_particles(p.position.size(), layout);
   for (int round = 0; round < o.relax; ++round) {
-    std::vector<Vec3> moved = p.position;
-    std::vector<std::uint8_t> is_moved(n, 0);
-    parallel::for_each(
-        n, kGrain,
-        [&](std::size_t i) {
-          const std::size_t b = nb.start[i];
-          const std::size_t e = nb.start[i + 1];
-          const double norm = p.gradient[i].norm();
-          if (fixed[i] != 0 || e == b || !std::isfinite(norm) || !(norm > 0)) return;
-          Vec3 centroid = Vec3::Zero();
-          for (std::size_t k = b; k < e; ++k) centroid += p.position[nb.index[k]];
-          centroid /= static_cast<double>(e - b);
-          const Vec3 normal = p.gradient[i] / norm;
-          Vec3 d = centroid - p.position[i];
-          d -= d.dot(normal) * normal;
-          if (!d.allFinite()) return;
-          moved[i] = p.position[i] + kRelaxWeight * d;
-          is_moved[i] = 1;
-        },
-        ctx);
-    std::vector<std::uint32_t> which;
-    for (std::uint32_t i = 0; i < n; ++i) {
-      if (is_moved[i] != 0) which.push_back(i);
-    }
-    if (which.empty()) return;
-    const Particles before = p;
-    p.position = std::move(moved);
-    (void)project(field, o, which, p, evaluations, ctx);
-    for (const std::uint32_t i : which) {
-      if (p.converged[i] != 0) continue;
-      p.position[i] = before.position[i];
-      p.gradient[i] = before.gradient[i];
-      p.residual[i] = before.residual[i];
-      p.converged[i] = before.converged[i];
-    }
+    if (!smooth_round(field, o, nb, fixed, {}, true, p, evaluations, ctx)) return;
   }
+}
+
+// Triangles facing the wrong way: their normal (counter-clockwise seen from outside) points
+// along the summed gradient of their corners, that is into the surface. The mesh folds so
+// where the surfaces of two branches that are not joined in the skeleton merge: the particles
+// of each branch's rings land on the merged surface, over those of the other. (Rounds of full
+// umbrella smoothing over the folded triangles and two rings around them, each followed by
+// re-projection, were tried and left more inverted triangles than they started with: the fold
+// is topological, the rings of the hidden part have no place on the merged surface.)
+std::vector<std::uint32_t> inverted_triangles(const std::vector<std::array<std::uint32_t, 3>>& t,
+                                              const Particles& p) {
+  std::vector<std::uint32_t> out;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const Vec3& a = p.position[t[k][0]];
+    const Vec3 normal = (p.position[t[k][1]] - a).cross(p.position[t[k][2]] - a);
+    const Vec3 g = p.gradient[t[k][0]] + p.gradient[t[k][1]] + p.gradient[t[k][2]];
+    if (normal.dot(g) > 0) out.push_back(static_cast<std::uint32_t>(k));
+  }
+  return out;
 }
 
 }  // namespace
@@ -303,7 +350,9 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
   const double seconds_move = seconds_since(t_move);
 
   const auto t_relax = Clock::now();
-  if (options.relax > 0) relax(field, options, layout, p, evaluations, ctx);
+  const Neighbours nb = one_rings(n, layout.triangles);
+  if (options.relax > 0) relax(field, options, layout, nb, p, evaluations, ctx);
+  const std::size_t inverted = inverted_triangles(layout.triangles, p).size();
   const double seconds_relax = seconds_since(t_relax);
 
   TriMesh mesh;
@@ -323,6 +372,7 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     s.fallback_junctions = layout.fallback_junctions;
     s.open_loops = layout.open_loops.size();
     s.evaluations = evaluations;
+    s.inverted_triangles = inverted;
     const MeshReport report = check_mesh(mesh, ctx);
     s.min_angle = report.min_angle_deg;
     s.median_angle = report.median_angle_deg;

@@ -13,7 +13,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -89,6 +91,22 @@ std::set<std::string> files_open_in(pid_t pid, const fs::path& dir) {
   return open;
 }
 
+// The size of the largest file in `dir` that process `pid` has open (0 when none is).
+std::uintmax_t largest_open_in(pid_t pid, const fs::path& dir) {
+  const std::string prefix = fs::canonical(dir).string() + "/";
+  std::uintmax_t largest = 0;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ec)) {
+    const fs::path target = fs::read_symlink(e.path(), ec);
+    if (ec || target.string().rfind(prefix, 0) != 0) continue;
+    struct stat st {};
+    if (::stat(e.path().c_str(), &st) == 0) {
+      largest = std::max(largest, static_cast<std::uintmax_t>(st.st_size));
+    }
+  }
+  return largest;
+}
+
 pid_t spawn(std::vector<std::string> args) {
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
@@ -101,17 +119,19 @@ pid_t spawn(std::vector<std::string> args) {
 class KillSafety : public CliDirTest {
  protected:
   // Starts `args`, waits (at most 60 s) until the run has `files` files in `out` open or
-  // present (it is writing or holding its outputs), waits `delay` more, then sends `sig` and
-  // checks that the run died of it.
+  // present (it is writing or holding its outputs) and, with `min_bytes` > 0, one of the files
+  // it has open there holds at least that many bytes (it is in the middle of writing), waits
+  // `delay` more, then sends `sig` and checks that the run died of it.
   void stop_when_staged(std::vector<std::string> args, const fs::path& out, std::size_t files,
-                        int sig, std::chrono::milliseconds delay) const;
+                        int sig, std::chrono::milliseconds delay,
+                        std::uintmax_t min_bytes = 0) const;
   // kSlowScript stopped by `sig` once its first output is staged leaves nothing behind.
   void stop_slow_script_with(int sig) const;
 };
 
 void KillSafety::stop_when_staged(std::vector<std::string> args, const fs::path& out,
-                                  std::size_t files, int sig,
-                                  std::chrono::milliseconds delay) const {
+                                  std::size_t files, int sig, std::chrono::milliseconds delay,
+                                  std::uintmax_t min_bytes) const {
   const pid_t pid = spawn(std::move(args));
   ASSERT_GT(pid, 0) << "cannot start " << RAMIFORM_BINARY;
   const auto deadline = Clock::now() + std::chrono::seconds(60);
@@ -119,6 +139,7 @@ void KillSafety::stop_when_staged(std::vector<std::string> args, const fs::path&
   int status = 0;
   while (!staged && Clock::now() < deadline) {
     staged = files_open_in(pid, out).size() >= files || names_in(out).size() >= files;
+    if (staged && min_bytes > 0) staged = largest_open_in(pid, out) >= min_bytes;
     if (!staged) {
       ASSERT_EQ(::waitpid(pid, &status, WNOHANG), 0) << "the run ended first; status " << status;
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -152,25 +173,28 @@ TEST_F(KillSafety, SigkillOfAScriptWithStagedOutputsLeavesNothingWhereLinuxAllow
 }
 
 // `generate` writes a 240 MB skeleton; SIGKILL while it writes (just after the file is opened,
-// and later) leaves no output and no staged file, and an existing output stays as it was.
+// and once 16 MB of it are written: a fixed delay is not "later" on a fast disk, where the whole
+// file can be written in 300 ms) leaves no output and no staged file, and an existing output
+// stays as it was.
 TEST_F(KillSafety, SigkillWhileWritingLeavesNoOutputAndNoStagedFile) {
-  for (const int delay_ms : {0, 300}) {
+  for (const int mid_write : {0, 1}) {
     for (const bool existing : {false, true}) {
-      const fs::path out = path("out-" + std::to_string(delay_ms) + (existing ? "-old" : ""));
+      const fs::path out = path("out-" + std::to_string(mid_write) + (existing ? "-old" : ""));
       fs::create_directories(out);
       const fs::path tree = out / "tree.json";
       if (existing) std::ofstream(tree) << "old";
       stop_when_staged({RAMIFORM_BINARY, "generate", "--segments", "2000000", tree.string()}, out,
-                       1, SIGKILL, std::chrono::milliseconds(delay_ms));
+                       1, SIGKILL, std::chrono::milliseconds(0),
+                       mid_write != 0 ? std::uintmax_t{16} << 20 : 0);
       const std::vector<std::string> left = names_in(out);
       if (existing) {
-        EXPECT_EQ(read_file(tree.string()), "old") << "delay " << delay_ms << " ms";
+        EXPECT_EQ(read_file(tree.string()), "old") << "mid-write " << mid_write;
       } else {
-        EXPECT_FALSE(fs::exists(tree)) << "delay " << delay_ms << " ms";
+        EXPECT_FALSE(fs::exists(tree)) << "mid-write " << mid_write;
       }
       if (has_unnamed_files(out)) {
         EXPECT_EQ(left.size(), existing ? 1u : 0u)
-            << "delay " << delay_ms << " ms, left behind: " << listing(out);
+            << "mid-write " << mid_write << ", left behind: " << listing(out);
       } else {
         for (const std::string& name : left) {
           EXPECT_TRUE(name == "tree.json" || name.rfind(".tree.json.tmp-", 0) == 0) << name;

@@ -94,7 +94,9 @@ TEST(PlaceCharges, NodeChargeIsTheMeanOfItsEdges) {
   EXPECT_DOUBLE_EQ(c.node_values[2], 2.0);
   EXPECT_DOUBLE_EQ(c.values[1], 7.0 / 3.0);
   for (std::size_t i = 0; i < c.positions.size(); ++i) {
-    if (c.edge[i] != kNone) EXPECT_EQ(c.values[i], o.edge_charges[c.edge[i]]);
+    if (c.edge[i] != kNone) {
+      EXPECT_EQ(c.values[i], o.edge_charges[c.edge[i]]);
+    }
   }
   // set_edge_charges recomputes node and edge charges from new edge values.
   ChargeSet d = c;
@@ -263,6 +265,40 @@ TEST(EquipotentialField, DeterministicOnAnyThreadCount) {
   eq.field->evaluate(pts, v2, g2, &two);
   EXPECT_EQ(std::memcmp(v1.data(), v2.data(), v1.size() * sizeof(double)), 0);
   EXPECT_EQ(std::memcmp(g1.data(), g2.data(), g1.size() * sizeof(Vec3)), 0);
+}
+
+// Points evaluated together share one traversal of the charge tree, which must not change a
+// single bit: a batch of coherent points (rings around the edges, as the particle mesher sends
+// them: clusters far from some points of a group and near others) and a batch of scattered ones
+// give exactly the values and gradients of the same points evaluated one at a time.
+TEST(EquipotentialField, GroupedEvaluationIsPointwiseBitForBit) {
+  const Skeleton s = test::random_tree(4, 60);
+  const Equipotential eq = make_equipotential(s);
+  Rng rng(3);
+  std::vector<Vec3> pts;
+  for (const auto& e : s.edges) {
+    const Vec3 a = s.nodes[e[0]].position, b = s.nodes[e[1]].position;
+    const double r = s.nodes[e[0]].radius;
+    for (int k = 0; k < 40; ++k) {
+      pts.push_back(a + (k / 40.0) * (b - a) + r * Vec3(std::cos(k), std::sin(k), 0.3 * k / 40));
+    }
+  }
+  for (int k = 0; k < 3000; ++k) pts.push_back(random_point(rng, grown(bounding_box(s), 1.0)));
+  std::vector<double> v(pts.size());
+  std::vector<Vec3> g(pts.size());
+  eq.field->evaluate(pts, v, g);
+  std::vector<double> v_only(pts.size());
+  eq.field->evaluate(pts, v_only);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const double one = eq.field->value(pts[i]);
+    const Vec3 grad = eq.field->gradient(pts[i]);
+    if (std::memcmp(&one, &v[i], sizeof one) != 0 || std::memcmp(&one, &v_only[i], sizeof one) ||
+        std::memcmp(grad.data(), g[i].data(), sizeof grad) != 0) {
+      ++differ;
+    }
+  }
+  EXPECT_EQ(differ, 0U) << "of " << pts.size();
 }
 
 // The radius error (field/radius_fit.h's measure) of the default charges (tapered, tips

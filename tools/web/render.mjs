@@ -21,38 +21,16 @@
 // that differ from the background (x to the right, y down, inclusive). --json prints the same as
 // one JSON object. Exit code: 0 rendered, 2 the file cannot be read or loaded, 3 usage error or
 // browser failure.
-import { readFile, writeFile } from 'node:fs/promises';
-import { createServer } from 'node:http';
-import { dirname, join, normalize, resolve } from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { existsSync } from 'node:fs';
-import { chromium } from 'playwright-core';
+import { resolve } from 'node:path';
+import { checkTools, formatVector, kChromium, pageHtml, parseArgs, printReport, readModels, renderPage,
+         usageFunction, writeDataUrlPng } from './common.mjs';
 
-const here = dirname(fileURLToPath(import.meta.url));
-const threeDir = join(here, 'node_modules', 'three');
+const usage = usageFunction('render.mjs', 'FILE.glb OUT.png [--width W] [--height H] ' +
+                            '[--texture checker] [--azimuth DEG] [--environment none|room] [--chromium PATH] [--json]');
 
-function usage(message) {
-  if (message) console.error(`render.mjs: ${message}`);
-  console.error('usage: node render.mjs FILE.glb OUT.png [--width W] [--height H] ' +
-                '[--texture checker] [--azimuth DEG] [--environment none|room] [--chromium PATH] [--json]');
-  process.exit(3);
-}
-
-const opts = { width: 800, height: 800, texture: null, azimuth: 0, environment: 'none', chromium: '/usr/bin/chromium',
+const opts = { width: 800, height: 800, texture: null, azimuth: 0, environment: 'none', chromium: kChromium,
                json: false };
-const positional = [];
-const argv = process.argv.slice(2);
-for (let i = 0; i < argv.length; ++i) {
-  const a = argv[i];
-  const value = () => {
-    if (i + 1 >= argv.length) usage(`${a} needs a value`);
-    return argv[++i];
-  };
-  const integer = (name, lo, hi) => {
-    const v = value();
-    if (!/^\d+$/.test(v) || +v < lo || +v > hi) usage(`${name} must be an integer in [${lo}, ${hi}], got ${v}`);
-    return +v;
-  };
+const positional = parseArgs(process.argv.slice(2), opts, usage, (a, { value, integer }) => {
   if (a === '--width') opts.width = integer('--width', 16, 8192);
   else if (a === '--height') opts.height = integer('--height', 16, 8192);
   else if (a === '--texture') {
@@ -65,42 +43,19 @@ for (let i = 0; i < argv.length; ++i) {
   } else if (a === '--environment') {
     opts.environment = value();
     if (!['room', 'none'].includes(opts.environment)) usage(`--environment is room or none, got ${opts.environment}`);
-  } else if (a === '--chromium') opts.chromium = value();
-  else if (a === '--json') opts.json = true;
-  else if (a === '--help' || a === '-h') usage();
-  else if (a.startsWith('--')) usage(`unknown option ${a}`);
-  else positional.push(a);
-}
+  } else return false;
+  return true;
+});
 if (positional.length !== 2) usage('expected FILE.glb and OUT.png');
 const [input, output] = positional;
 
-let model;
-try {
-  model = await readFile(input);
-} catch (e) {
-  console.error(`render.mjs: ${input}: cannot read: ${e.message}`);
-  process.exit(2);
-}
-if (!existsSync(join(threeDir, 'build', 'three.module.js'))) {
-  console.error(`render.mjs: three.js is missing: run "npm ci" in ${here}`);
-  process.exit(3);
-}
-if (!existsSync(opts.chromium)) {
-  console.error(`render.mjs: no browser at ${opts.chromium} (Debian: apt-get install chromium)`);
-  process.exit(3);
-}
+const models = await readModels('render.mjs', [input]);
+checkTools('render.mjs', opts.chromium);
 
 // The page: the model and three.js, nothing else. The background colour is one no lit surface
 // of the default material produces exactly; the page compares pixels to it.
 const kBackground = [0x30, 0x38, 0x48];
-const page = `<!doctype html>
-<html><head><meta charset="utf-8"><style>html,body{margin:0;background:#000}</style>
-<script type="importmap">{"imports":{"three":"/three/build/three.module.js",
-  "three/addons/":"/three/examples/jsm/"}}</script></head>
-<body><canvas id="c" width="${opts.width}" height="${opts.height}"></canvas>
-<script type="module">
-import * as THREE from 'three';
-import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+const page = pageHtml({ background: '#000', width: opts.width, height: opts.height, module: `
 import { RoomEnvironment } from 'three/addons/environments/RoomEnvironment.js';
 
 const W = ${opts.width}, H = ${opts.height}, azimuth = ${opts.azimuth} * Math.PI / 180;
@@ -110,12 +65,7 @@ const environment = ${JSON.stringify(opts.environment)};
 
 const marks = [['start', performance.now()]];
 async function run() {
-  const canvas = document.getElementById('c');
-  const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
-  renderer.setPixelRatio(1);
-  renderer.setSize(W, H, false);
-  renderer.outputColorSpace = THREE.SRGBColorSpace;
-  renderer.toneMapping = THREE.NeutralToneMapping;
+  const renderer = newRenderer(W, H);
 
   const scene = new THREE.Scene();
   scene.background = new THREE.Color().setRGB(background[0] / 255, background[1] / 255,
@@ -126,7 +76,7 @@ async function run() {
   }
   marks.push(['environment', performance.now()]);
 
-  const gltf = await new GLTFLoader().loadAsync('/model.glb');
+  const gltf = await new GLTFLoader().loadAsync('/model0.glb');
   const root = gltf.scene;
   scene.add(root);
   root.updateMatrixWorld(true);
@@ -233,69 +183,13 @@ window.renderResult = run().then((r) => {
   marks.push(['png', performance.now()]);
   r.times = marks.map(([k, t]) => [k, Math.round(t - marks[0][1])]);
   return r;
-}, (e) => ({ error: String(e && e.message || e) }));
-</script></body></html>`;
+}, failure);
+` });
 
-// Serves the page, three.js and the model on 127.0.0.1 (an ephemeral port) and nothing else.
-const types = { '.js': 'text/javascript', '.html': 'text/html', '.glb': 'model/gltf-binary' };
-const server = createServer(async (req, res) => {
-  const url = new URL(req.url, 'http://127.0.0.1');
-  try {
-    if (url.pathname === '/favicon.ico') {
-      res.writeHead(204).end();
-    } else if (url.pathname === '/') {
-      res.writeHead(200, { 'content-type': types['.html'] }).end(page);
-    } else if (url.pathname === '/model.glb') {
-      res.writeHead(200, { 'content-type': types['.glb'] }).end(model);
-    } else if (url.pathname.startsWith('/three/')) {
-      const file = normalize(join(threeDir, decodeURIComponent(url.pathname.slice(7))));
-      if (!file.startsWith(threeDir + '/')) throw new Error('outside three.js');
-      const body = await readFile(file);
-      res.writeHead(200, { 'content-type': types[file.slice(file.lastIndexOf('.'))] ??
-                                            'application/octet-stream' }).end(body);
-    } else {
-      res.writeHead(404).end();
-    }
-  } catch {
-    res.writeHead(404).end();
-  }
-});
-await new Promise((ok) => server.listen(0, '127.0.0.1', ok));
-const origin = `http://127.0.0.1:${server.address().port}`;
-
-let browser;
-let result;
-const consoleLines = [];
-try {
-  // SwiftShader gives WebGL without a GPU (a CI machine has none).
-  browser = await chromium.launch({
-    executablePath: opts.chromium,
-    headless: true,
-    args: ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
-           '--no-sandbox'],
-  });
-  const tab = await browser.newPage({ viewport: { width: opts.width, height: opts.height },
-                                      deviceScaleFactor: 1 });
-  tab.on('console', (m) => { if (m.type() === 'error' || m.type() === 'warning') consoleLines.push(m.text()); });
-  tab.on('pageerror', (e) => consoleLines.push(String(e)));
-  await tab.goto(`${origin}/`);
-  await tab.waitForFunction(() => window.renderResult !== undefined, null, { timeout: 120000 });
-  result = await tab.evaluate(() => window.renderResult);
-} catch (e) {
-  console.error(`render.mjs: browser failure: ${e.message}`);
-  for (const l of consoleLines) console.error(`  page: ${l}`);
-  process.exitCode = 3;
-} finally {
-  if (browser) await browser.close();
-  server.close();
-}
-if (process.exitCode) process.exit(process.exitCode);
-if (result.error) {
-  console.error(`render.mjs: ${input}: three.js could not load it: ${result.error}`);
-  for (const l of consoleLines) console.error(`  page: ${l}`);
-  process.exit(2);
-}
-await writeFile(output, Buffer.from(result.png.slice(result.png.indexOf(',') + 1), 'base64'));
+const { result, consoleLines } = await renderPage({
+  script: 'render.mjs', chromiumPath: opts.chromium, page, models, width: opts.width, height: opts.height,
+  timeout: 120000, loadFailure: `${input}: three.js could not load it` });
+await writeDataUrlPng(output, result.png);
 delete result.png;
 result.file = input;
 result.png = resolve(output);
@@ -305,10 +199,8 @@ if (result.stats.missingUv) {
                 '(every point samples one texel)');
 }
 
-const f = (v) => v.map((x) => +x.toPrecision(6)).join(', ');
-if (opts.json) {
-  console.log(JSON.stringify(result, null, 2));
-} else {
+const f = (v) => formatVector(v, 6);
+printReport({ json: opts.json, result, consoleLines, output, text: () => {
   const s = result.stats;
   console.log(`${input}: ${s.nodes} nodes, ${s.meshes} meshes, ${s.vertices} vertices, ${s.triangles} triangles; ` +
               `attributes: ${s.attributes.join(', ') || '-'}` +
@@ -324,6 +216,4 @@ if (opts.json) {
                        `(${p.bbox.width} x ${p.bbox.height} of ${p.width} x ${p.height}; ` +
                        `${p.foreground} pixels not background, ${p.distinctColors} colours)` :
                        'pixel bounding box: none (every pixel is background)');
-  for (const w of consoleLines) console.log(`page: ${w}`);
-  console.log(`wrote ${output}`);
-}
+} });

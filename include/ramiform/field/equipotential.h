@@ -167,9 +167,12 @@ struct ChargeFitResult {
   std::size_t active = 0;           ///< edges whose value ended at the floor
 };
 
-/// Fits the per-edge charge values by non-negative least squares so that the potential equals
+/// Fits the per-edge charge values by bounded least squares so that the potential equals
 /// `lambda` at points at each edge's requested radius (the radii of `skeleton`'s nodes,
-/// interpolated along the edge): min sum_s (f(s) - lambda)^2 over q >= 0. The field is linear
+/// interpolated along the edge): min sum_s w_s (f(s) - lambda)^2 over q >= floor x start, with
+/// Huber weights w_s (1 within 2 % of lambda, falling as 1/|residual| beyond, recomputed every
+/// round, so that the residuals no charge can remove, the webs in the crotches, do not pull
+/// every value; stations within 1.5 radii of a fork are left out). The field is linear
 /// in q, so lambda only scales the solution and stays fixed. Samples that lie inside another
 /// edge's requested tube are left out (there the blend fills the crotch). Solved by cyclic
 /// coordinate descent over the edges on the near-field part of the system (exact entries for

@@ -34,6 +34,13 @@
 /// particle that does not converge again goes back to where it was before the round. Open-end
 /// loops stay where the movement put them.
 ///
+/// Folds: the triangles come from the skeleton's structure, so where the surfaces of two
+/// branches that are not joined in the skeleton merge (branches that pass closer than about
+/// their radii's sum plus the blend), the rings of both land on the merged surface and the mesh
+/// folds over itself there: triangles that face into the surface, counted in the stats
+/// (inverted_triangles), and a node inside the merged part can fall outside the mesh. The
+/// tetrahedral polygonizer meshes the same field without folds.
+///
 /// The result is deterministic and byte-identical for any thread count.
 
 #include <cstddef>
@@ -84,7 +91,10 @@ struct ParticleMeshStats {
   /// Junctions joined by the layout's combinatorial patch instead of a convex hull (poorer
   /// triangles, still a valid surface).
   std::size_t fallback_junctions = 0;
-  std::size_t open_loops = 0;     ///< boundary loops (one per open end)
+  std::size_t open_loops = 0;  ///< boundary loops (one per open end)
+  /// Triangles facing into the surface (normal along the summed gradient of their corners):
+  /// folds where the surfaces of two branches not joined in the skeleton merge. 0 without.
+  std::size_t inverted_triangles = 0;
   std::uint64_t evaluations = 0;  ///< field evaluations made (each with a gradient)
   double min_angle = 0;           ///< smallest triangle corner angle, degrees
   double median_angle = 0;        ///< median triangle corner angle, degrees
