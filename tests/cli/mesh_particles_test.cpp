@@ -36,14 +36,7 @@
 // Under AddressSanitizer (`make sanitize`, CI) the binary runs several times slower: the large
 // skeletons (1,000 segments and up, the scanned trees, 300 k-triangle L-systems) run in the
 // Release suite (`make test`) only; the small ones cover the same code under the sanitizers.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define RAMIFORM_TEST_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define RAMIFORM_TEST_SANITIZED 1
-#endif
-#endif
-#ifdef RAMIFORM_TEST_SANITIZED
+#ifdef RAMIFORM_TEST_SANITIZED  // support/fixtures.h
 constexpr bool kSanitized = true;
 #else
 constexpr bool kSanitized = false;

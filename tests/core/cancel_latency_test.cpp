@@ -35,14 +35,6 @@
 #include "ramiform/sample/point_sets.h"
 #include "support/fixtures.h"
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define RAMIFORM_TEST_SANITIZED 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define RAMIFORM_TEST_SANITIZED 1
-#endif
-#endif
-
 namespace ramiform {
 namespace {
 

@@ -15,6 +15,17 @@
 #include "ramiform/field/field.h"
 #include "ramiform/skeleton/skeleton.h"
 
+// RAMIFORM_TEST_SANITIZED is defined when the tests are built with AddressSanitizer or
+// ThreadSanitizer (GCC's __SANITIZE_*__, clang's __has_feature), for tests that scale down or
+// skip work that takes minutes under them.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define RAMIFORM_TEST_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define RAMIFORM_TEST_SANITIZED 1
+#endif
+#endif
+
 namespace ramiform::test {
 
 /// A Y-shaped fork: node 0 at the origin (radius `trunk_radius`), a vertical trunk of length
