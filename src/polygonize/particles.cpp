@@ -174,13 +174,13 @@ Neighbours one_rings(std::size_t n, const std::vector<std::array<std::uint32_t, 
   return nb;
 }
 
-// One smoothing round over the particles flagged in `region` (all when empty): each moves
-// kRelaxWeight of the way to its neighbours' centroid, only along its tangent plane when
-// `tangential`, all from the old positions; then the moved ones are projected again, and a
-// particle that does not converge again is put back. Returns false when nothing moved.
-bool smooth_round(const Field& field, const ParticleMeshOptions& o, const Neighbours& nb,
-                  const std::vector<std::uint8_t>& fixed, const std::vector<std::uint8_t>& region,
-                  bool tangential, Particles& p, std::uint64_t& evaluations, const Context* ctx) {
+// One relaxation round: each particle moves kRelaxWeight of the way to its neighbours'
+// centroid along its tangent plane, all from the old positions; then the moved ones are
+// projected again, and a particle that does not converge again is put back. Returns false when
+// nothing moved.
+bool relax_round(const Field& field, const ParticleMeshOptions& o, const Neighbours& nb,
+                 const std::vector<std::uint8_t>& fixed, Particles& p, std::uint64_t& evaluations,
+                 const Context* ctx) {
   const std::size_t n = p.position.size();
   std::vector<Vec3> moved = p.position;
   std::vector<std::uint8_t> is_moved(n, 0);
@@ -191,15 +191,12 @@ bool smooth_round(const Field& field, const ParticleMeshOptions& o, const Neighb
         const std::size_t e = nb.start[i + 1];
         const double norm = p.gradient[i].norm();
         if (fixed[i] != 0 || e == b || !std::isfinite(norm) || !(norm > 0)) return;
-        if (!region.empty() && region[i] == 0) return;
         Vec3 centroid = Vec3::Zero();
         for (std::size_t k = b; k < e; ++k) centroid += p.position[nb.index[k]];
         centroid /= static_cast<double>(e - b);
+        const Vec3 normal = p.gradient[i] / norm;
         Vec3 d = centroid - p.position[i];
-        if (tangential) {
-          const Vec3 normal = p.gradient[i] / norm;
-          d -= d.dot(normal) * normal;
-        }
+        d -= d.dot(normal) * normal;
         if (!d.allFinite()) return;
         moved[i] = p.position[i] + kRelaxWeight * d;
         is_moved[i] = 1;
@@ -247,7 +244,7 @@ void relax(const Field& field, const ParticleMeshOptions& o, const detail::Parti
            const Neighbours& nb, Particles& p, std::uint64_t& evaluations, const Context* ctx) {
   const std::vector<std::uint8_t> fixed = fixed_particles(p.position.size(), layout);
   for (int round = 0; round < o.relax; ++round) {
-    if (!smooth_round(field, o, nb, fixed, {}, true, p, evaluations, ctx)) return;
+    if (!relax_round(field, o, nb, fixed, p, evaluations, ctx)) return;
   }
 }
 
