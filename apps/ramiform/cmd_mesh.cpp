@@ -71,9 +71,10 @@ int run_mesh(MeshArgs& args) {
   if (const auto folded = stats.value("inverted_triangles", std::size_t{0}); folded > 0) {
     err << "ramiform: warning: " << args.out_path << ": " << folded << " of "
         << stats.value("triangles", std::size_t{0})
-        << " triangles face into the surface: the surfaces of branches that are not joined in "
-           "the skeleton merge there and the particle mesh folds over itself (--method tets "
-           "meshes the merged surface)\n";
+        << " triangles face into the surface: the particle mesh folds over itself where "
+           "the surface's shape departs from the skeleton's (branches not joined in the "
+           "skeleton that merge, or sharp bends along runs of edges shorter than their radius; "
+           "--method tets meshes the same surface without folds)\n";
   }
   if (args.job.method == "particles" &&
       stats.value("converged", std::size_t{0}) < stats.value("particles", std::size_t{0})) {

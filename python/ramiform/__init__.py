@@ -11,17 +11,22 @@ try:
         Field,
         Mesh,
         Skeleton,
+        bezier_field,
         branching_tree,
         check,
         grow,
         marching_cubes,
         mesh_skeleton,
+        patch_field,
         polygonize_tets,
         read_mesh,
         read_points,
         read_skeleton,
         run_script,
+        segment_field,
+        skeleton_distances,
         skeleton_field,
+        superquadric_field,
         write_mesh,
         write_skeleton,
     )
@@ -59,7 +64,8 @@ else:
 
 
 __all__ = [
-    "Field", "Mesh", "Skeleton", "branching_tree", "check", "grow", "marching_cubes", "mesh_file", "mesh_skeleton",
-    "polygonize_tets", "read_mesh", "read_points", "read_skeleton", "run_script",
-    "skeleton_field", "write_mesh", "write_skeleton",
+    "Field", "Mesh", "Skeleton", "bezier_field", "branching_tree", "check", "grow",
+    "marching_cubes", "mesh_file", "mesh_skeleton", "patch_field", "polygonize_tets",
+    "read_mesh", "read_points", "read_skeleton", "run_script", "segment_field",
+    "skeleton_distances", "skeleton_field", "superquadric_field", "write_mesh", "write_skeleton",
 ]

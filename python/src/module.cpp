@@ -36,6 +36,7 @@
 #include "common.h"
 #include "mesh_job.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/field/anisotropic.h"
 #include "ramiform/field/equipotential.h"
 #include "ramiform/grow/space_colonization.h"
 #include "ramiform/io/mesh_io.h"
@@ -495,17 +496,20 @@ void bind_skeleton(py::module_& m) {
       "A procedural binary branching tree with pipe-model radii (`ramiform generate`).");
   m.def(
       "read_skeleton",
-      [](const std::string& path, double obj_radius, bool soma_regions) {
+      [](const std::string& path, double obj_radius, bool soma_regions, bool keep_curves) {
         SkeletonReadOptions o;
         o.obj_radius = obj_radius;
         o.swc.soma_regions = soma_regions;
+        o.keep_curves = keep_curves;
         py::gil_scoped_release release;
         return read_skeleton(path, o);
       },
       py::arg("path"), py::kw_only(), py::arg("obj_radius") = SkeletonReadOptions{}.obj_radius,
-      py::arg("soma_regions") = SwcReadOptions{}.soma_regions,
+      py::arg("soma_regions") = SwcReadOptions{}.soma_regions, py::arg("keep_curves") = false,
       "Reads a skeleton: .json, .ply, .obj (obj_radius), TreeQSM .txt/.mat-text, SimpleForest "
-      ".csv, SWC .swc (soma_regions: somata as closed regions, docs/formats.md).");
+      ".csv, SWC .swc (soma_regions: somata as closed regions, docs/formats.md). Curved JSON "
+      "edges are straightened into short segments unless keep_curves (for "
+      "skeleton_distances).");
   m.def(
       "write_skeleton",
       [](const std::string& path, const Skeleton& s) {
@@ -740,6 +744,161 @@ void bind_field(py::module_& m) {
       "edge from the radii), charge_spacing (0 = half the smaller node radius), lambda_ (0 = "
       "estimated by eq. 2), lambda_scale, open_ends (every leaf open; Skeleton.open_ends opens "
       "single leaves).");
+}
+
+// The curve and surface skeletons of Rigaudière, Gesquière & Faudot (field/anisotropic.h).
+DistancePrimitiveOptions primitive_options(const std::string& kernel, double weight) {
+  DistancePrimitiveOptions o;
+  o.kernel = parse_kernel(kernel);
+  o.weight = weight;
+  return o;
+}
+
+FieldHandle handle(FieldPtr f) {
+  FieldHandle h;
+  h.field = std::move(f);
+  return h;
+}
+
+void bind_skeletal(py::module_& m) {
+  const char* deform_doc =
+      " Deformations (def, def_u, def_v) as the scene language writes them: 'identity', "
+      "'squared-cosine:S', 'flat:N', 'wave:A,W', 'linear:V0,V1,...', 'bezier:B0,...' "
+      "(docs/skeletal.md); kernel 'wyvill' (default), 'metaball' (Murakami), 'blinn[:B]', "
+      "'inverse-power[:alpha]'.";
+  m.def(
+      "segment_field",
+      [](const std::vector<double>& a, const std::vector<double>& b, double radius,
+         const std::string& def, const std::string& kernel, double weight) {
+        return handle(make_anisotropic_segment_field(to_vec3(a, "a"), to_vec3(b, "b"), radius,
+                                                     parse_deformation(def),
+                                                     primitive_options(kernel, weight)));
+      },
+      py::arg("a"), py::arg("b"), py::kw_only(), py::arg("radius") = 0.3,
+      py::arg("def_") = "identity", py::arg("kernel") = "wyvill", py::arg("weight") = 1.0,
+      (std::string("An anisotropic segment skeleton a -> b: thickness radius / def(t) (§3.2).") +
+       deform_doc)
+          .c_str());
+  m.def(
+      "bezier_field",
+      [](const Doubles& controls, double radius, const std::optional<std::vector<double>>& radii,
+         const std::string& def, const std::string& tie, const std::string& kernel,
+         double weight) {
+        BezierCurve c;
+        c.controls = to_points(controls, "controls");
+        if (radii) c.radii = *radii;
+        if (tie != "first" && tie != "last") {
+          throw InvalidArgument("tie must be 'first' or 'last', got '" + tie + "'");
+        }
+        return handle(make_bezier_field(c, radius, parse_deformation(def),
+                                        tie == "last" ? TieRule::kLast : TieRule::kFirst,
+                                        primitive_options(kernel, weight)));
+      },
+      py::arg("controls"), py::kw_only(), py::arg("radius") = 0.25, py::arg("radii") = py::none(),
+      py::arg("def_") = "identity", py::arg("tie") = "first", py::arg("kernel") = "wyvill",
+      py::arg("weight") = 1.0,
+      (std::string("A Bezier-curve skeleton through controls (K, 3), degree K - 1 <= 15, skinned "
+                   "at radius or at radii per control point; exact distance by root isolation "
+                   "(§3.3-3.5); tie 'first'/'last' picks the smallest/largest t among equally "
+                   "near projections.") +
+       deform_doc)
+          .c_str());
+  auto surface_field = [](std::shared_ptr<const ParametricSurface> surface, double radius,
+                          const std::string& def_u, const std::string& def_v, double epsilon,
+                          int depth, double max_error, const std::string& kernel,
+                          double weight) {
+    SubdivisionOptions sub;
+    sub.epsilon_degrees = epsilon;
+    sub.max_depth = depth;
+    sub.max_error = max_error;
+    auto skeleton = std::make_shared<const SurfaceSkeleton>(std::move(surface), sub);
+    return handle(make_surface_skeleton_field(skeleton, radius, parse_deformation(def_u),
+                                              parse_deformation(def_v),
+                                              primitive_options(kernel, weight)));
+  };
+  const SubdivisionOptions sub;
+  m.def(
+      "patch_field",
+      [surface_field](const Doubles& controls, double radius, const std::string& def_u,
+                      const std::string& def_v, double epsilon, int depth, double max_error,
+                      const std::string& kernel, double weight) {
+        const std::vector<Vec3> p = to_points(controls, "controls");
+        if (p.size() != 16) {
+          throw InvalidArgument("controls must be 16 points (4 rows of 4), got " +
+                                std::to_string(p.size()));
+        }
+        BicubicPatch patch;
+        std::copy(p.begin(), p.end(), patch.controls.begin());
+        return surface_field(make_patch_surface(patch), radius, def_u, def_v, epsilon, depth,
+                             max_error, kernel, weight);
+      },
+      py::arg("controls"), py::kw_only(), py::arg("radius") = 0.1, py::arg("def_u") = "identity",
+      py::arg("def_v") = "identity", py::arg("epsilon") = sub.epsilon_degrees,
+      py::arg("depth") = sub.max_depth, py::arg("max_error") = sub.max_error,
+      py::arg("kernel") = "wyvill", py::arg("weight") = 1.0,
+      (std::string("A bicubic Bezier patch skeleton (controls (16, 3), b_ij at row 4 i + j) "
+                   "subdivided where a side's derivatives turn by more than epsilon degrees, at "
+                   "most depth times (§4.1), and while a sub-patch's error bound exceeds max_error (0: "
+                   "off), skinned at radius.") +
+       deform_doc)
+          .c_str());
+  m.def(
+      "superquadric_field",
+      [surface_field](const std::vector<double>& radii, double e1, double e2,
+                      const std::vector<double>& center, double radius, const std::string& def_u,
+                      const std::string& def_v, double epsilon, int depth, double max_error,
+                      const std::string& kernel, double weight) {
+        Superquadric q;
+        q.radii = to_vec3(radii, "radii");
+        q.center = to_vec3(center, "center");
+        q.e1 = e1;
+        q.e2 = e2;
+        return surface_field(make_superquadric_surface(q), radius, def_u, def_v, epsilon, depth,
+                             max_error, kernel, weight);
+      },
+      py::kw_only(), py::arg("radii") = std::vector<double>{1, 1, 1}, py::arg("e1") = 1.0,
+      py::arg("e2") = 1.0, py::arg("center") = std::vector<double>{0, 0, 0},
+      py::arg("radius") = 0.1, py::arg("def_u") = "identity", py::arg("def_v") = "identity",
+      py::arg("epsilon") = sub.epsilon_degrees, py::arg("depth") = sub.max_depth,
+      py::arg("max_error") = sub.max_error, py::arg("kernel") = "wyvill", py::arg("weight") = 1.0,
+      (std::string("Barr's superquadric ellipsoid (half-axes radii, exponents e1, e2) as a "
+                   "surface skeleton: a shell of thickness 2 radius (§4.2).") +
+       deform_doc)
+          .c_str());
+  m.def(
+      "skeleton_distances",
+      [](const Skeleton& s, const Doubles& points, const std::string& tie, int threads) {
+        const std::vector<Vec3> p = to_points(points, "points");
+        if (tie != "first" && tie != "last") {
+          throw InvalidArgument("tie must be 'first' or 'last', got '" + tie + "'");
+        }
+        Context ctx = make_context(threads);
+        std::vector<SkeletonDistance> d;
+        interruptible(ctx, [&] {
+          d = skeleton_distances(s, p, tie == "last" ? TieRule::kLast : TieRule::kFirst, &ctx);
+        });
+        const auto n = static_cast<py::ssize_t>(d.size());
+        py::array_t<double> distance(n), t(n);
+        py::array_t<std::int64_t> edge(n), node(n);
+        for (py::ssize_t i = 0; i < n; ++i) {
+          const SkeletonDistance& r = d[static_cast<std::size_t>(i)];
+          distance.mutable_at(i) = r.distance;
+          t.mutable_at(i) = r.t;
+          edge.mutable_at(i) = r.is_edge ? static_cast<std::int64_t>(r.index) : -1;
+          node.mutable_at(i) = r.is_edge ? -1 : static_cast<std::int64_t>(r.index);
+        }
+        py::dict out;
+        out["distance"] = distance;
+        out["edge"] = edge;
+        out["node"] = node;
+        out["t"] = t;
+        return out;
+      },
+      py::arg("skeleton"), py::arg("points"), py::kw_only(), py::arg("tie") = "first",
+      py::arg("threads") = 0,
+      "The nearest skeleton element of each point (K, 3), as `ramiform eval --distance`: "
+      "{'distance', 'edge' (-1 for a node), 'node' (-1 for an edge), 't'} arrays. Curved edges "
+      "(read_skeleton(path, keep_curves=True)) exactly, by root isolation.");
 }
 
 void bind_polygonizers(py::module_& m) {
@@ -1040,6 +1199,7 @@ PYBIND11_MODULE(_ramiform, m) {
   bind_skeleton(m);
   bind_mesh(m);
   bind_field(m);
+  bind_skeletal(m);
   bind_polygonizers(m);
   bind_grow_and_script(m);
 }

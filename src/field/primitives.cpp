@@ -9,65 +9,24 @@
 #include <string>
 
 #include "field/cutoff.h"
+#include "field/distance_primitive.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/tolerances.h"
 
 namespace ramiform {
 namespace {
 
+using detail::DistancePrimitive;
+using detail::DistanceRange;
+using detail::Element;
 using detail::fade_of;
+using detail::lipschitz_range;
+using detail::resolve;
+using detail::Resolved;
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// Relative widening of bound() results and of the distance range behind them, so that rounding
-// in the evaluation (a different order of operations than the bound's) never leaves the bound.
-constexpr double kBoundSlack = 1e-12;
 
 std::string vec(const Vec3& v) {
   return "(" + format_number(v.x()) + " " + format_number(v.y()) + " " + format_number(v.z()) + ")";
-}
-
-// Derivative of detail::fade_of with respect to its argument v.
-double fade_derivative(double v) {
-  if (v <= 0.64 || v >= 1) return 0;
-  const double s = (v - 0.64) / 0.36;
-  return -6 * s * (1 - s) / 0.36;
-}
-
-// Distance from any point of a box to the skeletal element: a lower and an upper bound.
-struct DistanceRange {
-  double min = 0, max = 0;
-};
-
-// A skeletal element: a set of points, and the Euclidean distance to it (0 inside solids).
-class Element {
- public:
-  virtual ~Element() = default;
-  /// Distance from p, and its gradient (a unit vector, or zero where the distance is 0).
-  virtual double distance(const Vec3& p, Vec3& gradient) const = 0;
-  /// Bounds of the distance over a finite, non-empty box.
-  virtual DistanceRange range(const Aabb& box) const = 0;
-  /// The element's bounding box grown by `pad` (the box of every point closer than pad).
-  virtual Aabb grown_box(double pad) const = 0;
-  virtual std::string describe() const = 0;
-};
-
-// Lower bound over a box from the distance at its centre (distances are 1-Lipschitz) and the
-// distance between the box and the element's own box.
-DistanceRange lipschitz_range(const Element& e, const Aabb& box, bool convex) {
-  Vec3 g;
-  const double dc = e.distance(box.center(), g);
-  const double half = 0.5 * box.diagonal().norm();
-  DistanceRange r;
-  r.min = std::max({0.0, dc - half, std::sqrt(squared_distance(box, e.grown_box(0)))});
-  if (convex) {
-    // The distance to a convex set is convex: its maximum over the box is at a corner.
-    r.max = 0;
-    for (int c = 0; c < 8; ++c) {
-      r.max = std::max(r.max, e.distance(box.corner(static_cast<Aabb::CornerType>(c)), g));
-    }
-  } else {
-    r.max = dc + half;
-  }
-  return r;
 }
 
 class CircleElement final : public Element {
@@ -257,95 +216,6 @@ class HalfSpaceElement final : public Element {
   double falloff_;
 };
 
-struct Resolved {
-  Kernel kernel;
-  double iso = 0.5;
-  double weight = 1;
-};
-
-class DistancePrimitive final : public Field {
- public:
-  DistancePrimitive(std::unique_ptr<Element> element, const Resolved& o, double radius)
-      : Field(o.iso), element_(std::move(element)), kernel_(o.kernel), weight_(o.weight) {
-    R_ = radius / kernel_.x_at(o.iso);
-    fades_ = kernel_.kind == KernelKind::kBlinn || kernel_.kind == KernelKind::kInversePower;
-    const double xc = kernel_.support(o.iso / weight_);
-    support_ = xc;
-    inv_cut_ = xc > 0 ? 1 / (xc * xc) : 0;
-    // Inside needs weight k(x) fade(x) > iso, so k(x) > iso / weight: x < x_at(iso / weight).
-    const double target = o.iso / weight_;
-    if (xc > 0 && target < kernel_.value(0)) {
-      const double x_in = std::min(xc, kernel_.x_at(target));
-      const double pad = x_in * R_ * (1 + tol::kSupportMargin);
-      inside_box_ = element_->grown_box(pad);
-    }
-  }
-
-  Interval bound(const Aabb& box) const override {
-    if (box.isEmpty() || support_ <= 0) return {0, 0};
-    if (!box.min().allFinite() || !box.max().allFinite()) {
-      return {0, weight_ * kernel_.value(0) * (1 + kBoundSlack)};
-    }
-    DistanceRange r = element_->range(box);
-    const double slack = kBoundSlack * R_;
-    r.min = std::max(0.0, r.min * (1 - kBoundSlack) - slack);
-    r.max = r.max * (1 + kBoundSlack) + slack;
-    const double lo = contribution(r.max / R_);
-    const double hi = contribution(r.min / R_);
-    return {lo * (1 - kBoundSlack), hi * (1 + kBoundSlack)};
-  }
-
-  Aabb bounds() const override { return inside_box_; }
-
-  std::string describe() const override {
-    return element_->describe() + "; surface radius " + format_number(R_ * kernel_.x_at(iso())) +
-           ", " + kernel_name(kernel_.kind) + " kernel, iso " + format_number(iso()) + ", weight " +
-           format_number(weight_);
-  }
-
- protected:
-  void do_evaluate(std::span<const Vec3> points, std::span<double> values,
-                   std::span<Vec3> gradients, const Context* /*ctx*/) const override {
-    const bool with_gradient = !gradients.empty();
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      Vec3 grad_d;
-      const double x = element_->distance(points[i], grad_d) / R_;
-      if (x >= support_) {
-        values[i] = 0;
-        if (with_gradient) gradients[i].setZero();
-        continue;
-      }
-      double k = kernel_.value(x);
-      double dk = with_gradient ? kernel_.derivative(x) : 0.0;
-      if (fades_) {
-        const double v = x * x * inv_cut_;
-        const double fade = fade_of(v);
-        dk = dk * fade + k * fade_derivative(v) * 2 * x * inv_cut_;
-        k *= fade;
-      }
-      values[i] = weight_ * k;
-      if (with_gradient) gradients[i] = (weight_ * dk / R_) * grad_d;
-    }
-  }
-
- private:
-  // weight k(x) fade(x): non-increasing in x, 0 beyond the support.
-  double contribution(double x) const {
-    if (x >= support_) return 0;
-    double k = kernel_.value(x);
-    if (fades_) k *= fade_of(x * x * inv_cut_);
-    return weight_ * k;
-  }
-
-  std::unique_ptr<Element> element_;
-  Kernel kernel_;
-  double weight_;
-  double R_ = 1;        // radius of influence: x = d / R
-  double support_ = 1;  // normalized support (cut-off for infinite kernels)
-  double inv_cut_ = 0;  // 1 / support^2 (fade argument scale)
-  bool fades_ = false;  // infinite kernel: faded out before the cut-off
-  Aabb inside_box_;     // every point with f > iso (empty when none)
-};
 
 // ---- validation ----
 
@@ -366,24 +236,6 @@ Vec3 unit_normal(const Vec3& n, const std::string& what) {
   return n / len;
 }
 
-Resolved resolve(const DistancePrimitiveOptions& o, const std::string& what) {
-  o.kernel.validate();
-  if (o.kernel.kind == KernelKind::kCauchy) {
-    throw InvalidArgument(what +
-                          ": the cauchy kernel is a convolution kernel; use wyvill, blinn, "
-                          "metaball or inverse-power");
-  }
-  if (!std::isfinite(o.weight) || o.weight <= 0) {
-    throw InvalidArgument(what + ": weight must be finite and > 0, got " + format_number(o.weight));
-  }
-  if (!std::isfinite(o.iso) || o.iso < 0) {
-    throw InvalidArgument(what + ": iso must be finite and > 0 (0 = kernel default), got " +
-                          format_number(o.iso));
-  }
-  Resolved r{o.kernel, o.iso == 0 ? o.kernel.default_iso() : o.iso, o.weight};
-  (void)r.kernel.x_at(r.iso);  // throws when the kernel never reaches the iso value
-  return r;
-}
 
 FieldPtr make_cone_like(const Vec3& a, double ra, const Vec3& b, double rb, double rounding,
                         const Resolved& o, const std::string& name) {

@@ -16,9 +16,12 @@ set(RAMIFORM_FIELD_SOURCES
   src/field/warps.cpp
   src/field/rbf.cpp
   src/field/curves.cpp
+  src/field/bezier_curve.cpp
+  src/field/surface_skeleton.cpp
   src/field/sweep.cpp
   src/field/sweep_falloff.cpp
   src/field/sweep_interpolation.cpp
   src/field/sweep_path.cpp
   src/field/sweep_region.cpp
-  src/field/pointwise_field.cpp)
+  src/field/pointwise_field.cpp
+  src/field/anisotropic.cpp)

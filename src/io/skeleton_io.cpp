@@ -111,6 +111,37 @@ std::uint32_t json_index(const json& value, const std::string& source, std::size
                    "node indices must be integers in [0, 4294967295], got " + shown(value));
 }
 
+EdgeCurve parse_edge_curve(const json& item, const std::string& source, std::size_t e) {
+  EdgeCurve curve;
+  const auto controls = item.find("controls");
+  if (controls != item.end()) {
+    if (!controls->is_array()) {
+      throw InputError(source, "edge", e, "\"controls\" must be an array of [x, y, z] points");
+    }
+    for (std::size_t k = 0; k < controls->size(); ++k) {
+      const json& c = (*controls)[k];
+      const std::string what = "control point " + std::to_string(k);
+      if (!c.is_array() || c.size() != 3) {
+        throw InputError(source, "edge", e, what + " must be an array of 3 numbers, got " + shown(c));
+      }
+      Vec3 p;
+      for (std::size_t d = 0; d < 3; ++d) p[static_cast<int>(d)] = json_number(c[d], source, "edge", e, what);
+      curve.controls.push_back(p);
+    }
+  }
+  const auto radii = item.find("radii");
+  if (radii != item.end()) {
+    if (!radii->is_array()) {
+      throw InputError(source, "edge", e, "\"radii\" must be an array of numbers");
+    }
+    for (std::size_t k = 0; k < radii->size(); ++k) {
+      curve.radii.push_back(
+          json_number((*radii)[k], source, "edge", e, "radius " + std::to_string(k)));
+    }
+  }
+  return curve;
+}
+
 Skeleton validated(Skeleton s, const std::string& source) {
   validate(s, source);
   return s;
@@ -222,11 +253,32 @@ Skeleton parse_skeleton_json(std::string_view text, const std::string& source_na
     if (!edges->is_array()) throw InputError(source, 0, "\"edges\" must be an array");
     s.edges.resize(edges->size());
     for (std::size_t e = 0; e < edges->size(); ++e) {
-      const json& pair = (*edges)[e];
-      if (!pair.is_array() || pair.size() != 2) {
-        throw InputError(source, "edge", e, "must be an array of 2 node indices");
+      const json& item = (*edges)[e];
+      const json* pair = &item;
+      if (item.is_object()) {
+        // A curved edge: {"nodes": [i, j], "controls": [[x, y, z], ...], "radii": [...]}.
+        const auto nodes_of = item.find("nodes");
+        if (nodes_of == item.end()) {
+          throw InputError(source, "edge", e, "an edge object needs \"nodes\": [i, j]");
+        }
+        pair = &*nodes_of;
+        for (const auto& [key, value] : item.items()) {
+          if (key != "nodes" && key != "controls" && key != "radii") {
+            throw InputError(source, "edge", e,
+                             "unknown key \"" + key + "\" (expected nodes, controls, radii)");
+          }
+        }
+        EdgeCurve curve = parse_edge_curve(item, source, e);
+        if (!curve.controls.empty() || !curve.radii.empty()) {
+          if (s.curves.empty()) s.curves.resize(edges->size());
+          s.curves[e] = std::move(curve);
+        }
       }
-      s.edges[e] = {json_index(pair[0], source, e), json_index(pair[1], source, e)};
+      if (!pair->is_array() || pair->size() != 2) {
+        throw InputError(source, "edge", e,
+                         "must be an array of 2 node indices (or an object with \"nodes\")");
+      }
+      s.edges[e] = {json_index((*pair)[0], source, e), json_index((*pair)[1], source, e)};
     }
   }
   return validated(std::move(s), source);
@@ -312,7 +364,15 @@ Skeleton parse_skeleton_obj(std::string_view text, const std::string& source_nam
 
 Skeleton read_skeleton(const std::string& path, const SkeletonReadOptions& options) {
   const std::string ext = io_detail::lower_extension(path);
-  if (ext == ".json") return parse_skeleton_json(io_detail::read_whole_file(path), path);
+  if (ext == ".json") {
+    Skeleton s = parse_skeleton_json(io_detail::read_whole_file(path), path);
+    if (options.keep_curves || !s.has_curves()) return s;
+    try {
+      return straighten_curves(s);
+    } catch (const InvalidArgument& e) {
+      throw InputError(path, 0, e.what());
+    }
+  }
   if (ext == ".ply") return parse_skeleton_ply(io_detail::read_whole_file(path), path);
   if (ext == ".obj") {
     if (!(std::isfinite(options.obj_radius) && options.obj_radius > 0.0)) {
@@ -358,11 +418,35 @@ std::string skeleton_to_json(const Skeleton& skeleton) {
   }
   out += "\n  ],\n  \"edges\": [";
   for (std::size_t e = 0; e < skeleton.edges.size(); ++e) {
-    out += e == 0 ? "\n    [" : ",\n    [";
+    const EdgeCurve* curve = skeleton.curves.empty() ? nullptr : &skeleton.curves[e];
+    const bool curved = curve != nullptr && !curve->controls.empty();
+    out += e == 0 ? "\n    " : ",\n    ";
+    out += curved ? "{\"nodes\": [" : "[";
     append_uint(out, skeleton.edges[e][0]);
     out += ", ";
     append_uint(out, skeleton.edges[e][1]);
     out += "]";
+    if (curved) {
+      out += ", \"controls\": [";
+      for (std::size_t k = 0; k < curve->controls.size(); ++k) {
+        out += k == 0 ? "[" : ", [";
+        for (int c = 0; c < 3; ++c) {
+          if (c > 0) out += ", ";
+          append_json_double(out, curve->controls[k][c]);
+        }
+        out += "]";
+      }
+      out += "]";
+      if (!curve->radii.empty()) {
+        out += ", \"radii\": [";
+        for (std::size_t k = 0; k < curve->radii.size(); ++k) {
+          if (k > 0) out += ", ";
+          append_json_double(out, curve->radii[k]);
+        }
+        out += "]";
+      }
+      out += "}";
+    }
   }
   out += skeleton.edges.empty() ? "]\n}\n" : "\n  ]\n}\n";
   return out;
@@ -384,6 +468,7 @@ void write_skeleton(const Skeleton& skeleton, const std::string& path) {
                           "' (supported: .json, .ply, .obj)");
   }
   check_writable(skeleton);
+  if (skeleton.has_curves()) return write_skeleton(straighten_curves(skeleton), path);
   if (ext == ".ply") {
     write_file_atomically(
         path,

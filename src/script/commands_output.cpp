@@ -89,7 +89,11 @@ TriMesh particle_mesh(const Call& c, const Object& obj, std::string& how, std::s
            std::to_string(o.max_iterations) + ") or delta=; nothing was written");
   }
   how = "particles: " + count_text(st.particles) + " particles, " + count_text(st.converged) +
-        " converged, " + std::to_string(st.iterations) + " iterations";
+        " converged, " + std::to_string(st.iterations) + " iterations" +
+        (st.inverted_triangles > 0
+             ? ", " + count_text(st.inverted_triangles) +
+                   " triangles folded (facing into the surface; method=tets has no folds)"
+             : std::string());
   open_loops = st.open_loops;
   return mesh;
 }

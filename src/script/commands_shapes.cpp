@@ -47,13 +47,6 @@ Kernel kernel_option(const Call& call) {
   return k;
 }
 
-DistancePrimitiveOptions primitive_options(const Call& call) {
-  DistancePrimitiveOptions o;
-  o.kernel = kernel_option(call);
-  o.weight = call.option_positive("weight", o.weight);
-  return o;
-}
-
 SkeletonFieldOptions distance_options(const Call& call) {
   SkeletonFieldOptions o;
   o.surface = SurfaceKind::kDistance;
@@ -110,6 +103,20 @@ CommandResult run_line(Call& c) {
   }
   const double r = c.option_positive("radius", 0.3);
   const double r_end = c.option_positive("radius_end", r);
+  if (c.has_option("def")) {
+    const Deformation def = deformation_option(c, "def");
+    if (r_end != r) c.fail(*c.option_token("radius_end"), "radius_end does not apply with def=");
+    FieldPtr f;
+    try {
+      f = make_anisotropic_segment_field(a, b, r, def, primitive_options(c));
+    } catch (const InvalidArgument& e) {
+      c.fail(e.what());
+    }
+    c.define(name, shape(std::move(f), "anisotropic line segment " + format_vec3(a) + " to " +
+                                           format_vec3(b) + ", radius " + format_number(r) +
+                                           ", def " + format_deformation(def)));
+    return defined(c, name);
+  }
   c.define(name, shape(make_segment_field(a, r, b, r_end, distance_options(c)),
                        "line segment " + format_vec3(a) + " to " + format_vec3(b) + ", radius " +
                            format_number(r) + (r_end != r ? " to " + format_number(r_end) : "")));
@@ -444,6 +451,13 @@ CommandResult run_rbf(Call& c) {
 
 }  // namespace
 
+DistancePrimitiveOptions primitive_options(const Call& call) {
+  DistancePrimitiveOptions o;
+  o.kernel = kernel_option(call);
+  o.weight = call.option_positive("weight", o.weight);
+  return o;
+}
+
 void add_shape_commands(std::vector<CommandSpec>& out) {
   const std::vector<std::string> prim = kPrimitiveOptions;
   std::vector<std::string> skeleton_options = {"surface", "kernel"};
@@ -459,11 +473,14 @@ void add_shape_commands(std::vector<CommandSpec>& out) {
        {"point"}});
   out.push_back(
       {"line",
-       "line NAME [X0 Y0 Z0 X1 Y1 Z1] [radius=R] [radius_end=R1] [kernel=K]",
+       "line NAME [X0 Y0 Z0 X1 Y1 Z1] [radius=R] [radius_end=R1] [def=D] [kernel=K] "
+       "[weight=W]",
        "A line-segment primitive (default from 0,0,-1.5 to 0,0,1.5, radius 0.3); the radius "
-       "may change linearly to radius_end.",
+       "may change linearly to radius_end. def=D (a `deform` name or inline, e.g. "
+       "squared-cosine:0.3 or flat:8) makes it anisotropic (Rigaudière et al. §3.2): thickness "
+       "radius / def(t) along the segment; weight=W applies then.",
        "line arm 0 0 0 2 0 0 radius=0.2",
-       {"radius", "radius_end", "kernel"},
+       {"radius", "radius_end", "def", "kernel", "weight"},
        run_line,
        {"segment"}});
   out.push_back(

@@ -140,6 +140,8 @@ std::string kind_name(ObjectKind kind) {
       return "2-D curve";
     case ObjectKind::kCurve3:
       return "3-D path";
+    case ObjectKind::kDeformation:
+      return "deformation";
   }
   return "object";
 }
@@ -152,6 +154,7 @@ const std::map<std::string, const CommandSpec*>& command_table() {
   static const std::vector<CommandSpec> specs = [] {
     std::vector<CommandSpec> all;
     add_shape_commands(all);
+    add_skeletal_commands(all);
     add_curve_commands(all);
     add_output_commands(all);
     add_growth_commands(all);

@@ -19,6 +19,7 @@
 #include "ramiform/core/geometry.h"
 #include "ramiform/core/numbers.h"
 #include "ramiform/core/types.h"
+#include "ramiform/field/anisotropic.h"
 #include "ramiform/field/curves.h"
 #include "ramiform/field/equipotential.h"
 #include "ramiform/field/field.h"
@@ -59,7 +60,7 @@ std::string_view without_bom(std::string_view text);
 /// quotes starts a comment. Throws InputError on an unterminated quote.
 std::vector<Token> tokenize(std::string_view text, const std::string& file, std::size_t line);
 
-enum class ObjectKind { kShape, kCurve2, kCurve3 };
+enum class ObjectKind { kShape, kCurve2, kCurve3, kDeformation };
 std::string kind_name(ObjectKind kind);
 
 /// A named object of a script.
@@ -72,6 +73,7 @@ struct Object {
   std::shared_ptr<const Equipotential> equipotential;
   Curve2 curve2;                    // kCurve2
   Curve3 curve3;                    // kCurve3
+  Deformation deformation;          // kDeformation (field/anisotropic.h)
   std::string summary;              // one line for `info` and `list` (<= kMaxSummary bytes)
   std::size_t more_transforms = 0;  // transforms left out of the full summary
 };
@@ -127,6 +129,7 @@ void add_shape_commands(std::vector<CommandSpec>& out);
 void add_curve_commands(std::vector<CommandSpec>& out);
 void add_output_commands(std::vector<CommandSpec>& out);
 void add_growth_commands(std::vector<CommandSpec>& out);
+void add_skeletal_commands(std::vector<CommandSpec>& out);
 
 /// The arguments of one command line, with typed accessors that throw InputError pointing at
 /// the offending token.
@@ -200,6 +203,14 @@ class Call {
   std::string file_;
   std::size_t line_;
 };
+
+/// The kernel and weight options of a distance primitive (kernel=K weight=W; the Cauchy kernel
+/// is refused at its token).
+DistancePrimitiveOptions primitive_options(const Call& call);
+
+/// The deformation function named by option `key` (def=, def_u=, def_v=): a `deform` object's
+/// name or an inline text (parse_deformation); identity when the option is absent.
+Deformation deformation_option(const Call& c, const std::string& key);
 
 /// "1,2,3" for messages (numbers as ramiform::format_number).
 std::string format_vec3(const Vec3& v);

@@ -10,6 +10,9 @@ set(RAMIFORM_field_TESTS
   field/rbf_test.cpp
   field/equipotential_test.cpp
   field/curves_test.cpp
+  field/surface_skeleton_test.cpp
+  field/bezier_curve_test.cpp
+  field/anisotropic_test.cpp
   field/sweep_test.cpp
   field/sweep_region_test.cpp
   field/sweep_interpolation_test.cpp

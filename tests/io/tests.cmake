@@ -7,4 +7,5 @@ set(RAMIFORM_io_TESTS
   io/qsm_test.cpp
   io/shared_data_test.cpp
   io/skeleton_io_test.cpp
+  io/skeleton_curves_test.cpp
   io/swc_io_test.cpp)

@@ -1,3 +1,4 @@
 set(RAMIFORM_skeleton_TESTS
   skeleton/skeleton_test.cpp
-  skeleton/fixtures_test.cpp)
+  skeleton/fixtures_test.cpp
+  skeleton/curved_edges_test.cpp)

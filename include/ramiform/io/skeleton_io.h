@@ -24,6 +24,10 @@ struct SkeletonReadOptions {
   QsmImportReport* qsm_report = nullptr;  ///< when not null and the file is a cylinder model
                                           ///< (`.csv`, `.txt`), receives the import report
   SwcReadOptions swc;  ///< options of an SWC file (`.swc`, io/swc_io.h)
+  /// Keep the curved edges of a JSON skeleton (Skeleton::curves) instead of straightening them
+  /// into chains of straight edges (straighten_curves, 1 % of the radius), which the fields and
+  /// polygonizers need.
+  bool keep_curves = false;
 };
 
 /// Reads a skeleton, choosing the format by the file extension (case-insensitive): `.json`,
@@ -40,7 +44,9 @@ struct SkeletonReadOptions {
                                      const SkeletonReadOptions& options = {});
 
 /// Parses skeleton JSON text: {"nodes":[{"position":[x,y,z],"radius":r},...],
-/// "edges":[[i,j],...]} (edges optional, 0-based). A node may carry an integer "type" (e.g. its
+/// "edges":[[i,j],...]} (edges optional, 0-based). An edge may instead be an object
+/// {"nodes":[i,j],"controls":[[x,y,z],...],"radii":[...]}: a Bezier curve through the inner
+/// control points (Skeleton::curves; kept as they are here). A node may carry an integer "type" (e.g. its
 /// SWC type); then every node must, and the skeleton's `node_types` hold them. `source_name` is the file name used in error
 /// messages. Throws `InputError` like `read_skeleton`.
 [[nodiscard]] Skeleton parse_skeleton_json(std::string_view text, const std::string& source_name);
@@ -67,7 +73,8 @@ void write_skeleton_json(const Skeleton& skeleton, const std::string& path);
 
 /// Writes a skeleton choosing the format by the extension (case-insensitive): `.json`; `.ply`
 /// (binary little-endian: vertex x, y, z, radius as double, edge vertex1, vertex2 as uint);
-/// `.obj` (`v` and one `l` line per edge; radii are not stored). Atomic. Throws `InvalidArgument`
+/// `.obj` (`v` and one `l` line per edge; radii are not stored). Curved edges are kept in JSON
+/// and straightened (straighten_curves) for PLY and OBJ. Atomic. Throws `InvalidArgument`
 /// for another extension or an invalid skeleton, `Failure` when the file cannot be written.
 void write_skeleton(const Skeleton& skeleton, const std::string& path);
 

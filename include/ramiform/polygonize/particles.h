@@ -34,10 +34,13 @@
 /// particle that does not converge again goes back to where it was before the round. Open-end
 /// loops stay where the movement put them.
 ///
-/// Folds: the triangles come from the skeleton's structure, so where the surfaces of two
-/// branches that are not joined in the skeleton merge (branches that pass closer than about
-/// their radii's sum plus the blend), the rings of both land on the merged surface and the mesh
-/// folds over itself there: triangles that face into the surface, counted in the stats
+/// Folds: the triangles come from the skeleton's structure, so where the surface's shape
+/// departs from the skeleton's, the mesh folds over itself: where the surfaces of two branches
+/// that are not joined in the skeleton merge (branches that pass closer than about their radii's
+/// sum plus the blend), the rings of both land on the merged surface; at sharp bends along runs
+/// of edges shorter than their radius (scanned cylinder models, straightened curved edges), the
+/// rings of neighbouring edges cross on the inner side of the bend. The folded triangles face
+/// into the surface; they are counted in the stats
 /// (inverted_triangles), and a node inside the merged part can fall outside the mesh. The
 /// tetrahedral polygonizer meshes the same field without folds.
 ///

@@ -1,0 +1,406 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/field/bezier_curve.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "ramiform/core/errors.h"
+#include "ramiform/core/random.h"
+
+namespace ramiform {
+namespace {
+
+constexpr int kSamples = 20000;
+
+double binomial(int n, int k) {
+  double r = 1;
+  for (int i = 1; i <= k; ++i) r = r * (n - k + i) / i;
+  return r;
+}
+
+double bernstein_basis(int n, int i, double t) {
+  return binomial(n, i) * std::pow(t, i) * std::pow(1 - t, n - i);
+}
+
+BezierCurve random_curve(Rng& rng, int degree) {
+  BezierCurve c;
+  for (int i = 0; i <= degree; ++i) {
+    c.controls.emplace_back(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+  }
+  return c;
+}
+
+BezierCurve planar(const std::vector<Vec2>& points) {
+  BezierCurve c;
+  for (const Vec2& p : points) c.controls.emplace_back(p.x(), p.y(), 0.0);
+  return c;
+}
+
+// g(t) = C'(t)·(C(t) - P) from the checked evaluation functions.
+double g_of(const BezierCurve& c, const Vec3& p, double t) {
+  return bezier_derivative(c, t).dot(bezier_point(c, t) - p);
+}
+
+// Reference nearest distance: 20,000 + 1 samples, every sampled local minimum within a margin of
+// the best refined by golden section on the squared distance (whose value converges to rounding
+// level even though t converges only to ~sqrt(eps)).
+class DenseReference {
+ public:
+  explicit DenseReference(const BezierCurve& c) : curve_(c) {
+    for (int i = 0; i <= kSamples; ++i) samples_.push_back(bezier_point(c, static_cast<double>(i) / kSamples));
+  }
+
+  double distance(const Vec3& p) const {
+    std::vector<double> d2(samples_.size());
+    for (std::size_t i = 0; i < samples_.size(); ++i) d2[i] = (samples_[i] - p).squaredNorm();
+    const double best_sample = *std::min_element(d2.begin(), d2.end());
+    const double margin = 1e-4 * best_sample + 1e-12;
+    double best = best_sample;
+    const int last = kSamples;
+    for (int i = 0; i <= last; ++i) {
+      if (d2[i] > best_sample + margin) continue;
+      if (i > 0 && d2[i] > d2[i - 1]) continue;
+      if (i < last && d2[i] > d2[i + 1]) continue;
+      const double lo = static_cast<double>(std::max(0, i - 1)) / kSamples;
+      const double hi = static_cast<double>(std::min(last, i + 1)) / kSamples;
+      best = std::min(best, golden(p, lo, hi));
+    }
+    return std::sqrt(best);
+  }
+
+ private:
+  double f(const Vec3& p, double t) const { return (bezier_point(curve_, t) - p).squaredNorm(); }
+  double golden(const Vec3& p, double a, double b) const {
+    const double r = (std::sqrt(5.0) - 1) / 2;
+    double x1 = b - r * (b - a), x2 = a + r * (b - a);
+    double f1 = f(p, x1), f2 = f(p, x2);
+    double best = std::min({f(p, a), f(p, b), f1, f2});
+    for (int it = 0; it < 80; ++it) {
+      if (f1 < f2) {
+        b = x2;
+        x2 = x1;
+        f2 = f1;
+        x1 = b - r * (b - a);
+        f1 = f(p, x1);
+      } else {
+        a = x1;
+        x1 = x2;
+        f1 = f2;
+        x2 = a + r * (b - a);
+        f2 = f(p, x2);
+      }
+      best = std::min({best, f1, f2});
+    }
+    return best;
+  }
+
+  const BezierCurve& curve_;
+  std::vector<Vec3> samples_;
+};
+
+// Every sign change of g seen on a dense grid has a stationary parameter inside it, and every
+// stationary parameter is a root of g (relative to |C'| |C - P|).
+void expect_every_root(const BezierProjector& proj, const Vec3& p, const std::string& label) {
+  const BezierCurve& c = proj.curve();
+  const std::vector<double> roots = proj.stationary_parameters(p);
+  EXPECT_TRUE(std::is_sorted(roots.begin(), roots.end())) << label;
+  for (const double t : roots) {
+    ASSERT_GE(t, 0.0) << label;
+    ASSERT_LE(t, 1.0) << label;
+    const double scale = bezier_derivative(c, t).norm() * (bezier_point(c, t) - p).norm() + 1e-300;
+    EXPECT_LE(std::abs(g_of(c, p, t)), 1e-9 * scale + 1e-13) << label << " t=" << t;
+  }
+  double prev = g_of(c, p, 0.0);
+  for (int i = 1; i <= kSamples; ++i) {
+    const double a = static_cast<double>(i - 1) / kSamples, b = static_cast<double>(i) / kSamples;
+    const double v = g_of(c, p, b);
+    if ((prev < 0 && v > 0) || (prev > 0 && v < 0)) {
+      const bool found = std::any_of(roots.begin(), roots.end(),
+                                     [&](double t) { return t >= a - 1e-9 && t <= b + 1e-9; });
+      EXPECT_TRUE(found) << label << ": sign change of g in [" << a << ", " << b << "] missed";
+    }
+    prev = v;
+  }
+}
+
+TEST(BezierValidate, NamesTheProblemAndControlIndex) {
+  auto message = [](const BezierCurve& c) {
+    try {
+      validate(c, "skeleton curve 4");
+    } catch (const InvalidArgument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no throw");
+  };
+  BezierCurve ok = planar({{0, 0}, {1, 1}, {2, 0}});
+  EXPECT_NO_THROW(validate(ok, "x"));
+  BezierCurve one = planar({{0, 0}});
+  EXPECT_NE(message(one).find("skeleton curve 4: "), std::string::npos);
+  EXPECT_NE(message(one).find("got 1"), std::string::npos);
+  BezierCurve many;
+  for (int i = 0; i < 17; ++i) many.controls.emplace_back(i, 0, 0);
+  EXPECT_NE(message(many).find("got 17"), std::string::npos);
+  BezierCurve nan = ok;
+  nan.controls[2].y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(message(nan).find("control 2 is not finite"), std::string::npos) << message(nan);
+  BezierCurve radii = ok;
+  radii.radii = {1, 2};
+  EXPECT_NE(message(radii).find("2 radii for 3 controls"), std::string::npos) << message(radii);
+  radii.radii = {1, 2, 0};
+  EXPECT_NE(message(radii).find("radius of control 2"), std::string::npos) << message(radii);
+  radii.radii = {1, std::numeric_limits<double>::infinity(), 1};
+  EXPECT_NE(message(radii).find("radius of control 1"), std::string::npos) << message(radii);
+  BezierCurve point = planar({{5, 5}, {5, 5}, {5, 5 + 1e-13}});
+  EXPECT_NE(message(point).find("degenerate"), std::string::npos) << message(point);
+  BezierCurve almost = planar({{5, 5}, {5, 5}, {5, 5 + 1e-9}});
+  EXPECT_NO_THROW(validate(almost, "x"));
+  EXPECT_THROW((void)BezierProjector(point), InvalidArgument);
+  EXPECT_THROW((void)bezier_point(ok, 1.5), InvalidArgument);
+  EXPECT_THROW((void)BezierProjector(ok).project(Vec3(0, std::nan(""), 0)), InvalidArgument);
+  EXPECT_THROW((void)BezierProjector(ok).project_newton(Vec3(0, 0, 0), 1), InvalidArgument);
+}
+
+TEST(BezierEval, PointMatchesBernsteinAndDerivativesMatchFiniteDifferences) {
+  Rng rng(11);
+  for (const int degree : {1, 2, 3, 5, 9, 15}) {
+    const BezierCurve c = random_curve(rng, degree);
+    for (const double t : {0.0, 0.13, 0.5, 0.77, 1.0}) {
+      Vec3 ref = Vec3::Zero();
+      for (int i = 0; i <= degree; ++i) ref += bernstein_basis(degree, i, t) * c.controls[i];
+      EXPECT_LE((bezier_point(c, t) - ref).norm(), 1e-12) << degree << " " << t;
+      const double h = 1e-6;
+      const double a = std::max(0.0, t - h), b = std::min(1.0, t + h);
+      const Vec3 fd1 = (bezier_point(c, b) - bezier_point(c, a)) / (b - a);
+      const Vec3 fd2 = (bezier_derivative(c, b) - bezier_derivative(c, a)) / (b - a);
+      const double s1 = 1 + bezier_derivative(c, t).norm();
+      const double s2 = 1 + bezier_second_derivative(c, t).norm();
+      // One-sided differences at the ends are first-order: the tolerance allows h |C''| etc.
+      EXPECT_LE((bezier_derivative(c, t) - fd1).norm(), 1e-5 * s1 * degree * degree) << degree << " " << t;
+      EXPECT_LE((bezier_second_derivative(c, t) - fd2).norm(), 1e-5 * s2 * degree * degree * degree)
+          << degree << " " << t;
+    }
+  }
+  const BezierCurve line = planar({{0, 0}, {2, 1}});
+  EXPECT_EQ(bezier_second_derivative(line, 0.3), Vec3::Zero());
+  EXPECT_TRUE(bezier_derivative(line, 0.3).isApprox(Vec3(2, 1, 0)));
+}
+
+TEST(BezierRadius, ExactAtEndsAndEqualToBernsteinSum) {
+  Rng rng(5);
+  BezierCurve c = random_curve(rng, 5);
+  EXPECT_EQ(bezier_radius(c, 0.4), 1.0);
+  EXPECT_EQ(bezier_radius_derivative(c, 0.4), 0.0);
+  c.radii = {0.5, 2.0, 0.1, 3.0, 1.0, 0.25};
+  EXPECT_EQ(bezier_radius(c, 0.0), 0.5);
+  EXPECT_EQ(bezier_radius(c, 1.0), 0.25);
+  for (const double t : {0.1, 0.35, 0.5, 0.9}) {
+    double ref = 0;
+    for (int i = 0; i <= 5; ++i) ref += bernstein_basis(5, i, t) * c.radii[i];
+    EXPECT_NEAR(bezier_radius(c, t), ref, 1e-14);
+    const double h = 1e-6;
+    EXPECT_NEAR(bezier_radius_derivative(c, t),
+                (bezier_radius(c, t + h) - bezier_radius(c, t - h)) / (2 * h), 1e-6);
+  }
+}
+
+TEST(BezierProjector, AccessorsAndBoxContainsCurve) {
+  Rng rng(3);
+  const BezierProjector proj(random_curve(rng, 4));
+  EXPECT_EQ(proj.degree(), 4);
+  EXPECT_EQ(proj.curve().controls.size(), 5u);
+  for (int i = 0; i <= 100; ++i) {
+    EXPECT_TRUE(proj.box().contains(bezier_point(proj.curve(), i / 100.0)));
+  }
+}
+
+TEST(BezierProject, MatchesDenseSamplingOnRandomCurves) {
+  Rng rng(2026);
+  for (const int degree : {1, 2, 3, 5, 9}) {
+    for (int curve = 0; curve < 4; ++curve) {
+      const BezierProjector proj(random_curve(rng, degree));
+      const DenseReference reference(proj.curve());
+      for (int k = 0; k < 40; ++k) {
+        // Points near the curve and farther away.
+        const double spread = k < 30 ? 0.3 : 2.0;
+        const Vec3 on = bezier_point(proj.curve(), rng.uniform());
+        const Vec3 p = on + spread * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+        const BezierProjection r = proj.project(p);
+        const double ref = reference.distance(p);
+        EXPECT_NEAR(r.distance, ref, 1e-9 * ref + 1e-14) << "degree " << degree << " point " << k;
+        EXPECT_GE(r.t, 0.0);
+        EXPECT_LE(r.t, 1.0);
+        EXPECT_LE((r.point - bezier_point(proj.curve(), r.t)).norm(), 1e-12);
+        EXPECT_NEAR((r.point - p).norm(), r.distance, 1e-14);
+        EXPECT_GE(r.candidates, 2);
+        // kLast gives the same distance.
+        EXPECT_NEAR(proj.project(p, TieRule::kLast).distance, r.distance, 1e-12 * (1 + r.distance));
+      }
+    }
+  }
+}
+
+TEST(BezierProject, DegreeOneEqualsPointSegmentDistance) {
+  Rng rng(8);
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 a(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    const Vec3 b(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    const Vec3 p(rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-2, 2));
+    const BezierProjector proj(BezierCurve{{a, b}, {}});
+    const Vec3 ab = b - a;
+    const double s = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    const double ref = (a + s * ab - p).norm();
+    const BezierProjection r = proj.project(p);
+    EXPECT_NEAR(r.distance, ref, 1e-14 * (1 + ref));
+    EXPECT_NEAR(r.t, s, 1e-12);
+  }
+}
+
+TEST(BezierStationary, FindsEveryRootOnCircleArcsAtTheirCentre) {
+  const double k = 4.0 / 3.0 * (std::sqrt(2.0) - 1);
+  const BezierProjector quarter(planar({{1, 0}, {1, k}, {k, 1}, {0, 1}}));
+  const BezierProjector half(planar({{1, 0}, {1, 4.0 / 3}, {-1, 4.0 / 3}, {-1, 0}}));
+  for (const BezierProjector* proj : {&quarter, &half}) {
+    const DenseReference reference(proj->curve());
+    for (const Vec3& p : {Vec3(0, 0, 0), Vec3(1e-9, 0, 0), Vec3(0, 1e-6, 0), Vec3(0.01, 0.02, 0),
+                          Vec3(0, 0, 0.5), Vec3(-1e-3, 1e-3, 0)}) {
+      expect_every_root(*proj, p, "arc");
+      const double ref = reference.distance(p);
+      EXPECT_NEAR(proj->project(p).distance, ref, 1e-9 * ref);
+    }
+    // From the centre the arc has several projections: both ends (|C| = 1) and interior ones.
+    EXPECT_GE(proj->stationary_parameters(Vec3::Zero()).size(), 3u);
+  }
+}
+
+TEST(BezierStationary, SCurveAndItsCentreOfCurvature) {
+  const BezierProjector s(planar({{0, 0}, {1, 2}, {2, -2}, {3, 0}}));
+  const BezierCurve& c = s.curve();
+  const DenseReference reference(c);
+  for (const double t0 : {0.15, 0.3, 0.8}) {
+    const Vec3 d1 = bezier_derivative(c, t0), d2 = bezier_second_derivative(c, t0);
+    const double speed = d1.norm();
+    const Vec3 normal_acc = d2 - d2.dot(d1) / (speed * speed) * d1;  // curvature direction * |C'|²κ
+    const double kappa = normal_acc.norm() / (speed * speed);
+    const Vec3 centre = bezier_point(c, t0) + normal_acc.normalized() / kappa;
+    // At the centre g has a double root at t0 (g = g' = 0): it must be reported.
+    const std::vector<double> roots = s.stationary_parameters(centre);
+    EXPECT_TRUE(std::any_of(roots.begin(), roots.end(), [&](double t) { return std::abs(t - t0) < 1e-4; }))
+        << "t0 = " << t0;
+    for (const double shift : {0.0, 1e-9, -1e-9, 1e-6, -1e-6, 1e-3, -1e-3}) {
+      const Vec3 p = centre + shift * normal_acc.normalized();
+      expect_every_root(s, p, "S-curve centre of curvature");
+      const double ref = reference.distance(p);
+      EXPECT_NEAR(s.project(p).distance, ref, 1e-9 * ref) << t0 << " " << shift;
+    }
+  }
+  // The curve is y = 6t(1-t)(1-2t), x = 3t; a point inside the upper lobe, beyond the centre of
+  // curvature of its peak, sees both flanks (minima) and the peak (a maximum).
+  expect_every_root(s, Vec3(0.633, 0.05, 0), "S-curve lobe");
+  EXPECT_GE(s.stationary_parameters(Vec3(0.633, 0.05, 0)).size(), 3u);
+  EXPECT_GE(s.project(Vec3(0.633, 0.05, 0)).candidates, 5);
+}
+
+TEST(BezierProject, NearCentresOfCurvatureOfRandomCurves) {
+  // Where a minimum and a maximum of the distance merge (a point near a centre of curvature, g
+  // with a near-double root) the nearest point must not be lost.
+  Rng rng(404);
+  for (const int degree : {3, 5}) {
+    for (int curve = 0; curve < 6; ++curve) {
+      const BezierProjector proj(random_curve(rng, degree));
+      const BezierCurve& c = proj.curve();
+      const DenseReference reference(c);
+      for (int k = 0; k < 8; ++k) {
+        const double t0 = rng.uniform(0.05, 0.95);
+        const Vec3 d1 = bezier_derivative(c, t0), d2 = bezier_second_derivative(c, t0);
+        const Vec3 normal_acc = d2 - d2.dot(d1) / d1.squaredNorm() * d1;
+        const double kappa = normal_acc.norm() / d1.squaredNorm();
+        if (!(kappa > 1e-3)) continue;
+        const Vec3 centre = bezier_point(c, t0) + normal_acc.normalized() / kappa;
+        for (const double shift : {0.0, 1e-12, -1e-12, 1e-8, -1e-8, 1e-4, -1e-4}) {
+          const Vec3 p = centre + shift * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+          const double ref = reference.distance(p);
+          EXPECT_NEAR(proj.project(p).distance, ref, 1e-9 * ref) << degree << " " << t0 << " " << shift;
+          EXPECT_NEAR(proj.project(p, TieRule::kLast).distance, ref, 1e-9 * ref);
+        }
+      }
+    }
+  }
+}
+
+TEST(BezierProject, HighDegreeAndFarFromTheOrigin) {
+  Rng rng(15);
+  const Vec3 offset(1e4, -2e4, 3e4);
+  for (const int degree : {9, 15}) {
+    BezierCurve c = random_curve(rng, degree);
+    for (Vec3& p : c.controls) p += offset;
+    const BezierProjector proj(c);
+    const DenseReference reference(proj.curve());
+    for (int k = 0; k < 30; ++k) {
+      const Vec3 p = bezier_point(c, rng.uniform()) +
+                     0.3 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+      const double ref = reference.distance(p);
+      EXPECT_NEAR(proj.project(p).distance, ref, 1e-9 * ref + 1e-11) << degree << " " << k;
+      expect_every_root(proj, p, "far curve");
+    }
+  }
+}
+
+TEST(BezierProject, TieBetweenTwoLobesFollowsTheRule) {
+  // An M-shaped quartic, mirror-symmetric (x -> -x, t -> 1-t); a point on the mirror plane
+  // above it is equally near both humps.
+  const BezierProjector m(planar({{-2, 0}, {-1, 4}, {0, -4}, {1, 4}, {2, 0}}));
+  const Vec3 p(0, 5, 0);
+  const BezierProjection first = m.project(p, TieRule::kFirst);
+  const BezierProjection last = m.project(p, TieRule::kLast);
+  EXPECT_TRUE(first.tie);
+  EXPECT_TRUE(last.tie);
+  EXPECT_LT(first.t, 0.5);
+  EXPECT_GT(last.t, 0.5);
+  EXPECT_NEAR(first.t + last.t, 1.0, 1e-9);
+  EXPECT_NEAR(first.distance, last.distance, 1e-12 * first.distance);
+  EXPECT_GE(first.candidates, 5);  // two minima, the maximum between them, two ends
+  const std::vector<double> roots = m.stationary_parameters(p);
+  EXPECT_EQ(roots.front(), first.t);
+  EXPECT_EQ(roots.back(), last.t);
+  // Off the mirror plane the tie is broken.
+  const BezierProjection off = m.project(Vec3(0.01, 5, 0));
+  EXPECT_FALSE(off.tie);
+  EXPECT_GT(off.t, 0.5);
+  // The ends of a symmetric arch tie from a point on its axis below it.
+  const BezierProjector arch(planar({{-2, 0}, {-2, 1}, {2, 1}, {2, 0}}));
+  const BezierProjection a0 = arch.project(Vec3(0, -3, 0));
+  const BezierProjection a1 = arch.project(Vec3(0, -3, 0), TieRule::kLast);
+  EXPECT_TRUE(a0.tie);
+  EXPECT_EQ(a0.t, 0.0);
+  EXPECT_EQ(a1.t, 1.0);
+}
+
+TEST(BezierProject, NeverFartherThanNewtonAndCountsNewtonMisses) {
+  Rng rng(99);
+  int misses = 0, total = 0;
+  for (int curve = 0; curve < 50; ++curve) {
+    const BezierProjector proj(random_curve(rng, 3));
+    for (int k = 0; k < 100; ++k) {
+      const Vec3 p = bezier_point(proj.curve(), rng.uniform()) +
+                     0.3 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+      const double iso = proj.project(p).distance;
+      const double newton = proj.project_newton(p).distance;
+      EXPECT_LE(iso, newton + 1e-12);
+      if (newton > iso * (1 + 1e-9)) ++misses;
+      ++total;
+    }
+  }
+  std::cout << "Newton (4 starts) missed the nearest point on " << misses << " of " << total
+            << " points near random cubics\n";
+  RecordProperty("newton_misses", misses);
+}
+
+}  // namespace
+}  // namespace ramiform
