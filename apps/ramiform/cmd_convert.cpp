@@ -28,6 +28,7 @@ int run_convert(const ConvertArgs& args) {
   SkeletonReadOptions options;
   options.obj_radius = args.obj_radius;
   options.qsm_report = &qsm;
+  options.keep_curves = true;  // JSON keeps curved edges; PLY and OBJ get them straightened
   const Skeleton skeleton = read_skeleton(args.in_path, options);
   timer.lap("read");
   write_skeleton(skeleton, args.out_path);

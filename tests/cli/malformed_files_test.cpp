@@ -142,6 +142,21 @@ std::vector<Case> skeleton_json_cases() {
       c("self-loop", two + "[[1,1]]}", ": edge 0:"),
       c("duplicate edge, reversed", two + "[[0,1],[1,0]]}", ": edge 1:"),
       c("edge of three indices", two + "[[0,1,1]]}", ": edge 0:"),
+      c("curved edge: a control of two numbers",
+        two + R"([{"nodes":[0,1],"controls":[[0,1]]}]})", ": edge 0: control point 0"),
+      c("curved edge: a control that is not a number",
+        two + R"([{"nodes":[0,1],"controls":[[0,"x",1]]}]})", ": edge 0: control point 0"),
+      c("curved edge: two radii for one control",
+        two + R"([{"nodes":[0,1],"controls":[[0,1,0]],"radii":[1,2]}]})", ": edge 0: 2 radii"),
+      c("curved edge: 15 inner controls (degree 16)",
+        two + R"([{"nodes":[0,1],"controls":[)" + [] {
+          std::string c;
+          for (int k = 0; k < 15; ++k) c += (k ? ",[" : "[") + std::to_string(k) + ",1,0]";
+          return c;
+        }() + "]}]}",
+        ": edge 0: 15 control points"),
+      c("curved edge: unknown key", two + R"([{"nodes":[0,1],"control":[[0,1,0]]}]})",
+        ": edge 0: unknown key"),
       c("zero-length edge (two nodes at one position)",
         R"({"nodes":[{"position":[1,2,3],"radius":0.5},{"position":[1,2,3],"radius":0.5}],)"
         R"("edges":[[0,1]]})",

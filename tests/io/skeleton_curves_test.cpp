@@ -223,3 +223,42 @@ TEST(SkeletonCurvesIo, WritingAnInvalidCurveToPlyOrObjIsRefused) {
 
 }  // namespace
 }  // namespace ramiform
+
+namespace ramiform {
+namespace {
+
+using io_test::TempDir;
+
+// A file whose curves would need more than 2^22 straight pieces (radius 1e-9, 1100 tight
+// curves of 4096 pieces each) is refused on reading, naming the file, before anything is
+// allocated; with keep_curves it reads.
+TEST(SkeletonCurvesIo, HostileCurvesAreRefusedBeforeStraightening) {
+  std::string json = R"({"nodes":[)";
+  for (int k = 0; k < 2200; ++k) {
+    json += std::string(k ? "," : "") + R"({"position":[)" + std::to_string(k) +
+            R"(,0,0],"radius":1e-9})";
+  }
+  json += R"(],"edges":[)";
+  for (int k = 0; k < 1100; ++k) {
+    json += std::string(k ? "," : "") + R"({"nodes":[)" + std::to_string(2 * k) + "," +
+            std::to_string(2 * k + 1) + R"(],"controls":[[)" + std::to_string(2 * k) +
+            ",5,0]]}";
+  }
+  json += "]}";
+  TempDir dir;
+  const std::string path = dir.file("tight.json");
+  std::ofstream(path) << json;
+  try {
+    (void)read_skeleton(path);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("tight.json"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("straight pieces"), std::string::npos) << e.what();
+  }
+  SkeletonReadOptions keep;
+  keep.keep_curves = true;
+  EXPECT_EQ(read_skeleton(path, keep).edges.size(), 1100u);
+}
+
+}  // namespace
+}  // namespace ramiform
