@@ -459,6 +459,14 @@ SurfaceSkeleton::SurfaceSkeleton(std::shared_ptr<const ParametricSurface> surfac
     const Vec3 p10 = s.point(u1, v0);
     const Vec3 p11 = s.point(u1, v1);
     const Vec3 p01 = s.point(u0, v1);
+    const auto split_in_four = [&] {
+      const double um = 0.5 * (u0 + u1);
+      const double vm = 0.5 * (v0 + v1);
+      self(self, u0, um, v0, vm, depth + 1);
+      self(self, um, u1, v0, vm, depth + 1);
+      self(self, u0, um, vm, v1, depth + 1);
+      self(self, um, u1, vm, v1, depth + 1);
+    };
     bool split = depth < min_depth;
     if (!split && depth < max_depth) {
       // S_u (axis 0) or S_v (axis 1) at (u, v); where it vanishes at a corner only (the seam
@@ -483,12 +491,7 @@ SurfaceSkeleton::SurfaceSkeleton(std::shared_ptr<const ParametricSurface> surfac
                              cos_eps));
     }
     if (split) {
-      const double um = 0.5 * (u0 + u1);
-      const double vm = 0.5 * (v0 + v1);
-      self(self, u0, um, v0, vm, depth + 1);
-      self(self, um, u1, v0, vm, depth + 1);
-      self(self, u0, um, vm, v1, depth + 1);
-      self(self, um, u1, vm, v1, depth + 1);
+      split_in_four();
       return;
     }
     if (!(p00.allFinite() && p10.allFinite() && p11.allFinite() && p01.allFinite())) {
@@ -503,12 +506,7 @@ SurfaceSkeleton::SurfaceSkeleton(std::shared_ptr<const ParametricSurface> surfac
     }
     if (options.max_error > 0 && error > options.max_error && depth < max_depth) {
       // Flat by the paper's test, but a bulge inside keeps it too far from its triangles.
-      const double um = 0.5 * (u0 + u1);
-      const double vm = 0.5 * (v0 + v1);
-      self(self, u0, um, v0, vm, depth + 1);
-      self(self, um, u1, v0, vm, depth + 1);
-      self(self, u0, um, vm, v1, depth + 1);
-      self(self, um, u1, vm, v1, depth + 1);
+      split_in_four();
       return;
     }
     ++patch_count_;

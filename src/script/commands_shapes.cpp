@@ -56,18 +56,6 @@ SkeletonFieldOptions distance_options(const Call& call) {
   return o;
 }
 
-Object shape(FieldPtr field, std::string summary) {
-  Object o;
-  o.kind = ObjectKind::kShape;
-  o.field = std::move(field);
-  o.summary = std::move(summary);
-  return o;
-}
-
-CommandResult defined(const Call& call, const std::string& name) {
-  return {call.spec().name, name + ": " + summary_text(call.session().objects.at(name)), false};
-}
-
 // Reads three positional numbers starting at `first` as a vector.
 Vec3 vec_args(const Call& call, std::size_t first, const std::string& what) {
   return {call.number(first, what + " x"), call.number(first + 1, what + " y"),
@@ -450,6 +438,18 @@ CommandResult run_rbf(Call& c) {
 }
 
 }  // namespace
+
+Object shape(FieldPtr field, std::string summary) {
+  Object o;
+  o.kind = ObjectKind::kShape;
+  o.field = std::move(field);
+  o.summary = std::move(summary);
+  return o;
+}
+
+CommandResult defined(const Call& call, const std::string& name) {
+  return {call.spec().name, name + ": " + summary_text(call.session().objects.at(name)), false};
+}
 
 DistancePrimitiveOptions primitive_options(const Call& call) {
   DistancePrimitiveOptions o;

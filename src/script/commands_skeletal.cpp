@@ -19,18 +19,6 @@ namespace {
 const std::vector<std::string> kDeformKinds = {"identity", "squared-cosine", "flat", "wave",
                                                "linear",   "bezier"};
 
-CommandResult defined(const Call& c, const std::string& name) {
-  return {c.spec().name, name + ": " + summary_text(c.session().objects.at(name)), false};
-}
-
-Object shape(FieldPtr field, std::string summary) {
-  Object o;
-  o.kind = ObjectKind::kShape;
-  o.field = std::move(field);
-  o.summary = std::move(summary);
-  return o;
-}
-
 // Runs `build`, turning the library's InvalidArgument into an error at the command.
 template <class Build>
 auto checked(const Call& c, Build&& build) {

@@ -204,6 +204,11 @@ class Call {
   std::size_t line_;
 };
 
+/// A shape object with its field and its one-line summary.
+Object shape(FieldPtr field, std::string summary);
+/// The result line of a command that defined `name`: "NAME: summary".
+CommandResult defined(const Call& call, const std::string& name);
+
 /// The kernel and weight options of a distance primitive (kernel=K weight=W; the Cauchy kernel
 /// is refused at its token).
 DistancePrimitiveOptions primitive_options(const Call& call);
