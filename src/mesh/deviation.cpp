@@ -207,6 +207,11 @@ void validate(const DeviationOptions& o) {
   }
 }
 
+// The first-order shortcut's reach, relative to the search distance (see deviation.h): sample
+// points anywhere on the triangles, and the vertices a mesher put on the surface.
+constexpr double kFirstOrderSamples = 1e-7;
+constexpr double kFirstOrderVertices = 1e-3;
+
 double nearest_rank(std::vector<double> values, double q) {
   if (values.empty()) return 0.0;
   const auto n = static_cast<double>(values.size());
@@ -219,7 +224,7 @@ double nearest_rank(std::vector<double> values, double q) {
 /// Projects every point and summarises.
 DeviationSummary summarise(const Field& field, const std::vector<Vec3>& points,
                            const Skeleton* skeleton, double search_distance,
-                           const DeviationOptions& o, Context* ctx) {
+                           const DeviationOptions& o, double first_order, Context* ctx) {
   DeviationSummary s;
   s.points = points.size();
   if (points.empty()) return s;
@@ -227,8 +232,8 @@ DeviationSummary summarise(const Field& field, const std::vector<Vec3>& points,
   if (skeleton != nullptr) radius = local_radii(*skeleton, points, ctx);
   std::vector<double> abs(points.size()), rel(points.size(), 0.0);
   std::vector<char> resolved(points.size(), 0);
-  // One batch evaluation first: a point already within 1e-7 of the search distance of the
-  // surface to first order (a polygonizer's vertex) takes the first-order distance
+  // One batch evaluation first: a point already within `first_order` of the search distance of
+  // the surface to first order (a polygonizer's vertex) takes the first-order distance
   // |f - iso| / |grad f|, whose error is of its square over the curvature radius.
   std::vector<double> value(points.size());
   std::vector<Vec3> grad(points.size());
@@ -242,7 +247,7 @@ DeviationSummary summarise(const Field& field, const std::vector<Vec3>& points,
           const double gn = grad[i].norm();
           const double first = std::abs(value[i] - field.iso()) / gn;
           SurfaceDistance d;
-          if (gn > 0.0 && std::isfinite(first) && first <= 1e-7 * search) {
+          if (gn > 0.0 && std::isfinite(first) && first <= first_order * search) {
             d = {first, points[i], true};
           } else {
             d = distance_from(field, points[i], {value[i] - field.iso(), grad[i]}, search,
@@ -301,7 +306,7 @@ DeviationReport measure_deviation(const TriMesh& mesh, const Field& field,
     std::vector<Vec3> points(options.samples);
     Rng rng(options.seed);
     for (auto& p : points) p = sampler.position(sampler.draw(rng));
-    report.samples = summarise(field, points, skeleton, search, options, ctx);
+    report.samples = summarise(field, points, skeleton, search, options, kFirstOrderSamples, ctx);
   }
   if (options.vertices) {
     std::vector<char> used(mesh.positions.size(), 0);
@@ -310,7 +315,8 @@ DeviationReport measure_deviation(const TriMesh& mesh, const Field& field,
     std::vector<Vec3> points;
     for (std::size_t v = 0; v < used.size(); ++v)
       if (used[v] != 0) points.push_back(mesh.positions[v]);
-    report.vertices = summarise(field, points, skeleton, search, options, ctx);
+    report.vertices =
+        summarise(field, points, skeleton, search, options, kFirstOrderVertices, ctx);
   }
   report.field_evaluations = field.evaluations() - evals_before;
   return report;

@@ -23,9 +23,12 @@
 /// is never below the true distance; it equals it where the gradient line through p meets the
 /// surface at its closest point (spheres, capsules, tori of distance and point fields) and is
 /// refined towards it elsewhere. `measure_deviation` evaluates all its points in one batch
-/// first: a point within 1e-7 of the search distance of the surface to first order (a
+/// first: a sample point within 1e-7 of the search distance of the surface to first order (a
 /// polygonizer's vertex) takes the first-order distance |f - iso| / |grad f| (its error is of
-/// the order of its square over the curvature radius). A point where no crossing is found
+/// the order of its square over the curvature radius). For the mesh's vertices, which a mesher
+/// put on the surface to within its own tolerance (the particle mesher: |f - iso| <= delta
+/// iso), the shortcut applies within 1e-3 of the search distance: the first-order error is
+/// then below 1e-3 of the distance itself for curvature radii of the search distance's order. A point where no crossing is found
 /// within the search distance is *unresolved*: it is counted at the search distance (it has no
 /// surface closer along any line searched) and the report says how many there were.
 
