@@ -106,6 +106,12 @@ void check_skeleton(const Skeleton& s) {
         back.nodes[i].position == s.nodes[i].position && back.nodes[i].radius == s.nodes[i].radius,
         "skeleton JSON round trip keeps positions and radii bit for bit");
   }
+  require(back.has_curves() == s.has_curves(), "skeleton JSON round trip keeps curved edges");
+  for (std::size_t e = 0; e < s.curves.size() && back.has_curves(); ++e) {
+    require(back.curves[e].controls == s.curves[e].controls &&
+                back.curves[e].radii == s.curves[e].radii,
+            "skeleton JSON round trip keeps control points and radii bit for bit");
+  }
 }
 
 void check_mesh(const TriMesh& m) {
