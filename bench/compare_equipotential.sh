@@ -14,8 +14,7 @@
 # placed and converged per second of the mesher, smallest and median triangle angle, radius
 # error (median / max, relative to the requested radius) and the deviation from the surface
 # (`ramiform check --deviation --surface equipotential`: p50 / p99 of 20,000 area-weighted
-# points, relative to the local radius; not measured for particle meshes of 100 k vertices and
-# more, where the check takes minutes).
+# points, relative to the local radius).
 # Usage: bench/compare_equipotential.sh [BUILD_DIR] [OUT.md]     (prints a markdown table)
 set -euo pipefail
 build=${1:-build}
@@ -48,14 +47,8 @@ row() {  # label, skeleton, method label, then mesh options
   best_of "$skel" -o "$work/m.ply" "$@"
   local fit=""
   case " $* " in *" --fit-radii "*) fit=--fit-radii ;; esac
-  # check --deviation projects every vertex of a particle mesh (off the surface by up to
-  # --delta, so not by the first-order shortcut): minutes for 100 k particles and more.
-  if [ "$how" = tets ] || [ "$(field "$work/s.json" "d['vertices']")" -lt 100000 ]; then
-    "$bin" check "$work/m.ply" --deviation "$skel" --surface equipotential $fit --seed 7 --json \
-      >"$work/c.json"
-  else
-    echo '{"deviation_p50": NaN, "deviation_p99": NaN}' >"$work/c.json"
-  fi
+  "$bin" check "$work/m.ply" --deviation "$skel" --surface equipotential $fit --seed 7 --json \
+    >"$work/c.json"
   local particles rate
   particles=$(field "$work/s.json" "d.get('particles', '')")
   rate=$(field "$work/s.json" \
