@@ -14,9 +14,10 @@
 
 #include "field/bvh.h"
 #include "field/distance_primitive.h"
-#include "ramiform/core/parallel.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
+#include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
 
 namespace ramiform {
 namespace {
@@ -326,33 +327,33 @@ double deformation_value(const Deformation& def, double t, double* derivative) {
       break;
     case K::kSquaredCosine: {
       const double s = def.parameter;
-      const double sn = std::sin(kPi * t);
+      const double sn = pm::sin(kPi * t);
       const double g = s + (1 - s) * sn * sn;
       if (!(g > 0)) {
         v = kInf;
         break;
       }
       v = 1 / g;
-      dv = -(1 - s) * kPi * std::sin(2 * kPi * t) * v * v;
+      dv = -(1 - s) * kPi * pm::sin(2 * kPi * t) * v * v;
       break;
     }
     case K::kFlatEnds: {
       const double n = flat_exponent(def);
       const double a = std::abs(2 * t - 1);
-      const double h = 1 - std::pow(a, n);
+      const double h = 1 - pm::pow(a, n);
       if (!(h > 0)) {
         v = kInf;
         break;
       }
-      v = std::pow(h, -1 / n);
-      dv = (2 * t - 1 >= 0 ? 2.0 : -2.0) * std::pow(a, n - 1) * v / h;
+      v = pm::pow(h, -1 / n);
+      dv = (2 * t - 1 >= 0 ? 2.0 : -2.0) * pm::pow(a, n - 1) * v / h;
       break;
     }
     case K::kWave: {
       const double w = 2 * kPi * def.waves;
-      const double g = 1 + def.parameter * std::cos(w * t);
+      const double g = 1 + def.parameter * pm::cos(w * t);
       v = 1 / g;
-      dv = def.parameter * w * std::sin(w * t) * v * v;
+      dv = def.parameter * w * pm::sin(w * t) * v * v;
       break;
     }
     case K::kLinear: {
