@@ -23,10 +23,21 @@ struct EvalArgs {
   CommonOptions common;
 };
 
+// Writes `count` lines to stdout at once, line i made by row(i, buffer, size) (an snprintf).
+template <class Row>
+void print_rows(std::size_t count, std::size_t bytes_per_row, Row&& row) {
+  std::string out;
+  out.reserve(count * bytes_per_row);
+  char line[128];
+  for (std::size_t i = 0; i < count; ++i) {
+    const int n = row(i, line, sizeof line);
+    out.append(line, static_cast<std::size_t>(n));
+  }
+  std::fwrite(out.data(), 1, out.size(), stdout);
+}
+
 // --distance: the nearest skeleton element of each point, curved edges exact.
-int run_distance(const EvalArgs& args) {
-  RunScope scope(args.common);
-  StageTimer timer;
+int run_distance(const EvalArgs& args, RunScope& scope, StageTimer& timer) {
   SkeletonReadOptions read = read_options(args.field);
   read.keep_curves = true;
   const Skeleton skeleton = read_skeleton(args.skeleton_path, read);
@@ -36,15 +47,10 @@ int run_distance(const EvalArgs& args) {
       skeleton_distances(skeleton, points.positions,
                          args.tie == "last" ? TieRule::kLast : TieRule::kFirst, &scope.context());
   timer.lap("distance");
-  std::string out;
-  out.reserve(points.size() * 48);
-  char line[128];
-  for (const SkeletonDistance& r : d) {
-    const int n = std::snprintf(line, sizeof line, "%.17g %s %u %.17g\n", r.distance,
-                                r.is_edge ? "edge" : "node", r.index, r.t);
-    out.append(line, static_cast<std::size_t>(n));
-  }
-  std::fwrite(out.data(), 1, out.size(), stdout);
+  print_rows(d.size(), 48, [&](std::size_t i, char* line, std::size_t size) {
+    return std::snprintf(line, size, "%.17g %s %u %.17g\n", d[i].distance,
+                         d[i].is_edge ? "edge" : "node", d[i].index, d[i].t);
+  });
   timer.lap("print");
   nlohmann::json stats;
   stats["seconds"] = timer.seconds();
@@ -61,7 +67,7 @@ int run_eval(const EvalArgs& args) {
   check_output_path(args.common.stats_path);
   RunScope scope(args.common);
   StageTimer timer;
-  if (args.distance) return run_distance(args);
+  if (args.distance) return run_distance(args, scope, timer);
   const SkeletonFieldOptions options = field_options(args.field);
   const Skeleton skeleton = read_skeleton(args.skeleton_path, read_options(args.field));
   const PointSet points = read_points(args.points_path);
@@ -74,20 +80,12 @@ int run_eval(const EvalArgs& args) {
   std::vector<Vec3> gradients(args.gradient ? points.size() : 0);
   field->evaluate(points.positions, values, gradients, &scope.context());
   timer.lap("evaluate");
-  std::string out;
-  out.reserve(points.size() * (args.gradient ? 96 : 26));
-  char line[128];
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    int n = 0;
-    if (args.gradient) {
-      n = std::snprintf(line, sizeof line, "%.17g %.17g %.17g %.17g\n", values[i], gradients[i].x(),
-                        gradients[i].y(), gradients[i].z());
-    } else {
-      n = std::snprintf(line, sizeof line, "%.17g\n", values[i]);
-    }
-    out.append(line, static_cast<std::size_t>(n));
-  }
-  std::fwrite(out.data(), 1, out.size(), stdout);
+  print_rows(points.size(), args.gradient ? 96 : 26,
+             [&](std::size_t i, char* line, std::size_t size) {
+               if (!args.gradient) return std::snprintf(line, size, "%.17g\n", values[i]);
+               return std::snprintf(line, size, "%.17g %.17g %.17g %.17g\n", values[i],
+                                    gradients[i].x(), gradients[i].y(), gradients[i].z());
+             });
   timer.lap("print");
   nlohmann::json stats;
   stats["seconds"] = timer.seconds();

@@ -7,11 +7,12 @@
 #include "ramiform/field/anisotropic.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 
+#include "core/bernstein.h"
 #include "field/bvh.h"
 #include "field/distance_primitive.h"
 #include "ramiform/core/errors.h"
@@ -38,21 +39,16 @@ double flat_exponent(const Deformation& d) {
   return d.parameter == 0 ? kDefaultFlatExponent : d.parameter;
 }
 
-// Value and derivative of a Bezier function with coefficients c over t in [0, 1].
+// Value and derivative of a Bezier function with coefficients c (at most 64) over t in [0, 1].
 double bernstein(const std::vector<double>& c, double t, double* derivative) {
-  const std::size_t m = c.size();
-  if (m == 1) {
-    if (derivative != nullptr) *derivative = 0;
-    return c[0];
-  }
-  // de Casteljau down to two values: their difference gives the derivative.
+  const int d = static_cast<int>(c.size()) - 1;
   double work[64];
-  std::copy(c.begin(), c.end(), work);
-  for (std::size_t level = m - 1; level >= 2; --level) {
-    for (std::size_t i = 0; i < level; ++i) work[i] = (1 - t) * work[i] + t * work[i + 1];
+  if (derivative != nullptr) {
+    std::copy(c.begin(), c.end(), work);
+    *derivative = detail::casteljau_in_place(work, d, t, 1, 0.0);
   }
-  if (derivative != nullptr) *derivative = static_cast<double>(m - 1) * (work[1] - work[0]);
-  return (1 - t) * work[0] + t * work[1];
+  std::copy(c.begin(), c.end(), work);
+  return detail::casteljau_in_place(work, d, t, 0, 0.0);
 }
 
 // d(M) grows from the skeleton; x = d def / r with its gradient from the pieces.
@@ -143,6 +139,16 @@ class AnisotropicSegment final : public Element {
   Aabb box_;
 };
 
+// The order-th derivative of a Bezier function of at most 16 coefficients (a curve's controls
+// or radii) at t.
+template <class V>
+V derivative_at(const std::vector<V>& values, double t, int order, const V& zero) {
+  std::array<V, 16> work;
+  std::copy(values.begin(), values.end(), work.begin());
+  return detail::casteljau_in_place(work.data(), static_cast<int>(values.size()) - 1, t, order,
+                                    zero);
+}
+
 class BezierElement final : public Element {
  public:
   BezierElement(BezierProjector projector, double radius, Deformation def, TieRule tie)
@@ -167,17 +173,19 @@ class BezierElement final : public Element {
     const Vec3 grad_d = d > 0 ? Vec3(diff / d) : Vec3::Zero();
     const BezierCurve& c = projector_.curve();
     Vec3 grad_t = Vec3::Zero();
+    // The projector validated the curve: the derivatives come straight from de Casteljau.
     if (proj.t > 0 && proj.t < 1) {
-      const Vec3 c1 = bezier_derivative(c, proj.t);
-      const double denom = c1.squaredNorm() - bezier_second_derivative(c, proj.t).dot(diff);
+      const Vec3 c1 = derivative_at(c.controls, proj.t, 1, Vec3(Vec3::Zero()));
+      const Vec3 c2 = derivative_at(c.controls, proj.t, 2, Vec3(Vec3::Zero()));
+      const double denom = c1.squaredNorm() - c2.dot(diff);
       if (denom > 0) grad_t = c1 / denom;
     }
     double def_dt = 0;
     const double def = deformation_value(def_, proj.t, &def_dt);
     double r = radius_, r_dt = 0;
     if (!c.radii.empty()) {
-      r = bezier_radius(c, proj.t);
-      r_dt = bezier_radius_derivative(c, proj.t);
+      r = derivative_at(c.radii, proj.t, 0, 0.0);
+      r_dt = derivative_at(c.radii, proj.t, 1, 0.0);
     }
     const Normalized n = normalize(d, grad_d, def, def_dt, r, r_dt, grad_t);
     gradient = n.gradient;
@@ -547,37 +555,42 @@ std::vector<SkeletonDistance> skeleton_distances(const Skeleton& skeleton,
       points.size(), 256,
       [&](std::size_t k) {
         const Vec3& p = points[k];
-        double best_t = 0;
+        // The parameter of the nearest element so far, kept under BoxBvh::nearest's own rule
+        // (least distance, ties to the lower id), so that no element is projected twice.
+        double best_d2 = std::numeric_limits<double>::infinity();
+        std::uint32_t best_id = UINT32_MAX;
+        double best_t = 0, best_distance = 0;
         auto distance2 = [&](std::uint32_t id) {
           const Item& item = items[id];
-          if (!item.is_edge) return (p - skeleton.nodes[item.index].position).squaredNorm();
-          if (item.curve >= 0) {
-            const BezierProjection proj = curves[static_cast<std::size_t>(item.curve)].project(p, tie);
-            return proj.distance * proj.distance;
+          double d2 = 0, t = 0, distance = -1;  // -1: sqrt(d2)
+          if (!item.is_edge) {
+            d2 = (p - skeleton.nodes[item.index].position).squaredNorm();
+          } else if (item.curve >= 0) {
+            const BezierProjection proj =
+                curves[static_cast<std::size_t>(item.curve)].project(p, tie);
+            d2 = proj.distance * proj.distance;
+            t = proj.t;
+            distance = proj.distance;
+          } else {
+            const auto [a, b] = skeleton.edges[item.index];
+            const Vec3 pa = skeleton.nodes[a].position;
+            const Vec3 ab = skeleton.nodes[b].position - pa;
+            t = std::clamp((p - pa).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+            d2 = (p - (pa + t * ab)).squaredNorm();
           }
-          const auto [a, b] = skeleton.edges[item.index];
-          const Vec3 pa = skeleton.nodes[a].position;
-          const Vec3 ab = skeleton.nodes[b].position - pa;
-          const double t = std::clamp((p - pa).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-          return (p - (pa + t * ab)).squaredNorm();
+          if (d2 < best_d2 || (d2 == best_d2 && id < best_id)) {
+            best_d2 = d2;
+            best_id = id;
+            best_t = t;
+            best_distance = distance >= 0 ? distance : std::sqrt(d2);
+          }
+          return d2;
         };
-        double d2 = 0;
-        const std::uint32_t id = bvh.nearest(p, distance2, &d2);
-        const Item& item = items[id];
+        const Item& item = items[bvh.nearest(p, distance2)];
         SkeletonDistance& r = out[k];
         r.is_edge = item.is_edge;
         r.index = item.index;
-        r.distance = std::sqrt(d2);
-        if (item.is_edge && item.curve >= 0) {
-          const BezierProjection proj = curves[static_cast<std::size_t>(item.curve)].project(p, tie);
-          r.distance = proj.distance;
-          best_t = proj.t;
-        } else if (item.is_edge) {
-          const auto [a, b] = skeleton.edges[item.index];
-          const Vec3 pa = skeleton.nodes[a].position;
-          const Vec3 ab = skeleton.nodes[b].position - pa;
-          best_t = std::clamp((p - pa).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-        }
+        r.distance = best_distance;
         r.t = best_t;
       },
       ctx);

@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "core/bernstein.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/tolerances.h"
 
@@ -345,19 +346,9 @@ void check_point(const Vec3& p, const char* what) {
 template <class V>
 V casteljau(const std::vector<V>& values, double t, int order) {
   const int d = static_cast<int>(values.size()) - 1;
-  if (order > d) return V(values[0] * 0.0);
   std::array<V, kMaxDegree + 1> w;
   for (int i = 0; i <= d; ++i) w[i] = values[i];
-  double scale = 1;
-  for (int o = 0; o < order; ++o) {
-    for (int i = 0; i < d - o; ++i) w[i] = w[i + 1] - w[i];
-    scale *= d - o;
-  }
-  const int deg = d - order;
-  for (int r = 1; r <= deg; ++r) {
-    for (int i = 0; i <= deg - r; ++i) w[i] = (1 - t) * w[i] + t * w[i + 1];
-  }
-  return V(scale * w[0]);
+  return detail::casteljau_in_place(w.data(), d, t, order, V(values[0] * 0.0));
 }
 
 template <class V>

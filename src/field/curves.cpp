@@ -8,6 +8,7 @@
 #include <span>
 #include <string>
 
+#include "core/bernstein.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/portable_math.h"
 
@@ -141,7 +142,6 @@ class CurveEval {
   V bezier(double t, int order) const {
     const int d = degree_;
     if (order > d) return V::Zero();
-    // Forward differences of the control points `order` times, then de Casteljau.
     constexpr int kSmall = 16;
     std::array<V, kSmall> small;
     std::vector<V> large;
@@ -151,16 +151,7 @@ class CurveEval {
       w = large.data();
     }
     for (int i = 0; i <= d; ++i) w[i] = ctrl(i);
-    double scale = 1;
-    for (int o = 0; o < order; ++o) {
-      for (int i = 0; i < d - o; ++i) w[i] = w[i + 1] - w[i];
-      scale *= d - o;
-    }
-    const int deg = d - order;
-    for (int r = 1; r <= deg; ++r) {
-      for (int i = 0; i <= deg - r; ++i) w[i] = (1 - t) * w[i] + t * w[i + 1];
-    }
-    return scale * w[0];
+    return detail::casteljau_in_place(w, d, t, order, V(V::Zero()));
   }
 
   // B-spline knots: open clamped over [0, 1], or uniform integers (periodic, domain [p, p+n]).

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <unordered_set>
 
+#include "core/bernstein.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/tolerances.h"
 
@@ -62,10 +63,8 @@ void validate_curve(const EdgeCurve& c, std::size_t e, const std::string& source
 // de Casteljau on a control polygon of points (or radii).
 template <class T>
 T casteljau(std::vector<T> work, double t) {
-  for (std::size_t level = work.size() - 1; level > 0; --level) {
-    for (std::size_t i = 0; i < level; ++i) work[i] = (1 - t) * work[i] + t * work[i + 1];
-  }
-  return work[0];
+  return detail::casteljau_in_place(work.data(), static_cast<int>(work.size()) - 1, t, 0,
+                                    work[0]);
 }
 
 // At most this many straight pieces per curved edge, and in all.
