@@ -12,6 +12,11 @@
 namespace ramiform {
 namespace {
 
+// A normal must have a direction: MPU and the normal orientation need one.
+constexpr const char* kZeroNormal =
+    "zero normal (0 0 0): a normal needs a direction; leave the normals out to have them "
+    "estimated";
+
 using namespace io_detail;
 
 void check_writable(const PointSet& points) {
@@ -99,7 +104,10 @@ PointSet parse_points_text(std::string_view text, const std::string& source_name
     for (std::size_t c = 0; c < columns; ++c) v[c] = to_double(f[c], source, ln, kNames[c]);
     points.positions.emplace_back(v[0], v[1], v[2]);
     if (!extent.add(points.positions.back())) throw InputError(source, ln, extent.problem());
-    if (columns == 6) points.normals.emplace_back(v[3], v[4], v[5]);
+    if (columns == 6) {
+      points.normals.emplace_back(v[3], v[4], v[5]);
+      if (points.normals.back() == Vec3::Zero()) throw InputError(source, ln, kZeroNormal);
+    }
   }
   if (points.positions.empty()) throw InputError(source, 0, "no points");
   return points;
@@ -125,7 +133,10 @@ PointSet parse_points_ply(std::string_view bytes, const std::string& source_name
     const double* row = &data[0].scalars[i * cols];
     points.positions[i] = Vec3(row[0], row[1], row[2]);
     if (!extent.add(points.positions[i])) throw InputError(source, "vertex", i, extent.problem());
-    if (cols == 6) points.normals[i] = Vec3(row[3], row[4], row[5]);
+    if (cols == 6) {
+      points.normals[i] = Vec3(row[3], row[4], row[5]);
+      if (points.normals[i] == Vec3::Zero()) throw InputError(source, "vertex", i, kZeroNormal);
+    }
   }
   return points;
 }

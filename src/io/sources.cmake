@@ -6,6 +6,7 @@ set(RAMIFORM_IO_SOURCES
   src/io/obj_format.cpp
   src/io/ply_format.cpp
   src/io/points_io.cpp
+  src/io/surface_points.cpp
   src/io/qsm_io.cpp
   src/io/skeleton_io.cpp
   src/io/swc_io.cpp

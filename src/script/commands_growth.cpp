@@ -24,7 +24,6 @@
 #include "session.h"
 
 namespace ramiform::script {
-namespace {
 
 // A seed per named random choice: the session seed mixed with the name (FNV-1a), so that two
 // point sets of one script differ and each stays the same when other commands change.
@@ -39,6 +38,8 @@ std::uint64_t seed_for(const Call& c, const std::string& name) {
   for (unsigned char ch : name) h = (h ^ ch) * 1099511628211ull;
   return c.session().options.seed ^ h;
 }
+
+namespace {
 
 const PointSet& point_set(const Call& c, const Token& token) {
   const auto& sets = c.session().point_sets;

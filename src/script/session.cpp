@@ -668,6 +668,24 @@ void ScriptSession::discard() noexcept {
   impl_->staged.clear();
 }
 
+FieldPtr ScriptSession::shape(const std::string& name) const {
+  const auto it = impl_->objects.find(name);
+  if (it == impl_->objects.end()) {
+    std::vector<std::string> names;
+    for (const auto& [n, o] : impl_->objects) {
+      if (o.kind == script::ObjectKind::kShape) names.push_back(n);
+    }
+    const std::string hint = closest_name(name, names);
+    throw InvalidArgument("no shape named '" + name + "'" +
+                          (hint.empty() ? "" : "; did you mean '" + hint + "'?"));
+  }
+  if (it->second.kind != script::ObjectKind::kShape) {
+    throw InvalidArgument("'" + name + "' is a " + script::kind_name(it->second.kind) +
+                          ", not a shape");
+  }
+  return it->second.field;
+}
+
 std::vector<std::string> ScriptSession::command_names() {
   std::vector<std::string> names;
   for (const auto& [name, spec] : script::command_table()) {

@@ -209,6 +209,11 @@ Object shape(FieldPtr field, std::string summary);
 /// The result line of a command that defined `name`: "NAME: summary".
 CommandResult defined(const Call& call, const std::string& name);
 
+/// The seed of a named random choice: seed= when given (an integer >= 0), else the session seed
+/// mixed with `name`, so that two point sets of one script differ and each stays the same when
+/// other commands change.
+std::uint64_t seed_for(const Call& c, const std::string& name);
+
 /// The kernel and weight options of a distance primitive (kernel=K weight=W; the Cauchy kernel
 /// is refused at its token).
 DistancePrimitiveOptions primitive_options(const Call& call);

@@ -554,6 +554,7 @@ std::vector<Case> point_cases() {
       c(pt, "every point within the kill distance of the root", "p.xyz", "0 0 0\n1 1 1\n", grow,
         ": "),
       c(pt, "one point, at the root", "p.xyz", "0 0 0\n", grow, ": "),
+      c(pt, "zero normal on line 2", "p.xyz", "0 0 0 0 0 1\n1 1 1 0 0 0\n", eval, ":2:"),
       c(pp, "header claims 4,000,000,000 vertices", "p.ply",
         ply("ascii", element("vertex", "4000000000", kMeshVertex), "0 0 0\n"), eval, ": vertex 1:"),
       c(pp, "no z property", "p.ply",

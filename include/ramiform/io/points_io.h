@@ -19,10 +19,11 @@ namespace ramiform {
 /// comment. Every line must have the same count (3 or 6) as the first point line.
 ///
 /// Throws `InputError` naming the file and line (text) or element index (binary PLY) for an
-/// unreadable file, malformed or non-finite numbers, wrong field counts, or no points at all (a
-/// text file without point lines, a PLY file with `element vertex 0`: the message says "no
-/// points"). Also refused, as the skeleton reader does, are coordinates whose span is more than
-/// double precision can hold (the bounding box's diagonal length overflows, e.g. points at
+/// unreadable file, malformed or non-finite numbers, wrong field counts, a zero normal (0 0 0), or
+/// no points at all (a text file without point lines, a PLY file with `element vertex 0`: the
+/// message says "no points"). Also refused, as the skeleton reader does, are coordinates whose span
+/// is more than double precision can hold (the bounding box's diagonal length overflows, e.g.
+/// points at
 /// +-1e308): the message names the first point that breaks the rule (its line in text, "vertex
 /// K" in PLY) and the coordinate range.
 [[nodiscard]] PointSet read_points(const std::string& path);

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "ramiform/core/context.h"
+#include "ramiform/field/field.h"
 
 namespace ramiform {
 
@@ -78,6 +79,11 @@ class ScriptSession {
   std::vector<std::string> commit();
   /// Removes every staged output (after a failure). Never throws.
   void discard() noexcept;
+
+  /// The field of the shape `name` defined so far (for `ramiform particles SCRIPT.rf:NAME`);
+  /// throws InvalidArgument for an unknown name (suggesting the closest) or an object that is
+  /// not a shape.
+  [[nodiscard]] FieldPtr shape(const std::string& name) const;
 
   /// Names of all commands, sorted.
   [[nodiscard]] static std::vector<std::string> command_names();
