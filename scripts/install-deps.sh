@@ -18,8 +18,10 @@ packages=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libnanoflann
 # libopenvdb-dev (10.0.1 on bookworm) does not depend on what its headers and CMake module need:
 # Boost.Iostreams (FindOpenVDB.cmake requires it; the headers include Boost) and log4cplus
 # (libopenvdb links it). Hence the two extra packages.
+# Also Open3D's Python module for the reconstruction comparison (bench/compare_reconstruct.sh:
+# screened Poisson reconstruction of the same points; MIT, used from Python only).
 if [ "${1:-}" = "--bench" ]; then
-  packages+=(libopenvdb-dev libboost-iostreams-dev liblog4cplus-dev)
+  packages+=(libopenvdb-dev libboost-iostreams-dev liblog4cplus-dev python3-open3d)
 fi
 
 # `--fuzz`: Debian's clang 14 and its compiler-rt (libFuzzer, ASan and UBSan runtimes) for the

@@ -85,6 +85,8 @@ int main(int argc, char** argv) {
   cli::register_grow(app, action);
   cli::register_sample(app, action);
   cli::register_lsystem(app, action);
+  cli::register_reconstruct(app, action);
+  cli::register_particles(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

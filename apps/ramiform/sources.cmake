@@ -3,6 +3,7 @@
 set(RAMIFORM_CLI_CORE_SOURCES
   common.cpp
   mesh_job.cpp
+  reconstruct_job.cpp
   cmd_mesh.cpp)
 set(RAMIFORM_APP_SOURCES
   main.cpp
@@ -12,4 +13,5 @@ set(RAMIFORM_APP_SOURCES
   cmd_eval.cpp
   cmd_generate.cpp
   cmd_script.cpp
-  cmd_grow.cpp)
+  cmd_grow.cpp
+  cmd_points.cpp)

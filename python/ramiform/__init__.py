@@ -17,11 +17,16 @@ try:
         grow,
         marching_cubes,
         mesh_skeleton,
+        mpu_field,
+        orient_normals,
+        particles,
         patch_field,
         polygonize_tets,
         read_mesh,
         read_points,
+        read_surface_points,
         read_skeleton,
+        reconstruct,
         run_script,
         segment_field,
         skeleton_distances,
@@ -65,7 +70,8 @@ else:
 
 __all__ = [
     "Field", "Mesh", "Skeleton", "bezier_field", "branching_tree", "check", "grow",
-    "marching_cubes", "mesh_file", "mesh_skeleton", "patch_field", "polygonize_tets",
-    "read_mesh", "read_points", "read_skeleton", "run_script", "segment_field",
+    "marching_cubes", "mesh_file", "mesh_skeleton", "mpu_field", "orient_normals", "particles",
+    "patch_field", "polygonize_tets", "read_mesh", "read_points", "read_skeleton",
+    "read_surface_points", "reconstruct", "run_script", "segment_field",
     "skeleton_distances", "skeleton_field", "superquadric_field", "write_mesh", "write_skeleton",
 ]

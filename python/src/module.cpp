@@ -35,15 +35,18 @@
 #include "commands.h"
 #include "common.h"
 #include "mesh_job.h"
+#include "reconstruct_job.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/field/anisotropic.h"
 #include "ramiform/field/equipotential.h"
 #include "ramiform/grow/space_colonization.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/points_io.h"
+#include "ramiform/io/surface_points.h"
 #include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/deviation.h"
 #include "ramiform/mesh/normals.h"
+#include "ramiform/particles/surface_particles.h"
 #include "ramiform/polygonize/particles.h"
 #include "ramiform/script/script.h"
 #include "ramiform/skeleton/generate.h"
@@ -385,6 +388,183 @@ Mesh polygonize(const FieldHandle& f, const Skeleton* skeleton, const MeshJobOpt
     out.stats["triangles"] = out.mesh.triangle_count();
   });
   return out;
+}
+
+/// (N, 3) array copied from points.
+py::array_t<double> points_array(const std::vector<Vec3>& p) {
+  py::array_t<double> a({static_cast<py::ssize_t>(p.size()), py::ssize_t{3}});
+  double* d = a.mutable_data();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    for (int k = 0; k < 3; ++k) d[3 * i + static_cast<std::size_t>(k)] = p[i][k];
+  }
+  return a;
+}
+
+/// A PointSet from positions (N, 3) and optional normals (N, 3).
+PointSet point_set(const Doubles& points, const std::optional<Doubles>& normals) {
+  PointSet s;
+  s.positions = to_points(points, "points");
+  if (normals) {
+    s.normals = to_points(*normals, "normals");
+    if (s.normals.size() != s.positions.size()) {
+      throw InvalidArgument("normals: " + std::to_string(s.normals.size()) + " rows for " +
+                            std::to_string(s.positions.size()) + " points");
+    }
+  }
+  return s;
+}
+
+void bind_points(py::module_& m) {
+  const SurfacePointsOptions sp;
+  m.def(
+      "read_surface_points",
+      [](const std::string& path, std::size_t mesh_samples, std::uint64_t seed) {
+        SurfacePointsOptions o;
+        o.mesh_samples = mesh_samples;
+        o.seed = seed;
+        const SurfacePoints r = read_surface_points(path, o);
+        py::object normals = py::none();
+        if (r.points.has_normals()) normals = points_array(r.points.normals);
+        return py::make_tuple(points_array(r.points.positions), normals);
+      },
+      py::arg("path"), py::kw_only(), py::arg("mesh_samples") = sp.mesh_samples,
+      py::arg("seed") = sp.seed,
+      "Oriented points for reconstruction: a point cloud as it is, a mesh (.ply with faces, "
+      ".off, .obj) as `mesh_samples` area-weighted points with their triangles' normals. "
+      "Returns (points (N, 3), normals (N, 3) or None).");
+  const NormalOptions no;
+  m.def(
+      "orient_normals",
+      [](const Doubles& points, const std::optional<Doubles>& normals, int neighbours,
+         int threads) {
+        NormalOptions o;
+        o.neighbours = neighbours;
+        const PointSet in = point_set(points, normals);
+        Context ctx = make_context(threads);
+        NormalReport r;
+        PointSet out;
+        interruptible(ctx, [&] { out = orient_normals(in, o, &r, &ctx); });
+        py::dict d;
+        d["estimated"] = r.estimated;
+        d["flipped"] = r.flipped;
+        d["components"] = r.components;
+        return py::make_tuple(points_array(out.normals), d);
+      },
+      py::arg("points"), py::arg("normals") = py::none(), py::kw_only(),
+      py::arg("neighbours") = no.neighbours, py::arg("threads") = 0,
+      "Unit outward normals (N, 3) for the points: estimated (PCA over `neighbours`) when "
+      "normals is None, else the given ones with the inconsistent ones flipped; and a report "
+      "{'estimated', 'flipped', 'components'}.");
+  const MpuOptions mo;
+  m.def(
+      "mpu_field",
+      [](const Doubles& points, const std::optional<Doubles>& normals, double tolerance,
+         double support, int min_points, int max_depth, bool sharp_features, int neighbours,
+         double iso, int threads) {
+        NormalOptions n;
+        n.neighbours = neighbours;
+        MpuOptions o;
+        o.tolerance = tolerance;
+        o.support = support;
+        o.min_points = min_points;
+        o.max_depth = max_depth;
+        o.sharp_features = sharp_features;
+        o.iso = iso;
+        const PointSet in = point_set(points, normals);
+        Context ctx = make_context(threads);
+        FieldHandle f;
+        interruptible(ctx, [&] {
+          const PointSet oriented = orient_normals(in, n, nullptr, &ctx);
+          f.field = make_mpu_field(oriented, o, nullptr, &ctx);
+        });
+        return f;
+      },
+      py::arg("points"), py::arg("normals") = py::none(), py::kw_only(),
+      py::arg("tolerance") = mo.tolerance, py::arg("support") = mo.support,
+      py::arg("min_points") = mo.min_points, py::arg("max_depth") = mo.max_depth,
+      py::arg("sharp_features") = mo.sharp_features, py::arg("neighbours") = no.neighbours,
+      py::arg("iso") = mo.iso, py::arg("threads") = 0,
+      "A multi-level partition of unity implicit (Ohtake et al. 2003) through the points "
+      "(N, 3), their normals oriented (or estimated when None) first; a Field like any other "
+      "(docs/reconstruction.md).");
+  const cli::ReconstructOptions ro;
+  m.def(
+      "reconstruct",
+      [](const std::string& path, std::optional<std::string> out, double tolerance,
+         std::optional<double> cell, double spacing_cells, std::size_t mesh_samples,
+         std::uint64_t seed, int threads) {
+        cli::ReconstructOptions o;
+        o.mpu.tolerance = tolerance;
+        if (cell) o.cell_size = *cell;
+        o.spacing_cells = spacing_cells;
+        o.read.mesh_samples = mesh_samples;
+        o.read.seed = seed;
+        Context ctx = make_context(threads);
+        Mesh result;
+        interruptible(ctx, [&] {
+          cli::PointSurface s = cli::build_point_surface(path, o, ctx, [](const char*) {});
+          result.mesh = cli::mesh_point_surface(s, o, ctx);
+          result.stats = s.stats;
+          if (out) write_mesh(result.mesh, *out);
+        });
+        return result;
+      },
+      py::arg("path"), py::kw_only(), py::arg("out") = py::none(),
+      py::arg("tolerance") = ro.mpu.tolerance, py::arg("cell") = py::none(),
+      py::arg("spacing_cells") = ro.spacing_cells, py::arg("mesh_samples") = ro.read.mesh_samples,
+      py::arg("seed") = ro.read.seed, py::arg("threads") = 0,
+      "`ramiform reconstruct`: the MPU surface of a point cloud or a mesh file, meshed by "
+      "marching cubes at `cell` (default `spacing_cells` median point spacings); the Mesh's "
+      "stats hold the same figures as --stats. Written to `out` when given.");
+  const ParticleOptions po;
+  m.def(
+      "particles",
+      [](const FieldHandle& f, std::size_t count, std::size_t per_cell, int iterations,
+         std::uint64_t seed, int cell_depth, double flatness, int threads) {
+        ParticleOptions o;
+        o.count = count;
+        o.per_cell = per_cell;
+        o.iterations = iterations;
+        o.seed = seed;
+        o.max_depth = cell_depth;
+        o.flatness_deg = flatness;
+        std::vector<ParticleCell> cells;
+        for (const MpuCell& c : mpu_leaf_cells(*f.field)) cells.push_back({c.box, c.depth});
+        Context ctx = make_context(threads);
+        ParticleSystem sys;
+        ParticleStats st;
+        interruptible(ctx, [&] { sys = spread_particles(*f.field, o, cells, {}, &st, &ctx); });
+        const std::size_t n = sys.particles.size();
+        py::array_t<double> pos({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+        py::array_t<double> nor({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+        py::array_t<double> delta(static_cast<py::ssize_t>(n));
+        for (std::size_t i = 0; i < n; ++i) {
+          for (int k = 0; k < 3; ++k) {
+            pos.mutable_data()[3 * i + static_cast<std::size_t>(k)] = sys.particles[i].position[k];
+            nor.mutable_data()[3 * i + static_cast<std::size_t>(k)] = sys.particles[i].normal[k];
+          }
+          delta.mutable_data()[i] = sys.particles[i].delta;
+        }
+        py::dict d;
+        d["positions"] = pos;
+        d["normals"] = nor;
+        d["delta"] = delta;
+        py::dict stats;
+        stats["particles"] = st.particles;
+        stats["cells"] = st.cells;
+        stats["iterations"] = st.iterations;
+        stats["residual_max"] = st.residual_max;
+        stats["spacing_cv"] = st.spacing_cv;
+        d["stats"] = stats;
+        return d;
+      },
+      py::arg("field"), py::kw_only(), py::arg("count") = po.count,
+      py::arg("per_cell") = po.per_cell, py::arg("iterations") = po.iterations,
+      py::arg("seed") = po.seed, py::arg("cell_depth") = po.max_depth,
+      py::arg("flatness") = po.flatness_deg, py::arg("threads") = 0,
+      "Particles spread evenly over the field's surface (docs/particles.md): about `count` in "
+      "all, or `per_cell` per cell of an MPU field's octree or of adaptive cells. Returns "
+      "{'positions' (K, 3), 'normals' (K, 3), 'delta' (K,), 'stats'}.");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1202,4 +1382,5 @@ PYBIND11_MODULE(_ramiform, m) {
   bind_skeletal(m);
   bind_polygonizers(m);
   bind_grow_and_script(m);
+  bind_points(m);
 }

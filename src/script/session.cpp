@@ -158,6 +158,7 @@ const std::map<std::string, const CommandSpec*>& command_table() {
     add_curve_commands(all);
     add_output_commands(all);
     add_growth_commands(all);
+    add_point_commands(all);
     return all;
   }();
   static const std::map<std::string, const CommandSpec*> table = [] {

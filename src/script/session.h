@@ -130,6 +130,7 @@ void add_curve_commands(std::vector<CommandSpec>& out);
 void add_output_commands(std::vector<CommandSpec>& out);
 void add_growth_commands(std::vector<CommandSpec>& out);
 void add_skeletal_commands(std::vector<CommandSpec>& out);
+void add_point_commands(std::vector<CommandSpec>& out);
 
 /// The arguments of one command line, with typed accessors that throw InputError pointing at
 /// the offending token.
