@@ -39,6 +39,9 @@ const double kSeparationCos = std::cos(40.0 * 3.14159265358979323846 / 180.0);
 constexpr std::size_t kMinClusterPoints = 4;
 // Relative ridge added to the normal equations (they are well conditioned in ball units).
 constexpr double kRidge = 1e-12;
+// The field is clipped to the points' box padded by this fraction of its diagonal (inside the
+// root cube: kClipMargin sqrt(3) < (kRootScale - 1) / 2).
+constexpr double kClipMargin = 0.02;
 // Background weight (s / (kBackgroundReach * root edge))^3 at distance s outside the root cube.
 constexpr double kBackgroundReach = 0.25;
 // Neighbours that must agree on the side of an auxiliary point (Ohtake §3).
@@ -279,7 +282,8 @@ bool cluster_normals(const std::vector<Vec3>& normals, const Vec3& mean, int k,
   centre[0] = farthest([&](const Vec3& m) { return m.dot(mean); });
   centre[1] = farthest([&](const Vec3& m) { return m.dot(centre[0]); });
   if (k == 3) {
-    centre[2] = farthest([&](const Vec3& m) { return std::max(m.dot(centre[0]), m.dot(centre[1])); });
+    centre[2] =
+        farthest([&](const Vec3& m) { return std::max(m.dot(centre[0]), m.dot(centre[1])); });
   }
   label.assign(n, 0);
   for (int iteration = 0; iteration < 4; ++iteration) {
@@ -494,13 +498,15 @@ class Fitter {
 
 class MpuField final : public detail::PointwiseField {
  public:
-  MpuField(double iso, std::vector<Node> nodes, std::vector<Leaf> leaves, std::vector<MpuCell> cells,
-           const Aabb& root, std::size_t point_count, const MpuStats& stats)
+  MpuField(double iso, std::vector<Node> nodes, std::vector<Leaf> leaves,
+           std::vector<MpuCell> cells, const Aabb& root, const Aabb& clip, std::size_t point_count,
+           const MpuStats& stats)
       : PointwiseField(iso),
         nodes_(std::move(nodes)),
         leaves_(std::move(leaves)),
         cells_(std::move(cells)),
         root_(root),
+        clip_(clip),
         background_reach_(kBackgroundReach * root.sizes().maxCoeff()),
         point_count_(point_count),
         stats_(stats) {
@@ -518,10 +524,9 @@ class MpuField final : public detail::PointwiseField {
 
   std::string describe() const override {
     return "MPU implicit, " + std::to_string(point_count_) + " points, " +
-           std::to_string(leaves_.size()) + " leaves (" +
-           std::to_string(stats_.general_quadrics) + " quadrics, " +
-           std::to_string(stats_.bivariate) + " bivariate, " + std::to_string(stats_.sharp) +
-           " sharp)";
+           std::to_string(leaves_.size()) + " leaves (" + std::to_string(stats_.general_quadrics) +
+           " quadrics, " + std::to_string(stats_.bivariate) + " bivariate, " +
+           std::to_string(stats_.sharp) + " sharp)";
   }
 
   [[nodiscard]] const std::vector<MpuCell>& cells() const { return cells_; }
@@ -546,7 +551,8 @@ class MpuField final : public detail::PointwiseField {
       const Node& node = nodes_[static_cast<std::size_t>(stack[static_cast<std::size_t>(--top)])];
       if (!node.reach.contains(p)) continue;
       if (node.leaf < 0) {
-        for (std::int32_t c = 7; c >= 0; --c) stack[static_cast<std::size_t>(top++)] = node.first_child + c;
+        for (std::int32_t c = 7; c >= 0; --c)
+          stack[static_cast<std::size_t>(top++)] = node.first_child + c;
         continue;
       }
       const Leaf& leaf = leaves_[static_cast<std::size_t>(node.leaf)];
@@ -571,16 +577,16 @@ class MpuField final : public detail::PointwiseField {
     // The background: s (distance to the root cube) with weight (s / reach)^3 outside it.
     const Vec3 below = root_.min() - p, above = p - root_.max();
     const Vec3 out = below.cwiseMax(above).cwiseMax(Vec3::Zero());
-    const double s = out.norm();
+    const double s = out.stableNorm();  // no overflow far away
     Vec3 gs = Vec3::Zero();
     if (s > 0) {
       for (int k = 0; k < 3; ++k)
         gs[k] = below[k] > 0 ? -below[k] / s : above[k] > 0 ? above[k] / s : 0.0;
     }
     if (!(sw > 0)) {
-      // Beyond every support (the root cube is covered, so s > 0): f = s.
+      // Beyond every support (the root cube is covered, so s > 0): f = s, then the clip.
       if (grad != nullptr) *grad = gs;
-      return s;
+      return clipped(p, s, grad);
     }
     if (s > 0) {  // within some support, so s is bounded and w0 finite
       const double a = s / background_reach_;
@@ -594,36 +600,44 @@ class MpuField final : public detail::PointwiseField {
       }
     }
     const double f = swq / sw;
-    // Clip: f >= the signed distance to the root cube, so nothing outside it is inside. An
-    // exact signed distance never goes below it inside the cube (the surface lies between a
-    // point and the cube's boundary), so the clip only raises values that are already < 0.
-    const double cube = s > 0 ? s : -(p - root_.min()).cwiseMin(root_.max() - p).minCoeff();
-    if (cube > f) {
-      if (grad != nullptr) *grad = s > 0 ? gs : inward_face_gradient(p);
-      return cube;
-    }
     if (grad != nullptr) *grad = (gswq - f * gsw) / sw;
-    return f;
+    return clipped(p, f, grad);
   }
 
-  // Gradient of minus the distance to the nearest face of the root cube, from inside.
-  Vec3 inward_face_gradient(const Vec3& p) const {
-    const Vec3 lo = p - root_.min(), hi = root_.max() - p;
-    int axis = 0;
-    double best = kInf, sign = 1;
-    for (int k = 0; k < 3; ++k) {
-      if (lo[k] < best) {
-        best = lo[k];
-        axis = k;
-        sign = -1;
-      }
-      if (hi[k] < best) {
-        best = hi[k];
-        axis = k;
-        sign = 1;
+  // max(f, signed distance to the clip box), so that nothing outside the box is inside. An
+  // exact signed distance to a surface inside a convex box never goes below the box's signed
+  // distance (the surface lies between an inside point and the box's boundary), so the clip
+  // only raises values that are already < 0 inside the box: the surface does not move.
+  double clipped(const Vec3& p, double f, Vec3* grad) const {
+    const Vec3 below = clip_.min() - p, above = p - clip_.max();
+    const Vec3 out = below.cwiseMax(above).cwiseMax(Vec3::Zero());
+    const double s = out.stableNorm();  // no overflow far away
+    const double box = s > 0 ? s : -(p - clip_.min()).cwiseMin(clip_.max() - p).minCoeff();
+    if (!(box > f)) return f;
+    if (grad != nullptr) {
+      if (s > 0) {
+        for (int k = 0; k < 3; ++k)
+          (*grad)[k] = below[k] > 0 ? -below[k] / s : above[k] > 0 ? above[k] / s : 0.0;
+      } else {
+        const Vec3 lo = p - clip_.min(), hi = clip_.max() - p;
+        int axis = 0;
+        double best = kInf, sign = 1;
+        for (int k = 0; k < 3; ++k) {
+          if (lo[k] < best) {
+            best = lo[k];
+            axis = k;
+            sign = -1;
+          }
+          if (hi[k] < best) {
+            best = hi[k];
+            axis = k;
+            sign = 1;
+          }
+        }
+        *grad = sign * Vec3::Unit(axis);
       }
     }
-    return sign * Vec3::Unit(axis);
+    return box;
   }
 
   // [min lo_i, max hi_i] over the local functions that can contribute in the box (f_mpu is
@@ -641,8 +655,8 @@ class MpuField final : public detail::PointwiseField {
       }
       const Leaf& leaf = leaves_[static_cast<std::size_t>(node.leaf)];
       if (!(squared_distance(box, leaf.centre) < leaf.radius * leaf.radius)) continue;
-      const Aabb clipped = box.intersection(
-          Aabb(leaf.centre - Vec3::Constant(leaf.radius), leaf.centre + Vec3::Constant(leaf.radius)));
+      const Aabb clipped = box.intersection(Aabb(leaf.centre - Vec3::Constant(leaf.radius),
+                                                 leaf.centre + Vec3::Constant(leaf.radius)));
       const Interval iv = leaf.fit.bound(clipped.center() - leaf.centre, 0.5 * clipped.sizes());
       lo = std::min(lo, iv.lo);
       hi = std::max(hi, iv.hi);
@@ -660,11 +674,11 @@ class MpuField final : public detail::PointwiseField {
       magnitude = std::max(magnitude, s_hi);
     }
     if (lo > hi) return {0, 0};  // cannot happen: the root cube is covered by the leaves
-    // The clip max(f, signed distance to the cube); the signed distance is 1-Lipschitz.
+    // The clip max(f, signed distance to the clip box); the signed distance is 1-Lipschitz.
     const Vec3 c = box.center();
     const double half = 0.5 * box.diagonal().norm();
-    const double sc = root_.contains(c) ? -(c - root_.min()).cwiseMin(root_.max() - c).minCoeff()
-                                        : std::sqrt(squared_distance(root_, c));
+    const double sc = clip_.contains(c) ? -(c - clip_.min()).cwiseMin(clip_.max() - c).minCoeff()
+                                        : std::sqrt(squared_distance(clip_, c));
     lo = std::max(lo, sc - half);
     hi = std::max(hi, sc + half);
     magnitude = std::max(magnitude, std::abs(sc) + half);
@@ -705,6 +719,7 @@ class MpuField final : public detail::PointwiseField {
   std::vector<Leaf> leaves_;
   std::vector<MpuCell> cells_;
   Aabb root_;
+  Aabb clip_;  // the points' box padded by kClipMargin of its diagonal
   double background_reach_;
   std::size_t point_count_;
   MpuStats stats_;
@@ -715,11 +730,13 @@ void validate(const PointSet& points, const MpuOptions& o) {
   if (!std::isfinite(o.iso))
     throw InvalidArgument("mpu: iso must be finite, got " + format_number(o.iso));
   if (!std::isfinite(o.tolerance) || !(o.tolerance > 0))
-    throw InvalidArgument("mpu: tolerance must be finite and > 0, got " + format_number(o.tolerance));
+    throw InvalidArgument("mpu: tolerance must be finite and > 0, got " +
+                          format_number(o.tolerance));
   if (!std::isfinite(o.support) || !(o.support > 0.5) || o.support > 100)
     throw InvalidArgument("mpu: support must be in (0.5, 100], got " + format_number(o.support));
   if (o.min_points < 6 || o.min_points > 100000)
-    throw InvalidArgument("mpu: min_points must be in 6..100000, got " + std::to_string(o.min_points));
+    throw InvalidArgument("mpu: min_points must be in 6..100000, got " +
+                          std::to_string(o.min_points));
   if (o.max_depth < 0 || o.max_depth > 20)
     throw InvalidArgument("mpu: max_depth must be in 0..20, got " + std::to_string(o.max_depth));
   const std::size_t n = points.positions.size();
@@ -758,8 +775,11 @@ FieldPtr make_mpu_field(const PointSet& points, const MpuOptions& options, MpuSt
   if (!(diagonal > 0)) throw InvalidArgument("mpu: all points coincide");
   const double tolerance = options.tolerance * diagonal;
   const double edge = kRootScale * box.sizes().maxCoeff();
-  const Aabb root(box.center() - Vec3::Constant(0.5 * edge), box.center() + Vec3::Constant(0.5 * edge));
+  const Aabb root(box.center() - Vec3::Constant(0.5 * edge),
+                  box.center() + Vec3::Constant(0.5 * edge));
 
+  const Aabb clip(box.min() - Vec3::Constant(kClipMargin * diagonal),
+                  box.max() + Vec3::Constant(kClipMargin * diagonal));
   const detail::PointKdTree tree(pos);
   const Fitter fitter(pos, nrm, tree, options);
 
@@ -829,7 +849,8 @@ FieldPtr make_mpu_field(const PointSet& points, const MpuOptions& options, MpuSt
                         leaf.centre + Vec3::Constant(leaf.radius));
     } else {
       node.reach = Aabb();
-      for (int c = 0; c < 8; ++c) node.reach.extend(nodes[static_cast<std::size_t>(node.first_child + c)].reach);
+      for (int c = 0; c < 8; ++c)
+        node.reach.extend(nodes[static_cast<std::size_t>(node.first_child + c)].reach);
     }
   }
   // The leaf cells in depth-first order.
@@ -848,7 +869,7 @@ FieldPtr make_mpu_field(const PointSet& points, const MpuOptions& options, MpuSt
   st.cells = nodes.size();
   st.leaves = leaves.size();
   auto field = std::make_shared<MpuField>(options.iso, std::move(nodes), std::move(leaves),
-                                          std::move(cells), root, pos.size(), st);
+                                          std::move(cells), root, clip, pos.size(), st);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats != nullptr) *stats = st;
   return field;

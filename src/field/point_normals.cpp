@@ -39,7 +39,8 @@ PointSet orient_normals(const PointSet& points, const NormalOptions& options, No
                           std::to_string(options.neighbours));
   }
   const std::size_t n = points.positions.size();
-  if (n < 3) throw InvalidArgument("orient normals: needs at least 3 points, got " + std::to_string(n));
+  if (n < 3)
+    throw InvalidArgument("orient normals: needs at least 3 points, got " + std::to_string(n));
   if (n > std::numeric_limits<std::uint32_t>::max())
     throw InvalidArgument("orient normals: too many points (" + std::to_string(n) + ")");
   const bool given = points.has_normals();
@@ -49,7 +50,8 @@ PointSet orient_normals(const PointSet& points, const NormalOptions& options, No
   }
   for (std::size_t i = 0; i < n; ++i) {
     if (!points.positions[i].allFinite())
-      throw InvalidArgument("orient normals: point " + std::to_string(i) + " has a non-finite position");
+      throw InvalidArgument("orient normals: point " + std::to_string(i) +
+                            " has a non-finite position");
     if (given && (!points.normals[i].allFinite() || !(points.normals[i].norm() > 0))) {
       throw InvalidArgument("orient normals: point " + std::to_string(i) +
                             " has a zero or non-finite normal");
@@ -140,6 +142,17 @@ PointSet orient_normals(const PointSet& points, const NormalOptions& options, No
     }
   }
 
+  // Hoppe's cost 1 - |n_v . n_w|, plus |n . e| at both ends for the edge's unit direction e:
+  // an edge across a thin sheet joins nearly opposite normals (Hoppe's cost about 0) but runs
+  // along them, so the added term makes the propagation stay on one side.
+  auto edge_cost = [&](std::uint32_t v, std::uint32_t w) {
+    const Vec3& a = out.normals[v];
+    const Vec3& b = out.normals[w];
+    const Vec3 d = pos[w] - pos[v];
+    const double len = d.norm();
+    const double along = len > 0 ? (std::abs(a.dot(d)) + std::abs(b.dot(d))) / len : 0.0;
+    return 1 - std::abs(a.dot(b)) + along;
+  };
   // Prim's minimum spanning tree from each start, orienting every point as it joins the tree.
   using Entry = std::tuple<double, std::uint32_t, std::uint32_t>;  // cost, point, tree parent
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
@@ -156,8 +169,7 @@ PointSet orient_normals(const PointSet& points, const NormalOptions& options, No
       visited[v] = 1;
       if (v != from && out.normals[v].dot(out.normals[from]) < 0) out.normals[v] = -out.normals[v];
       for (const std::uint32_t w : adjacent[v]) {
-        if (visited[w] == 0)
-          queue.emplace(1 - std::abs(out.normals[v].dot(out.normals[w])), w, v);
+        if (visited[w] == 0) queue.emplace(edge_cost(v, w), w, v);
       }
     }
     check_cancel(ctx);

@@ -54,7 +54,8 @@ inline PointSet torus_cloud(int n, std::uint64_t seed) {
     // Area element (R + r cos θ): accept with probability proportional to it.
     if (rng.uniform() * (kTorusMajor + kTorusMinor) > kTorusMajor + kTorusMinor * std::cos(theta))
       continue;
-    const Vec3 n3(std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi), std::sin(theta));
+    const Vec3 n3(std::cos(theta) * std::cos(phi), std::cos(theta) * std::sin(phi),
+                  std::sin(theta));
     const Vec3 ring(kTorusMajor * std::cos(phi), kTorusMajor * std::sin(phi), 0);
     s.positions.push_back(ring + kTorusMinor * n3);
     s.normals.push_back(n3);
@@ -103,15 +104,15 @@ inline double diagonal(const PointSet& s) {
 }  // namespace ramiform::test
 
 /// Loads a shared model as an oriented point cloud into `cloud`, or skips the test.
-#define RAMIFORM_LOAD_MODEL_OR_SKIP(name, mesh_samples, cloud)                                   \
-  do {                                                                                        \
-    const auto dir_ = ::ramiform::test::models_dir();                                         \
-    if (dir_.empty())                                                                         \
-      GTEST_SKIP() << "shared models not found (" << ::ramiform::test::shared_data_dir()       \
-                   << "/models): a clone without ../shared skips the model tests";             \
-    const std::filesystem::path file_ = dir_ / (name);                                        \
-    const std::string ext_ = file_.extension().string();                                      \
-    (cloud) = ext_ == ".xyz" || ext_ == ".pwn"                                                \
-                  ? ::ramiform::read_points(file_.string())                                   \
-                  : ::ramiform::test::sample_mesh(file_, (mesh_samples), 7);                  \
+#define RAMIFORM_LOAD_MODEL_OR_SKIP(name, mesh_samples, cloud)                           \
+  do {                                                                                   \
+    const auto dir_ = ::ramiform::test::models_dir();                                    \
+    if (dir_.empty())                                                                    \
+      GTEST_SKIP() << "shared models not found (" << ::ramiform::test::shared_data_dir() \
+                   << "/models): a clone without ../shared skips the model tests";       \
+    const std::filesystem::path file_ = dir_ / (name);                                   \
+    const std::string ext_ = file_.extension().string();                                 \
+    (cloud) = ext_ == ".xyz" || ext_ == ".pwn"                                           \
+                  ? ::ramiform::read_points(file_.string())                              \
+                  : ::ramiform::test::sample_mesh(file_, (mesh_samples), 7);             \
   } while (false)

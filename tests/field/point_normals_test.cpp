@@ -30,7 +30,8 @@ Agreement compare(const std::vector<Vec3>& got, const std::vector<Vec3>& referen
     EXPECT_NEAR(got[i].norm(), 1.0, 1e-12);
     const double c = got[i].dot(r);
     if (c < 0) ++a.against;
-    a.worst_deg = std::max(a.worst_deg, std::atan2(got[i].cross(r).norm(), std::abs(c)) * 180 / 3.141592653589793);
+    a.worst_deg = std::max(
+        a.worst_deg, std::atan2(got[i].cross(r).norm(), std::abs(c)) * 180 / 3.141592653589793);
   }
   return a;
 }

@@ -49,21 +49,22 @@ namespace ramiform {
 
 /// Options of the MPU fit.
 struct MpuOptions {
-  double iso = 0.0;         ///< iso of the returned field (finite)
-  double tolerance = 1e-3;  ///< ε0: max local fit error, fraction of the points' bbox diagonal (> 0)
-  double support = 0.75;    ///< α: support radius / cell diagonal (>= 0.5, so that the supports
-                            ///< of a cell's leaves cover it)
-  int min_points = 15;      ///< N_min: fewest points in a support ball (>= 6)
-  int max_depth = 12;       ///< deepest octree level (root = 0), 0..20
+  double iso = 0.0;  ///< iso of the returned field (finite)
+  double tolerance =
+      1e-3;               ///< ε0: max local fit error, fraction of the points' bbox diagonal (> 0)
+  double support = 0.75;  ///< α: support radius / cell diagonal (>= 0.5, so that the supports
+                          ///< of a cell's leaves cover it)
+  int min_points = 15;    ///< N_min: fewest points in a support ball (>= 6)
+  int max_depth = 12;     ///< deepest octree level (root = 0), 0..20
   /// Piecewise quadrics at edges and corners (Ohtake §4); false: plain quadrics only.
   bool sharp_features = true;
 };
 
 /// What the fit did.
 struct MpuStats {
-  std::size_t points = 0;  ///< input points
-  std::size_t cells = 0;   ///< octree cells, leaves included
-  std::size_t leaves = 0;  ///< cells with a local function
+  std::size_t points = 0;            ///< input points
+  std::size_t cells = 0;             ///< octree cells, leaves included
+  std::size_t leaves = 0;            ///< cells with a local function
   std::size_t general_quadrics = 0;  ///< leaf fits by kind: general quadric,
   std::size_t bivariate = 0;         ///< bivariate quadratic over the tangent plane,
   std::size_t sharp = 0;             ///< piecewise (edge or corner)
@@ -77,9 +78,9 @@ struct MpuStats {
 /// be empty: every child of a subdivided cell is a leaf with its own fit, also where it holds
 /// no point.
 struct MpuCell {
-  Aabb box;                            ///< the cubic cell, model units
-  int depth = 0;                       ///< octree level, root = 0
-  std::vector<std::uint32_t> points;   ///< indices into the input points, ascending
+  Aabb box;                           ///< the cubic cell, model units
+  int depth = 0;                      ///< octree level, root = 0
+  std::vector<std::uint32_t> points;  ///< indices into the input points, ascending
 };
 
 /// Fits an MPU implicit to oriented points. `points.normals` are required, one outward normal

@@ -6,7 +6,10 @@
 /// Consistently oriented point normals (Hoppe, DeRose, Duchamp, McDonald & Stuetzle 1992,
 /// "Surface reconstruction from unorganized points", SIGGRAPH, §3.2 tangent planes by principal
 /// component analysis over the k nearest neighbours, §3.3 consistent orientation by propagation
-/// along a minimum spanning tree of the neighbour graph with edge cost 1 - |n_i · n_j|).
+/// along a minimum spanning tree of the neighbour graph with edge cost 1 - |n_i · n_j|). The cost
+/// here adds |n_i · e| + |n_j · e| for the edge's unit direction e (0 between neighbours on one
+/// tangent plane, up to 2 across a thin sheet, where Hoppe's cost alone is about 0 and would
+/// carry the orientation to the other side).
 ///
 /// The neighbour graph joins every point to its k nearest neighbours (symmetrized). In each
 /// connected component the propagation starts at the point with the largest x (ties: the lowest
@@ -16,8 +19,8 @@
 /// against its tree parent's. Neighbours, costs and ties are exact functions of the input, so
 /// the result does not depend on the thread count.
 ///
-/// Weak where the graph joins the two sides of a sheet thinner than the neighbour spacing
-/// (normals there are nearly opposite, so such edges are cheap and flip orientation).
+/// Still weak where a sheet is thinner than the neighbour spacing almost everywhere (the k nearest
+/// neighbours of a point then lie mostly on the other side).
 
 #include <cstddef>
 
@@ -56,7 +59,6 @@ struct NormalReport {
 /// position or a zero or non-finite normal. Runs on `ctx`'s threads and checks it for
 /// cancellation.
 [[nodiscard]] PointSet orient_normals(const PointSet& points, const NormalOptions& options = {},
-                                      NormalReport* report = nullptr,
-                                      const Context* ctx = nullptr);
+                                      NormalReport* report = nullptr, const Context* ctx = nullptr);
 
 }  // namespace ramiform
