@@ -9,33 +9,47 @@
 /// modelling by Proença, Jorge & Sousa 2008, "Suggestive contours over point-set implicits"
 /// (GRAPP), §2.1.
 ///
-/// An octree over the points' bounding cube is subdivided while a cell's local fit misses its
-/// points by more than ε0 (`tolerance` × the points' bounding-box diagonal). A cell of diagonal
-/// d has a support ball of radius R = α d (α = `support`) around its centre, grown by 10 %
-/// steps (R ← R + 0.1 R) until it holds at least N_min (`min_points`) points. Its local
-/// function Q is fitted to the points in the ball, each weighted by the ball's weight:
+/// An octree over the points' bounding cube (enlarged by 10 %) is subdivided while a cell's local
+/// fit misses its points by more than ε0 (`tolerance` × the points' bounding-box diagonal). A cell
+/// of diagonal d has a ball of radius R = α d (α = `support`) around its centre; to fit, the ball
+/// grows by 10 % steps (R ← R + 0.1 R) until it holds at least N_min (`min_points`) points, and
+/// the local function Q is fitted to the points in it, each weighted by b(3 r / (2 R)):
 ///
 ///   - a bivariate quadratic polynomial over the tangent plane (w = h(u, v) in the frame of the
 ///     weighted mean normal), Q = w - h(u, v), when every normal in the ball is within 90° of
 ///     the mean normal;
 ///   - otherwise, with `sharp_features`, when the ball holds at least 2 N_min points whose
-///     normals form two (an edge) or three (a corner) tight clusters: one bivariate quadratic
-///     per cluster, combined with max (convex) or min (concave) — Ohtake §4's Boolean
-///     combination; corners that are neither all convex nor all concave use a general quadric;
+///     normals form two (an edge) or three (a corner) tight clusters (every normal within 20° of
+///     its cluster's mean, means more than 40° apart): one bivariate quadratic per cluster,
+///     combined with max (convex) or min (concave), Ohtake §4's Boolean combination; corners
+///     that are neither all convex nor all concave use a general quadric;
 ///   - otherwise a general quadric Q(x) = x^T A x + b^T x + c.
 ///
-/// Deviation from the paper: instead of Ohtake's auxiliary off-surface points, the general
-/// quadric is fitted to Q(p_i) = 0 and grad Q(p_i) = n_i together (weighted least squares), and
-/// the bivariate polynomial also matches the slopes the normals give; both make Q close to a
-/// signed distance near its points. The local error is ε = max |Q(p_i)| / |grad Q(p_i)| over
-/// the ball's points (Taubin's first-order distance). A cell whose initial ball (R = α d) holds
-/// fewer than N_min points is not subdivided (depth follows the sampling density).
+/// The local error is ε = max |Q(p_i)| / |grad Q(p_i)| (Taubin's first-order distance) over the
+/// points within α d. Deviations from the paper, each for robustness far from the points:
+///
+///   - the general quadric is fitted to Q(p_i) = 0 and grad Q(p_i) = n_i together (weighted least
+///     squares), and the bivariate polynomial also matches the slopes the normals give, instead of
+///     Ohtake's auxiliary off-surface values; both make Q close to a signed distance near its
+///     points;
+///   - Ohtake's auxiliary points serve as a check: at the cell's centre (and its corners for a
+///     general quadric or a sparse cell) where the 6 nearest points' tangent planes agree on a
+///     side, Q must agree. A cell that fails is subdivided; a sparse cell (fewer than N_min points
+///     within α d, which is never subdivided: depth follows the sampling density) that fails
+///     gets the tangent plane of the point nearest to its centre;
+///   - the support (the weight's radius) stays α d even when the fitting ball grew: a grown
+///     support reaches where Q extrapolates (a concave patch's paraboloid is negative all around).
 ///
 /// The leaves blend as f_mpu = sum_i w_i Q_i / sum_i w_i with w_i(x) = b(3 |x - c_i| / (2 R_i)),
-/// b the quadratic B-spline (C^1, support |t| < 3/2). Q_i are negative inside, so the field
-/// returned is iso - f_mpu (> iso inside, |grad| ≈ 1 near the surface). Outside the root cube a
-/// background term iso - s(x), s the distance to the cube, is blended in with a weight that
-/// grows from 0 at the cube, so that beyond every leaf's support the field is iso - s < iso.
+/// b the quadratic B-spline (C^1, support |t| < 3/2; α > 0.5 makes the leaves' supports cover
+/// the root cube). Outside the root cube a background term (the distance s to the cube) is
+/// blended in with weight (s / (0.25 × cube edge))^3, and beyond every support f_mpu = s. Then
+/// f_mpu is clipped from below by the signed distance to the points' box padded by 2 % of its
+/// diagonal (this never moves the surface of an exact signed distance, and nothing outside the
+/// box is inside). Q_i are negative inside, so the field returned is iso - f_mpu: > iso inside,
+/// |grad| ≈ 1 near the surface, gradients exact (one-sided at the max/min of sharp fits and at
+/// the clip). bound(box) is [min lo_i, max hi_i] over the local functions whose supports meet
+/// the box, each bounded on the box clipped to its support by the centred form of the quadric.
 
 #include <cstddef>
 #include <cstdint>
