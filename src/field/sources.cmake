@@ -15,6 +15,8 @@ set(RAMIFORM_FIELD_SOURCES
   src/field/primitives.cpp
   src/field/warps.cpp
   src/field/rbf.cpp
+  src/field/mpu.cpp
+  src/field/point_normals.cpp
   src/field/curves.cpp
   src/field/bezier_curve.cpp
   src/field/surface_skeleton.cpp

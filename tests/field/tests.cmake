@@ -8,6 +8,8 @@ set(RAMIFORM_field_TESTS
   field/primitives_test.cpp
   field/warps_test.cpp
   field/rbf_test.cpp
+  field/mpu_test.cpp
+  field/point_normals_test.cpp
   field/equipotential_test.cpp
   field/curves_test.cpp
   field/surface_skeleton_test.cpp

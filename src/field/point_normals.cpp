@@ -1,0 +1,191 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "ramiform/field/point_normals.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <queue>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "field/point_kdtree.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/core/parallel.h"
+
+namespace ramiform {
+namespace {
+
+constexpr std::size_t kGrain = 256;
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
+  while (parent[i] != i) {
+    parent[i] = parent[parent[i]];
+    i = parent[i];
+  }
+  return i;
+}
+
+}  // namespace
+
+PointSet orient_normals(const PointSet& points, const NormalOptions& options, NormalReport* report,
+                        const Context* ctx) {
+  if (options.neighbours < 3 || options.neighbours > 256) {
+    throw InvalidArgument("orient normals: neighbours must be in 3..256, got " +
+                          std::to_string(options.neighbours));
+  }
+  const std::size_t n = points.positions.size();
+  if (n < 3)
+    throw InvalidArgument("orient normals: needs at least 3 points, got " + std::to_string(n));
+  if (n > std::numeric_limits<std::uint32_t>::max())
+    throw InvalidArgument("orient normals: too many points (" + std::to_string(n) + ")");
+  const bool given = points.has_normals();
+  if (given && points.normals.size() != n) {
+    throw InvalidArgument("orient normals: " + std::to_string(points.normals.size()) +
+                          " normals for " + std::to_string(n) + " points (need 0 or one each)");
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!points.positions[i].allFinite())
+      throw InvalidArgument("orient normals: point " + std::to_string(i) +
+                            " has a non-finite position");
+    if (given && (!points.normals[i].allFinite() || !(points.normals[i].norm() > 0))) {
+      throw InvalidArgument("orient normals: point " + std::to_string(i) +
+                            " has a zero or non-finite normal");
+    }
+  }
+  const auto k = std::min(static_cast<std::size_t>(options.neighbours), n - 1);
+  const std::vector<Vec3>& pos = points.positions;
+  const detail::PointKdTree tree(pos);
+
+  // k nearest neighbours of every point, itself excluded (coincident points count as others).
+  std::vector<std::uint32_t> knn(n * k);
+  parallel::for_chunks(
+      n, kGrain,
+      [&](std::size_t b, std::size_t e) {
+        std::vector<std::pair<std::uint32_t, double>> found;
+        for (std::size_t i = b; i < e; ++i) {
+          tree.nearest(pos[i], k + 1, found);
+          std::size_t m = 0;
+          for (const auto& [j, d2] : found) {
+            if (j == i || m == k) continue;
+            knn[i * k + m++] = j;
+          }
+          // If i was not among the k + 1 (more than k coincident points), drop the farthest.
+        }
+      },
+      ctx);
+
+  PointSet out;
+  out.positions = pos;
+  out.normals.resize(n);
+  if (given) {
+    for (std::size_t i = 0; i < n; ++i) out.normals[i] = points.normals[i].normalized();
+  } else {
+    parallel::for_chunks(
+        n, kGrain,
+        [&](std::size_t b, std::size_t e) {
+          for (std::size_t i = b; i < e; ++i) {
+            Vec3 mean = pos[i];
+            for (std::size_t m = 0; m < k; ++m) mean += pos[knn[i * k + m]];
+            mean /= static_cast<double>(k + 1);
+            Mat3 C = (pos[i] - mean) * (pos[i] - mean).transpose();
+            for (std::size_t m = 0; m < k; ++m) {
+              const Vec3 d = pos[knn[i * k + m]] - mean;
+              C += d * d.transpose();
+            }
+            const Eigen::SelfAdjointEigenSolver<Mat3> eig(C);
+            Vec3 v = eig.eigenvectors().col(0);
+            if (!(v.norm() > 0) || !v.allFinite()) v = Vec3::UnitZ();
+            out.normals[i] = v.normalized();
+          }
+        },
+        ctx);
+  }
+  check_cancel(ctx);
+
+  // The symmetric neighbour graph (adjacency lists, sorted, without duplicates).
+  std::vector<std::vector<std::uint32_t>> adjacent(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t m = 0; m < k; ++m) {
+      const std::uint32_t j = knn[i * k + m];
+      adjacent[i].push_back(j);
+      adjacent[j].push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  for (auto& a : adjacent) {
+    std::sort(a.begin(), a.end());
+    a.erase(std::unique(a.begin(), a.end()), a.end());
+  }
+  // Components, each with its root: the largest x, ties by the lowest index.
+  std::vector<std::uint32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (const std::uint32_t j : adjacent[i]) {
+      const std::uint32_t a = find_root(parent, static_cast<std::uint32_t>(i));
+      const std::uint32_t b = find_root(parent, j);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  std::vector<std::int64_t> start(n, -1);  // per union-find root: the component's start point
+  std::size_t components = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t r = find_root(parent, static_cast<std::uint32_t>(i));
+    if (start[r] < 0) {
+      start[r] = static_cast<std::int64_t>(i);
+      ++components;
+    } else if (pos[i].x() > pos[static_cast<std::size_t>(start[r])].x()) {
+      start[r] = static_cast<std::int64_t>(i);
+    }
+  }
+
+  // Hoppe's cost 1 - |n_v . n_w|, plus |n . e| at both ends for the edge's unit direction e:
+  // an edge across a thin sheet joins nearly opposite normals (Hoppe's cost about 0) but runs
+  // along them, so the added term makes the propagation stay on one side.
+  auto edge_cost = [&](std::uint32_t v, std::uint32_t w) {
+    const Vec3& a = out.normals[v];
+    const Vec3& b = out.normals[w];
+    const Vec3 d = pos[w] - pos[v];
+    const double len = d.norm();
+    const double along = len > 0 ? (std::abs(a.dot(d)) + std::abs(b.dot(d))) / len : 0.0;
+    return 1 - std::abs(a.dot(b)) + along;
+  };
+  // Prim's minimum spanning tree from each start, orienting every point as it joins the tree.
+  using Entry = std::tuple<double, std::uint32_t, std::uint32_t>;  // cost, point, tree parent
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  std::vector<char> visited(n, 0);
+  for (std::size_t r = 0; r < n; ++r) {
+    if (start[r] < 0) continue;
+    const auto s = static_cast<std::uint32_t>(start[r]);
+    if (out.normals[s].x() < 0) out.normals[s] = -out.normals[s];
+    queue.emplace(0.0, s, s);
+    while (!queue.empty()) {
+      const auto [cost, v, from] = queue.top();
+      queue.pop();
+      if (visited[v] != 0) continue;
+      visited[v] = 1;
+      if (v != from && out.normals[v].dot(out.normals[from]) < 0) out.normals[v] = -out.normals[v];
+      for (const std::uint32_t w : adjacent[v]) {
+        if (visited[w] == 0) queue.emplace(edge_cost(v, w), w, v);
+      }
+    }
+    check_cancel(ctx);
+  }
+
+  if (report != nullptr) {
+    *report = NormalReport{};
+    report->components = components;
+    if (given) {
+      for (std::size_t i = 0; i < n; ++i)
+        report->flipped += out.normals[i].dot(points.normals[i]) < 0 ? 1 : 0;
+    } else {
+      report->estimated = n;
+    }
+  }
+  return out;
+}
+
+}  // namespace ramiform
