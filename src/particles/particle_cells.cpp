@@ -53,7 +53,7 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
       pr = probe_cells(field, kept, ctx);
       for (std::size_t i = 0; i < kept.size(); ++i) {
         if (!pr[i].meets()) continue;
-        const bool curved = pr[i].points.size() < 2 || pr[i].spread_deg > options.flatness_deg;
+        const bool curved = pr[i].near_count < kMinFlatProbes || pr[i].spread_deg > options.flatness_deg;
         split[i] = depth < options.max_depth && curved;
         if (!split[i]) {
           leaves.push_back({kept[i], depth});

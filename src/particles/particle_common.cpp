@@ -254,28 +254,36 @@ std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> box
       [&](std::size_t c) {
         CellProbe& pr = out[c];
         const double h = boxes[c].sizes().maxCoeff();
-        Aabb grown = boxes[c];
-        grown.extend(boxes[c].min() - Vec3::Constant(1e-9 * h));
-        grown.extend(boxes[c].max() + Vec3::Constant(1e-9 * h));
+        const Aabb cell(boxes[c].min() - Vec3::Constant(1e-9 * h), boxes[c].max() + Vec3::Constant(1e-9 * h));
+        // The normals are judged over the surface near the cell (its box grown by half its
+        // size), so that a cell the surface only grazes is judged by the patch it belongs to.
+        const Aabb near(boxes[c].min() - Vec3::Constant(0.5 * h), boxes[c].max() + Vec3::Constant(0.5 * h));
         bool in = false, outside = false;
+        std::vector<Vec3> normals;
         for (int k = 0; k < kPer; ++k) {
           const std::size_t i = c * kPer + k;
           (first[i] > iso ? in : outside) = true;
-          if (res[i] <= 1e-3 * h && grown.contains(pts[i])) {
+          if (!(res[i] <= 1e-3 * h) || !near.contains(pts[i])) continue;
+          const Vec3 nrm = -grad[i].normalized();
+          normals.push_back(nrm);
+          if (cell.contains(pts[i])) {
             pr.points.push_back(pts[i]);
-            pr.normals.push_back(-grad[i].normalized());
+            pr.normals.push_back(nrm);
           }
         }
         pr.both_signs = in && outside;
+        pr.near_count = normals.size();
         double min_dot = 1.0;
-        Vec3 mean = Vec3::Zero();
-        Vec3 centre = Vec3::Zero();
-        for (std::size_t a = 0; a < pr.normals.size(); ++a) {
-          mean += pr.normals[a];
-          centre += pr.points[a];
-          for (std::size_t b = a + 1; b < pr.normals.size(); ++b) min_dot = std::min(min_dot, pr.normals[a].dot(pr.normals[b]));
+        for (std::size_t a = 0; a < normals.size(); ++a) {
+          for (std::size_t b = a + 1; b < normals.size(); ++b) min_dot = std::min(min_dot, normals[a].dot(normals[b]));
         }
         pr.spread_deg = std::acos(std::clamp(min_dot, -1.0, 1.0)) * 180.0 / std::numbers::pi;
+        Vec3 mean = Vec3::Zero();
+        Vec3 centre = Vec3::Zero();
+        for (std::size_t a = 0; a < pr.points.size(); ++a) {
+          mean += pr.normals[a];
+          centre += pr.points[a];
+        }
         if (!pr.points.empty() && mean.norm() > 0) {
           centre /= static_cast<double>(pr.points.size());
           pr.area = plane_box_area(boxes[c], centre, mean.normalized());

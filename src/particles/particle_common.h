@@ -24,6 +24,8 @@ inline constexpr double kDeltaOverSpacing = 1.5;
 inline constexpr double kSurfaceTolerance = 1e-4;
 /// Cells are always split down to this depth (when max_depth allows) before flatness decides.
 inline constexpr int kMinDepth = 3;
+/// A cell is judged flat only when at least this many of its 27 probes landed near it.
+inline constexpr std::size_t kMinFlatProbes = 4;
 
 void validate(const ParticleOptions& options, const char* who);
 
@@ -42,7 +44,8 @@ struct CellProbe {
   std::vector<Vec3> points;   ///< projected lattice points that landed in the cell
   std::vector<Vec3> normals;  ///< unit outward normals there
   bool both_signs = false;    ///< the unprojected lattice had points inside and outside
-  double spread_deg = 0;      ///< largest angle between two normals
+  std::size_t near_count = 0; ///< probes that landed near the cell (its box grown by h/2)
+  double spread_deg = 0;      ///< largest angle between two normals near the cell
   double area = 0;            ///< estimated surface area in the cell
   [[nodiscard]] bool meets() const { return !points.empty() || both_signs; }
 };

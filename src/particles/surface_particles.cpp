@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <unordered_map>
 
@@ -417,20 +418,43 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
   }
   const auto offset = static_cast<std::uint32_t>(out.cells.size());
   out.cells.insert(out.cells.end(), fresh.begin(), fresh.end());
-  Aabb reach;
+  // The particles within their δ of the edit box are re-simulated; all others are kept. A kept
+  // particle of a replaced cell moves to the new cell that holds it (or the nearest one).
+  std::vector<std::size_t> kept_in(fresh.size(), 0);
   for (const SurfaceParticle& p : previous.particles) {
-    if (affected[p.cell]) continue;
+    if (grown(edit_box, p.delta).contains(p.position)) continue;
     out.particles.push_back(p);
-    out.particles.back().cell = renumber[p.cell];
+    if (!affected[p.cell]) {
+      out.particles.back().cell = renumber[p.cell];
+      continue;
+    }
+    std::size_t best = 0;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < fresh.size() && best_d > 0; ++k) {
+      const double d = squared_distance(fresh[k].box, p.position);
+      if (d < best_d) {
+        best_d = d;
+        best = k;
+      }
+    }
+    if (fresh.empty()) {
+      // No new cell (the surface left the region): the particle keeps a replaced cell's box.
+      out.cells.push_back(previous.cells[p.cell]);
+      out.particles.back().cell = static_cast<std::uint32_t>(out.cells.size() - 1);
+      continue;
+    }
+    if (best_d == 0) ++kept_in[best];
+    out.particles.back().cell = offset + static_cast<std::uint32_t>(best);
   }
   st.kept = out.particles.size();
-  // How many particles each new cell holds at the δ law's density.
+  // How many particles each new cell holds at the δ law's density, less the kept ones in it.
   std::vector<double> delta(fresh.size()), weight(fresh.size());
   double expected = 0;
+  Aabb reach;
   for (std::size_t k = 0; k < fresh.size(); ++k) {
     delta[k] = delta_at(fresh[k].depth);
     const double a = delta[k] / kDeltaOverSpacing;
-    weight[k] = a > 0 ? probes[k].area / (kHexArea * a * a) : 0.0;
+    weight[k] = a > 0 ? std::max(0.0, probes[k].area / (kHexArea * a * a) - static_cast<double>(kept_in[k])) : 0.0;
     expected += weight[k];
     reach.extend(fresh[k].box);
   }
