@@ -51,14 +51,18 @@ double header_iso(std::string_view bytes, const PlyHeader& header, const std::st
     }
     pos = end + 1;
   }
-  if (!iso) throw InputError(source, 0, "no 'comment iso <value>' line in the header (not a particle file?)");
+  if (!iso)
+    throw InputError(source, 0,
+                     "no 'comment iso <value>' line in the header (not a particle file?)");
   return *iso;
 }
 
-PlyRequest request_for(const PlyHeader& header, std::string_view element, std::span<const std::string_view> names,
-                       std::span<const PlyType> types, const std::string& source) {
+PlyRequest request_for(const PlyHeader& header, std::string_view element,
+                       std::span<const std::string_view> names, std::span<const PlyType> types,
+                       const std::string& source) {
   const auto e = header.find(element);
-  if (!e) throw InputError(source, header.end_header_line, "no element '" + std::string(element) + "'");
+  if (!e)
+    throw InputError(source, header.end_header_line, "no element '" + std::string(element) + "'");
   const PlyElement& el = header.elements[*e];
   PlyRequest r;
   r.element = *e;
@@ -66,9 +70,11 @@ PlyRequest request_for(const PlyHeader& header, std::string_view element, std::s
     const std::size_t idx = require_scalar(el, names[k], source);
     if (el.properties[idx].type != types[k]) {
       throw InputError(source, el.header_line,
-                       "element '" + std::string(element) + "': property '" + std::string(names[k]) +
-                           "' has the wrong type (expected " +
-                           (types[k] == PlyType::kFloat64 ? "double" : types[k] == PlyType::kUInt32 ? "uint" : "int") +
+                       "element '" + std::string(element) + "': property '" +
+                           std::string(names[k]) + "' has the wrong type (expected " +
+                           (types[k] == PlyType::kFloat64  ? "double"
+                            : types[k] == PlyType::kUInt32 ? "uint"
+                                                           : "int") +
                            ")");
     }
     r.scalars.push_back(idx);
@@ -121,10 +127,12 @@ ParticleSystem parse_particles(std::string_view bytes, const std::string& source
   }
   ParticleSystem s;
   s.iso = header_iso(bytes, header, source);
-  constexpr PlyType kV[] = {PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64,
-                            PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64, PlyType::kUInt32};
-  constexpr PlyType kC[] = {PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64,
-                            PlyType::kFloat64, PlyType::kFloat64, PlyType::kInt32};
+  constexpr PlyType kV[] = {PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64,
+                            PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64,
+                            PlyType::kFloat64, PlyType::kUInt32};
+  constexpr PlyType kC[] = {PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64,
+                            PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64,
+                            PlyType::kInt32};
   const PlyRequest rv = request_for(header, "vertex", kVertex, kV, source);
   const PlyRequest rc = request_for(header, "cell", kCell, kC, source);
   const std::vector<PlyElementData> data = read_ply_body(bytes, header, {rv, rc}, source);
@@ -132,10 +140,12 @@ ParticleSystem parse_particles(std::string_view bytes, const std::string& source
   for (std::size_t c = 0; c < data[1].count; ++c) {
     const double* row = &data[1].scalars[c * 7];
     s.cells[c].box = Aabb(Vec3(row[0], row[1], row[2]), Vec3(row[3], row[4], row[5]));
-    if (s.cells[c].box.isEmpty()) throw InputError(source, "cell", c, "the box's min exceeds its max");
+    if (s.cells[c].box.isEmpty())
+      throw InputError(source, "cell", c, "the box's min exceeds its max");
     if (row[6] < 0 || row[6] > ParticleOptions::kMaxDepth) {
-      throw InputError(source, "cell", c, "depth " + format_number(row[6]) + " outside [0, " +
-                                              std::to_string(ParticleOptions::kMaxDepth) + "]");
+      throw InputError(source, "cell", c,
+                       "depth " + format_number(row[6]) + " outside [0, " +
+                           std::to_string(ParticleOptions::kMaxDepth) + "]");
     }
     s.cells[c].depth = static_cast<int>(row[6]);
   }
@@ -146,16 +156,20 @@ ParticleSystem parse_particles(std::string_view bytes, const std::string& source
     p.position = Vec3(row[0], row[1], row[2]);
     p.normal = Vec3(row[3], row[4], row[5]);
     p.delta = row[6];
-    if (!(p.delta >= 0)) throw InputError(source, "vertex", i, "negative delta " + format_number(p.delta));
+    if (!(p.delta >= 0))
+      throw InputError(source, "vertex", i, "negative delta " + format_number(p.delta));
     if (row[7] >= static_cast<double>(s.cells.size())) {
-      throw InputError(source, "vertex", i, "cell index " + format_number(row[7]) + " out of range (" +
-                                                std::to_string(s.cells.size()) + " cells)");
+      throw InputError(source, "vertex", i,
+                       "cell index " + format_number(row[7]) + " out of range (" +
+                           std::to_string(s.cells.size()) + " cells)");
     }
     p.cell = static_cast<std::uint32_t>(row[7]);
   }
   return s;
 }
 
-ParticleSystem read_particles(const std::string& path) { return parse_particles(read_whole_file(path), path); }
+ParticleSystem read_particles(const std::string& path) {
+  return parse_particles(read_whole_file(path), path);
+}
 
 }  // namespace ramiform

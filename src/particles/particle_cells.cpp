@@ -14,8 +14,8 @@ Aabb root_cube(const Field& field) {
   const Aabb b = field.bounds();
   if (b.isEmpty()) return b;
   if (!is_finite(b.min()) || !is_finite(b.max())) {
-    throw InvalidArgument("adaptive_cells: the field's bounds() are not finite (" + field.describe() +
-                          "); pass the cells explicitly");
+    throw InvalidArgument("adaptive_cells: the field's bounds() are not finite (" +
+                          field.describe() + "); pass the cells explicitly");
   }
   const Vec3 c = b.center();
   // A margin of 5 % keeps the surface off the root's faces, where probes see only one side.
@@ -23,8 +23,9 @@ Aabb root_cube(const Field& field) {
   return Aabb(c - Vec3::Constant(half), c + Vec3::Constant(half));
 }
 
-std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions& options, const Aabb& root,
-                                       const Aabb& region, std::vector<CellProbe>* probes, const Context* ctx) {
+std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions& options,
+                                       const Aabb& root, const Aabb& region,
+                                       std::vector<CellProbe>* probes, const Context* ctx) {
   std::vector<ParticleCell> leaves;
   if (probes) probes->clear();
   if (root.isEmpty()) return leaves;
@@ -38,7 +39,8 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
     parallel::for_each(
         level.size(), 16,
         [&](std::size_t i) {
-          keep[i] = (region.isEmpty() || level[i].intersects(region)) && field.bound(level[i]).straddles(iso);
+          keep[i] = (region.isEmpty() || level[i].intersects(region)) &&
+                    field.bound(level[i]).straddles(iso);
         },
         ctx);
     std::vector<Aabb> kept;
@@ -53,7 +55,8 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
       pr = probe_cells(field, kept, ctx);
       for (std::size_t i = 0; i < kept.size(); ++i) {
         if (!pr[i].meets()) continue;
-        const bool curved = pr[i].near_count < kMinFlatProbes || pr[i].spread_deg > options.flatness_deg;
+        const bool curved =
+            pr[i].near_count < kMinFlatProbes || pr[i].spread_deg > options.flatness_deg;
         split[i] = depth < options.max_depth && curved;
         if (!split[i]) {
           leaves.push_back({kept[i], depth});
@@ -66,8 +69,10 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
       if (!split[i]) continue;
       const Vec3 lo = kept[i].min(), mid = kept[i].center(), hi = kept[i].max();
       for (int k = 0; k < 8; ++k) {
-        const Vec3 a((k & 1) ? mid.x() : lo.x(), (k & 2) ? mid.y() : lo.y(), (k & 4) ? mid.z() : lo.z());
-        const Vec3 b((k & 1) ? hi.x() : mid.x(), (k & 2) ? hi.y() : mid.y(), (k & 4) ? hi.z() : mid.z());
+        const Vec3 a((k & 1) ? mid.x() : lo.x(), (k & 2) ? mid.y() : lo.y(),
+                     (k & 4) ? mid.z() : lo.z());
+        const Vec3 b((k & 1) ? hi.x() : mid.x(), (k & 2) ? hi.y() : mid.y(),
+                     (k & 4) ? hi.z() : mid.z());
         children.emplace_back(a, b);
       }
     }
@@ -78,9 +83,11 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
 
 }  // namespace particles_detail
 
-std::vector<ParticleCell> adaptive_cells(const Field& field, const ParticleOptions& options, const Context* ctx) {
+std::vector<ParticleCell> adaptive_cells(const Field& field, const ParticleOptions& options,
+                                         const Context* ctx) {
   particles_detail::validate(options, "adaptive_cells");
-  return particles_detail::octree_cells(field, options, particles_detail::root_cube(field), Aabb(), nullptr, ctx);
+  return particles_detail::octree_cells(field, options, particles_detail::root_cube(field), Aabb(),
+                                        nullptr, ctx);
 }
 
 }  // namespace ramiform

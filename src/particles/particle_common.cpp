@@ -22,8 +22,9 @@ constexpr std::size_t kGrain = 512;
 double plane_box_area(const Aabb& box, const Vec3& q, const Vec3& n) {
   std::array<Vec3, 8> corner;
   for (int c = 0; c < 8; ++c) {
-    corner[c] = Vec3((c & 1) ? box.max().x() : box.min().x(), (c & 2) ? box.max().y() : box.min().y(),
-                     (c & 4) ? box.max().z() : box.min().z());
+    corner[c] =
+        Vec3((c & 1) ? box.max().x() : box.min().x(), (c & 2) ? box.max().y() : box.min().y(),
+             (c & 4) ? box.max().z() : box.min().z());
   }
   std::vector<Vec3> poly;
   for (int a = 0; a < 8; ++a) {
@@ -44,8 +45,10 @@ double plane_box_area(const Aabb& box, const Vec3& q, const Vec3& n) {
   const Vec3 u = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
   const Vec3 v = n.cross(u);
   std::vector<std::pair<double, Vec3>> sorted;
-  for (const Vec3& p : poly) sorted.emplace_back(std::atan2((p - centre).dot(v), (p - centre).dot(u)), p);
-  std::sort(sorted.begin(), sorted.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (const Vec3& p : poly)
+    sorted.emplace_back(std::atan2((p - centre).dot(v), (p - centre).dot(u)), p);
+  std::sort(sorted.begin(), sorted.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
   double area = 0;
   for (std::size_t i = 0; i < sorted.size(); ++i) {
     const Vec3& p0 = sorted[i].second;
@@ -67,17 +70,23 @@ class NeighbourGrid {
     level_.resize(n);
     Aabb box;
     for (std::size_t i = 0; i < n; ++i) {
-      level_[i] = static_cast<int>(std::lower_bound(sizes_.begin(), sizes_.end(), delta[i]) - sizes_.begin());
+      level_[i] = static_cast<int>(std::lower_bound(sizes_.begin(), sizes_.end(), delta[i]) -
+                                   sizes_.begin());
       box.extend(positions[i]);
     }
     origin_ = n == 0 ? Vec3::Zero() : Vec3(box.min() - Vec3::Constant(2.0 * sizes_.back()));
     entries_.resize(n);
     parallel::for_each(
-        n, 4096, [&](std::size_t i) { entries_[i] = {key(level_[i], cell_of(positions[i], level_[i])), static_cast<std::uint32_t>(i)}; },
+        n, 4096,
+        [&](std::size_t i) {
+          entries_[i] = {key(level_[i], cell_of(positions[i], level_[i])),
+                         static_cast<std::uint32_t>(i)};
+        },
         ctx);
     std::sort(entries_.begin(), entries_.end());
     std::size_t unique = 0;
-    for (std::size_t i = 0; i < n; ++i) unique += (i == 0 || entries_[i].first != entries_[i - 1].first);
+    for (std::size_t i = 0; i < n; ++i)
+      unique += (i == 0 || entries_[i].first != entries_[i - 1].first);
     std::size_t cap = 16;
     while (cap < 2 * unique) cap <<= 1;
     mask_ = cap - 1;
@@ -85,38 +94,60 @@ class NeighbourGrid {
     for (std::size_t i = 0; i < n;) {
       std::size_t e = i + 1;
       while (e < n && entries_[e].first == entries_[i].first) ++e;
+      cell_start_.push_back(static_cast<std::uint32_t>(i));
       std::size_t h = hash(entries_[i].first);
       while (slots_[h].end != 0) h = (h + 1) & mask_;
       slots_[h] = {entries_[i].first, static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(e)};
       i = e;
     }
+    cell_start_.push_back(static_cast<std::uint32_t>(n));
   }
 
   [[nodiscard]] int levels() const { return static_cast<int>(sizes_.size()); }
   [[nodiscard]] int level(std::size_t i) const { return level_[i]; }
 
+  /// Number of occupied cells (over all levels), in key order.
+  [[nodiscard]] std::size_t cells() const {
+    return cell_start_.empty() ? 0 : cell_start_.size() - 1;
+  }
+
+  // For every particle i of occupied cell u, calls fn(i, j, level) for the same particles as
+  // visit(i) does, in the same order; the 27 neighbour cells of u's own level are looked up
+  // once for all its particles.
+  template <class Fn>
+  void visit_cell(std::size_t u, Fn&& fn) const {
+    const std::uint32_t b = cell_start_[u], e = cell_start_[u + 1];
+    const std::size_t first = entries_[b].second;
+    const int own = level_[first];
+    const std::array<std::int64_t, 3> c = cell_of(positions_[first], own);
+    std::array<std::pair<std::uint32_t, std::uint32_t>, 27> ranges;
+    int nr = 0;
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const Slot* slot = find(key(own, {c[0] + dx, c[1] + dy, c[2] + dz}));
+          if (slot != nullptr) ranges[nr++] = {slot->begin, slot->end};
+        }
+      }
+    }
+    for (std::uint32_t k = b; k < e; ++k) {
+      const std::size_t i = entries_[k].second;
+      for (int r = 0; r < nr; ++r) {
+        for (std::uint32_t q = ranges[r].first; q < ranges[r].second; ++q) {
+          const std::uint32_t j = entries_[q].second;
+          if (j != i) fn(i, static_cast<std::size_t>(j), own);
+        }
+      }
+      for (int L = own + 1; L < levels(); ++L)
+        visit_level(i, L, [&](std::size_t j, int l) { fn(i, j, l); });
+    }
+  }
+
   // Calls fn(j, level) for every particle j != i of a level >= i's in the 27 cells of that
   // level around particle i (all those within that level's δ of i), in a fixed order.
   template <class Fn>
   void visit(std::size_t i, Fn&& fn) const {
-    const Vec3& p = positions_[i];
-    for (int L = level_[i]; L < levels(); ++L) {
-      const std::array<std::int64_t, 3> c = cell_of(p, L);
-      for (std::int64_t dx = -1; dx <= 1; ++dx) {
-        for (std::int64_t dy = -1; dy <= 1; ++dy) {
-          for (std::int64_t dz = -1; dz <= 1; ++dz) {
-            const std::uint64_t k = key(L, {c[0] + dx, c[1] + dy, c[2] + dz});
-            std::size_t h = hash(k);
-            while (slots_[h].end != 0 && slots_[h].key != k) h = (h + 1) & mask_;
-            if (slots_[h].end == 0) continue;
-            for (std::uint32_t e = slots_[h].begin; e < slots_[h].end; ++e) {
-              const std::uint32_t j = entries_[e].second;
-              if (j != i) fn(static_cast<std::size_t>(j), L);
-            }
-          }
-        }
-      }
-    }
+    for (int L = level_[i]; L < levels(); ++L) visit_level(i, L, fn);
   }
 
  private:
@@ -125,6 +156,29 @@ class NeighbourGrid {
     std::uint32_t begin = 0, end = 0;
   };
   static constexpr std::int64_t kAxis = std::int64_t{1} << 18;
+
+  [[nodiscard]] const Slot* find(std::uint64_t k) const {
+    std::size_t h = hash(k);
+    while (slots_[h].end != 0 && slots_[h].key != k) h = (h + 1) & mask_;
+    return slots_[h].end == 0 ? nullptr : &slots_[h];
+  }
+
+  template <class Fn>
+  void visit_level(std::size_t i, int L, Fn&& fn) const {
+    const std::array<std::int64_t, 3> c = cell_of(positions_[i], L);
+    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+      for (std::int64_t dy = -1; dy <= 1; ++dy) {
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const Slot* slot = find(key(L, {c[0] + dx, c[1] + dy, c[2] + dz}));
+          if (slot == nullptr) continue;
+          for (std::uint32_t e = slot->begin; e < slot->end; ++e) {
+            const std::uint32_t j = entries_[e].second;
+            if (j != i) fn(static_cast<std::size_t>(j), L);
+          }
+        }
+      }
+    }
+  }
 
   [[nodiscard]] std::array<std::int64_t, 3> cell_of(const Vec3& p, int L) const {
     std::array<std::int64_t, 3> c{};
@@ -135,8 +189,10 @@ class NeighbourGrid {
     return c;
   }
   static std::uint64_t key(int L, const std::array<std::int64_t, 3>& c) {
-    return (static_cast<std::uint64_t>(L) << 54) | (static_cast<std::uint64_t>(c[0] & (kAxis - 1)) << 36) |
-           (static_cast<std::uint64_t>(c[1] & (kAxis - 1)) << 18) | static_cast<std::uint64_t>(c[2] & (kAxis - 1));
+    return (static_cast<std::uint64_t>(L) << 54) |
+           (static_cast<std::uint64_t>(c[0] & (kAxis - 1)) << 36) |
+           (static_cast<std::uint64_t>(c[1] & (kAxis - 1)) << 18) |
+           static_cast<std::uint64_t>(c[2] & (kAxis - 1));
   }
   [[nodiscard]] std::size_t hash(std::uint64_t k) const {
     return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ULL) >> 20) & mask_;
@@ -148,6 +204,7 @@ class NeighbourGrid {
   Vec3 origin_;
   std::vector<std::pair<std::uint64_t, std::uint32_t>> entries_;
   std::vector<Slot> slots_;
+  std::vector<std::uint32_t> cell_start_;  // first entry of each occupied cell, then n
   std::size_t mask_ = 0;
 };
 
@@ -168,15 +225,18 @@ void validate(const ParticleOptions& o, const char* who) {
   const std::string w(who);
   if (o.per_cell < 1) throw InvalidArgument(w + ": per_cell must be >= 1");
   if (o.iterations < 0 || o.iterations > ParticleOptions::kMaxIterations) {
-    throw InvalidArgument(w + ": iterations must be in [0, " + std::to_string(ParticleOptions::kMaxIterations) +
-                          "], got " + std::to_string(o.iterations));
+    throw InvalidArgument(w + ": iterations must be in [0, " +
+                          std::to_string(ParticleOptions::kMaxIterations) + "], got " +
+                          std::to_string(o.iterations));
   }
   if (o.max_depth < 0 || o.max_depth > ParticleOptions::kMaxDepth) {
-    throw InvalidArgument(w + ": max_depth must be in [0, " + std::to_string(ParticleOptions::kMaxDepth) + "], got " +
+    throw InvalidArgument(w + ": max_depth must be in [0, " +
+                          std::to_string(ParticleOptions::kMaxDepth) + "], got " +
                           std::to_string(o.max_depth));
   }
   if (!(o.flatness_deg > 0 && o.flatness_deg < 180)) {
-    throw InvalidArgument(w + ": flatness_deg must be in (0, 180), got " + format_number(o.flatness_deg));
+    throw InvalidArgument(w + ": flatness_deg must be in (0, 180), got " +
+                          format_number(o.flatness_deg));
   }
 }
 
@@ -189,8 +249,9 @@ double depth_weight(double t) {
   return b / 0.75;
 }
 
-std::vector<double> project(const Field& field, std::vector<Vec3>& points, std::span<const double> max_step,
-                            std::span<const double> tol, int rounds, std::vector<Vec3>& gradients,
+std::vector<double> project(const Field& field, std::vector<Vec3>& points,
+                            std::span<const double> max_step, std::span<const double> tol,
+                            int rounds, std::vector<Vec3>& gradients,
                             std::vector<double>* first_values, const Context* ctx) {
   const std::size_t n = points.size();
   const double iso = field.iso();
@@ -214,7 +275,8 @@ std::vector<double> project(const Field& field, std::vector<Vec3>& points, std::
       if (r == 0 && first_values) (*first_values)[i] = val[a];
       gradients[i] = grad[a];
       const double g = grad[a].norm();
-      const double res = (g > 0 && std::isfinite(val[a]) && std::isfinite(g)) ? std::abs(val[a] - iso) / g : kInf;
+      const double res =
+          (g > 0 && std::isfinite(val[a]) && std::isfinite(g)) ? std::abs(val[a] - iso) / g : kInf;
       residual[i] = res;
       if (res <= tol[i] || !std::isfinite(res) || r == rounds) continue;
       Vec3 step = -((val[a] - iso) / (g * g)) * grad[a];
@@ -228,7 +290,8 @@ std::vector<double> project(const Field& field, std::vector<Vec3>& points, std::
   return residual;
 }
 
-std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> boxes, const Context* ctx) {
+std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> boxes,
+                                   const Context* ctx) {
   constexpr int kSide = 3;
   constexpr int kPer = kSide * kSide * kSide;
   const std::size_t n = boxes.size();
@@ -238,7 +301,8 @@ std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> box
     const Vec3 size = boxes[c].sizes();
     const double h = size.maxCoeff();
     for (int k = 0; k < kPer; ++k) {
-      const Vec3 t((k % kSide + 0.5) / kSide, ((k / kSide) % kSide + 0.5) / kSide, (k / (kSide * kSide) + 0.5) / kSide);
+      const Vec3 t((k % kSide + 0.5) / kSide, ((k / kSide) % kSide + 0.5) / kSide,
+                   (k / (kSide * kSide) + 0.5) / kSide);
       pts[c * kPer + k] = boxes[c].min() + t.cwiseProduct(size);
       step[c * kPer + k] = 0.5 * h;
       tol[c * kPer + k] = 1e-6 * h;
@@ -254,10 +318,12 @@ std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> box
       [&](std::size_t c) {
         CellProbe& pr = out[c];
         const double h = boxes[c].sizes().maxCoeff();
-        const Aabb cell(boxes[c].min() - Vec3::Constant(1e-9 * h), boxes[c].max() + Vec3::Constant(1e-9 * h));
+        const Aabb cell(boxes[c].min() - Vec3::Constant(1e-9 * h),
+                        boxes[c].max() + Vec3::Constant(1e-9 * h));
         // The normals are judged over the surface near the cell (its box grown by half its
         // size), so that a cell the surface only grazes is judged by the patch it belongs to.
-        const Aabb near(boxes[c].min() - Vec3::Constant(0.5 * h), boxes[c].max() + Vec3::Constant(0.5 * h));
+        const Aabb near(boxes[c].min() - Vec3::Constant(0.5 * h),
+                        boxes[c].max() + Vec3::Constant(0.5 * h));
         bool in = false, outside = false;
         std::vector<Vec3> normals;
         for (int k = 0; k < kPer; ++k) {
@@ -275,7 +341,8 @@ std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> box
         pr.near_count = normals.size();
         double min_dot = 1.0;
         for (std::size_t a = 0; a < normals.size(); ++a) {
-          for (std::size_t b = a + 1; b < normals.size(); ++b) min_dot = std::min(min_dot, normals[a].dot(normals[b]));
+          for (std::size_t b = a + 1; b < normals.size(); ++b)
+            min_dot = std::min(min_dot, normals[a].dot(normals[b]));
         }
         pr.spread_deg = std::acos(std::clamp(min_dot, -1.0, 1.0)) * 180.0 / std::numbers::pi;
         Vec3 mean = Vec3::Zero();
@@ -293,50 +360,49 @@ std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> box
   return out;
 }
 
-SimulationResult simulate(const Field& field, std::vector<Vec3>& positions, std::span<const double> delta,
-                          std::size_t n_free, int iterations, const Context* ctx) {
+SimulationResult simulate(const Field& field, std::vector<Vec3>& positions,
+                          std::span<const double> delta, std::size_t n_free, int iterations,
+                          const Context* ctx) {
   // Step size of the repulsion (times δ_i): a half of the stable limit of the linearized
   // lattice, which damps the slowest modes in a few steps.
   constexpr double kEta = 0.25;
-  const std::size_t n = positions.size();
   const double iso = field.iso();
   std::vector<double> val(n_free);
   std::vector<Vec3> grad(n_free), push(n_free);
   std::vector<Vec3> next(n_free);
-  constexpr std::size_t kChunk = 256;
-  const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  std::vector<std::vector<Reverse>> reverse(chunks);
+  constexpr std::size_t kChunk = 128;  // occupied grid cells per task
+  std::vector<std::vector<Reverse>> reverse;
   for (int it = 0; it < iterations; ++it) {
     check_cancel(ctx);
     field.evaluate(std::span<const Vec3>(positions.data(), n_free), val, grad, ctx);
     const NeighbourGrid grid(positions, delta, ctx);
+    std::fill(push.begin(), push.end(), Vec3::Zero());
+    const std::size_t chunks = (grid.cells() + kChunk - 1) / kChunk;
+    reverse.resize(chunks);
     parallel::for_chunks(
         chunks, 1,
         [&](std::size_t cb, std::size_t ce) {
           for (std::size_t c = cb; c < ce; ++c) {
             reverse[c].clear();
-            const std::size_t e = std::min(n, (c + 1) * kChunk);
-            for (std::size_t i = c * kChunk; i < e; ++i) {
-              Vec3 sum = Vec3::Zero();
-              const int own = grid.level(i);
-              const Vec3& p = positions[i];
-              grid.visit(i, [&](std::size_t j, int L) {
-                const Vec3 d = p - positions[j];
-                const double r = d.norm();
-                Vec3 dir;
-                if (r > 1e-12 * delta[i]) {
-                  dir = d / r;
-                } else {
-                  // Coincident particles part along a fixed axis, in opposite directions.
-                  dir = (i < j ? 1.0 : -1.0) * Vec3::UnitX();
-                }
-                if (i < n_free) sum += repulsion(r, delta[i]) * dir;
-                if (L > own && j < n_free) {
+            const std::size_t e = std::min(grid.cells(), (c + 1) * kChunk);
+            for (std::size_t u = c * kChunk; u < e; ++u) {
+              grid.visit_cell(u, [&](std::size_t i, std::size_t j, int L) {
+                const Vec3 d = positions[i] - positions[j];
+                const double r2 = d.squaredNorm();
+                const bool coarser = L > grid.level(i) && j < n_free;
+                if (r2 >= delta[i] * delta[i] && !(coarser && r2 < delta[j] * delta[j])) return;
+                const double r = std::sqrt(r2);
+                // Coincident particles part along a fixed axis, in opposite directions.
+                const Vec3 dir =
+                    r > 1e-12 * delta[i] ? Vec3(d / r) : Vec3((i < j ? 1.0 : -1.0) * Vec3::UnitX());
+                if (i < n_free) push[i] += repulsion(r, delta[i]) * dir;
+                if (coarser) {
                   const double w = repulsion(r, delta[j]);
-                  if (w > 0) reverse[c].push_back({static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(i), -w * dir});
+                  if (w > 0)
+                    reverse[c].push_back(
+                        {static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(i), -w * dir});
                 }
               });
-              if (i < n_free) push[i] = sum;
             }
           }
         },
@@ -368,7 +434,8 @@ SimulationResult simulate(const Field& field, std::vector<Vec3>& positions, std:
         ctx);
     std::copy(next.begin(), next.end(), positions.begin());
   }
-  std::vector<Vec3> free_pts(positions.begin(), positions.begin() + static_cast<std::ptrdiff_t>(n_free));
+  std::vector<Vec3> free_pts(positions.begin(),
+                             positions.begin() + static_cast<std::ptrdiff_t>(n_free));
   std::vector<double> tol(n_free);
   for (std::size_t i = 0; i < n_free; ++i) tol[i] = 0.1 * kSurfaceTolerance * delta[i];
   SimulationResult out;
@@ -377,8 +444,9 @@ SimulationResult simulate(const Field& field, std::vector<Vec3>& positions, std:
   return out;
 }
 
-std::vector<double> nearest_distances(std::span<const Vec3> positions, std::span<const double> delta,
-                                      std::size_t n_free, const Context* ctx) {
+std::vector<double> nearest_distances(std::span<const Vec3> positions,
+                                      std::span<const double> delta, std::size_t n_free,
+                                      const Context* ctx) {
   const std::size_t n = positions.size();
   const NeighbourGrid grid(positions, delta, ctx);
   std::vector<double> nn(n, kInf);

@@ -41,12 +41,12 @@ std::vector<double> project(const Field& field, std::vector<Vec3>& points,
 
 /// What a lattice of projected points says about one cell.
 struct CellProbe {
-  std::vector<Vec3> points;   ///< projected lattice points that landed in the cell
-  std::vector<Vec3> normals;  ///< unit outward normals there
-  bool both_signs = false;    ///< the unprojected lattice had points inside and outside
-  std::size_t near_count = 0; ///< probes that landed near the cell (its box grown by h/2)
-  double spread_deg = 0;      ///< largest angle between two normals near the cell
-  double area = 0;            ///< estimated surface area in the cell
+  std::vector<Vec3> points;    ///< projected lattice points that landed in the cell
+  std::vector<Vec3> normals;   ///< unit outward normals there
+  bool both_signs = false;     ///< the unprojected lattice had points inside and outside
+  std::size_t near_count = 0;  ///< probes that landed near the cell (its box grown by h/2)
+  double spread_deg = 0;       ///< largest angle between two normals near the cell
+  double area = 0;             ///< estimated surface area in the cell
   [[nodiscard]] bool meets() const { return !points.empty() || both_signs; }
 };
 

@@ -19,7 +19,9 @@ namespace {
 using namespace particles_detail;
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 // Area of a hexagonal lattice cell per particle at spacing a: (√3/2) a².
 constexpr double kHexArea = 0.86602540378443864676;
@@ -28,7 +30,9 @@ bool overlaps(const Aabb& a, const Aabb& b) {
   return (a.min().array() < b.max().array()).all() && (b.min().array() < a.max().array()).all();
 }
 
-Aabb grown(const Aabb& b, double by) { return Aabb(b.min() - Vec3::Constant(by), b.max() + Vec3::Constant(by)); }
+Aabb grown(const Aabb& b, double by) {
+  return Aabb(b.min() - Vec3::Constant(by), b.max() + Vec3::Constant(by));
+}
 
 // Largest-remainder split of `total` in proportion to `weight` (ties to the lower index).
 std::vector<std::size_t> allocate(std::span<const double> weight, std::size_t total) {
@@ -53,7 +57,8 @@ void check_cells(std::span<const ParticleCell> cells) {
   for (std::size_t c = 0; c < cells.size(); ++c) {
     const Aabb& b = cells[c].box;
     if (b.isEmpty() || !is_finite(b.min()) || !is_finite(b.max()) || !(b.sizes().minCoeff() > 0)) {
-      throw InvalidArgument("spread_particles: cell " + std::to_string(c) + " is empty, flat or not finite");
+      throw InvalidArgument("spread_particles: cell " + std::to_string(c) +
+                            " is empty, flat or not finite");
     }
     if (cells[c].depth < 0 || cells[c].depth > ParticleOptions::kMaxDepth) {
       throw InvalidArgument("spread_particles: cell " + std::to_string(c) + " has depth " +
@@ -65,7 +70,8 @@ void check_cells(std::span<const ParticleCell> cells) {
 
 // For every seed, the first cell (lowest index) containing it, or -1: a hash grid at the
 // smallest cell size, coarsened while a cell would register in too many grid cells.
-std::vector<std::vector<std::uint32_t>> seeds_per_cell(std::span<const ParticleCell> cells, std::span<const Vec3> seeds) {
+std::vector<std::vector<std::uint32_t>> seeds_per_cell(std::span<const ParticleCell> cells,
+                                                       std::span<const Vec3> seeds) {
   std::vector<std::vector<std::uint32_t>> out(cells.size());
   if (seeds.empty() || cells.empty()) return out;
   Aabb all;
@@ -93,7 +99,8 @@ std::vector<std::vector<std::uint32_t>> seeds_per_cell(std::span<const ParticleC
     g *= 2;
   }
   auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
-    return (static_cast<std::uint64_t>(x) & 0x1FFFFF) << 42 | (static_cast<std::uint64_t>(y) & 0x1FFFFF) << 21 |
+    return (static_cast<std::uint64_t>(x) & 0x1FFFFF) << 42 |
+           (static_cast<std::uint64_t>(y) & 0x1FFFFF) << 21 |
            (static_cast<std::uint64_t>(z) & 0x1FFFFF);
   };
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
@@ -102,7 +109,8 @@ std::vector<std::vector<std::uint32_t>> seeds_per_cell(std::span<const ParticleC
     range(cells[c].box, g, lo, hi);
     for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
       for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
-        for (std::int64_t z = lo[2]; z <= hi[2]; ++z) grid[key(x, y, z)].push_back(static_cast<std::uint32_t>(c));
+        for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+          grid[key(x, y, z)].push_back(static_cast<std::uint32_t>(c));
   }
   for (std::size_t s = 0; s < seeds.size(); ++s) {
     const Vec3& p = seeds[s];
@@ -130,9 +138,10 @@ struct Seeded {
 
 // Initial particles: `want[c]` per cell, from the seeds in the cell, then the cell's surface
 // probes, then random cell points projected onto the surface (three rounds at most).
-Seeded seed(const Field& field, std::span<const ParticleCell> cells, std::span<const CellProbe> probes,
-            std::span<const std::size_t> want, std::span<const double> cell_delta, std::span<const Vec3> seeds,
-            std::uint64_t rng_seed, const Context* ctx) {
+Seeded seed(const Field& field, std::span<const ParticleCell> cells,
+            std::span<const CellProbe> probes, std::span<const std::size_t> want,
+            std::span<const double> cell_delta, std::span<const Vec3> seeds, std::uint64_t rng_seed,
+            const Context* ctx) {
   const std::size_t nc = cells.size();
   const auto in_cell = seeds_per_cell(cells, seeds);
   const Rng base(rng_seed);
@@ -147,7 +156,8 @@ Seeded seed(const Field& field, std::span<const ParticleCell> cells, std::span<c
     Rng rng = base.split(c);
     std::vector<std::uint32_t> s = in_cell[c];
     const std::size_t budget = want[c] + want[c] / 2 + 2;
-    for (std::size_t k = 0; k < s.size() && k < budget; ++k) std::swap(s[k], s[k + rng.below(s.size() - k)]);
+    for (std::size_t k = 0; k < s.size() && k < budget; ++k)
+      std::swap(s[k], s[k + rng.below(s.size() - k)]);
     for (std::size_t k = 0; k < s.size() && k < budget; ++k) {
       cand.push_back(seeds[s[k]]);
       cand_cell.push_back(static_cast<std::uint32_t>(c));
@@ -155,7 +165,8 @@ Seeded seed(const Field& field, std::span<const ParticleCell> cells, std::span<c
     }
     std::vector<std::size_t> order(probes[c].points.size());
     for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    for (std::size_t k = 0; k < order.size(); ++k) std::swap(order[k], order[k + rng.below(order.size() - k)]);
+    for (std::size_t k = 0; k < order.size(); ++k)
+      std::swap(order[k], order[k + rng.below(order.size() - k)]);
     for (std::size_t k : order) {
       cand.push_back(probes[c].points[k]);
       cand_cell.push_back(static_cast<std::uint32_t>(c));
@@ -173,7 +184,8 @@ Seeded seed(const Field& field, std::span<const ParticleCell> cells, std::span<c
         const std::size_t m = 2 * (want[c] - got[c].size()) + 2;
         for (std::size_t k = 0; k < m; ++k) {
           const Aabb& b = cells[c].box;
-          cand.emplace_back(rng.uniform(b.min().x(), b.max().x()), rng.uniform(b.min().y(), b.max().y()),
+          cand.emplace_back(rng.uniform(b.min().x(), b.max().x()),
+                            rng.uniform(b.min().y(), b.max().y()),
                             rng.uniform(b.min().z(), b.max().z()));
           cand_cell.push_back(static_cast<std::uint32_t>(c));
           cand_projected.push_back(1);
@@ -194,7 +206,9 @@ Seeded seed(const Field& field, std::span<const ParticleCell> cells, std::span<c
       const std::uint32_t c = cand_cell[k];
       if (got[c].size() >= want[c]) continue;
       const double h = cells[c].box.sizes().maxCoeff();
-      if (cand_projected[k] && !(res[k] <= 1e-3 * h && grown(cells[c].box, 0.25 * h).contains(cand[k]))) continue;
+      if (cand_projected[k] &&
+          !(res[k] <= 1e-3 * h && grown(cells[c].box, 0.25 * h).contains(cand[k])))
+        continue;
       got[c].push_back(cand[k]);
     }
   }
@@ -212,8 +226,9 @@ Seeded seed(const Field& field, std::span<const ParticleCell> cells, std::span<c
 
 // Simulates `s` (free) with `fixed` neighbours and appends the particles that reached the
 // surface to `result` (their cell index offset by `cell_offset`). Fills the stats it can.
-void run(const Field& field, const ParticleOptions& options, Seeded& s, std::span<const SurfaceParticle> fixed,
-         std::uint32_t cell_offset, ParticleSystem& result, ParticleStats& st, const Context* ctx) {
+void run(const Field& field, const ParticleOptions& options, Seeded& s,
+         std::span<const SurfaceParticle> fixed, std::uint32_t cell_offset, ParticleSystem& result,
+         ParticleStats& st, const Context* ctx) {
   const auto t = Clock::now();
   const std::size_t n_free = s.positions.size();
   std::vector<Vec3> pos = s.positions;
@@ -234,7 +249,8 @@ void run(const Field& field, const ParticleOptions& options, Seeded& s, std::spa
       continue;
     }
     st.residual_max = std::max(st.residual_max, sim.residual[i] / delta[i]);
-    result.particles.push_back({pos[i], -sim.gradient[i].normalized(), delta[i], s.cell[i] + cell_offset});
+    result.particles.push_back(
+        {pos[i], -sim.gradient[i].normalized(), delta[i], s.cell[i] + cell_offset});
     kept_pos.push_back(pos[i]);
     kept_delta.push_back(delta[i]);
   }
@@ -255,7 +271,8 @@ struct Plan {
   std::vector<std::size_t> want;
   std::vector<double> delta;
 };
-Plan plan(std::span<const ParticleCell> cells, std::span<const CellProbe> probes, std::size_t total) {
+Plan plan(std::span<const ParticleCell> cells, std::span<const CellProbe> probes,
+          std::size_t total) {
   Plan p;
   const std::size_t nc = cells.size();
   int dmin = ParticleOptions::kMaxDepth + 1, dmax = -1;
@@ -269,7 +286,8 @@ Plan plan(std::span<const ParticleCell> cells, std::span<const CellProbe> probes
   double area = 0;
   for (std::size_t c = 0; c < nc; ++c) {
     const double t = dmax > dmin ? static_cast<double>(cells[c].depth - dmin) / (dmax - dmin) : 0.0;
-    sigma[c] = std::exp2(-static_cast<double>(dmax > dmin ? dmax - dmin : 0) * (1.0 - depth_weight(t)));
+    sigma[c] =
+        std::exp2(-static_cast<double>(dmax > dmin ? dmax - dmin : 0) * (1.0 - depth_weight(t)));
     weight[c] = probes[c].area / (sigma[c] * sigma[c]);
     area += probes[c].area;
   }
@@ -284,8 +302,9 @@ Plan plan(std::span<const ParticleCell> cells, std::span<const CellProbe> probes
 
 }  // namespace
 
-ParticleSystem spread_particles(const Field& field, const ParticleOptions& options, std::span<const ParticleCell> cells,
-                                std::span<const Vec3> seeds, ParticleStats* stats, const Context* ctx) {
+ParticleSystem spread_particles(const Field& field, const ParticleOptions& options,
+                                std::span<const ParticleCell> cells, std::span<const Vec3> seeds,
+                                ParticleStats* stats, const Context* ctx) {
   validate(options, "spread_particles");
   check_cells(cells);
   ParticleStats st;
@@ -319,19 +338,23 @@ ParticleSystem spread_particles(const Field& field, const ParticleOptions& optio
   return out;
 }
 
-ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& previous, const Aabb& edit_box,
-                                    const ParticleOptions& options, ParticleStats* stats, const Context* ctx) {
+ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& previous,
+                                    const Aabb& edit_box, const ParticleOptions& options,
+                                    ParticleStats* stats, const Context* ctx) {
   validate(options, "regenerate_particles");
   if (edit_box.isEmpty() || !is_finite(edit_box.min()) || !is_finite(edit_box.max())) {
     throw InvalidArgument("regenerate_particles: the edit box is empty or not finite");
   }
   if (edited.iso() != previous.iso) {
-    throw InvalidArgument("regenerate_particles: the edited field's iso " + format_number(edited.iso()) +
-                          " differs from the particle system's " + format_number(previous.iso));
+    throw InvalidArgument("regenerate_particles: the edited field's iso " +
+                          format_number(edited.iso()) + " differs from the particle system's " +
+                          format_number(previous.iso));
   }
   const std::size_t nc = previous.cells.size();
   for (const SurfaceParticle& p : previous.particles) {
-    if (p.cell >= nc) throw InvalidArgument("regenerate_particles: a particle refers to cell " + std::to_string(p.cell) + " of " + std::to_string(nc));
+    if (p.cell >= nc)
+      throw InvalidArgument("regenerate_particles: a particle refers to cell " +
+                            std::to_string(p.cell) + " of " + std::to_string(nc));
   }
   ParticleStats st;
   const std::uint64_t evals0 = edited.evaluations();
@@ -355,7 +378,8 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
     return std::exp((1 - f) * std::log(lo->second) + f * std::log(hi->second));
   };
   std::vector<char> affected(nc, 0);
-  for (std::size_t c = 0; c < nc; ++c) affected[c] = previous.cells[c].box.intersects(grown(edit_box, cell_delta[c]));
+  for (std::size_t c = 0; c < nc; ++c)
+    affected[c] = previous.cells[c].box.intersects(grown(edit_box, cell_delta[c]));
   // The new cells: the edited field's octree under the same root where it meets the edit box or
   // an affected cell; old cells they overlap become affected too, until nothing changes.
   std::vector<ParticleCell> fresh;
@@ -377,12 +401,14 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
       bool changed = false;
       for (std::size_t k = 0; k < all.size(); ++k) {
         take[k] = overlaps(all[k].box, edit_box);
-        for (std::size_t c = 0; c < nc && !take[k]; ++c) take[k] = affected[c] && overlaps(all[k].box, previous.cells[c].box);
+        for (std::size_t c = 0; c < nc && !take[k]; ++c)
+          take[k] = affected[c] && overlaps(all[k].box, previous.cells[c].box);
       }
       for (std::size_t k = 0; k < all.size(); ++k) {
         if (!take[k]) continue;
         for (std::size_t c = 0; c < nc; ++c) {
-          if (!affected[c] && overlaps(all[k].box, previous.cells[c].box)) affected[c] = changed = true;
+          if (!affected[c] && overlaps(all[k].box, previous.cells[c].box))
+            affected[c] = changed = true;
         }
       }
       if (!changed) {
@@ -454,11 +480,14 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
   for (std::size_t k = 0; k < fresh.size(); ++k) {
     delta[k] = delta_at(fresh[k].depth);
     const double a = delta[k] / kDeltaOverSpacing;
-    weight[k] = a > 0 ? std::max(0.0, probes[k].area / (kHexArea * a * a) - static_cast<double>(kept_in[k])) : 0.0;
+    weight[k] =
+        a > 0 ? std::max(0.0, probes[k].area / (kHexArea * a * a) - static_cast<double>(kept_in[k]))
+              : 0.0;
     expected += weight[k];
     reach.extend(fresh[k].box);
   }
-  const std::vector<std::size_t> want = allocate(weight, static_cast<std::size_t>(std::llround(expected)));
+  const std::vector<std::size_t> want =
+      allocate(weight, static_cast<std::size_t>(std::llround(expected)));
   Seeded s = seed(edited, fresh, probes, want, delta, {}, options.seed, ctx);
   st.dropped = s.missing;
   st.seconds_seed = seconds_since(t);

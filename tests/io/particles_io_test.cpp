@@ -23,7 +23,8 @@ bool same_bits(const void* a, const void* b, std::size_t n) { return std::memcmp
 ParticleSystem sample_system() {
   ParticleSystem s;
   s.iso = 1.0 / 3.0;
-  s.cells = {{Aabb(Vec3(-1, -1, -1), Vec3(0, 0, 0)), 1}, {Aabb(Vec3(0.1, 1e-300, -0.0), Vec3(0.2, 1, M_PI)), 16}};
+  s.cells = {{Aabb(Vec3(-1, -1, -1), Vec3(0, 0, 0)), 1},
+             {Aabb(Vec3(0.1, 1e-300, -0.0), Vec3(0.2, 1, M_PI)), 16}};
   s.particles = {{Vec3(0.1, -0.0, 1e-320), Vec3(1, 0, 0), 0.125, 0},
                  {Vec3(1.0 / 7.0, 2e10, -3), Vec3(0.6, -0.8, 0), M_PI, 1},
                  {Vec3(5, 6, 7), Vec3(1, 1, 1).normalized(), 1e-9, 1}};

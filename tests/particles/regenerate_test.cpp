@@ -39,7 +39,8 @@ TEST(RegenerateParticles, KeepsParticlesAwayFromTheEditAndSpreadsNewOnes) {
   double delta_max = 0;
   for (const SurfaceParticle& p : prev.particles) delta_max = std::max(delta_max, p.delta);
   // Every previous particle outside the box grown by δ is kept exactly.
-  const Aabb grown(edit_box.min() - Vec3::Constant(delta_max), edit_box.max() + Vec3::Constant(delta_max));
+  const Aabb grown(edit_box.min() - Vec3::Constant(delta_max),
+                   edit_box.max() + Vec3::Constant(delta_max));
   std::size_t outside = 0, matched = 0;
   for (const SurfaceParticle& p : prev.particles) {
     if (grown.contains(p.position)) continue;
@@ -64,7 +65,8 @@ TEST(RegenerateParticles, KeepsParticlesAwayFromTheEditAndSpreadsNewOnes) {
     const SurfaceParticle& p = next.particles[i];
     // Distance to the union of the two spheres: |min of the signed distances| (exact outside
     // both, where the surface is).
-    const double d = std::abs(std::min(p.position.norm() - 1.0, (p.position - Vec3(0, 0, 1.1)).norm() - 0.3));
+    const double d =
+        std::abs(std::min(p.position.norm() - 1.0, (p.position - Vec3(0, 0, 1.1)).norm() - 0.3));
     ASSERT_LE(d, 1e-4 * p.delta);
     ASSERT_LT(p.cell, next.cells.size());
     on_bump += (p.position - Vec3(0, 0, 1.1)).norm() < 0.31;
@@ -74,7 +76,8 @@ TEST(RegenerateParticles, KeepsParticlesAwayFromTheEditAndSpreadsNewOnes) {
   // Regenerating with an unchanged field keeps the count about the same.
   ParticleStats same;
   const ParticleSystem again = regenerate_particles(*before, prev, edit_box, o, &same);
-  EXPECT_NEAR(static_cast<double>(again.particles.size()), static_cast<double>(prev.particles.size()),
+  EXPECT_NEAR(static_cast<double>(again.particles.size()),
+              static_cast<double>(prev.particles.size()),
               0.05 * static_cast<double>(prev.particles.size()));
 }
 
@@ -99,7 +102,8 @@ TEST(RegenerateParticles, RefusesAnotherIsoAndEmptyBox) {
   EXPECT_THROW((void)regenerate_particles(*f, prev, Aabb()), InvalidArgument);
   ParticleSystem other = prev;
   other.iso += 0.1;
-  EXPECT_THROW((void)regenerate_particles(*f, other, Aabb(Vec3::Zero(), Vec3::Ones())), InvalidArgument);
+  EXPECT_THROW((void)regenerate_particles(*f, other, Aabb(Vec3::Zero(), Vec3::Ones())),
+               InvalidArgument);
 }
 
 }  // namespace

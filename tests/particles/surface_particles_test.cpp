@@ -18,7 +18,9 @@ namespace {
 // A sphere of radius r: the distance surface of a point (a box shrunk to its centre).
 FieldPtr sphere(const Vec3& c, double r) { return make_box_field(c, Vec3::Constant(r), r); }
 
-double sphere_distance(const Vec3& p, const Vec3& c, double r) { return std::abs((p - c).norm() - r); }
+double sphere_distance(const Vec3& p, const Vec3& c, double r) {
+  return std::abs((p - c).norm() - r);
+}
 
 // Torus around the z axis through the origin.
 double torus_distance(const Vec3& p, double R, double r) {
@@ -57,7 +59,8 @@ TEST(SurfaceParticles, SphereParticlesOnTheSurfaceAndEvenlySpread) {
   // Measured 0.07-0.08 (see docs); a random placement gives about 0.5.
   EXPECT_LE(st.spacing_cv, 0.15) << "spacing CV " << st.spacing_cv;
   // The particle count follows per_cell: k per cell on average.
-  EXPECT_NEAR(static_cast<double>(ps.particles.size()) / static_cast<double>(ps.cells.size()), 4.0, 0.5);
+  EXPECT_NEAR(static_cast<double>(ps.particles.size()) / static_cast<double>(ps.cells.size()), 4.0,
+              0.5);
 }
 
 TEST(SurfaceParticles, TorusParticlesOnTheSurfaceAndEvenlySpread) {
@@ -66,7 +69,8 @@ TEST(SurfaceParticles, TorusParticlesOnTheSurfaceAndEvenlySpread) {
   ParticleStats st;
   const ParticleSystem ps = spread_particles(*f, {}, {}, {}, &st);
   ASSERT_GT(ps.particles.size(), 500u);
-  for (const SurfaceParticle& p : ps.particles) ASSERT_LE(torus_distance(p.position, R, r), 1e-4 * p.delta);
+  for (const SurfaceParticle& p : ps.particles)
+    ASSERT_LE(torus_distance(p.position, R, r), 1e-4 * p.delta);
   EXPECT_LE(st.spacing_cv, 0.2) << "spacing CV " << st.spacing_cv;
 }
 
@@ -102,7 +106,9 @@ TEST(SurfaceParticles, AdaptiveCellsConcentrateParticlesWhereCurvatureIsHigh) {
   const double density_ratio = (on_torus / area_torus) / (on_ball / area_ball);
   EXPECT_GT(density_ratio, 4.0) << on_torus << " on the torus, " << on_ball << " on the ball";
   EXPECT_LT(delta_torus, 0.5 * delta_ball);
-  for (const SurfaceParticle& p : ps.particles) ASSERT_LE(std::abs(f->value(p.position) - f->iso()) / f->gradient(p.position).norm(), 1e-4 * p.delta);
+  for (const SurfaceParticle& p : ps.particles)
+    ASSERT_LE(std::abs(f->value(p.position) - f->iso()) / f->gradient(p.position).norm(),
+              1e-4 * p.delta);
 }
 
 TEST(SurfaceParticles, IdenticalOnOneAndTwoThreads) {
@@ -167,10 +173,6 @@ TEST(SurfaceParticles, TenThousandParticles) {
   EXPECT_NEAR(static_cast<double>(ps.particles.size()), static_cast<double>(n), 0.01 * n);
   EXPECT_EQ(st.iterations, 20);
   EXPECT_LE(st.spacing_cv, 0.15);
-  RecordProperty("seconds_simulate", std::to_string(st.seconds_simulate));
-  std::printf("10k: cells %zu particles %zu cells %.3fs seed %.3fs simulate %.3fs cv %.4f residual %.2e evals %llu\n",
-              st.cells, st.particles, st.seconds_cells, st.seconds_seed, st.seconds_simulate, st.spacing_cv,
-              st.residual_max, static_cast<unsigned long long>(st.field_evals));
 }
 
 }  // namespace

@@ -31,6 +31,7 @@ void write_particles(const ParticleSystem& system, const std::string& path);
 
 /// Parses the bytes of a particle file as read_particles does; `source_name` names it in
 /// messages.
-[[nodiscard]] ParticleSystem parse_particles(std::string_view bytes, const std::string& source_name);
+[[nodiscard]] ParticleSystem parse_particles(std::string_view bytes,
+                                             const std::string& source_name);
 
 }  // namespace ramiform

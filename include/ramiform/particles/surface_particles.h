@@ -59,14 +59,14 @@ struct SurfaceParticle {
 
 /// Options of adaptive_cells, spread_particles and regenerate_particles.
 struct ParticleOptions {
-  static constexpr int kMaxDepth = 16;        ///< largest allowed max_depth
+  static constexpr int kMaxDepth = 16;          ///< largest allowed max_depth
   static constexpr int kMaxIterations = 10000;  ///< largest allowed iterations
 
   std::size_t per_cell = 4;  ///< k initial particles per leaf cell on average (paper §4); >= 1
   /// When > 0: the total number of particles wanted instead of per_cell × cells (δ is scaled
   /// so that this many tile the surface).
   std::size_t count = 0;
-  int iterations = 20;  ///< simulation steps, 0..kMaxIterations
+  int iterations = 20;     ///< simulation steps, 0..kMaxIterations
   std::uint64_t seed = 1;  ///< seeds the random choices (which seeds, which cell points)
   int max_depth = 8;       ///< deepest adaptive cell, 0..kMaxDepth
   /// Split a surface cell while its sampled surface normals differ by more than this angle
@@ -76,9 +76,9 @@ struct ParticleOptions {
 
 /// A particle system: the cells it was seeded in and the particles.
 struct ParticleSystem {
-  double iso = 0;                           ///< the field's iso value
-  std::vector<ParticleCell> cells;          ///< leaf cells; particles refer to them by index
-  std::vector<SurfaceParticle> particles;   ///< the particles
+  double iso = 0;                          ///< the field's iso value
+  std::vector<ParticleCell> cells;         ///< leaf cells; particles refer to them by index
+  std::vector<SurfaceParticle> particles;  ///< the particles
   /// The octree's root cube when the cells came from adaptive_cells (regeneration builds the
   /// edited region's cells under it); empty when the caller passed the cells. Not saved by
   /// write_particles.
@@ -105,7 +105,7 @@ struct ParticleStats {
 /// is smaller) while depth < max_depth and the normals at surface points probed in the cell (a
 /// 3×3×3 lattice of cell points projected onto the surface) differ by more than flatness_deg.
 /// Returns the leaves that meet the surface (a probe landed in them or their probes have both
-/// signs), in octree order. Surface pieces thinner than a third of a depth-3 cell can be
+/// signs), coarsest first. Surface pieces thinner than a third of a depth-3 cell can be
 /// missed. Throws InvalidArgument for bad options or a field whose bounds() are not finite.
 [[nodiscard]] std::vector<ParticleCell> adaptive_cells(const Field& field,
                                                        const ParticleOptions& options = {},
