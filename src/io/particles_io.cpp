@@ -29,6 +29,9 @@ void check_writable(const ParticleSystem& s) {
                             std::to_string(p.cell) + " of " + std::to_string(s.cells.size()));
     }
   }
+  if (!s.root.isEmpty() && (!is_finite(s.root.min()) || !is_finite(s.root.max()))) {
+    throw InvalidArgument("write_particles: the root cube is not finite");
+  }
   for (std::size_t c = 0; c < s.cells.size(); ++c) {
     if (!is_finite(s.cells[c].box.min()) || !is_finite(s.cells[c].box.max())) {
       throw InvalidArgument("write_particles: cell " + std::to_string(c) + " is not finite");
@@ -36,8 +39,10 @@ void check_writable(const ParticleSystem& s) {
   }
 }
 
-// The value of the header line "comment iso V" (the last one wins); throws when absent.
-double header_iso(std::string_view bytes, const PlyHeader& header, const std::string& source) {
+// The header lines "comment iso V" (required) and "comment root X0 Y0 Z0 X1 Y1 Z1" (optional);
+// the last of each wins.
+void header_comments(std::string_view bytes, const PlyHeader& header, const std::string& source,
+                     ParticleSystem& s) {
   std::size_t line = 0, pos = 0;
   std::optional<double> iso;
   while (pos < header.body_offset) {
@@ -46,15 +51,27 @@ double header_iso(std::string_view bytes, const PlyHeader& header, const std::st
     ++line;
     if (!l.empty() && l.back() == '\r') l.remove_suffix(1);
     if (l.starts_with("comment iso ")) {
-      const double v = to_double(l.substr(12), source, line, "iso");
-      iso = v;
+      iso = to_double(l.substr(12), source, line, "iso");
+    } else if (l.starts_with("comment root ")) {
+      std::vector<std::string_view> f;
+      split_fields(l.substr(13), f);
+      if (f.size() != 6) {
+        throw InputError(source, line,
+                         "comment root: expected 6 numbers (the root cube's min and max), got " +
+                             std::to_string(f.size()));
+      }
+      double v[6];
+      for (int k = 0; k < 6; ++k) v[k] = to_double(f[k], source, line, "root");
+      s.root = Aabb(Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5]));
+      if (s.root.isEmpty()) throw InputError(source, line, "comment root: min exceeds max");
     }
     pos = end + 1;
   }
-  if (!iso)
+  if (!iso) {
     throw InputError(source, 0,
                      "no 'comment iso <value>' line in the header (not a particle file?)");
-  return *iso;
+  }
+  s.iso = *iso;
 }
 
 PlyRequest request_for(const PlyHeader& header, std::string_view element,
@@ -88,11 +105,19 @@ void write_particles(const ParticleSystem& s, const std::string& path) {
   check_writable(s);
   std::string iso_text;
   append_double(iso_text, s.iso);
+  std::string root_text;
+  if (!s.root.isEmpty()) {
+    root_text = "\ncomment root";
+    for (int k = 0; k < 6; ++k) {
+      root_text += ' ';
+      append_double(root_text, k < 3 ? s.root.min()[k] : s.root.max()[k - 3]);
+    }
+  }
   write_file_atomically(
       path,
       [&](std::ostream& out) {
         PlyWriter ply(out);
-        ply.begin("ramiform particles\ncomment iso " + iso_text);
+        ply.begin("ramiform particles\ncomment iso " + iso_text + root_text);
         std::vector<PlyColumn> vertex;
         for (int k = 0; k < 7; ++k) vertex.push_back({std::string(kVertex[k]), PlyType::kFloat64});
         vertex.push_back({"cell", PlyType::kUInt32});
@@ -126,7 +151,7 @@ ParticleSystem parse_particles(std::string_view bytes, const std::string& source
     throw InputError(source, 2, "particle files are binary little-endian PLY");
   }
   ParticleSystem s;
-  s.iso = header_iso(bytes, header, source);
+  header_comments(bytes, header, source, s);
   constexpr PlyType kV[] = {PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64,
                             PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64,
                             PlyType::kFloat64, PlyType::kUInt32};

@@ -11,6 +11,8 @@
 
 #include "io/io_test_util.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/field/operators.h"
+#include "ramiform/field/primitives.h"
 #include "ramiform/io/points_io.h"
 
 namespace ramiform {
@@ -23,6 +25,7 @@ bool same_bits(const void* a, const void* b, std::size_t n) { return std::memcmp
 ParticleSystem sample_system() {
   ParticleSystem s;
   s.iso = 1.0 / 3.0;
+  s.root = Aabb(Vec3(-1.0 / 3.0, -2, -2), Vec3(2, 2, 5.0 / 3.0));
   s.cells = {{Aabb(Vec3(-1, -1, -1), Vec3(0, 0, 0)), 1},
              {Aabb(Vec3(0.1, 1e-300, -0.0), Vec3(0.2, 1, M_PI)), 16}};
   s.particles = {{Vec3(0.1, -0.0, 1e-320), Vec3(1, 0, 0), 0.125, 0},
@@ -61,6 +64,8 @@ TEST(ParticlesIo, RoundTripIsExact) {
   write_particles(s, path);
   const ParticleSystem r = read_particles(path);
   EXPECT_TRUE(same_bits(&r.iso, &s.iso, sizeof(double)));
+  EXPECT_TRUE(same_bits(r.root.min().data(), s.root.min().data(), 24));
+  EXPECT_TRUE(same_bits(r.root.max().data(), s.root.max().data(), 24));
   ASSERT_EQ(r.cells.size(), s.cells.size());
   ASSERT_EQ(r.particles.size(), s.particles.size());
   for (std::size_t c = 0; c < s.cells.size(); ++c) {
@@ -82,6 +87,24 @@ TEST(ParticlesIo, RoundTripIsExact) {
   // Writing again gives the same bytes.
   write_particles(r, dir.file("again.ply"));
   EXPECT_EQ(read_all(path), read_all(dir.file("again.ply")));
+}
+
+TEST(ParticlesIo, AReloadedSystemRegeneratesAsTheOriginal) {
+  const TempDir dir;
+  const FieldPtr ball = make_box_field(Vec3::Zero(), Vec3::Constant(1), 1);
+  const FieldPtr edited =
+      make_union({ball, make_box_field(Vec3(1, 0, 0), Vec3::Constant(0.2), 0.2)});
+  const ParticleSystem s = spread_particles(*ball);
+  write_particles(s, dir.file("s.ply"));
+  const ParticleSystem r = read_particles(dir.file("s.ply"));
+  const Aabb box(Vec3(0.7, -0.3, -0.3), Vec3(1.3, 0.3, 0.3));
+  const ParticleSystem a = regenerate_particles(*edited, s, box);
+  const ParticleSystem b = regenerate_particles(*edited, r, box);
+  ASSERT_EQ(a.particles.size(), b.particles.size());
+  ASSERT_EQ(a.cells.size(), b.cells.size());
+  for (std::size_t i = 0; i < a.particles.size(); ++i) {
+    ASSERT_TRUE(same_bits(a.particles[i].position.data(), b.particles[i].position.data(), 24)) << i;
+  }
 }
 
 TEST(ParticlesIo, WriteRefusesBadSystemsWithoutOutput) {
@@ -142,6 +165,12 @@ TEST(ParticlesIo, MalformedFilesAreRefusedWithTheirProblem) {
   const std::string noiso = dir.file("noiso.ply");
   write_all(noiso, bad);
   EXPECT_NE(message_of(noiso).find("comment iso"), std::string::npos);
+
+  bad = bytes;
+  bad.replace(bad.find("comment root "), 13, "comment root 1 ");
+  const std::string root = dir.file("root.ply");
+  write_all(root, bad);
+  EXPECT_NE(message_of(root).find("expected 6 numbers"), std::string::npos) << message_of(root);
 
   // A cell with min > max.
   bad = bytes;

@@ -7,8 +7,9 @@
 /// particles need not be simulated again (Proença, Jorge & Costa Sousa 2008, "Suggestive
 /// Contours over Point-Set Implicits", §3). The format is a binary little-endian PLY file
 /// (docs/formats.md, "Particle state (PLY)"): element `vertex` (double x y z nx ny nz delta,
-/// uint cell), element `cell` (double xmin ymin zmin xmax ymax zmax, int depth) and a header
-/// line `comment iso <value>`. Other PLY tools see the particles as vertices with normals.
+/// uint cell), element `cell` (double xmin ymin zmin xmax ymax zmax, int depth), a header
+/// line `comment iso <value>` and, when the cells came from adaptive_cells, `comment root ...`.
+/// Other PLY tools see the particles as vertices with normals.
 
 #include <string>
 #include <string_view>
@@ -18,8 +19,9 @@
 namespace ramiform {
 
 /// Writes `system` atomically (io/atomic_file.h). Every number round-trips exactly
-/// (ParticleSystem::root is not saved). Throws InvalidArgument when a value is not finite or a
-/// particle's cell index is out of range; Failure when the file cannot be written.
+/// (the root cube, when not empty, as a header line
+/// `comment root xmin ymin zmin xmax ymax zmax`). Throws InvalidArgument when a value is not finite
+/// or a particle's cell index is out of range; Failure when the file cannot be written.
 void write_particles(const ParticleSystem& system, const std::string& path);
 
 /// Reads a file written by write_particles. Throws InputError naming the file and the element

@@ -80,8 +80,7 @@ struct ParticleSystem {
   std::vector<ParticleCell> cells;         ///< leaf cells; particles refer to them by index
   std::vector<SurfaceParticle> particles;  ///< the particles
   /// The octree's root cube when the cells came from adaptive_cells (regeneration builds the
-  /// edited region's cells under it); empty when the caller passed the cells. Not saved by
-  /// write_particles.
+  /// edited region's cells under it); empty when the caller passed the cells.
   Aabb root;
 };
 
