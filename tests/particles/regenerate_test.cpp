@@ -86,9 +86,12 @@ TEST(RegenerateParticles, IdenticalOnOneAndTwoThreads) {
   const FieldPtr after = make_union({before, sphere(Vec3(1, 0, 0.3), 0.15)});
   const Aabb edit_box(Vec3(0.7, -0.3, 0.0), Vec3(1.3, 0.3, 0.6));
   const Context one(1), two(2);
-  const ParticleSystem prev = spread_particles(*before, {}, {}, {}, nullptr, &one);
-  const ParticleSystem a = regenerate_particles(*after, prev, edit_box, {}, nullptr, &one);
-  const ParticleSystem b = regenerate_particles(*after, prev, edit_box, {}, nullptr, &two);
+  ParticleOptions o;
+  o.per_cell = 2;
+  const ParticleSystem prev = spread_particles(*before, o, {}, {}, nullptr, &one);
+  const ParticleSystem a = regenerate_particles(*after, prev, edit_box, o, nullptr, &one);
+  const ParticleSystem b = regenerate_particles(*after, prev, edit_box, o, nullptr, &two);
+  ASSERT_GT(a.particles.size(), prev.particles.size() / 2);
   ASSERT_EQ(a.particles.size(), b.particles.size());
   for (std::size_t i = 0; i < a.particles.size(); ++i) {
     ASSERT_TRUE(same_particle(a.particles[i], b.particles[i])) << i;
