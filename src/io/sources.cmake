@@ -5,6 +5,7 @@ set(RAMIFORM_IO_SOURCES
   src/io/mesh_io.cpp
   src/io/obj_format.cpp
   src/io/ply_format.cpp
+  src/io/particles_io.cpp
   src/io/points_io.cpp
   src/io/surface_points.cpp
   src/io/qsm_io.cpp

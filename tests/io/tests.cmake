@@ -3,6 +3,7 @@ set(RAMIFORM_io_TESTS
   io/curve_io_test.cpp
   io/mesh_io_test.cpp
   io/neuron_mesh_test.cpp
+  io/particles_io_test.cpp
   io/points_io_test.cpp
   io/qsm_test.cpp
   io/shared_data_test.cpp
