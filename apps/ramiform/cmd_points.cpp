@@ -235,7 +235,7 @@ void register_reconstruct(CLI::App& root, Action& action) {
                 "marching cubes cells along the longest side instead")
       ->check(CLI::Range(1, 4096));
   c->add_option("--spacing-cells", a->options.spacing_cells,
-                with_default("default cell size in median point spacings",
+                with_default("default cell size in point spacings (1/sqrt of the sampling density)",
                              a->options.spacing_cells))
       ->check(CLI::PositiveNumber);
   c->add_option("--seed", a->seed, "seed of the points drawn on a mesh input")->capture_default_str();

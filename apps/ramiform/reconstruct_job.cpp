@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <nanoflann.hpp>
 
 #include "ramiform/core/errors.h"
@@ -13,10 +14,14 @@
 namespace ramiform::cli {
 namespace {
 
-// The median distance from a point to its nearest other point (0 for fewer than 2 points or
-// when every point has a twin).
-double median_spacing(const std::vector<Vec3>& positions) {
-  if (positions.size() < 2) return 0.0;
+// The sampling spacing 1/sqrt(ρ) of points of surface density ρ: k points lie within the
+// distance r_k of a point, on a disk of area k/ρ = π r_k², so 1/sqrt(ρ) = r_k sqrt(π/k), taken
+// at the median r_k (k = 6). Unlike the nearest-neighbour distance, it does not shrink for
+// random samples (a mesh's area-weighted points), whose nearest neighbours are often close.
+// 0 for fewer than k + 1 points.
+double sampling_spacing(const std::vector<Vec3>& positions) {
+  constexpr std::size_t k = 6;
+  if (positions.size() < k + 1) return 0.0;
   using Matrix = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
   using Tree = nanoflann::KDTreeEigenMatrixAdaptor<Matrix, 3, nanoflann::metric_L2_Simple>;
   Matrix m(static_cast<Eigen::Index>(positions.size()), 3);
@@ -26,15 +31,14 @@ double median_spacing(const std::vector<Vec3>& positions) {
   const Tree tree(3, std::cref(m), 16);
   std::vector<double> d(positions.size());
   for (std::size_t i = 0; i < positions.size(); ++i) {
-    Eigen::Index idx[2];
-    double sq[2];
-    const double q[3] = {positions[i].x(), positions[i].y(), positions[i].z()};
-    const std::size_t found = tree.index_->knnSearch(q, 2, idx, sq);
-    d[i] = found < 2 ? 0.0 : std::sqrt(sq[1]);
+    Eigen::Index idx[k + 1];
+    double sq[k + 1];
+    const std::size_t found = tree.index->knnSearch(positions[i].data(), k + 1, idx, sq);
+    d[i] = found < k + 1 ? 0.0 : std::sqrt(sq[k]);  // the point itself comes first
   }
   const auto mid = d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2);
   std::nth_element(d.begin(), mid, d.end());
-  return *mid;
+  return *mid * std::sqrt(std::numbers::pi / static_cast<double>(k));
 }
 
 // The q-quantile (0..1) of `v` (reordered), 0 for an empty v.
@@ -91,7 +95,7 @@ PointSurface build_point_surface(const std::string& path, const ReconstructOptio
   Aabb box;
   for (const Vec3& p : s.points.positions) box.extend(p);
   s.diagonal = box.diagonal().norm();
-  s.spacing = median_spacing(s.points.positions);
+  s.spacing = sampling_spacing(s.points.positions);
   MpuStats ms;
   s.field = make_mpu_field(s.points, options.mpu, &ms, &ctx);
   s.cells = mpu_leaf_cells(*s.field);

@@ -25,8 +25,9 @@ struct ReconstructOptions {
   SurfacePointsOptions read;  ///< --mesh-samples, --seed
   NormalOptions normals;      ///< --neighbours
   MpuOptions mpu;             ///< --tolerance, --support, --min-points, --max-depth, --no-sharp
-  /// Marching cubes cell size in model units; 0 = `spacing_cells` × the median nearest-neighbour
-  /// spacing of the points, kept between 32 and 512 cells along the longest side.
+  /// Marching cubes cell size in model units; 0 = `spacing_cells` × the points' sampling
+  /// spacing (1/sqrt(density), from the median distance to the 6th nearest neighbour), kept
+  /// between 32 and 512 cells along the longest side.
   double cell_size = 0.0;
   int resolution = 0;          ///< cells along the longest side instead (0 = from cell_size)
   double spacing_cells = 1.0;  ///< the default cell size in point spacings
@@ -37,7 +38,7 @@ struct PointSurface {
   PointSet points;  ///< as oriented
   FieldPtr field;
   std::vector<MpuCell> cells;
-  double spacing = 0.0;   ///< median nearest-neighbour distance of the points
+  double spacing = 0.0;   ///< sampling spacing of the points, 1/sqrt(surface density)
   double diagonal = 0.0;  ///< of the points' bounding box
   nlohmann::json stats;   ///< points, normals, mpu, interpolation
 };

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "ramiform/core/numbers.h"
+#include "ramiform/core/errors.h"
 #include "ramiform/field/mpu.h"
 #include "ramiform/field/point_normals.h"
 #include "ramiform/io/particles_io.h"
