@@ -166,6 +166,13 @@ TEST(SurfaceParticles, BadOptionsAreRefused) {
   EXPECT_THROW((void)spread_particles(*f, {}, bad), InvalidArgument);
 }
 
+TEST(SurfaceParticles, CancelledThroughTheContext) {
+  const FieldPtr f = sphere(Vec3::Zero(), 1.0);
+  Context ctx(1);
+  ctx.cancel();
+  EXPECT_THROW((void)spread_particles(*f, {}, {}, {}, nullptr, &ctx), Cancelled);
+}
+
 TEST(SurfaceParticles, TenThousandParticles) {
 #ifdef RAMIFORM_TEST_SANITIZED
   const std::size_t n = 2000;
