@@ -39,8 +39,8 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
     parallel::for_each(
         level.size(), 16,
         [&](std::size_t i) {
-          keep[i] = (region.isEmpty() || level[i].intersects(region)) &&
-                    field.bound(level[i]).straddles(iso);
+          keep[i] = static_cast<char>((region.isEmpty() || level[i].intersects(region)) &&
+                                      field.bound(level[i]).straddles(iso));
         },
         ctx);
     std::vector<Aabb> kept;
@@ -57,7 +57,7 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
         if (!pr[i].meets()) continue;
         const bool curved =
             pr[i].near_count < kMinFlatProbes || pr[i].spread_deg > options.flatness_deg;
-        split[i] = depth < options.max_depth && curved;
+        split[i] = static_cast<char>(depth < options.max_depth && curved);
         if (!split[i]) {
           leaves.push_back({kept[i], depth});
           if (probes) probes->push_back(std::move(pr[i]));

@@ -243,7 +243,7 @@ void run(const Field& field, const ParticleOptions& options, Seeded& s,
   std::vector<double> kept_delta;
   std::size_t first = result.particles.size();
   for (std::size_t i = 0; i < n_free; ++i) {
-    ok[i] = sim.residual[i] <= kSurfaceTolerance * delta[i];
+    ok[i] = static_cast<char>(sim.residual[i] <= kSurfaceTolerance * delta[i]);
     if (!ok[i]) {
       ++st.dropped;
       continue;
@@ -379,7 +379,8 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
   };
   std::vector<char> affected(nc, 0);
   for (std::size_t c = 0; c < nc; ++c)
-    affected[c] = previous.cells[c].box.intersects(grown(edit_box, cell_delta[c]));
+    affected[c] =
+        static_cast<char>(previous.cells[c].box.intersects(grown(edit_box, cell_delta[c])));
   // The new cells: the edited field's octree under the same root where it meets the edit box or
   // an affected cell; old cells they overlap become affected too, until nothing changes.
   std::vector<ParticleCell> fresh;
@@ -400,15 +401,18 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
       std::vector<char> take(all.size(), 0);
       bool changed = false;
       for (std::size_t k = 0; k < all.size(); ++k) {
-        take[k] = overlaps(all[k].box, edit_box);
+        take[k] = static_cast<char>(overlaps(all[k].box, edit_box));
         for (std::size_t c = 0; c < nc && !take[k]; ++c)
-          take[k] = affected[c] && overlaps(all[k].box, previous.cells[c].box);
+          take[k] =
+              static_cast<char>(affected[c] != 0 && overlaps(all[k].box, previous.cells[c].box));
       }
       for (std::size_t k = 0; k < all.size(); ++k) {
         if (!take[k]) continue;
         for (std::size_t c = 0; c < nc; ++c) {
-          if (!affected[c] && overlaps(all[k].box, previous.cells[c].box))
-            affected[c] = changed = true;
+          if (!affected[c] && overlaps(all[k].box, previous.cells[c].box)) {
+            affected[c] = 1;
+            changed = true;
+          }
         }
       }
       if (!changed) {
