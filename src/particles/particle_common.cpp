@@ -302,8 +302,8 @@ std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> box
     const Vec3 size = boxes[c].sizes();
     const double h = size.maxCoeff();
     for (int k = 0; k < kPer; ++k) {
-      const Vec3 t((k % kSide + 0.5) / kSide, ((k / kSide) % kSide + 0.5) / kSide,
-                   (static_cast<double>(k / (kSide * kSide)) + 0.5) / kSide);
+      const int ix = k % kSide, iy = (k / kSide) % kSide, iz = k / (kSide * kSide);
+      const Vec3 t((ix + 0.5) / kSide, (iy + 0.5) / kSide, (iz + 0.5) / kSide);
       pts[c * kPer + k] = boxes[c].min() + t.cwiseProduct(size);
       step[c * kPer + k] = 0.5 * h;
       tol[c * kPer + k] = 1e-6 * h;
