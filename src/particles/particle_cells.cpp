@@ -34,6 +34,9 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
   std::vector<Aabb> level{root};
   for (int depth = 0; !level.empty(); ++depth) {
     check_cancel(ctx);
+    if (ctx != nullptr) {
+      ctx->report("particles: cells", static_cast<double>(depth) / (options.max_depth + 1));
+    }
     // Keep the cells the surface may cross and that meet the region.
     std::vector<char> keep(level.size(), 0);
     parallel::for_each(

@@ -434,6 +434,8 @@ SimulationResult simulate(const Field& field, std::vector<Vec3>& positions,
         },
         ctx);
     std::copy(next.begin(), next.end(), positions.begin());
+    if (ctx != nullptr)
+      ctx->report("particles: simulate", static_cast<double>(it + 1) / iterations);
   }
   std::vector<Vec3> free_pts(positions.begin(),
                              positions.begin() + static_cast<std::ptrdiff_t>(n_free));

@@ -28,6 +28,9 @@
 ///   (1 − r/δ_i)² and projected on the tangent plane. A final projection puts every particle on
 ///   the surface.
 ///
+/// Progress is reported through `ctx` as "particles: cells" (per octree level) and "particles:
+/// simulate" (per step).
+///
 /// Deviations from the paper: the per-cell particle count is k on average, in proportion to the
 /// surface area estimated in each cell over δ² (k exactly per cell would crowd cells that the
 /// surface only grazes); neighbours come from a sorted cell hash per δ level, not the octree.
