@@ -24,13 +24,13 @@ Aabb root_cube(const Field& field) {
 }
 
 std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions& options,
-                                       const Aabb& root, const Aabb& region,
+                                       int min_depth, const Aabb& root, const Aabb& region,
                                        std::vector<CellProbe>* probes, const Context* ctx) {
   std::vector<ParticleCell> leaves;
   if (probes) probes->clear();
   if (root.isEmpty()) return leaves;
   const double iso = field.iso();
-  const int min_depth = std::min(kMinDepth, options.max_depth);
+  min_depth = std::min(min_depth, options.max_depth);
   std::vector<Aabb> level{root};
   for (int depth = 0; !level.empty(); ++depth) {
     check_cancel(ctx);
@@ -89,8 +89,8 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
 std::vector<ParticleCell> adaptive_cells(const Field& field, const ParticleOptions& options,
                                          const Context* ctx) {
   particles_detail::validate(options, "adaptive_cells");
-  return particles_detail::octree_cells(field, options, particles_detail::root_cube(field), Aabb(),
-                                        nullptr, ctx);
+  return particles_detail::octree_cells(field, options, particles_detail::kMinDepth,
+                                        particles_detail::root_cube(field), Aabb(), nullptr, ctx);
 }
 
 }  // namespace ramiform

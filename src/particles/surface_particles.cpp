@@ -315,7 +315,19 @@ ParticleSystem spread_particles(const Field& field, const ParticleOptions& optio
   std::vector<CellProbe> probes;
   if (cells.empty()) {
     out.root = root_cube(field);
-    out.cells = octree_cells(field, options, out.root, Aabb(), &probes, ctx);
+    // With `count`, the cells are refined (a deeper minimum depth) until they hold at most
+    // 2 k particles each on average, so the start is as close to the goal as with k per cell.
+    for (int min_depth = std::min(kMinDepth, options.max_depth);;) {
+      out.cells = octree_cells(field, options, min_depth, out.root, Aabb(), &probes, ctx);
+      std::size_t surface = 0;
+      for (const CellProbe& p : probes) surface += p.area > 0 ? 1 : 0;
+      const double ratio = static_cast<double>(options.count) /
+                           (2.0 * static_cast<double>(options.per_cell * surface));
+      if (ratio <= 1 || surface == 0 || min_depth >= options.max_depth) break;
+      // A level has about 4 times the surface cells of the one above.
+      const int more = std::max(1, static_cast<int>(std::ceil(std::log(ratio) / std::log(4.0))));
+      min_depth = std::min(options.max_depth, min_depth + more);
+    }
   } else {
     out.cells.assign(cells.begin(), cells.end());
     std::vector<Aabb> boxes;
@@ -377,6 +389,13 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
     const double f = static_cast<double>(depth - lo->first) / (hi->first - lo->first);
     return std::exp((1 - f) * std::log(lo->second) + f * std::log(hi->second));
   };
+  // The new cells are split at least as deep as the shallowest old cell (deeper when `count`
+  // refined them), so that the old δ law applies to them.
+  int min_depth = kMinDepth;
+  if (nc > 0) {
+    min_depth = ParticleOptions::kMaxDepth;
+    for (const ParticleCell& c : previous.cells) min_depth = std::min(min_depth, c.depth);
+  }
   std::vector<char> affected(nc, 0);
   for (std::size_t c = 0; c < nc; ++c)
     affected[c] =
@@ -396,7 +415,7 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
       }
       if (searched.isEmpty() || !searched.contains(region)) {
         searched = region;
-        all = octree_cells(edited, options, previous.root, region, &all_probes, ctx);
+        all = octree_cells(edited, options, min_depth, previous.root, region, &all_probes, ctx);
       }
       std::vector<char> take(all.size(), 0);
       bool changed = false;
