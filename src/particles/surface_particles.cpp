@@ -470,6 +470,7 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
   // The particles within their δ of the edit box are re-simulated; all others are kept. A kept
   // particle of a replaced cell moves to the new cell that holds it (or the nearest one).
   std::vector<std::size_t> kept_in(fresh.size(), 0);
+  std::map<std::uint32_t, std::uint32_t> readded;
   for (const SurfaceParticle& p : previous.particles) {
     if (grown(edit_box, p.delta).contains(p.position)) continue;
     out.particles.push_back(p);
@@ -487,9 +488,12 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
       }
     }
     if (fresh.empty()) {
-      // No new cell (the surface left the region): the particle keeps a replaced cell's box.
-      out.cells.push_back(previous.cells[p.cell]);
-      out.particles.back().cell = static_cast<std::uint32_t>(out.cells.size() - 1);
+      // No new cell (the surface left the region): the particle keeps its replaced cell.
+      if (!readded.contains(p.cell)) {
+        readded.emplace(p.cell, static_cast<std::uint32_t>(out.cells.size()));
+        out.cells.push_back(previous.cells[p.cell]);
+      }
+      out.particles.back().cell = readded.at(p.cell);
       continue;
     }
     if (best_d == 0) ++kept_in[best];
