@@ -14,9 +14,10 @@
 /// - Cells: the leaves of an octree that meet the surface (an MPU field's own leaves, or
 ///   adaptive_cells(), which splits a cell while the surface normals in it vary more than
 ///   `flatness_deg`, so deep cells mark curved regions).
-/// - Seeding (§4): k particles per leaf cell, taken from points already on the surface (the
-///   caller's `seeds`, e.g. an MPU field's input points) or else from random cell points
-///   projected onto the surface by Newton steps along the gradient.
+/// - Seeding (§4): k particles per leaf cell on average, taken from points already on the
+///   surface (the caller's `seeds`, e.g. an MPU field's input points), else from the cell's
+///   probe points projected onto the surface (Newton steps along the gradient), else from
+///   random cell points projected.
 /// - Repulsion radius δ_i (§4, eq. 2): δ_i = weight((d_i − d_min)/(d_max − d_min)) with d_i the
 ///   particle's cell depth and weight a quadratic B-spline falling from 1 at d_min to 0 at
 ///   d_max. The paper leaves the weight unitless; here it interpolates log δ between the spacing
@@ -130,14 +131,19 @@ struct ParticleStats {
                                               ParticleStats* stats = nullptr,
                                               const Context* ctx = nullptr);
 
-/// Local regeneration (paper §3): after an edit confined to `edit_box`, replaces the cells that
-/// meet edit_box grown by their particles' δ (and the cells of the edited field there, built
-/// under previous.root, or the affected cells themselves when previous.root is empty) and
-/// re-seeds and re-simulates their particles against `edited`, the kept particles acting as
-/// fixed neighbours. Particles of the other cells are kept exactly (byte-identical, same
-/// order, first in the result); the new ones follow, with the new cells appended after the
-/// kept ones. δ follows the previous system's depth-to-δ law. Throws InvalidArgument for bad
-/// options, an empty or non-finite edit_box, or an iso value different from previous.iso.
+/// Local regeneration (paper §3): after an edit confined to `edit_box`, the particles within
+/// their δ of edit_box are removed, and the cells that meet edit_box grown by their particles'
+/// δ are replaced by the edited field's cells there (built under previous.root, at least as
+/// deep as the shallowest old cell; old cells those overlap are replaced too), or re-probed
+/// against `edited` when previous.root is empty (caller-given cells: new surface outside them
+/// gets no particles). The new cells are seeded at the previous system's depth → δ law, less
+/// the kept particles already in them, and simulated against `edited` with the kept particles
+/// nearby as fixed neighbours. Every other particle is kept with byte-identical position,
+/// normal and δ, in the same order, first in the result (its `cell` is renumbered: kept cells
+/// keep their order, then the new cells follow); the new particles follow them. Stats count
+/// the new particles and cells. Throws InvalidArgument for bad options, an empty or non-finite
+/// edit_box, a particle whose cell index is out of range, or an iso value different from
+/// previous.iso.
 [[nodiscard]] ParticleSystem regenerate_particles(const Field& edited,
                                                   const ParticleSystem& previous,
                                                   const Aabb& edit_box,
