@@ -99,7 +99,8 @@ struct ParticleStats {
   int iterations = 0;         ///< simulation steps run
   double residual_max = 0;    ///< max |f − iso| / |∇f| / δ_i over the result's particles
   /// Coefficient of variation (standard deviation / mean) of nearest-neighbour distance / δ_i
-  /// over the particles of the result (regeneration: the re-simulated ones).
+  /// over the particles of the result (regeneration: the re-simulated ones) that have a
+  /// neighbour within δ_i (one without is left out: it has no spacing to measure).
   double spacing_cv = 0;
   double seconds_cells = 0, seconds_seed = 0, seconds_simulate = 0;  ///< wall-clock seconds
   std::uint64_t field_evals = 0;  ///< point evaluations of the field during the call
