@@ -11,6 +11,7 @@
 
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
 
 namespace ramiform::particles_detail {
 namespace {
@@ -47,7 +48,7 @@ double plane_box_area(const Aabb& box, const Vec3& q, const Vec3& n) {
   std::vector<std::pair<double, Vec3>> sorted;
   sorted.reserve(poly.size());
   for (const Vec3& p : poly)
-    sorted.emplace_back(std::atan2((p - centre).dot(v), (p - centre).dot(u)), p);
+    sorted.emplace_back(pm::atan2((p - centre).dot(v), (p - centre).dot(u)), p);
   std::sort(sorted.begin(), sorted.end(),
             [](const auto& x, const auto& y) { return x.first < y.first; });
   double area = 0;
@@ -345,7 +346,7 @@ std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> box
           for (std::size_t b = a + 1; b < normals.size(); ++b)
             min_dot = std::min(min_dot, normals[a].dot(normals[b]));
         }
-        pr.spread_deg = std::acos(std::clamp(min_dot, -1.0, 1.0)) * 180.0 / std::numbers::pi;
+        pr.spread_deg = pm::acos(std::clamp(min_dot, -1.0, 1.0)) * 180.0 / std::numbers::pi;
         Vec3 mean = Vec3::Zero();
         Vec3 centre = Vec3::Zero();
         for (std::size_t a = 0; a < pr.points.size(); ++a) {

@@ -11,6 +11,7 @@
 
 #include "particles/particle_common.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/random.h"
 
 namespace ramiform {
@@ -287,7 +288,7 @@ Plan plan(std::span<const ParticleCell> cells, std::span<const CellProbe> probes
   for (std::size_t c = 0; c < nc; ++c) {
     const double t = dmax > dmin ? static_cast<double>(cells[c].depth - dmin) / (dmax - dmin) : 0.0;
     sigma[c] =
-        std::exp2(-static_cast<double>(dmax > dmin ? dmax - dmin : 0) * (1.0 - depth_weight(t)));
+        pm::pow(2.0, -static_cast<double>(dmax > dmin ? dmax - dmin : 0) * (1.0 - depth_weight(t)));
     weight[c] = probes[c].area / (sigma[c] * sigma[c]);
     area += probes[c].area;
   }
@@ -325,7 +326,7 @@ ParticleSystem spread_particles(const Field& field, const ParticleOptions& optio
                            (2.0 * static_cast<double>(options.per_cell * surface));
       if (ratio <= 1 || surface == 0 || min_depth >= options.max_depth) break;
       // A level has about 4 times the surface cells of the one above.
-      const int more = std::max(1, static_cast<int>(std::ceil(std::log(ratio) / std::log(4.0))));
+      const int more = std::max(1, static_cast<int>(std::ceil(pm::log(ratio) / pm::log(4.0))));
       min_depth = std::min(options.max_depth, min_depth + more);
     }
   } else {
@@ -387,7 +388,7 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
     if (hi->first == depth || hi == law.begin()) return hi->second;
     const auto lo = std::prev(hi);
     const double f = static_cast<double>(depth - lo->first) / (hi->first - lo->first);
-    return std::exp((1 - f) * std::log(lo->second) + f * std::log(hi->second));
+    return pm::exp((1 - f) * pm::log(lo->second) + f * pm::log(hi->second));
   };
   // The new cells are split at least as deep as the shallowest old cell (deeper when `count`
   // refined them), so that the old δ law applies to them.
