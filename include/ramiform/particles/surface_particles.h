@@ -119,12 +119,13 @@ struct ParticleStats {
 
 /// Spreads particles over f == iso (see the file comment). `cells`: the leaf cells to use
 /// (boxes non-empty and finite, depth 0..kMaxDepth), e.g. an MPU field's octree leaves; empty →
-/// adaptive_cells(field, options). `seeds`: points on or near the surface to start from (e.g.
-/// an MPU field's input points); each cell takes its particles from the seeds inside it
-/// (chosen deterministically from `options.seed`) and the rest from projected random cell
-/// points. Every particle of the result satisfies |f − iso| / |∇f| ≤ 1e-4 δ_i; particles that
-/// cannot reach it are dropped and counted in stats->dropped. Byte-identical results on any
-/// thread count. Throws InvalidArgument for bad options or cells, Cancelled through `ctx`.
+/// adaptive_cells(field, options) (with `count`, split to a deeper minimum depth). `seeds`: points
+/// on or near the surface to start from (e.g. an MPU field's input points); each cell takes its
+/// particles from the seeds inside it (chosen deterministically from `options.seed`) and the rest
+/// from projected random cell points. Every particle of the result satisfies |f − iso| / |∇f| ≤
+/// 1e-4 δ_i; particles that cannot reach it are dropped and counted in stats->dropped.
+/// Byte-identical results on any thread count. Throws InvalidArgument for bad options or cells,
+/// Cancelled through `ctx`.
 [[nodiscard]] ParticleSystem spread_particles(const Field& field,
                                               const ParticleOptions& options = {},
                                               std::span<const ParticleCell> cells = {},
