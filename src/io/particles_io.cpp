@@ -119,10 +119,12 @@ void write_particles(const ParticleSystem& s, const std::string& path) {
         PlyWriter ply(out);
         ply.begin("ramiform particles\ncomment iso " + iso_text + root_text);
         std::vector<PlyColumn> vertex;
+        vertex.reserve(8);
         for (int k = 0; k < 7; ++k) vertex.push_back({std::string(kVertex[k]), PlyType::kFloat64});
         vertex.push_back({"cell", PlyType::kUInt32});
         ply.element("vertex", s.particles.size(), vertex);
         std::vector<PlyColumn> cell;
+        cell.reserve(7);
         for (int k = 0; k < 6; ++k) cell.push_back({std::string(kCell[k]), PlyType::kFloat64});
         cell.push_back({"depth", PlyType::kInt32});
         ply.element("cell", s.cells.size(), cell);

@@ -24,23 +24,26 @@ Aabb root_cube(const Field& field) {
 }
 
 std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions& options,
-                                       const Aabb& root, const Aabb& region,
+                                       int min_depth, const Aabb& root, const Aabb& region,
                                        std::vector<CellProbe>* probes, const Context* ctx) {
   std::vector<ParticleCell> leaves;
   if (probes) probes->clear();
   if (root.isEmpty()) return leaves;
   const double iso = field.iso();
-  const int min_depth = std::min(kMinDepth, options.max_depth);
+  min_depth = std::min(min_depth, options.max_depth);
   std::vector<Aabb> level{root};
   for (int depth = 0; !level.empty(); ++depth) {
     check_cancel(ctx);
+    if (ctx != nullptr) {
+      ctx->report("particles: cells", static_cast<double>(depth) / (options.max_depth + 1));
+    }
     // Keep the cells the surface may cross and that meet the region.
     std::vector<char> keep(level.size(), 0);
     parallel::for_each(
         level.size(), 16,
         [&](std::size_t i) {
-          keep[i] = (region.isEmpty() || level[i].intersects(region)) &&
-                    field.bound(level[i]).straddles(iso);
+          keep[i] = static_cast<char>((region.isEmpty() || level[i].intersects(region)) &&
+                                      field.bound(level[i]).straddles(iso));
         },
         ctx);
     std::vector<Aabb> kept;
@@ -57,7 +60,7 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
         if (!pr[i].meets()) continue;
         const bool curved =
             pr[i].near_count < kMinFlatProbes || pr[i].spread_deg > options.flatness_deg;
-        split[i] = depth < options.max_depth && curved;
+        split[i] = static_cast<char>(depth < options.max_depth && curved);
         if (!split[i]) {
           leaves.push_back({kept[i], depth});
           if (probes) probes->push_back(std::move(pr[i]));
@@ -86,8 +89,8 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
 std::vector<ParticleCell> adaptive_cells(const Field& field, const ParticleOptions& options,
                                          const Context* ctx) {
   particles_detail::validate(options, "adaptive_cells");
-  return particles_detail::octree_cells(field, options, particles_detail::root_cube(field), Aabb(),
-                                        nullptr, ctx);
+  return particles_detail::octree_cells(field, options, particles_detail::kMinDepth,
+                                        particles_detail::root_cube(field), Aabb(), nullptr, ctx);
 }
 
 }  // namespace ramiform

@@ -11,6 +11,7 @@
 
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
+#include "ramiform/core/portable_math.h"
 
 namespace ramiform::particles_detail {
 namespace {
@@ -45,8 +46,9 @@ double plane_box_area(const Aabb& box, const Vec3& q, const Vec3& n) {
   const Vec3 u = (std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
   const Vec3 v = n.cross(u);
   std::vector<std::pair<double, Vec3>> sorted;
+  sorted.reserve(poly.size());
   for (const Vec3& p : poly)
-    sorted.emplace_back(std::atan2((p - centre).dot(v), (p - centre).dot(u)), p);
+    sorted.emplace_back(pm::atan2((p - centre).dot(v), (p - centre).dot(u)), p);
   std::sort(sorted.begin(), sorted.end(),
             [](const auto& x, const auto& y) { return x.first < y.first; });
   double area = 0;
@@ -138,8 +140,8 @@ class NeighbourGrid {
           if (j != i) fn(i, static_cast<std::size_t>(j), own);
         }
       }
-      for (int L = own + 1; L < levels(); ++L)
-        visit_level(i, L, [&](std::size_t j, int l) { fn(i, j, l); });
+      for (int lv = own + 1; lv < levels(); ++lv)
+        visit_level(i, lv, [&](std::size_t j, int l) { fn(i, j, l); });
     }
   }
 
@@ -147,7 +149,7 @@ class NeighbourGrid {
   // level around particle i (all those within that level's δ of i), in a fixed order.
   template <class Fn>
   void visit(std::size_t i, Fn&& fn) const {
-    for (int L = level_[i]; L < levels(); ++L) visit_level(i, L, fn);
+    for (int lv = level_[i]; lv < levels(); ++lv) visit_level(i, lv, fn);
   }
 
  private:
@@ -164,32 +166,32 @@ class NeighbourGrid {
   }
 
   template <class Fn>
-  void visit_level(std::size_t i, int L, Fn&& fn) const {
-    const std::array<std::int64_t, 3> c = cell_of(positions_[i], L);
+  void visit_level(std::size_t i, int lv, Fn&& fn) const {
+    const std::array<std::int64_t, 3> c = cell_of(positions_[i], lv);
     for (std::int64_t dx = -1; dx <= 1; ++dx) {
       for (std::int64_t dy = -1; dy <= 1; ++dy) {
         for (std::int64_t dz = -1; dz <= 1; ++dz) {
-          const Slot* slot = find(key(L, {c[0] + dx, c[1] + dy, c[2] + dz}));
+          const Slot* slot = find(key(lv, {c[0] + dx, c[1] + dy, c[2] + dz}));
           if (slot == nullptr) continue;
           for (std::uint32_t e = slot->begin; e < slot->end; ++e) {
             const std::uint32_t j = entries_[e].second;
-            if (j != i) fn(static_cast<std::size_t>(j), L);
+            if (j != i) fn(static_cast<std::size_t>(j), lv);
           }
         }
       }
     }
   }
 
-  [[nodiscard]] std::array<std::int64_t, 3> cell_of(const Vec3& p, int L) const {
+  [[nodiscard]] std::array<std::int64_t, 3> cell_of(const Vec3& p, int lv) const {
     std::array<std::int64_t, 3> c{};
     for (int a = 0; a < 3; ++a) {
-      const double t = std::floor((p[a] - origin_[a]) / sizes_[L]);
+      const double t = std::floor((p[a] - origin_[a]) / sizes_[lv]);
       c[a] = static_cast<std::int64_t>(std::clamp(t, 0.0, static_cast<double>(kAxis - 2)));
     }
     return c;
   }
-  static std::uint64_t key(int L, const std::array<std::int64_t, 3>& c) {
-    return (static_cast<std::uint64_t>(L) << 54) |
+  static std::uint64_t key(int lv, const std::array<std::int64_t, 3>& c) {
+    return (static_cast<std::uint64_t>(lv) << 54) |
            (static_cast<std::uint64_t>(c[0] & (kAxis - 1)) << 36) |
            (static_cast<std::uint64_t>(c[1] & (kAxis - 1)) << 18) |
            static_cast<std::uint64_t>(c[2] & (kAxis - 1));
@@ -301,8 +303,8 @@ std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> box
     const Vec3 size = boxes[c].sizes();
     const double h = size.maxCoeff();
     for (int k = 0; k < kPer; ++k) {
-      const Vec3 t((k % kSide + 0.5) / kSide, ((k / kSide) % kSide + 0.5) / kSide,
-                   (k / (kSide * kSide) + 0.5) / kSide);
+      const int ix = k % kSide, iy = (k / kSide) % kSide, iz = k / (kSide * kSide);
+      const Vec3 t((ix + 0.5) / kSide, (iy + 0.5) / kSide, (iz + 0.5) / kSide);
       pts[c * kPer + k] = boxes[c].min() + t.cwiseProduct(size);
       step[c * kPer + k] = 0.5 * h;
       tol[c * kPer + k] = 1e-6 * h;
@@ -344,7 +346,7 @@ std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> box
           for (std::size_t b = a + 1; b < normals.size(); ++b)
             min_dot = std::min(min_dot, normals[a].dot(normals[b]));
         }
-        pr.spread_deg = std::acos(std::clamp(min_dot, -1.0, 1.0)) * 180.0 / std::numbers::pi;
+        pr.spread_deg = pm::acos(std::clamp(min_dot, -1.0, 1.0)) * 180.0 / std::numbers::pi;
         Vec3 mean = Vec3::Zero();
         Vec3 centre = Vec3::Zero();
         for (std::size_t a = 0; a < pr.points.size(); ++a) {
@@ -386,10 +388,10 @@ SimulationResult simulate(const Field& field, std::vector<Vec3>& positions,
             reverse[c].clear();
             const std::size_t e = std::min(grid.cells(), (c + 1) * kChunk);
             for (std::size_t u = c * kChunk; u < e; ++u) {
-              grid.visit_cell(u, [&](std::size_t i, std::size_t j, int L) {
+              grid.visit_cell(u, [&](std::size_t i, std::size_t j, int lv) {
                 const Vec3 d = positions[i] - positions[j];
                 const double r2 = d.squaredNorm();
-                const bool coarser = L > grid.level(i) && j < n_free;
+                const bool coarser = lv > grid.level(i) && j < n_free;
                 if (r2 >= delta[i] * delta[i] && !(coarser && r2 < delta[j] * delta[j])) return;
                 const double r = std::sqrt(r2);
                 // Coincident particles part along a fixed axis, in opposite directions.
@@ -433,6 +435,8 @@ SimulationResult simulate(const Field& field, std::vector<Vec3>& positions,
         },
         ctx);
     std::copy(next.begin(), next.end(), positions.begin());
+    if (ctx != nullptr)
+      ctx->report("particles: simulate", static_cast<double>(it + 1) / iterations);
   }
   std::vector<Vec3> free_pts(positions.begin(),
                              positions.begin() + static_cast<std::ptrdiff_t>(n_free));
@@ -463,10 +467,10 @@ std::vector<double> nearest_distances(std::span<const Vec3> positions,
           for (std::size_t i = c * kChunk; i < e; ++i) {
             double best = kInf;
             const int own = grid.level(i);
-            grid.visit(i, [&](std::size_t j, int L) {
+            grid.visit(i, [&](std::size_t j, int lv) {
               const double r = (positions[i] - positions[j]).norm();
               best = std::min(best, r);
-              if (L > own) reverse[c].emplace_back(static_cast<std::uint32_t>(j), r);
+              if (lv > own) reverse[c].emplace_back(static_cast<std::uint32_t>(j), r);
             });
             nn[i] = best;
           }

@@ -54,11 +54,12 @@ struct CellProbe {
 std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> boxes,
                                    const Context* ctx);
 
-/// The leaves of the adaptive octree under `root` (see adaptive_cells) that meet the surface,
+/// The leaves of the adaptive octree under `root` (see adaptive_cells, which uses min_depth =
+/// kMinDepth; cells are always split down to min_depth) that meet the surface,
 /// visiting only cells that intersect `region` (an empty region means everywhere). `probes`
 /// (when non-null) receives the probe of each returned cell.
 std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions& options,
-                                       const Aabb& root, const Aabb& region,
+                                       int min_depth, const Aabb& root, const Aabb& region,
                                        std::vector<CellProbe>* probes, const Context* ctx);
 
 /// The root cube adaptive_cells uses for a field.

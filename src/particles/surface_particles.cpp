@@ -11,6 +11,7 @@
 
 #include "particles/particle_common.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/portable_math.h"
 #include "ramiform/core/random.h"
 
 namespace ramiform {
@@ -243,7 +244,7 @@ void run(const Field& field, const ParticleOptions& options, Seeded& s,
   std::vector<double> kept_delta;
   std::size_t first = result.particles.size();
   for (std::size_t i = 0; i < n_free; ++i) {
-    ok[i] = sim.residual[i] <= kSurfaceTolerance * delta[i];
+    ok[i] = static_cast<char>(sim.residual[i] <= kSurfaceTolerance * delta[i]);
     if (!ok[i]) {
       ++st.dropped;
       continue;
@@ -287,7 +288,7 @@ Plan plan(std::span<const ParticleCell> cells, std::span<const CellProbe> probes
   for (std::size_t c = 0; c < nc; ++c) {
     const double t = dmax > dmin ? static_cast<double>(cells[c].depth - dmin) / (dmax - dmin) : 0.0;
     sigma[c] =
-        std::exp2(-static_cast<double>(dmax > dmin ? dmax - dmin : 0) * (1.0 - depth_weight(t)));
+        pm::pow(2.0, -static_cast<double>(dmax > dmin ? dmax - dmin : 0) * (1.0 - depth_weight(t)));
     weight[c] = probes[c].area / (sigma[c] * sigma[c]);
     area += probes[c].area;
   }
@@ -315,7 +316,19 @@ ParticleSystem spread_particles(const Field& field, const ParticleOptions& optio
   std::vector<CellProbe> probes;
   if (cells.empty()) {
     out.root = root_cube(field);
-    out.cells = octree_cells(field, options, out.root, Aabb(), &probes, ctx);
+    // With `count`, the cells are refined (a deeper minimum depth) until they hold at most
+    // 2 k particles each on average, so the start is as close to the goal as with k per cell.
+    for (int min_depth = std::min(kMinDepth, options.max_depth);;) {
+      out.cells = octree_cells(field, options, min_depth, out.root, Aabb(), &probes, ctx);
+      std::size_t surface = 0;
+      for (const CellProbe& p : probes) surface += p.area > 0 ? 1 : 0;
+      const double ratio = static_cast<double>(options.count) /
+                           (2.0 * static_cast<double>(options.per_cell * surface));
+      if (ratio <= 1 || surface == 0 || min_depth >= options.max_depth) break;
+      // A level has about 4 times the surface cells of the one above.
+      const int more = std::max(1, static_cast<int>(std::ceil(pm::log(ratio) / pm::log(4.0))));
+      min_depth = std::min(options.max_depth, min_depth + more);
+    }
   } else {
     out.cells.assign(cells.begin(), cells.end());
     std::vector<Aabb> boxes;
@@ -375,11 +388,19 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
     if (hi->first == depth || hi == law.begin()) return hi->second;
     const auto lo = std::prev(hi);
     const double f = static_cast<double>(depth - lo->first) / (hi->first - lo->first);
-    return std::exp((1 - f) * std::log(lo->second) + f * std::log(hi->second));
+    return pm::exp((1 - f) * pm::log(lo->second) + f * pm::log(hi->second));
   };
+  // The new cells are split at least as deep as the shallowest old cell (deeper when `count`
+  // refined them), so that the old δ law applies to them.
+  int min_depth = kMinDepth;
+  if (nc > 0) {
+    min_depth = ParticleOptions::kMaxDepth;
+    for (const ParticleCell& c : previous.cells) min_depth = std::min(min_depth, c.depth);
+  }
   std::vector<char> affected(nc, 0);
   for (std::size_t c = 0; c < nc; ++c)
-    affected[c] = previous.cells[c].box.intersects(grown(edit_box, cell_delta[c]));
+    affected[c] =
+        static_cast<char>(previous.cells[c].box.intersects(grown(edit_box, cell_delta[c])));
   // The new cells: the edited field's octree under the same root where it meets the edit box or
   // an affected cell; old cells they overlap become affected too, until nothing changes.
   std::vector<ParticleCell> fresh;
@@ -395,20 +416,23 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
       }
       if (searched.isEmpty() || !searched.contains(region)) {
         searched = region;
-        all = octree_cells(edited, options, previous.root, region, &all_probes, ctx);
+        all = octree_cells(edited, options, min_depth, previous.root, region, &all_probes, ctx);
       }
       std::vector<char> take(all.size(), 0);
       bool changed = false;
       for (std::size_t k = 0; k < all.size(); ++k) {
-        take[k] = overlaps(all[k].box, edit_box);
+        take[k] = static_cast<char>(overlaps(all[k].box, edit_box));
         for (std::size_t c = 0; c < nc && !take[k]; ++c)
-          take[k] = affected[c] && overlaps(all[k].box, previous.cells[c].box);
+          take[k] =
+              static_cast<char>(affected[c] != 0 && overlaps(all[k].box, previous.cells[c].box));
       }
       for (std::size_t k = 0; k < all.size(); ++k) {
         if (!take[k]) continue;
         for (std::size_t c = 0; c < nc; ++c) {
-          if (!affected[c] && overlaps(all[k].box, previous.cells[c].box))
-            affected[c] = changed = true;
+          if (!affected[c] && overlaps(all[k].box, previous.cells[c].box)) {
+            affected[c] = 1;
+            changed = true;
+          }
         }
       }
       if (!changed) {
@@ -447,6 +471,7 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
   // The particles within their δ of the edit box are re-simulated; all others are kept. A kept
   // particle of a replaced cell moves to the new cell that holds it (or the nearest one).
   std::vector<std::size_t> kept_in(fresh.size(), 0);
+  std::map<std::uint32_t, std::uint32_t> readded;
   for (const SurfaceParticle& p : previous.particles) {
     if (grown(edit_box, p.delta).contains(p.position)) continue;
     out.particles.push_back(p);
@@ -464,9 +489,12 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
       }
     }
     if (fresh.empty()) {
-      // No new cell (the surface left the region): the particle keeps a replaced cell's box.
-      out.cells.push_back(previous.cells[p.cell]);
-      out.particles.back().cell = static_cast<std::uint32_t>(out.cells.size() - 1);
+      // No new cell (the surface left the region): the particle keeps its replaced cell.
+      if (!readded.contains(p.cell)) {
+        readded.emplace(p.cell, static_cast<std::uint32_t>(out.cells.size()));
+        out.cells.push_back(previous.cells[p.cell]);
+      }
+      out.particles.back().cell = readded.at(p.cell);
       continue;
     }
     if (best_d == 0) ++kept_in[best];

@@ -99,6 +99,29 @@ TEST(RegenerateParticles, IdenticalOnOneAndTwoThreads) {
   }
 }
 
+TEST(RegenerateParticles, RemovingAPartRemovesItsParticlesOnly) {
+  const FieldPtr a = sphere(Vec3(-2, 0, 0), 1.0);
+  const FieldPtr both = make_union({a, sphere(Vec3(2, 0, 0), 0.5)});
+  const ParticleSystem prev = spread_particles(*both);
+  const Aabb edit_box(Vec3(1.2, -0.8, -0.8), Vec3(2.8, 0.8, 0.8));
+  ParticleStats st;
+  const ParticleSystem next = regenerate_particles(*a, prev, edit_box, {}, &st);
+  std::size_t on_a = 0;
+  for (const SurfaceParticle& p : prev.particles) on_a += p.position.x() < 0 ? 1 : 0;
+  ASSERT_GT(on_a, 0u);
+  EXPECT_EQ(st.particles, 0u);
+  ASSERT_EQ(next.particles.size(), on_a);
+  std::size_t k = 0;
+  for (const SurfaceParticle& p : prev.particles) {
+    if (p.position.x() >= 0) continue;
+    ASSERT_TRUE(same_particle(p, next.particles[k]));
+    ASSERT_LT(next.particles[k].cell, next.cells.size());
+    EXPECT_TRUE(next.cells[next.particles[k].cell].box.isApprox(prev.cells[p.cell].box));
+    ++k;
+  }
+  for (const ParticleCell& c : next.cells) EXPECT_LT(c.box.min().x(), 0.0);
+}
+
 TEST(RegenerateParticles, RefusesAnotherIsoAndEmptyBox) {
   const FieldPtr f = sphere(Vec3::Zero(), 1.0);
   const ParticleSystem prev = spread_particles(*f);

@@ -166,6 +166,43 @@ TEST(SurfaceParticles, BadOptionsAreRefused) {
   EXPECT_THROW((void)spread_particles(*f, {}, bad), InvalidArgument);
 }
 
+TEST(SurfaceParticles, CancelledThroughTheContext) {
+  const FieldPtr f = sphere(Vec3::Zero(), 1.0);
+  Context ctx(1);
+  ctx.cancel();
+  EXPECT_THROW((void)spread_particles(*f, {}, {}, {}, nullptr, &ctx), Cancelled);
+}
+
+TEST(SurfaceParticles, ReportsProgressAndHandlesEmptyAndUnboundedFields) {
+  const FieldPtr f = sphere(Vec3::Zero(), 1.0);
+  Context ctx(2);
+  double last_simulate = -1;
+  int reports = 0;
+  ctx.set_progress([&](const std::string& stage, double fraction) {
+    ++reports;
+    if (stage == "particles: simulate") last_simulate = fraction;
+  });
+  (void)spread_particles(*f, {}, {}, {}, nullptr, &ctx);
+  EXPECT_GT(reports, 20);
+  EXPECT_EQ(last_simulate, 1.0);
+  // Nothing inside: no cells, no particles.
+  const FieldPtr empty = make_difference(sphere(Vec3::Zero(), 1.0), sphere(Vec3::Zero(), 2.0));
+  ParticleStats st;
+  const ParticleSystem none = spread_particles(*empty, {}, {}, {}, &st);
+  EXPECT_TRUE(none.particles.empty());
+  EXPECT_EQ(st.particles, 0u);
+  // A half-space has no finite bounds: the cells must be passed.
+  const FieldPtr plane = make_plane_field(Vec3::Zero(), Vec3::UnitZ(), 1.0);
+  EXPECT_THROW((void)adaptive_cells(*plane), InvalidArgument);
+  const std::vector<ParticleCell> cells{{Aabb(Vec3(-1, -1, -0.5), Vec3(1, 1, 0.5)), 0}};
+  const ParticleSystem flat = spread_particles(*plane, {}, cells);
+  ASSERT_EQ(flat.particles.size(), 4u);
+  for (const SurfaceParticle& p : flat.particles) {
+    EXPECT_LE(std::abs(p.position.z()), 1e-4 * p.delta);
+    EXPECT_NEAR(p.normal.z(), 1.0, 1e-12);
+  }
+}
+
 TEST(SurfaceParticles, TenThousandParticles) {
 #ifdef RAMIFORM_TEST_SANITIZED
   const std::size_t n = 2000;

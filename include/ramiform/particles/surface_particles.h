@@ -14,9 +14,10 @@
 /// - Cells: the leaves of an octree that meet the surface (an MPU field's own leaves, or
 ///   adaptive_cells(), which splits a cell while the surface normals in it vary more than
 ///   `flatness_deg`, so deep cells mark curved regions).
-/// - Seeding (§4): k particles per leaf cell, taken from points already on the surface (the
-///   caller's `seeds`, e.g. an MPU field's input points) or else from random cell points
-///   projected onto the surface by Newton steps along the gradient.
+/// - Seeding (§4): k particles per leaf cell on average, taken from points already on the
+///   surface (the caller's `seeds`, e.g. an MPU field's input points), else from the cell's
+///   probe points projected onto the surface (Newton steps along the gradient), else from
+///   random cell points projected.
 /// - Repulsion radius δ_i (§4, eq. 2): δ_i = weight((d_i − d_min)/(d_max − d_min)) with d_i the
 ///   particle's cell depth and weight a quadratic B-spline falling from 1 at d_min to 0 at
 ///   d_max. The paper leaves the weight unitless; here it interpolates log δ between the spacing
@@ -27,6 +28,9 @@
 ///   step to f == iso along ∇f) plus repulsion from the neighbours closer than δ_i, weighted by
 ///   (1 − r/δ_i)² and projected on the tangent plane. A final projection puts every particle on
 ///   the surface.
+///
+/// Progress is reported through `ctx` as "particles: cells" (per octree level) and "particles:
+/// simulate" (per step).
 ///
 /// Deviations from the paper: the per-cell particle count is k on average, in proportion to the
 /// surface area estimated in each cell over δ² (k exactly per cell would crowd cells that the
@@ -63,8 +67,10 @@ struct ParticleOptions {
   static constexpr int kMaxIterations = 10000;  ///< largest allowed iterations
 
   std::size_t per_cell = 4;  ///< k initial particles per leaf cell on average (paper §4); >= 1
-  /// When > 0: the total number of particles wanted instead of per_cell × cells (δ is scaled
-  /// so that this many tile the surface).
+  /// When > 0: the total number of particles wanted instead of per_cell × cells. Adaptive
+  /// cells are then split to a deeper minimum depth until there are at most 2 per_cell
+  /// particles per cell on average (or max_depth is reached), and δ is scaled so that this many
+  /// tile the surface.
   std::size_t count = 0;
   int iterations = 20;     ///< simulation steps, 0..kMaxIterations
   std::uint64_t seed = 1;  ///< seeds the random choices (which seeds, which cell points)
@@ -93,7 +99,8 @@ struct ParticleStats {
   int iterations = 0;         ///< simulation steps run
   double residual_max = 0;    ///< max |f − iso| / |∇f| / δ_i over the result's particles
   /// Coefficient of variation (standard deviation / mean) of nearest-neighbour distance / δ_i
-  /// over the particles of the result (regeneration: the re-simulated ones).
+  /// over the particles of the result (regeneration: the re-simulated ones) that have a
+  /// neighbour within δ_i (one without is left out: it has no spacing to measure).
   double spacing_cv = 0;
   double seconds_cells = 0, seconds_seed = 0, seconds_simulate = 0;  ///< wall-clock seconds
   std::uint64_t field_evals = 0;  ///< point evaluations of the field during the call
@@ -112,12 +119,13 @@ struct ParticleStats {
 
 /// Spreads particles over f == iso (see the file comment). `cells`: the leaf cells to use
 /// (boxes non-empty and finite, depth 0..kMaxDepth), e.g. an MPU field's octree leaves; empty →
-/// adaptive_cells(field, options). `seeds`: points on or near the surface to start from (e.g.
-/// an MPU field's input points); each cell takes its particles from the seeds inside it
-/// (chosen deterministically from `options.seed`) and the rest from projected random cell
-/// points. Every particle of the result satisfies |f − iso| / |∇f| ≤ 1e-4 δ_i; particles that
-/// cannot reach it are dropped and counted in stats->dropped. Byte-identical results on any
-/// thread count. Throws InvalidArgument for bad options or cells, Cancelled through `ctx`.
+/// adaptive_cells(field, options) (with `count`, split to a deeper minimum depth). `seeds`: points
+/// on or near the surface to start from (e.g. an MPU field's input points); each cell takes its
+/// particles from the seeds inside it (chosen deterministically from `options.seed`) and the rest
+/// from projected random cell points. Every particle of the result satisfies |f − iso| / |∇f| ≤
+/// 1e-4 δ_i; particles that cannot reach it are dropped and counted in stats->dropped.
+/// Byte-identical results on any thread count. Throws InvalidArgument for bad options or cells,
+/// Cancelled through `ctx`.
 [[nodiscard]] ParticleSystem spread_particles(const Field& field,
                                               const ParticleOptions& options = {},
                                               std::span<const ParticleCell> cells = {},
@@ -125,14 +133,19 @@ struct ParticleStats {
                                               ParticleStats* stats = nullptr,
                                               const Context* ctx = nullptr);
 
-/// Local regeneration (paper §3): after an edit confined to `edit_box`, replaces the cells that
-/// meet edit_box grown by their particles' δ (and the cells of the edited field there, built
-/// under previous.root, or the affected cells themselves when previous.root is empty) and
-/// re-seeds and re-simulates their particles against `edited`, the kept particles acting as
-/// fixed neighbours. Particles of the other cells are kept exactly (byte-identical, same
-/// order, first in the result); the new ones follow, with the new cells appended after the
-/// kept ones. δ follows the previous system's depth-to-δ law. Throws InvalidArgument for bad
-/// options, an empty or non-finite edit_box, or an iso value different from previous.iso.
+/// Local regeneration (paper §3): after an edit confined to `edit_box`, the particles within
+/// their δ of edit_box are removed, and the cells that meet edit_box grown by their particles'
+/// δ are replaced by the edited field's cells there (built under previous.root, at least as
+/// deep as the shallowest old cell; old cells those overlap are replaced too), or re-probed
+/// against `edited` when previous.root is empty (caller-given cells: new surface outside them
+/// gets no particles). The new cells are seeded at the previous system's depth → δ law, less
+/// the kept particles already in them, and simulated against `edited` with the kept particles
+/// nearby as fixed neighbours. Every other particle is kept with byte-identical position,
+/// normal and δ, in the same order, first in the result (its `cell` is renumbered: kept cells
+/// keep their order, then the new cells follow); the new particles follow them. Stats count
+/// the new particles and cells. Throws InvalidArgument for bad options, an empty or non-finite
+/// edit_box, a particle whose cell index is out of range, or an iso value different from
+/// previous.iso.
 [[nodiscard]] ParticleSystem regenerate_particles(const Field& edited,
                                                   const ParticleSystem& previous,
                                                   const Aabb& edit_box,
