@@ -106,18 +106,22 @@ TEST_F(ReconstructCliTest, TorusKeepsItsHoleAndCellSizeOptionsApply) {
   double worst = 0;
   for (const Vec3& v : mesh.positions) worst = std::max(worst, std::abs(test::torus_distance(v)));
   EXPECT_LT(worst, 0.02);
+  // The default cell is one point spacing (sqrt(area / points) for these random points).
+  const double area = 4 * std::numbers::pi * std::numbers::pi * test::kTorusMajor *
+                      test::kTorusMinor;
+  EXPECT_NEAR(stats["spacing"].get<double>(), std::sqrt(area / 4000), 0.1 * std::sqrt(area / 4000));
+  EXPECT_EQ(stats["mesh"]["cell_size"].get<double>(), stats["spacing"].get<double>());
   // A coarser grid: fewer triangles, still one closed torus.
-  const auto [coarse, coarse_stats] = reconstruct(in, "--spacing-cells 3");
+  const auto [coarse, coarse_stats] = reconstruct(in, "--cell-size 0.08");
   test::expect_closed_surface(coarse, 1, 0);
-  EXPECT_LT(coarse.triangles.size(), mesh.triangles.size() / 4);
-  EXPECT_NEAR(coarse_stats["mesh"]["cell_size"].get<double>(),
-              3 * coarse_stats["spacing"].get<double>(), 1e-12);
+  EXPECT_LT(coarse.triangles.size(), mesh.triangles.size() / 1.4);
+  EXPECT_EQ(coarse_stats["mesh"]["cell_size"].get<double>(), 0.08);
 }
 
 TEST_F(ReconstructCliTest, MeshInputIsSampledWithItsFaceNormals) {
   // A closed sphere mesh made by ramiform itself (marching cubes), as OFF.
   const std::string scene =
-      write("ball.rf", "sphere ball 1\nsave_mesh ball.off ball method=mc resolution=40\n");
+      write("ball.rf", "sphere ball 1\nsave_mesh ball ball.off method=mc resolution=40\n");
   const CliRun made = run_cli("run " + scene + " --out " + path(""));
   ASSERT_EQ(made.code, 0) << made.out;
   const std::string ball = path("ball.off");
@@ -142,7 +146,7 @@ TEST_F(ReconstructCliTest, BadInputsExitTwoNamingTheProblemAndWriteNothing) {
       {"0 0 0 0 0 1\n1 0 0 0 0 0\n", ":2: zero normal"},
       {"0 0 0\n1 0 0\n", "points"},  // too few points to fit anything
       {"0 0 0 1 0 0\n1 0 nan 1 0 0\n", ":2:"},
-      {"", "no points"},
+      {"", "empty"},
   };
   for (const Case& c : cases) {
     const std::string in = write("bad.xyz", c.text);
@@ -211,7 +215,7 @@ TEST_F(ReconstructCliTest, SceneMpuBlendsWithModelledShapesAndSpreadsParticles) 
                                   "mpu scan cloud.xyz\n"
                                   "sphere ball 0.6 center=1.2,0,0\n"
                                   "union scan ball both\n"
-                                  "save_mesh both.ply both method=mc resolution=60\n"
+                                  "save_mesh both both.ply method=mc resolution=60\n"
                                   "particles scan count=1500 name=p\n"
                                   "save_point_set p.xyz p\n");
   const CliRun r = run_cli("run " + scene + " --out " + path(""));
