@@ -340,7 +340,7 @@ class Fitter {
     const Vec3 centre = cell.center();
     double R = options_.support * cell.diagonal().norm();
     std::vector<std::pair<std::uint32_t, double>> found;
-    tree_.within(centre, R, found);
+    tree_.within_by_index(centre, R, found);
     out.initial_count = found.size();
     const auto need = static_cast<std::size_t>(options_.min_points);
     if (found.size() < need) {
@@ -349,10 +349,10 @@ class Fitter {
       tree_.nearest(centre, need, nearest);
       const double reach = std::sqrt(nearest.back().second);
       while (R <= reach) R += kGrowth * R;
-      tree_.within(centre, R, found);
+      tree_.within_by_index(centre, R, found);
       while (found.size() < need) {
         R += kGrowth * R;
-        tree_.within(centre, R, found);
+        tree_.within_by_index(centre, R, found);
       }
     }
     // The support stays α d: the ball is grown only to fit (Ohtake grows the support too).
@@ -364,8 +364,7 @@ class Fitter {
     Ball ball;
     ball.index.reserve(found.size());
     ball.weight.reserve(found.size());
-    // Ball order: by index (the search sorts by distance; sums then follow the input order).
-    std::sort(found.begin(), found.end());
+    // Ball order: by index (sums follow the input order, whatever the tree's traversal).
     for (const auto& [i, d2] : found) {
       ball.index.push_back(i);
       ball.weight.push_back(bspline(1.5 * std::sqrt(d2) / R));
