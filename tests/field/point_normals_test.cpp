@@ -82,6 +82,33 @@ TEST(PointNormals, FlipsInconsistentNormalsBack) {
   }
 }
 
+TEST(PointNormals, ThinPlateKeepsBothSides) {
+  // A 2 x 2 x 0.04 plate: neighbours reach across it, where the two sides' normals are opposite
+  // (Hoppe's plain n_i . n_j would carry the orientation across and flip one side).
+  Rng rng(25);
+  PointSet plate;
+  const Vec3 half(1, 1, 0.02);
+  while (plate.size() < 6000) {
+    const Vec3 p(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-0.02, 0.02));
+    // Area-uniform over the six faces: pick a face with probability proportional to its area.
+    const double areas[3] = {0.04 * 2, 0.04 * 2, 4};
+    double pick = rng.uniform(0, 2 * (areas[0] + areas[1] + areas[2]));
+    int axis = 0;
+    while (pick >= 2 * areas[axis]) pick -= 2 * areas[axis++];
+    const double side = pick < areas[axis] ? -1.0 : 1.0;
+    Vec3 q = p;
+    q[axis] = side * half[axis];
+    plate.positions.push_back(q);
+    plate.normals.push_back(side * Vec3::Unit(axis));
+  }
+  std::size_t flipped = 0;
+  const PointSet bad = flip_some(plate, 0.2, 26, &flipped);
+  NormalReport report;
+  const PointSet out = orient_normals(bad, {}, &report);
+  EXPECT_EQ(report.flipped, flipped);
+  EXPECT_EQ(compare(out.normals, plate.normals).against, 0u);
+}
+
 TEST(PointNormals, OrientsEachComponent) {
   PointSet two = test::sphere_cloud(600, 1.0, Vec3(-3, 0, 0));
   const PointSet b = test::sphere_cloud(900, 0.5, Vec3(4, 1, 0));
