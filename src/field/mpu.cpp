@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <utility>
 
@@ -33,8 +34,8 @@ constexpr double kNormalWeight = 0.5;
 constexpr std::size_t kMaxFitPoints = 384;
 // Sharp features: every normal of a cluster within this angle of the cluster's mean, and the
 // means of two clusters more than twice as far apart.
-const double kClusterCos = std::cos(20.0 * 3.14159265358979323846 / 180.0);
-const double kSeparationCos = std::cos(40.0 * 3.14159265358979323846 / 180.0);
+const double kClusterCos = std::cos(20.0 * std::numbers::pi / 180.0);
+const double kSeparationCos = std::cos(40.0 * std::numbers::pi / 180.0);
 // Fewest points per cluster of a piecewise fit.
 constexpr std::size_t kMinClusterPoints = 4;
 // Relative ridge added to the normal equations (they are well conditioned in ball units).

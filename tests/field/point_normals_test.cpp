@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -31,7 +33,7 @@ Agreement compare(const std::vector<Vec3>& got, const std::vector<Vec3>& referen
     const double c = got[i].dot(r);
     if (c < 0) ++a.against;
     a.worst_deg = std::max(
-        a.worst_deg, std::atan2(got[i].cross(r).norm(), std::abs(c)) * 180 / 3.141592653589793);
+        a.worst_deg, std::atan2(got[i].cross(r).norm(), std::abs(c)) * 180 / std::numbers::pi);
   }
   return a;
 }
