@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <utility>
 
@@ -33,8 +34,8 @@ constexpr double kNormalWeight = 0.5;
 constexpr std::size_t kMaxFitPoints = 384;
 // Sharp features: every normal of a cluster within this angle of the cluster's mean, and the
 // means of two clusters more than twice as far apart.
-const double kClusterCos = std::cos(20.0 * 3.14159265358979323846 / 180.0);
-const double kSeparationCos = std::cos(40.0 * 3.14159265358979323846 / 180.0);
+const double kClusterCos = std::cos(20.0 * std::numbers::pi / 180.0);
+const double kSeparationCos = std::cos(40.0 * std::numbers::pi / 180.0);
 // Fewest points per cluster of a piecewise fit.
 constexpr std::size_t kMinClusterPoints = 4;
 // Relative ridge added to the normal equations (they are well conditioned in ball units).
@@ -340,7 +341,7 @@ class Fitter {
     const Vec3 centre = cell.center();
     double R = options_.support * cell.diagonal().norm();
     std::vector<std::pair<std::uint32_t, double>> found;
-    tree_.within(centre, R, found);
+    tree_.within_by_index(centre, R, found);
     out.initial_count = found.size();
     const auto need = static_cast<std::size_t>(options_.min_points);
     if (found.size() < need) {
@@ -349,10 +350,10 @@ class Fitter {
       tree_.nearest(centre, need, nearest);
       const double reach = std::sqrt(nearest.back().second);
       while (R <= reach) R += kGrowth * R;
-      tree_.within(centre, R, found);
+      tree_.within_by_index(centre, R, found);
       while (found.size() < need) {
         R += kGrowth * R;
-        tree_.within(centre, R, found);
+        tree_.within_by_index(centre, R, found);
       }
     }
     // The support stays α d: the ball is grown only to fit (Ohtake grows the support too).
@@ -364,8 +365,7 @@ class Fitter {
     Ball ball;
     ball.index.reserve(found.size());
     ball.weight.reserve(found.size());
-    // Ball order: by index (the search sorts by distance; sums then follow the input order).
-    std::sort(found.begin(), found.end());
+    // Ball order: by index (sums follow the input order, whatever the tree's traversal).
     for (const auto& [i, d2] : found) {
       ball.index.push_back(i);
       ball.weight.push_back(bspline(1.5 * std::sqrt(d2) / R));
@@ -500,7 +500,7 @@ class MpuField final : public detail::PointwiseField {
  public:
   MpuField(double iso, std::vector<Node> nodes, std::vector<Leaf> leaves,
            std::vector<MpuCell> cells, const Aabb& root, const Aabb& clip, std::size_t point_count,
-           const MpuStats& stats)
+           const MpuStats& stats, const Context* ctx)
       : PointwiseField(iso),
         nodes_(std::move(nodes)),
         leaves_(std::move(leaves)),
@@ -510,6 +510,7 @@ class MpuField final : public detail::PointwiseField {
         background_reach_(kBackgroundReach * root.sizes().maxCoeff()),
         point_count_(point_count),
         stats_(stats) {
+    build_near_lists(ctx);
     bounds_ = inside_box();
   }
 
@@ -544,25 +545,14 @@ class MpuField final : public detail::PointwiseField {
   double native(const Vec3& p, Vec3* grad) const {
     double sw = 0, swq = 0;
     Vec3 gsw = Vec3::Zero(), gswq = Vec3::Zero();
-    std::array<std::int32_t, 8 * 24> stack;  // 7 per level on the path + 8
-    int top = 0;
-    stack[static_cast<std::size_t>(top++)] = 0;
-    while (top > 0) {
-      const Node& node = nodes_[static_cast<std::size_t>(stack[static_cast<std::size_t>(--top)])];
-      if (!node.reach.contains(p)) continue;
-      if (node.leaf < 0) {
-        for (std::int32_t c = 7; c >= 0; --c)
-          stack[static_cast<std::size_t>(top++)] = node.first_child + c;
-        continue;
-      }
-      const Leaf& leaf = leaves_[static_cast<std::size_t>(node.leaf)];
+    auto add = [&](const Leaf& leaf) {
       const Vec3 d = p - leaf.centre;
       const double r2 = d.squaredNorm();
-      if (!(r2 < leaf.radius * leaf.radius)) continue;
+      if (!(r2 < leaf.radius * leaf.radius)) return;
       const double r = std::sqrt(r2);
       const double t = 1.5 * r / leaf.radius;
       const double w = bspline(t);
-      if (!(w > 0)) continue;
+      if (!(w > 0)) return;
       Vec3 gq;
       const double q = leaf.fit.value(d, grad != nullptr ? &gq : nullptr);
       sw += w;
@@ -572,6 +562,31 @@ class MpuField final : public detail::PointwiseField {
             r > 0 ? Vec3((bspline_derivative(t) * 1.5 / (leaf.radius * r)) * d) : Vec3::Zero();
         gsw += gw;
         gswq += gw * q + w * gq;
+      }
+    };
+    if (root_.contains(p)) {
+      // The leaf whose cell holds p lists every leaf whose support meets that cell.
+      std::size_t id = 0;
+      while (nodes_[id].leaf < 0) {
+        const Vec3 mid = nodes_[id].box.center();
+        id = static_cast<std::size_t>(nodes_[id].first_child + (p.x() >= mid.x()) +
+                                      2 * (p.y() >= mid.y()) + 4 * (p.z() >= mid.z()));
+      }
+      const auto l = static_cast<std::size_t>(nodes_[id].leaf);
+      for (std::size_t k = near_begin_[l]; k < near_begin_[l + 1]; ++k) add(leaves_[near_[k]]);
+    } else {
+      std::array<std::int32_t, 8 * 24> stack;  // 7 per level on the path + 8
+      int top = 0;
+      stack[static_cast<std::size_t>(top++)] = 0;
+      while (top > 0) {
+        const Node& node = nodes_[static_cast<std::size_t>(stack[static_cast<std::size_t>(--top)])];
+        if (!node.reach.contains(p)) continue;
+        if (node.leaf < 0) {
+          for (std::int32_t c = 7; c >= 0; --c)
+            stack[static_cast<std::size_t>(top++)] = node.first_child + c;
+          continue;
+        }
+        add(leaves_[static_cast<std::size_t>(node.leaf)]);
       }
     }
     // The background: s (distance to the root cube) with weight (s / reach)^3 outside it.
@@ -687,6 +702,39 @@ class MpuField final : public detail::PointwiseField {
     return {lo - slack, hi + slack};
   }
 
+  // For each leaf, the leaves whose support meets its cell, ascending.
+  void build_near_lists(const Context* ctx) {
+    std::vector<std::size_t> leaf_node(leaves_.size());
+    for (std::size_t id = 0; id < nodes_.size(); ++id)
+      if (nodes_[id].leaf >= 0) leaf_node[static_cast<std::size_t>(nodes_[id].leaf)] = id;
+    std::vector<std::vector<std::uint32_t>> lists(leaves_.size());
+    parallel::for_each(
+        leaves_.size(), 64,
+        [&](std::size_t l) {
+          const Aabb& cell = nodes_[leaf_node[l]].box;
+          std::vector<std::int32_t> stack{0};
+          while (!stack.empty()) {
+            const Node& node = nodes_[static_cast<std::size_t>(stack.back())];
+            stack.pop_back();
+            if (!node.reach.intersects(cell)) continue;
+            if (node.leaf < 0) {
+              for (std::int32_t c = 0; c < 8; ++c) stack.push_back(node.first_child + c);
+              continue;
+            }
+            const Leaf& leaf = leaves_[static_cast<std::size_t>(node.leaf)];
+            if (squared_distance(cell, leaf.centre) < leaf.radius * leaf.radius)
+              lists[l].push_back(static_cast<std::uint32_t>(node.leaf));
+          }
+          std::sort(lists[l].begin(), lists[l].end());
+        },
+        ctx);
+    near_begin_.assign(leaves_.size() + 1, 0);
+    for (std::size_t l = 0; l < leaves_.size(); ++l)
+      near_begin_[l + 1] = near_begin_[l] + lists[l].size();
+    near_.reserve(near_begin_.back());
+    for (const auto& list : lists) near_.insert(near_.end(), list.begin(), list.end());
+  }
+
   // A box around every point where f may be > iso: the union of the boxes, down kBoundsLevels
   // subdivisions of the root's reach, whose bound allows an inside value.
   Aabb inside_box() const {
@@ -718,6 +766,8 @@ class MpuField final : public detail::PointwiseField {
   std::vector<Node> nodes_;
   std::vector<Leaf> leaves_;
   std::vector<MpuCell> cells_;
+  std::vector<std::size_t> near_begin_;  // leaf l's list: near_[near_begin_[l], near_begin_[l + 1])
+  std::vector<std::uint32_t> near_;
   Aabb root_;
   Aabb clip_;  // the points' box padded by kClipMargin of its diagonal
   double background_reach_;
@@ -869,7 +919,7 @@ FieldPtr make_mpu_field(const PointSet& points, const MpuOptions& options, MpuSt
   st.cells = nodes.size();
   st.leaves = leaves.size();
   auto field = std::make_shared<MpuField>(options.iso, std::move(nodes), std::move(leaves),
-                                          std::move(cells), root, clip, pos.size(), st);
+                                          std::move(cells), root, clip, pos.size(), st, ctx);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats != nullptr) *stats = st;
   return field;

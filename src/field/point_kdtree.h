@@ -43,9 +43,17 @@ class PointKdTree {
   /// nearest first, ties by index. Thread-safe.
   void within(const Vec3& q, double radius,
               std::vector<std::pair<std::uint32_t, double>>& out) const {
+    within_by_index(q, radius, out);
+    sort(out);
+  }
+
+  /// As `within`, sorted by index instead.
+  void within_by_index(const Vec3& q, double radius,
+                       std::vector<std::pair<std::uint32_t, double>>& out) const {
     out.clear();
     tree_->radiusSearch(q.data(), radius * radius, out, nanoflann::SearchParams(32, 0, false));
-    sort(out);
+    std::sort(out.begin(), out.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
   }
 
  private:

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
 #include <queue>
 #include <string>
@@ -142,16 +143,18 @@ PointSet orient_normals(const PointSet& points, const NormalOptions& options, No
     }
   }
 
-  // Hoppe's cost 1 - |n_v . n_w|, plus |n . e| at both ends for the edge's unit direction e:
-  // an edge across a thin sheet joins nearly opposite normals (Hoppe's cost about 0) but runs
-  // along them, so the added term makes the propagation stay on one side.
-  auto edge_cost = [&](std::uint32_t v, std::uint32_t w) {
+  // Consistency of two neighbours' normals: n_v . n_w' with n_w' = n_w - 2 (n_w . e) e, n_w
+  // reflected in the plane normal to the edge's unit direction e. On a circle through both
+  // points, or across a thin sheet or a narrow gap, consistently oriented normals give +1,
+  // where Hoppe's plain n_v . n_w is about -1. Between neighbours on one tangent plane it is
+  // n_v . n_w.
+  auto consistency = [&](std::uint32_t v, std::uint32_t w) {
     const Vec3& a = out.normals[v];
     const Vec3& b = out.normals[w];
     const Vec3 d = pos[w] - pos[v];
-    const double len = d.norm();
-    const double along = len > 0 ? (std::abs(a.dot(d)) + std::abs(b.dot(d))) / len : 0.0;
-    return 1 - std::abs(a.dot(b)) + along;
+    const double len2 = d.squaredNorm();
+    if (!(len2 > 0)) return a.dot(b);
+    return a.dot(b) - 2 * a.dot(d) * b.dot(d) / len2;
   };
   // Prim's minimum spanning tree from each start, orienting every point as it joins the tree.
   using Entry = std::tuple<double, std::uint32_t, std::uint32_t>;  // cost, point, tree parent
@@ -167,9 +170,9 @@ PointSet orient_normals(const PointSet& points, const NormalOptions& options, No
       queue.pop();
       if (visited[v] != 0) continue;
       visited[v] = 1;
-      if (v != from && out.normals[v].dot(out.normals[from]) < 0) out.normals[v] = -out.normals[v];
+      if (v != from && consistency(from, v) < 0) out.normals[v] = -out.normals[v];
       for (const std::uint32_t w : adjacent[v]) {
-        if (visited[w] == 0) queue.emplace(edge_cost(v, w), w, v);
+        if (visited[w] == 0) queue.emplace(1 - std::abs(consistency(v, w)), w, v);
       }
     }
     check_cancel(ctx);

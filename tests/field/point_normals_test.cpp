@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -31,7 +33,7 @@ Agreement compare(const std::vector<Vec3>& got, const std::vector<Vec3>& referen
     const double c = got[i].dot(r);
     if (c < 0) ++a.against;
     a.worst_deg = std::max(
-        a.worst_deg, std::atan2(got[i].cross(r).norm(), std::abs(c)) * 180 / 3.141592653589793);
+        a.worst_deg, std::atan2(got[i].cross(r).norm(), std::abs(c)) * 180 / std::numbers::pi);
   }
   return a;
 }
@@ -80,6 +82,33 @@ TEST(PointNormals, FlipsInconsistentNormalsBack) {
     EXPECT_EQ(a.against, 0u) << fraction;
     EXPECT_LT(a.worst_deg, 1e-12) << fraction;  // given normals keep their direction
   }
+}
+
+TEST(PointNormals, ThinPlateKeepsBothSides) {
+  // A 2 x 2 x 0.04 plate: neighbours reach across it, where the two sides' normals are opposite
+  // (Hoppe's plain n_i . n_j would carry the orientation across and flip one side).
+  Rng rng(25);
+  PointSet plate;
+  const Vec3 half(1, 1, 0.02);
+  while (plate.size() < 6000) {
+    const Vec3 p(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-0.02, 0.02));
+    // Area-uniform over the six faces: pick a face with probability proportional to its area.
+    const double areas[3] = {0.04 * 2, 0.04 * 2, 4};
+    double pick = rng.uniform(0, 2 * (areas[0] + areas[1] + areas[2]));
+    int axis = 0;
+    while (pick >= 2 * areas[axis]) pick -= 2 * areas[axis++];
+    const double side = pick < areas[axis] ? -1.0 : 1.0;
+    Vec3 q = p;
+    q[axis] = side * half[axis];
+    plate.positions.push_back(q);
+    plate.normals.push_back(side * Vec3::Unit(axis));
+  }
+  std::size_t flipped = 0;
+  const PointSet bad = flip_some(plate, 0.2, 26, &flipped);
+  NormalReport report;
+  const PointSet out = orient_normals(bad, {}, &report);
+  EXPECT_EQ(report.flipped, flipped);
+  EXPECT_EQ(compare(out.normals, plate.normals).against, 0u);
 }
 
 TEST(PointNormals, OrientsEachComponent) {
