@@ -34,19 +34,21 @@ void add_mpu_options(CLI::App& c, ReconstructOptions& o) {
                with_default("MPU support radius, in cell diagonals (α)", o.mpu.support))
       ->check(CLI::PositiveNumber);
   c.add_option("--min-points", o.mpu.min_points,
-               with_default("fewest points a local fit uses (N_min)", o.mpu.min_points))
-      ->check(CLI::Range(4, 100000));
+               with_default("fewest points a local fit uses (N_min)", o.mpu.min_points, 6, 100000))
+      ->check(CLI::Range(6, 100000));
   c.add_option("--max-depth", o.mpu.max_depth,
-               with_default("deepest MPU octree level", o.mpu.max_depth))
-      ->check(CLI::Range(1, 20));
-  c.add_flag("--no-sharp", [&o](std::int64_t) { o.mpu.sharp_features = false; },
-             "no piecewise quadrics at sharp edges and corners");
+               with_default("deepest MPU octree level", o.mpu.max_depth, 0, 20))
+      ->check(CLI::Range(0, 20));
+  c.add_flag(
+      "--no-sharp", [&o](std::int64_t) { o.mpu.sharp_features = false; },
+      "no piecewise quadrics at sharp edges and corners");
   c.add_option("--neighbours", o.normals.neighbours,
-               with_default("neighbours for estimating and orienting normals",
-                            o.normals.neighbours))
+               with_default("neighbours for estimating and orienting normals", o.normals.neighbours,
+                            3, 256))
       ->check(CLI::Range(3, 256));
-  c.add_option("--mesh-samples", o.read.mesh_samples,
-               with_default("points drawn on a mesh input", static_cast<double>(o.read.mesh_samples)))
+  c.add_option(
+       "--mesh-samples", o.read.mesh_samples,
+       with_default("points drawn on a mesh input", static_cast<double>(o.read.mesh_samples)))
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 26));
 }
 
@@ -81,12 +83,18 @@ int run_reconstruct(ReconstructArgs& args) {
   write_stats(args.common.stats_path, stats);
   const nlohmann::json& n = stats["normals"];
   if (n["estimated"].get<std::size_t>() > 0) {
-    std::cerr << "ramiform: note: estimated " << n["estimated"] << " normals ("
-              << n["components"] << " pieces of the neighbour graph)\n";
+    std::cerr << "ramiform: note: estimated " << n["estimated"] << " normals (" << n["components"]
+              << " pieces of the neighbour graph)\n";
   }
   if (n["flipped"].get<std::size_t>() > 0) {
     std::cerr << "ramiform: note: flipped " << n["flipped"]
               << " normals that disagreed with their neighbours\n";
+  }
+  const std::size_t specks = stats["mesh"]["specks_removed"].get<std::size_t>();
+  if (specks > 0) {
+    std::cerr << "ramiform: note: removed " << specks << (specks == 1 ? " speck" : " specks")
+              << " smaller than " << args.options.speck_cells
+              << " cells (details below the grid's resolution; --speck-cells 0 keeps them)\n";
   }
   if (!report.watertight || report.components != 1) {
     std::cerr << "ramiform: warning: the mesh has " << report.components << " pieces"
@@ -94,8 +102,7 @@ int run_reconstruct(ReconstructArgs& args) {
   }
   std::cout << "wrote " << args.out_path << " (" << mesh.triangles.size() << " triangles, "
             << report.components << (report.components == 1 ? " piece" : " pieces")
-            << (report.watertight && report.oriented && report.manifold ? ", closed" : "")
-            << ")\n";
+            << (report.watertight && report.oriented && report.manifold ? ", closed" : "") << ")\n";
   return 0;
 }
 
@@ -204,9 +211,8 @@ int run_particles(ParticlesArgs& args) {
   stats["iterations"] = ps.iterations;
   stats["residual_max"] = ps.residual_max;
   stats["spacing_cv"] = ps.spacing_cv;
-  stats["particle_seconds"] = {{"cells", ps.seconds_cells},
-                               {"seed", ps.seconds_seed},
-                               {"simulate", ps.seconds_simulate}};
+  stats["particle_seconds"] = {
+      {"cells", ps.seconds_cells}, {"seed", ps.seconds_seed}, {"simulate", ps.seconds_simulate}};
   stats["field_evals"] = field->evaluations();
   stats["seconds"] = timer.seconds();
   write_stats(args.common.stats_path, stats);
@@ -238,7 +244,12 @@ void register_reconstruct(CLI::App& root, Action& action) {
                 with_default("default cell size in point spacings (1/sqrt of the sampling density)",
                              a->options.spacing_cells))
       ->check(CLI::PositiveNumber);
-  c->add_option("--seed", a->seed, "seed of the points drawn on a mesh input")->capture_default_str();
+  c->add_option("--speck-cells", a->options.speck_cells,
+                with_default("remove pieces smaller than this many cells (0 keeps all)",
+                             a->options.speck_cells))
+      ->check(CLI::Range(0.0, 1000.0));
+  c->add_option("--seed", a->seed, "seed of the points drawn on a mesh input")
+      ->capture_default_str();
   c->add_option("--save-points", a->points_path,
                 "also write the oriented points the surface was fitted to ('x y z nx ny nz' "
                 "text, or .ply): estimated and flipped normals included");
@@ -261,19 +272,22 @@ void register_particles(CLI::App& root, Action& action) {
       ->required();
   ParticleOptions& p = a->particles;
   c->add_option("--per-cell", p.per_cell,
-                with_default("initial particles per leaf cell (k)", static_cast<double>(p.per_cell)))
+                with_default("initial particles per leaf cell (k), on average",
+                             static_cast<double>(p.per_cell), 1, 1000))
       ->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
   c->add_option("--count", p.count, "about this many particles in all (instead of --per-cell)")
       ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 26));
-  c->add_option("--iterations", p.iterations, with_default("simulation steps", p.iterations))
-      ->check(CLI::Range(0, 10000));
+  c->add_option("--iterations", p.iterations,
+                with_default("simulation steps", p.iterations, 0, ParticleOptions::kMaxIterations))
+      ->check(CLI::Range(0, ParticleOptions::kMaxIterations));
   c->add_option("--seed", p.seed, "random seed")->capture_default_str();
   c->add_option("--cell-depth", p.max_depth,
-                with_default("deepest adaptive cell (fields without an MPU octree)", p.max_depth))
-      ->check(CLI::Range(0, 16));
-  c->add_option("--flatness", p.flatness_deg,
-                with_default("split a cell while its normals vary more than this, degrees",
-                             p.flatness_deg))
+                with_default("deepest adaptive cell (fields without an MPU octree)", p.max_depth, 0,
+                             ParticleOptions::kMaxDepth))
+      ->check(CLI::Range(0, ParticleOptions::kMaxDepth));
+  c->add_option(
+       "--flatness", p.flatness_deg,
+       with_default("split a cell while its normals vary more than this, degrees", p.flatness_deg))
       ->check(CLI::Range(0.1, 180.0));
   c->add_flag("--skeleton", a->skeleton, "read INPUT as a skeleton whatever its extension");
   c->add_option("--previous", a->previous_path,

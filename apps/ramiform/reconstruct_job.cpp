@@ -5,9 +5,11 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <numbers>
+#include <cstdint>
 #include <nanoflann.hpp>
+#include <numbers>
 
 #include "ramiform/core/errors.h"
 
@@ -51,8 +53,8 @@ double quantile(std::vector<double>& v, double q) {
 }
 
 // |f − iso| / |∇f| at every point, relative to `scale`: median, p99 and max.
-nlohmann::json first_order_distances(const Field& field, std::span<const Vec3> points,
-                                     double scale, Context& ctx) {
+nlohmann::json first_order_distances(const Field& field, std::span<const Vec3> points, double scale,
+                                     Context& ctx) {
   std::vector<double> values(points.size());
   std::vector<Vec3> gradients(points.size());
   field.evaluate(points, values, gradients, &ctx);
@@ -69,6 +71,43 @@ nlohmann::json first_order_distances(const Field& field, std::span<const Vec3> p
   j["p99"] = quantile(d, 0.99);
   j["max"] = worst;
   return j;
+}
+
+// Removes the pieces of `mesh` whose bounding box has a diagonal below `size`: specks of a
+// few grid cells that marching cubes leaves where the implicit surface has a detail smaller than
+// its cells (a lobe of a local quadric off a hoof or a fingertip). Returns how many.
+std::size_t drop_specks(TriMesh& mesh, double size) {
+  const TriangleComponents c = triangle_components(mesh);
+  if (c.count <= 1) return 0;
+  std::vector<Aabb> boxes(c.count);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (const std::uint32_t v : mesh.triangles[t]) boxes[c.label[t]].extend(mesh.positions[v]);
+  }
+  std::vector<bool> drop(c.count);
+  std::size_t dropped = 0;
+  for (std::uint32_t k = 0; k < c.count; ++k) {
+    drop[k] = boxes[k].diagonal().norm() < size;
+    dropped += drop[k] ? 1 : 0;
+  }
+  if (dropped == 0 || dropped == c.count) return 0;
+  TriMesh kept;
+  std::vector<std::uint32_t> index(mesh.positions.size(), UINT32_MAX);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (drop[c.label[t]]) continue;
+    std::array<std::uint32_t, 3> tri{};
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = mesh.triangles[t][static_cast<std::size_t>(k)];
+      if (index[v] == UINT32_MAX) {
+        index[v] = static_cast<std::uint32_t>(kept.positions.size());
+        kept.positions.push_back(mesh.positions[v]);
+        if (!mesh.normals.empty()) kept.normals.push_back(mesh.normals[v]);
+      }
+      tri[static_cast<std::size_t>(k)] = index[v];
+    }
+    kept.triangles.push_back(tri);
+  }
+  mesh = std::move(kept);
+  return dropped;
 }
 
 }  // namespace
@@ -144,7 +183,10 @@ MarchingCubesOptions reconstruct_mc_options(const PointSurface& surface,
 TriMesh mesh_point_surface(PointSurface& surface, const ReconstructOptions& options, Context& ctx,
                            MeshReport* report) {
   MarchingCubesStats st;
-  TriMesh mesh = marching_cubes(*surface.field, reconstruct_mc_options(surface, options), &ctx, &st);
+  TriMesh mesh =
+      marching_cubes(*surface.field, reconstruct_mc_options(surface, options), &ctx, &st);
+  const std::size_t specks =
+      options.speck_cells > 0 ? drop_specks(mesh, options.speck_cells * st.cell_size) : 0;
   const MeshReport r = check_mesh(mesh, &ctx);
   if (report != nullptr) *report = r;
   nlohmann::json j;
@@ -153,6 +195,7 @@ TriMesh mesh_point_surface(PointSurface& surface, const ReconstructOptions& opti
   j["cell_size"] = st.cell_size;
   j["blocks_skipped"] = st.blocks_skipped;
   j["blocks_total"] = st.blocks_total;
+  j["specks_removed"] = specks;
   j["watertight"] = r.watertight;
   j["oriented"] = r.oriented;
   j["manifold"] = r.manifold;

@@ -31,6 +31,9 @@ struct ReconstructOptions {
   double cell_size = 0.0;
   int resolution = 0;          ///< cells along the longest side instead (0 = from cell_size)
   double spacing_cells = 1.0;  ///< the default cell size in point spacings
+  /// Pieces of the mesh smaller than this many cells (bounding-box diagonal) are removed as
+  /// specks (details below the grid's resolution); 0 keeps every piece.
+  double speck_cells = 3.0;
 };
 
 /// The MPU surface of a point file, before meshing.
@@ -53,8 +56,9 @@ struct PointSurface {
 [[nodiscard]] MarchingCubesOptions reconstruct_mc_options(const PointSurface& surface,
                                                           const ReconstructOptions& options);
 
-/// Meshes `surface` (marching cubes with bound pruning) and adds "mesh" figures to its stats:
-/// vertices, triangles, cell_size, watertight, oriented, manifold, components, and the vertex
+/// Meshes `surface` (marching cubes with bound pruning), removes specks (`speck_cells`) and adds
+/// "mesh" figures to its stats: vertices, triangles, cell_size, specks_removed, watertight,
+/// oriented, manifold, components, and the vertex
 /// deviation from the MPU surface (|f − iso| / |∇f|, median and max, relative to the diagonal).
 [[nodiscard]] TriMesh mesh_point_surface(PointSurface& surface, const ReconstructOptions& options,
                                          Context& ctx, MeshReport* report = nullptr);

@@ -35,21 +35,21 @@
 #include "commands.h"
 #include "common.h"
 #include "mesh_job.h"
-#include "reconstruct_job.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/field/anisotropic.h"
 #include "ramiform/field/equipotential.h"
 #include "ramiform/grow/space_colonization.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/points_io.h"
-#include "ramiform/io/surface_points.h"
 #include "ramiform/io/skeleton_io.h"
+#include "ramiform/io/surface_points.h"
 #include "ramiform/mesh/deviation.h"
 #include "ramiform/mesh/normals.h"
 #include "ramiform/particles/surface_particles.h"
 #include "ramiform/polygonize/particles.h"
 #include "ramiform/script/script.h"
 #include "ramiform/skeleton/generate.h"
+#include "reconstruct_job.h"
 
 namespace py = pybind11;
 
@@ -962,8 +962,7 @@ void bind_skeletal(py::module_& m) {
   m.def(
       "bezier_field",
       [](const Doubles& controls, double radius, const std::optional<std::vector<double>>& radii,
-         const std::string& def, const std::string& tie, const std::string& kernel,
-         double weight) {
+         const std::string& def, const std::string& tie, const std::string& kernel, double weight) {
         BezierCurve c;
         c.controls = to_points(controls, "controls");
         if (radii) c.radii = *radii;
@@ -985,8 +984,7 @@ void bind_skeletal(py::module_& m) {
           .c_str());
   auto surface_field = [](std::shared_ptr<const ParametricSurface> surface, double radius,
                           const std::string& def_u, const std::string& def_v, double epsilon,
-                          int depth, double max_error, const std::string& kernel,
-                          double weight) {
+                          int depth, double max_error, const std::string& kernel, double weight) {
     SubdivisionOptions sub;
     sub.epsilon_degrees = epsilon;
     sub.max_depth = depth;
@@ -1016,10 +1014,11 @@ void bind_skeletal(py::module_& m) {
       py::arg("def_v") = "identity", py::arg("epsilon") = sub.epsilon_degrees,
       py::arg("depth") = sub.max_depth, py::arg("max_error") = sub.max_error,
       py::arg("kernel") = "wyvill", py::arg("weight") = 1.0,
-      (std::string("A bicubic Bezier patch skeleton (controls (16, 3), b_ij at row 4 i + j) "
-                   "subdivided where a side's derivatives turn by more than epsilon degrees, at "
-                   "most depth times (§4.1), and while a sub-patch's error bound exceeds max_error (0: "
-                   "off), skinned at radius.") +
+      (std::string(
+           "A bicubic Bezier patch skeleton (controls (16, 3), b_ij at row 4 i + j) "
+           "subdivided where a side's derivatives turn by more than epsilon degrees, at "
+           "most depth times (§4.1), and while a sub-patch's error bound exceeds max_error (0: "
+           "off), skinned at radius.") +
        deform_doc)
           .c_str());
   m.def(

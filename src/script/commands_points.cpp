@@ -30,8 +30,8 @@ CommandResult run_mpu(Call& c) {
   MpuOptions o;
   o.tolerance = c.option_positive("tolerance", o.tolerance);
   o.support = c.option_positive("support", o.support);
-  o.min_points = c.option_integer("min_points", o.min_points, 4, 100000);
-  o.max_depth = c.option_integer("max_depth", o.max_depth, 1, 20);
+  o.min_points = c.option_integer("min_points", o.min_points, 6, 100000);
+  o.max_depth = c.option_integer("max_depth", o.max_depth, 0, 20);
   o.sharp_features = c.option_word("sharp", "on", {"on", "off"}) == "on";
   o.iso = c.option_number("iso", o.iso);
   const SurfacePoints in = read_surface_points(path, read);
@@ -53,11 +53,11 @@ CommandResult run_particles(Call& c) {
   const Object& object = c.object(0, ObjectKind::kShape);
   const std::string name = c.has_option("name") ? c.option_token("name")->text : c.arg(0).text;
   ParticleOptions o;
-  o.per_cell = static_cast<std::size_t>(
-      c.option_integer("per_cell", static_cast<int>(o.per_cell), 1, 1000));
+  o.per_cell =
+      static_cast<std::size_t>(c.option_integer("per_cell", static_cast<int>(o.per_cell), 1, 1000));
   o.count = static_cast<std::size_t>(c.option_integer("count", 0, 0, 1 << 26));
-  o.iterations = c.option_integer("iterations", o.iterations, 0, 10000);
-  o.max_depth = c.option_integer("cell_depth", o.max_depth, 0, 16);
+  o.iterations = c.option_integer("iterations", o.iterations, 0, ParticleOptions::kMaxIterations);
+  o.max_depth = c.option_integer("cell_depth", o.max_depth, 0, ParticleOptions::kMaxDepth);
   o.flatness_deg = c.option_positive("flatness", o.flatness_deg);
   o.seed = seed_for(c, name);
   // An MPU shape brings its octree leaves (the paper's cells); any other shape gets adaptive
@@ -65,8 +65,7 @@ CommandResult run_particles(Call& c) {
   std::vector<ParticleCell> cells;
   for (const MpuCell& m : mpu_leaf_cells(*object.field)) cells.push_back({m.box, m.depth});
   ParticleStats st;
-  const ParticleSystem system =
-      spread_particles(*object.field, o, cells, {}, &st, c.session().ctx);
+  const ParticleSystem system = spread_particles(*object.field, o, cells, {}, &st, c.session().ctx);
   PointSet points;
   points.positions.reserve(system.particles.size());
   points.normals.reserve(system.particles.size());
@@ -82,9 +81,8 @@ CommandResult run_particles(Call& c) {
     write_particles(system, c.output_path(t, t.text));
   }
   return {c.spec().name,
-          "point set " + name + ": " + std::to_string(n) + " particles on " + c.arg(0).text +
-              " (" + std::to_string(st.cells) + " cells, spacing CV " +
-              format_number(st.spacing_cv) + ")",
+          "point set " + name + ": " + std::to_string(n) + " particles on " + c.arg(0).text + " (" +
+              std::to_string(st.cells) + " cells, spacing CV " + format_number(st.spacing_cv) + ")",
           false};
 }
 
@@ -100,9 +98,9 @@ void add_point_commands(std::vector<CommandSpec>& out) {
        "`samples` points drawn on it). Missing normals are estimated and every normal is "
        "oriented outward (docs/reconstruction.md). The shape blends, cuts and obstructs like "
        "any other.",
-       "mpu kitten kitten.xyz\nsphere ball 0.05 center=0,0.2,0\nunion both kitten ball",
-       {"tolerance", "support", "min_points", "max_depth", "sharp", "neighbours", "samples",
-        "seed", "iso"},
+       "mpu pebble data/pebble.xyz\nsphere ball 0.5 center=1.2,0,0\nblend pebble ball both",
+       {"tolerance", "support", "min_points", "max_depth", "sharp", "neighbours", "samples", "seed",
+        "iso"},
        run_mpu,
        {}});
   out.push_back(

@@ -26,10 +26,13 @@
 #include "cli/cli_run.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
+#include "ramiform/field/mpu.h"
+#include "ramiform/field/point_normals.h"
 #include "ramiform/grow/lsystem.h"
 #include "ramiform/grow/space_colonization.h"
 #include "ramiform/io/points_io.h"
 #include "ramiform/io/skeleton_io.h"
+#include "ramiform/particles/surface_particles.h"
 #include "ramiform/polygonize/marching_cubes.h"
 #include "ramiform/polygonize/refine.h"
 #include "ramiform/polygonize/tetrahedral.h"
@@ -84,7 +87,21 @@ std::vector<OptionCase> cases() {
   const Value resolution = def(mc.resolution, Mc::kMinResolution, Mc::kMaxResolution);
   const Value grow_exponent =
       def(grow.pipe_exponent, Grow::kMinPipeExponent, Grow::kMaxPipeExponent);
+  const MpuOptions mpu;
+  const NormalOptions normals;
+  const ParticleOptions particles;
+  using Particles = ParticleOptions;
   return {
+      {"reconstruct", "--tolerance", "", "", def(mpu.tolerance)},
+      {"reconstruct", "--support", "", "", def(mpu.support)},
+      {"reconstruct", "--min-points", "", "", def(mpu.min_points, 6, 100000)},
+      {"reconstruct", "--max-depth", "", "", def(mpu.max_depth, 0, 20)},
+      {"reconstruct", "--neighbours", "", "", def(normals.neighbours, 3, 256)},
+      {"particles", "--per-cell", "", "", def(static_cast<double>(particles.per_cell), 1, 1000)},
+      {"particles", "--iterations", "", "",
+       def(particles.iterations, 0, Particles::kMaxIterations)},
+      {"particles", "--cell-depth", "", "", def(particles.max_depth, 0, Particles::kMaxDepth)},
+      {"particles", "--flatness", "", "", def(particles.flatness_deg)},
       {"mesh", "--levels", "save_mesh", "levels", levels},
       {"mesh", "--tolerance", "save_mesh", "tolerance", tolerance},
       {"demo", "--tolerance", "", "", tolerance},
@@ -334,9 +351,9 @@ TEST_F(HelpDocsRunTest, SceneLanguageDefaultsAreTheStructs) {
   ScriptSession session(options);
   session.execute_line("skeleton t \"" + skel + "\" surface=convolution");
   const CommandResult tets = session.execute_line("save_mesh t t.ply method=tets");
-  EXPECT_NE(tets.message.find("(tets to tolerance " + format_number(ToleranceOptions{}.tolerance) +
-                              ":"),
-            std::string::npos)
+  EXPECT_NE(
+      tets.message.find("(tets to tolerance " + format_number(ToleranceOptions{}.tolerance) + ":"),
+      std::string::npos)
       << tets.message;
   const CommandResult uniform = session.execute_line("save_mesh t u.ply method=tets levels=2");
   EXPECT_NE(uniform.message.find("(tets, 2 levels)"), std::string::npos) << uniform.message;

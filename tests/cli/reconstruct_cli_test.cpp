@@ -107,8 +107,8 @@ TEST_F(ReconstructCliTest, TorusKeepsItsHoleAndCellSizeOptionsApply) {
   for (const Vec3& v : mesh.positions) worst = std::max(worst, std::abs(test::torus_distance(v)));
   EXPECT_LT(worst, 0.02);
   // The default cell is one point spacing (sqrt(area / points) for these random points).
-  const double area = 4 * std::numbers::pi * std::numbers::pi * test::kTorusMajor *
-                      test::kTorusMinor;
+  const double area =
+      4 * std::numbers::pi * std::numbers::pi * test::kTorusMajor * test::kTorusMinor;
   EXPECT_NEAR(stats["spacing"].get<double>(), std::sqrt(area / 4000), 0.1 * std::sqrt(area / 4000));
   EXPECT_EQ(stats["mesh"]["cell_size"].get<double>(), stats["spacing"].get<double>());
   // A coarser grid: fewer triangles, still one closed torus.
