@@ -66,12 +66,13 @@ namespace ramiform {
 /// Options of the MPU fit.
 struct MpuOptions {
   double iso = 0.0;  ///< iso of the returned field (finite)
-  double tolerance =
-      1e-3;               ///< ε0: max local fit error, fraction of the points' bbox diagonal (> 0)
-  double support = 0.75;  ///< α: support radius / cell diagonal (>= 0.5, so that the supports
-                          ///< of a cell's leaves cover it)
-  int min_points = 15;    ///< N_min: fewest points in a support ball (>= 6)
-  int max_depth = 12;     ///< deepest octree level (root = 0), 0..20
+  /// ε0: largest local fit error, a fraction of the points' bounding-box diagonal (> 0).
+  double tolerance = 1e-3;
+  /// α: support radius / cell diagonal, in (0.5, 100] (above 0.5 the leaves' supports cover
+  /// the root cube with a positive weight everywhere).
+  double support = 0.75;
+  int min_points = 15;  ///< N_min: fewest points in a fitting ball, 6..100000
+  int max_depth = 12;   ///< deepest octree level (root = 0), 0..20
   /// Piecewise quadrics at edges and corners (Ohtake §4); false: plain quadrics only.
   bool sharp_features = true;
 };
