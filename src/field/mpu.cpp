@@ -90,7 +90,7 @@ struct Quadric {
   }
 };
 
-enum class FitKind : std::uint8_t { kGeneral, kBivariate, kSharp };
+enum class FitKind : std::uint8_t { kGeneral, kBivariate, kSharp, kPointDistance };
 
 // A leaf's local function: one quadric, or the max (convex) / min (concave) of 2 or 3.
 struct LocalFit {
@@ -98,8 +98,17 @@ struct LocalFit {
   int pieces = 1;
   bool use_max = true;
   std::array<Quadric, 3> q;
+  // kPointDistance: sign * |x - point| (point relative to the centre), sign = +-1.
+  Vec3 point = Vec3::Zero();
+  double sign = 1;
 
   [[nodiscard]] double value(const Vec3& d, Vec3* grad) const {
+    if (kind == FitKind::kPointDistance) {
+      const Vec3 e = d - point;
+      const double r = e.norm();
+      if (grad != nullptr) *grad = r > 0 ? Vec3((sign / r) * e) : Vec3::Zero();
+      return sign * r;
+    }
     int best = 0;
     double v = q[0].value(d);
     for (int i = 1; i < pieces; ++i) {
@@ -113,6 +122,12 @@ struct LocalFit {
     return v;
   }
   [[nodiscard]] Interval bound(const Vec3& m, const Vec3& h) const {
+    if (kind == FitKind::kPointDistance) {
+      const Aabb box(m - h - point, m + h - point);  // the box relative to the point
+      const double lo = std::sqrt(squared_distance(box, Vec3::Zero()));
+      const double hi = max_distance(box, Vec3::Zero());
+      return sign > 0 ? Interval{lo, hi} : Interval{-hi, -lo};
+    }
     Interval r = q[0].bound(m, h);
     for (int i = 1; i < pieces; ++i) {
       const Interval s = q[static_cast<std::size_t>(i)].bound(m, h);
@@ -328,6 +343,7 @@ struct CellFit {
   double error = 0;
   std::size_t initial_count = 0;  // points in the ball of radius α d
   bool consistent = true;         // the fit passed the auxiliary-point check
+  bool fallback = false;          // failed it as a sparse cell: replaced
 };
 
 class Fitter {
@@ -415,11 +431,24 @@ class Fitter {
     }
     if (!valid && sparse) {
       std::vector<std::pair<std::uint32_t, double>> nearest;
-      tree_.nearest(centre, 1, nearest);
+      tree_.nearest(centre, kAuxiliaryNeighbours, nearest);
       const std::uint32_t j = nearest.front().first;
       out.fit = LocalFit{};
-      out.fit.q[0].b = nrm_[j];
-      out.fit.q[0].c = -nrm_[j].dot(pos_[j] - centre);
+      out.fallback = true;
+      if (out.initial_count == 0) {
+        // No point in the support: the distance to the nearest point, on the side most of the
+        // nearest tangent planes give (no zero in the support, unlike a tangent plane, which
+        // extrapolated sideways cuts through it, e.g. a hoof's sole beside the hoof).
+        int outside = 0;
+        for (const auto& [i, d2] : nearest) outside += nrm_[i].dot(centre - pos_[i]) > 0 ? 1 : -1;
+        if (outside == 0) outside = nrm_[j].dot(centre - pos_[j]) > 0 ? 1 : -1;
+        out.fit.kind = FitKind::kPointDistance;
+        out.fit.point = pos_[j] - centre;
+        out.fit.sign = outside > 0 ? 1.0 : -1.0;
+      } else {
+        out.fit.q[0].b = nrm_[j];
+        out.fit.q[0].c = -nrm_[j].dot(pos_[j] - centre);
+      }
       valid = true;
     }
     out.consistent = valid;
@@ -859,6 +888,7 @@ FieldPtr make_mpu_field(const PointSet& points, const MpuOptions& options, MpuSt
         leaves.push_back({nodes[id].box.center(), cf.radius, cf.fit});
         st.depth = std::max(st.depth, depth);
         st.fit_error_max = std::max(st.fit_error_max, cf.error);
+        st.fallbacks += cf.fallback ? 1 : 0;
         (cf.fit.kind == FitKind::kBivariate ? st.bivariate
          : cf.fit.kind == FitKind::kSharp   ? st.sharp
                                             : st.general_quadrics) += 1;

@@ -136,7 +136,7 @@ TEST(Mpu, BoundIsConservativeAndPrunes) {
     const FieldPtr f = make_mpu_field(s.cloud);
     Rng rng(5);
 #ifdef RAMIFORM_TEST_SANITIZED
-    const int boxes = 300;
+    const int boxes = 600;
 #else
     const int boxes = 2000;
 #endif
@@ -350,6 +350,9 @@ struct ModelCase {
   // Offset along the normals (fraction of the diagonal) at which the sides are checked: above the
   // fit error, below the thickness of thin parts.
   double offset = 2e-3;
+  // Under a sanitizer, sample a quarter of the points (the cow needs its 20,000: sparser, its
+  // thin parts fail the checks above).
+  bool scale_down = false;
 };
 
 // Triangles in the largest connected component (triangles sharing a vertex), as a fraction.
@@ -373,7 +376,7 @@ double largest_component_share(const TriMesh& mesh) {
 void check_model(const ModelCase& m) {
   PointSet cloud;
 #ifdef RAMIFORM_TEST_SANITIZED
-  const int samples = m.mesh_samples / 4;
+  const int samples = m.scale_down ? m.mesh_samples / 4 : m.mesh_samples;
 #else
   const int samples = m.mesh_samples;
 #endif
@@ -408,10 +411,10 @@ void check_model(const ModelCase& m) {
 TEST(MpuModels, Kitten) { check_model({"kitten.xyz", 0, 64}); }
 // Oni has 1,435 points: a coarser fit, checked further from the surface.
 TEST(MpuModels, Oni) { check_model({"oni.pwn", 0, 64, 0, 5e-3}); }
-TEST(MpuModels, Bunny) { check_model({"bunny.ply", 35000, 64}); }
+TEST(MpuModels, Bunny) { check_model({"bunny.ply", 35000, 64, 0, 2e-3, true}); }
 // Known weakness: the cow's thin parts (hooves, ears) leave a few small spurious pieces next to
-// them (about 1 % of the triangles at this resolution).
-TEST(MpuModels, Cow) { check_model({"cow.off", 20000, 64, 0.03}); }
+// them (0.3 % of the triangles at this resolution).
+TEST(MpuModels, Cow) { check_model({"cow.off", 20000, 64, 0.01}); }
 
 }  // namespace
 }  // namespace ramiform

@@ -36,7 +36,9 @@
 ///     general quadric or a sparse cell) where the 6 nearest points' tangent planes agree on a
 ///     side, Q must agree. A cell that fails is subdivided; a sparse cell (fewer than N_min points
 ///     within α d, which is never subdivided: depth follows the sampling density) that fails
-///     gets the tangent plane of the point nearest to its centre;
+///     gets the tangent plane of the point p nearest to its centre, or when no point is within
+///     α d, σ |x - p| with σ = ±1 the side of the centre most of the 6 nearest tangent planes
+///     give (no zero in the support, where a tangent plane extrapolated sideways can cut);
 ///   - the support (the weight's radius) stays α d even when the fitting ball grew: a grown
 ///     support reaches where Q extrapolates (a concave patch's paraboloid is negative all around).
 ///
@@ -64,12 +66,13 @@ namespace ramiform {
 /// Options of the MPU fit.
 struct MpuOptions {
   double iso = 0.0;  ///< iso of the returned field (finite)
-  double tolerance =
-      1e-3;               ///< ε0: max local fit error, fraction of the points' bbox diagonal (> 0)
-  double support = 0.75;  ///< α: support radius / cell diagonal (>= 0.5, so that the supports
-                          ///< of a cell's leaves cover it)
-  int min_points = 15;    ///< N_min: fewest points in a support ball (>= 6)
-  int max_depth = 12;     ///< deepest octree level (root = 0), 0..20
+  /// ε0: largest local fit error, a fraction of the points' bounding-box diagonal (> 0).
+  double tolerance = 1e-3;
+  /// α: support radius / cell diagonal, in (0.5, 100] (above 0.5 the leaves' supports cover
+  /// the root cube with a positive weight everywhere).
+  double support = 0.75;
+  int min_points = 15;  ///< N_min: fewest points in a fitting ball, 6..100000
+  int max_depth = 12;   ///< deepest octree level (root = 0), 0..20
   /// Piecewise quadrics at edges and corners (Ohtake §4); false: plain quadrics only.
   bool sharp_features = true;
 };
@@ -82,9 +85,12 @@ struct MpuStats {
   std::size_t general_quadrics = 0;  ///< leaf fits by kind: general quadric,
   std::size_t bivariate = 0;         ///< bivariate quadratic over the tangent plane,
   std::size_t sharp = 0;             ///< piecewise (edge or corner)
-  int depth = 0;                     ///< deepest level used
-  double fit_error_max = 0.0;        ///< largest leaf error ε, model units
-  double seconds = 0.0;              ///< wall-clock time of the fit
+  /// Sparse leaves whose fit failed the auxiliary-point check, replaced by a tangent plane or a
+  /// signed point distance (counted among general_quadrics).
+  std::size_t fallbacks = 0;
+  int depth = 0;               ///< deepest level used
+  double fit_error_max = 0.0;  ///< largest leaf error ε, model units
+  double seconds = 0.0;        ///< wall-clock time of the fit
 };
 
 /// One octree leaf and the input points inside its cell (each point belongs to exactly one leaf:
