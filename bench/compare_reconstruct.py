@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 # SPDX-License-Identifier: MIT
 # Copyright (c) 2026 the ramiform authors
 """MPU reconstruction (`ramiform reconstruct`, docs/reconstruction.md) side by side with screened
@@ -15,6 +15,7 @@ cow.off as the 30,000 area-weighted points with face normals that ramiform draws
   - accuracy: the distance from every input point to the mesh (Open3D's RaycastingScene, the
     same measure for both), median / p99 / max relative to the points' bounding-box diagonal.
 Usage: bench/compare_reconstruct.py [BUILD_DIR] [OUT.md]      (prints a markdown table)
+(Debian's /usr/bin/python3, the interpreter python3-open3d installs into.)
 """
 import json
 import os

@@ -83,8 +83,9 @@ int run_reconstruct(ReconstructArgs& args) {
   write_stats(args.common.stats_path, stats);
   const nlohmann::json& n = stats["normals"];
   if (n["estimated"].get<std::size_t>() > 0) {
-    std::cerr << "ramiform: note: estimated " << n["estimated"] << " normals (" << n["components"]
-              << " pieces of the neighbour graph)\n";
+    const std::size_t pieces = n["components"].get<std::size_t>();
+    std::cerr << "ramiform: note: estimated " << n["estimated"] << " normals (" << pieces
+              << (pieces == 1 ? " piece" : " pieces") << " of the neighbour graph)\n";
   }
   if (n["flipped"].get<std::size_t>() > 0) {
     std::cerr << "ramiform: note: flipped " << n["flipped"]
@@ -206,6 +207,7 @@ int run_particles(ParticlesArgs& args) {
     write_points(out, args.out_path);
   }
   timer.lap("write");
+  stats["iso"] = field->iso();
   stats["particles"] = ps.particles;
   stats["cells"] = ps.cells;
   stats["iterations"] = ps.iterations;

@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -176,6 +177,62 @@ PointSet orient_normals(const PointSet& points, const NormalOptions& options, No
       }
     }
     check_cancel(ctx);
+  }
+
+  if (given) {
+    // The propagation is right where the neighbour graph is: on a tube about as thin as the
+    // neighbour spacing (a cow's tail) it can turn correct normals over. A given normal is
+    // therefore only reversed where its own neighbourhood disagrees with it too: the sum of
+    // its consistency with its neighbours' given normals is negative. A piece of the cloud
+    // whose given normals mostly point against the propagation's outward orientation is taken
+    // to be inverted as a whole (every normal inward) and reversed first.
+    std::vector<Vec3> g(n);
+    for (std::size_t i = 0; i < n; ++i) g[i] = points.normals[i].normalized();
+    std::vector<std::int64_t> balance(n, 0);  // per union-find root: agreeing minus disagreeing
+    for (std::size_t i = 0; i < n; ++i) {
+      balance[find_root(parent, static_cast<std::uint32_t>(i))] +=
+          out.normals[i].dot(g[i]) < 0 ? -1 : 1;
+    }
+    auto reflected = [&](const Vec3& a, const Vec3& b, std::size_t v, std::size_t w) {
+      const Vec3 d = pos[w] - pos[v];
+      const double len2 = d.squaredNorm();
+      return len2 > 0 ? a.dot(b) - 2 * a.dot(d) * b.dot(d) / len2 : a.dot(b);
+    };
+    // Each piece's normals, reversed when the piece is inverted.
+    std::vector<Vec3> current(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool inverted = balance[find_root(parent, static_cast<std::uint32_t>(i))] < 0;
+      current[i] = inverted ? Vec3(-g[i]) : g[i];
+    }
+    // Rounds of votes (each reads the previous round's normals only, so the result does not
+    // depend on the thread count): a normal the propagation disagrees with is reversed when its
+    // neighbourhood disagrees too. A reversal only ever moves a normal to the propagation's side,
+    // so the rounds end; neighbouring flipped normals (clusters) are undone from their rims in.
+    std::vector<Vec3> next(n);
+    for (int round = 0; round < 16; ++round) {
+      std::atomic<std::size_t> changed{0};
+      parallel::for_chunks(
+          n, kGrain,
+          [&](std::size_t b, std::size_t e) {
+            std::size_t local = 0;
+            for (std::size_t i = b; i < e; ++i) {
+              next[i] = current[i];
+              if (out.normals[i].dot(current[i]) >= 0) continue;
+              double vote = 0;
+              for (const std::uint32_t j : adjacent[i])
+                vote += reflected(current[i], current[j], i, j);
+              if (vote < 0) {
+                next[i] = -current[i];
+                ++local;
+              }
+            }
+            changed += local;
+          },
+          ctx);
+      current.swap(next);
+      if (changed == 0) break;
+    }
+    out.normals = std::move(current);
   }
 
   if (report != nullptr) {

@@ -96,9 +96,9 @@ void add_point_commands(std::vector<CommandSpec>& out) {
        "A multi-level partition of unity implicit (Ohtake et al. 2003) fitted to FILE: points "
        "('x y z [nx ny nz]' text, .xyz, .pwn, PLY) or a mesh (.ply with faces, .off, .obj; "
        "`samples` points drawn on it). Missing normals are estimated and every normal is "
-       "oriented outward (docs/reconstruction.md). The shape blends, cuts and obstructs like "
-       "any other.",
-       "mpu pebble data/pebble.xyz\nsphere ball 0.5 center=1.2,0,0\nblend pebble ball both",
+       "oriented outward (docs/reconstruction.md). The shape is a signed distance (iso 0): "
+       "union, intersection and difference combine it with any other.",
+       "mpu pebble data/pebble.xyz\nsphere ball 0.5 center=1.2,0,0\nunion pebble ball both",
        {"tolerance", "support", "min_points", "max_depth", "sharp", "neighbours", "samples", "seed",
         "iso"},
        run_mpu,

@@ -209,6 +209,35 @@ TEST_F(ReconstructCliTest, ParticlesOnAScriptShapeLieOnItAndRegenerateLocally) {
   EXPECT_NE(r.out.find("did you mean 'ball'"), std::string::npos) << r.out;
 }
 
+TEST_F(ReconstructCliTest, ParticlesOnASkeletonsSurface) {
+  const std::string out = path("p.xyz");
+  const std::string stats = path("s.json");
+  const CliRun r =
+      run_cli("particles " + y_fork() + " -o " + out + " --count 1500 --stats " + stats);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json s = read_json(stats);
+  EXPECT_EQ(s["input"], "skeleton");
+  EXPECT_LE(s["residual_max"].get<double>(), 1e-4);
+  const PointSet p = read_points(out);
+  EXPECT_EQ(p.size(), s["particles"].get<std::size_t>());
+  EXPECT_NEAR(static_cast<double>(p.size()), 1500.0, 300.0);
+  // On the surface: `eval` gives the field's value there, the iso value (0 for the default
+  // convolution surface, whose iso is reported by eval) up to the residual.
+  const CliRun e = run_cli("eval " + y_fork() + " --points " + out);
+  ASSERT_EQ(e.code, 0) << e.out;
+  std::istringstream lines(e.out);
+  std::string line;
+  std::size_t n = 0;
+  double worst = 0;
+  while (std::getline(lines, line)) {
+    if (line.empty()) continue;
+    worst = std::max(worst, std::abs(std::stod(line) - s["iso"].get<double>()));
+    ++n;
+  }
+  EXPECT_EQ(n, p.size());
+  EXPECT_LT(worst, 1e-3);
+}
+
 TEST_F(ReconstructCliTest, SceneMpuBlendsWithModelledShapesAndSpreadsParticles) {
   cloud_file("cloud.xyz", test::sphere_cloud(2000, 1.0, Vec3(0, 0, 0)));
   const std::string scene = write("scene.rf",

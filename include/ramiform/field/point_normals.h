@@ -51,10 +51,14 @@ struct NormalReport {
 /// - Without normals: estimates each by PCA over the point and its k nearest neighbours (the
 ///   eigenvector of the smallest eigenvalue of their covariance), then orients them by
 ///   propagation; `report->estimated` = point count.
-/// - With normals: normalizes them and orients them by the same propagation (the given
-///   directions only decide the costs of the graph), so that inconsistently flipped normals are
-///   flipped back and a fully inverted cloud comes out outward; `report->flipped` counts the
-///   normals reversed.
+/// - With normals: normalizes them and runs the same propagation (the given directions only
+///   decide the costs of the graph). A piece of the cloud whose normals mostly disagree with
+///   the propagation is inverted as a whole and reversed; after that, a normal is reversed only
+///   where the propagation disagrees with it and so does its neighbourhood (the sum of its
+///   reflected consistency with its neighbours' normals is negative). Scattered flipped normals
+///   are turned back, a fully inverted cloud comes out outward, and correct normals on a tube
+///   as thin as the neighbour spacing, where the propagation alone goes wrong, are kept.
+///   `report->flipped` counts the normals reversed.
 ///
 /// Needs at least neighbours + 1 points (`neighbours` is lowered to points - 1 when fewer, with
 /// at least 3 points). Throws InvalidArgument for a bad `neighbours`, fewer than 3 points, a
