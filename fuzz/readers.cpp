@@ -17,6 +17,7 @@
 #include "fuzz_support.h"
 #include "ramiform/io/curve_io.h"
 #include "ramiform/io/mesh_io.h"
+#include "ramiform/io/particles_io.h"
 #include "ramiform/io/points_io.h"
 #include "ramiform/io/qsm_io.h"
 #include "ramiform/io/skeleton_io.h"
@@ -41,6 +42,7 @@ enum class Reader {
   kCurve2,
   kCurve3,
   kSwc,
+  kParticlesPly,
 };
 
 #if defined(RAMIFORM_FUZZ_SKELETON_JSON)
@@ -85,6 +87,9 @@ constexpr const char* kExtension = ".txt";
 #elif defined(RAMIFORM_FUZZ_SWC)
 constexpr Reader kReader = Reader::kSwc;
 constexpr const char* kExtension = ".swc";
+#elif defined(RAMIFORM_FUZZ_PARTICLES_PLY)
+constexpr Reader kReader = Reader::kParticlesPly;
+constexpr const char* kExtension = ".ply";
 #else
 #error "compile with one RAMIFORM_FUZZ_<HARNESS> define (fuzz/CMakeLists.txt)"
 #endif
@@ -132,6 +137,31 @@ void check_points(const PointSet& p) {
   require(p.normals.empty() || p.normals.size() == p.positions.size(),
           "point normals: none or one per point");
   for (const Vec3& n : p.normals) require(finite(n), "point normals are finite");
+}
+
+// A particle state that is read has finite values, positive radii, cells in range, and writes
+// back to a file that reads to the same state.
+void check_particles(const ParticleSystem& s) {
+  require(std::isfinite(s.iso), "particle iso is finite");
+  for (const ParticleCell& c : s.cells) {
+    require(finite(c.box.min()) && finite(c.box.max()), "particle cells are finite");
+  }
+  for (const SurfaceParticle& p : s.particles) {
+    require(finite(p.position) && finite(p.normal), "particles are finite");
+    require(std::isfinite(p.delta) && p.delta > 0, "particle radii are finite and positive");
+    require(p.cell < s.cells.size(), "particle cell indices are in range");
+  }
+  static const std::string back = (scratch_dir() / "round_trip_particles.ply").string();
+  write_particles(s, back);
+  const ParticleSystem again = read_particles(back);
+  require(again.particles.size() == s.particles.size() && again.cells.size() == s.cells.size(),
+          "particle state round trip keeps the counts");
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    require(again.particles[i].position == s.particles[i].position &&
+                again.particles[i].delta == s.particles[i].delta &&
+                again.particles[i].cell == s.particles[i].cell,
+            "particle state round trip is exact");
+  }
 }
 
 template <class Point>
@@ -196,6 +226,9 @@ void run(const std::uint8_t* data, std::size_t size) {
     case Reader::kPointsText:
     case Reader::kPointsPly:
       read_then_check([&] { return read_points(path); }, check_points);
+      break;
+    case Reader::kParticlesPly:
+      read_then_check([&] { return read_particles(path); }, check_particles);
       break;
     case Reader::kCurve2:
       read_then_check([&] { return read_points2(path); }, check_curve<Vec2>);

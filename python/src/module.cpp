@@ -109,6 +109,16 @@ std::vector<Vec3> to_points(const Doubles& a, const char* what) {
   return p;
 }
 
+/// Normals (count, 3), one per point or vertex (`what`, for the message).
+std::vector<Vec3> to_normals(const Doubles& a, std::size_t count, const char* what) {
+  std::vector<Vec3> n = to_points(a, "normals");
+  if (n.size() != count) {
+    throw InvalidArgument("normals has " + std::to_string(n.size()) + " rows for " +
+                          std::to_string(count) + " " + what);
+  }
+  return n;
+}
+
 Vec3 to_vec3(const std::vector<double>& v, const char* what) {
   if (v.size() != 3) throw InvalidArgument(std::string(what) + " must have 3 values");
   return {v[0], v[1], v[2]};
@@ -271,13 +281,7 @@ TriMesh make_mesh(const Doubles& vertices, const Ints& triangles,
       m.triangles[k][j] = static_cast<std::uint32_t>(v);
     }
   }
-  if (normals) {
-    m.normals = to_points(*normals, "normals");
-    if (m.normals.size() != m.positions.size()) {
-      throw InvalidArgument("normals has " + std::to_string(m.normals.size()) + " rows for " +
-                            std::to_string(m.positions.size()) + " vertices");
-    }
-  }
+  if (normals) m.normals = to_normals(*normals, m.positions.size(), "vertices");
   return m;
 }
 
@@ -404,13 +408,7 @@ py::array_t<double> points_array(const std::vector<Vec3>& p) {
 PointSet point_set(const Doubles& points, const std::optional<Doubles>& normals) {
   PointSet s;
   s.positions = to_points(points, "points");
-  if (normals) {
-    s.normals = to_points(*normals, "normals");
-    if (s.normals.size() != s.positions.size()) {
-      throw InvalidArgument("normals: " + std::to_string(s.normals.size()) + " rows for " +
-                            std::to_string(s.positions.size()) + " points");
-    }
-  }
+  if (normals) s.normals = to_normals(*normals, s.positions.size(), "points");
   return s;
 }
 

@@ -183,8 +183,10 @@ ParticleSystem parse_particles(std::string_view bytes, const std::string& source
     p.position = Vec3(row[0], row[1], row[2]);
     p.normal = Vec3(row[3], row[4], row[5]);
     p.delta = row[6];
-    if (!(p.delta >= 0))
-      throw InputError(source, "vertex", i, "negative delta " + format_number(p.delta));
+    if (!(p.delta > 0)) {
+      throw InputError(source, "vertex", i,
+                       "delta " + format_number(p.delta) + ": a repulsion radius must be > 0");
+    }
     if (row[7] >= static_cast<double>(s.cells.size())) {
       throw InputError(source, "vertex", i,
                        "cell index " + format_number(row[7]) + " out of range (" +

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "support/fixtures.h"
@@ -40,6 +41,12 @@ inline CliRun run_cli(const std::string& args, int kill_after_seconds = 0) {
   const int status = pclose(pipe);
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+/// A JSON file (a --stats file) parsed.
+inline nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
 }
 
 /// The bytes of a file ("" when it cannot be read).

@@ -46,12 +46,8 @@ namespace ramiform {
 namespace {
 
 using test::CliRun;
+using test::read_json;
 using test::run_cli;
-
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
 
 std::string examples_dir() { return std::string(RAMIFORM_SOURCE_DIR) + "/examples/data/"; }
 

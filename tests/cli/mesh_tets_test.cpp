@@ -28,16 +28,12 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::CliRun;
+using test::read_json;
 using test::run_cli;
 
 std::string read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
 }
 
 class MeshTetsTest : public test::CliDirTest {

@@ -26,12 +26,8 @@ namespace ramiform {
 namespace {
 
 using test::CliRun;
+using test::read_json;
 using test::run_cli;
-
-nlohmann::json read_json(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
 
 class ReconstructCliTest : public test::CliDirTest {
  protected:

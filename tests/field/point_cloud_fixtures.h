@@ -9,9 +9,11 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <numbers>
 #include <string>
 
+#include "ramiform/core/errors.h"
 #include "ramiform/core/geometry.h"
 #include "ramiform/core/random.h"
 #include "ramiform/io/mesh_io.h"
@@ -92,6 +94,16 @@ inline PointSet sample_mesh(const std::filesystem::path& file, int n, std::uint6
     s.normals.push_back(normal.normalized());
   }
   return s;
+}
+
+/// Runs `fn` and expects an InvalidArgument whose message contains `text`.
+inline void expect_invalid_argument(const std::function<void()>& fn, const std::string& text) {
+  try {
+    fn();
+    ADD_FAILURE() << "no exception, expected one naming '" << text << "'";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+  }
 }
 
 /// The points' bounding-box diagonal.
