@@ -26,6 +26,7 @@
 namespace ramiform {
 namespace {
 
+using test::check_bound_in_box;
 using test::grown;
 using test::random_point;
 using test::random_unit;
@@ -334,7 +335,8 @@ TEST(AnisotropicFields, IdentitySegmentSurfaceIsRadiusAway) {
 
 // A gently curved cubic (radius of curvature well above the skin's thickness).
 BezierCurve test_cubic() {
-  return BezierCurve{{Vec3(0, 0, 0), Vec3(1.5, 1.5, 0.2), Vec3(3, 1.5, 0.8), Vec3(4.5, 0, 0.5)}, {}};
+  return BezierCurve{{Vec3(0, 0, 0), Vec3(1.5, 1.5, 0.2), Vec3(3, 1.5, 0.8), Vec3(4.5, 0, 0.5)},
+                     {}};
 }
 
 TEST(AnisotropicFields, IdentityBezierSurfaceIsRadiusAway) {
@@ -428,9 +430,9 @@ TEST(AnisotropicFields, PerControlRadiiFollowTheBernsteinRadius) {
 struct TestField {
   std::string name;
   FieldPtr field;
-  Aabb skeleton_box;  // box of the skeleton
-  double thickness;   // largest skin thickness
-  std::function<Vec3(Rng&)> near;  // a random point near the skeleton
+  Aabb skeleton_box;                                     // box of the skeleton
+  double thickness;                                      // largest skin thickness
+  std::function<Vec3(Rng&)> near;                        // a random point near the skeleton
   std::function<double(const Vec3&)> skeleton_distance;  // distance to the skeleton
 };
 
@@ -452,7 +454,10 @@ std::vector<TestField> test_fields() {
     const double r = 0.4;
     TestField t{"segment squared-cosine",
                 make_anisotropic_segment_field(a, b, r, make_def(K::kSquaredCosine, 0.4)),
-                Aabb(a.cwiseMin(b), a.cwiseMax(b)), r, nullptr, nullptr};
+                Aabb(a.cwiseMin(b), a.cwiseMax(b)),
+                r,
+                nullptr,
+                nullptr};
     t.near = [a, b, r](Rng& rng) -> Vec3 {
       return a + rng.uniform(-0.1, 1.1) * (b - a) + rng.uniform(0, 1.8 * r) * random_unit(rng);
     };
@@ -464,7 +469,10 @@ std::vector<TestField> test_fields() {
     const double r = 0.3;
     TestField t{"segment linear",
                 make_anisotropic_segment_field(a, b, r, make_def(K::kLinear, 0, 1, {2, 1, 1.5})),
-                Aabb(a.cwiseMin(b), a.cwiseMax(b)), r, nullptr, nullptr};
+                Aabb(a.cwiseMin(b), a.cwiseMax(b)),
+                r,
+                nullptr,
+                nullptr};
     t.near = [a, b, r](Rng& rng) -> Vec3 {
       return a + rng.uniform(-0.1, 1.1) * (b - a) + rng.uniform(0, 1.8 * r) * random_unit(rng);
     };
@@ -477,7 +485,11 @@ std::vector<TestField> test_fields() {
     Aabb box;
     for (const Vec3& p : c.controls) box.extend(p);
     TestField t{"bezier wave radii",
-                make_bezier_field(c, 1, make_def(K::kWave, 0.4, 1.5)), box, 0.35 / 0.6, nullptr, nullptr};
+                make_bezier_field(c, 1, make_def(K::kWave, 0.4, 1.5)),
+                box,
+                0.35 / 0.6,
+                nullptr,
+                nullptr};
     t.near = [c](Rng& rng) {
       const double s = rng.uniform(-0.05, 1.05);
       const Vec3 q = bezier_point(c, std::clamp(s, 0.0, 1.0));
@@ -493,8 +505,11 @@ std::vector<TestField> test_fields() {
     Aabb box;
     for (const Vec3& p : c.controls) box.extend(p);
     TestField t{"quartic bezier bezier-def",
-                make_bezier_field(c, 0.2, make_def(K::kBezier, 0, 1, {1, 0.6, 2, 1.2})), box,
-                0.2 / 0.6, nullptr, nullptr};
+                make_bezier_field(c, 0.2, make_def(K::kBezier, 0, 1, {1, 0.6, 2, 1.2})),
+                box,
+                0.2 / 0.6,
+                nullptr,
+                nullptr};
     t.near = [c](Rng& rng) {
       const Vec3 q = bezier_point(c, rng.uniform());
       return Vec3(q + rng.uniform(0, 0.5) * random_unit(rng));
@@ -510,7 +525,10 @@ std::vector<TestField> test_fields() {
     TestField t{"patch def_u/def_v",
                 make_surface_skeleton_field(sk, r, make_def(K::kLinear, 0, 1, {1, 2}),
                                             make_def(K::kBezier, 0, 1, {1, 0.5, 1.5})),
-                sk->box(), r / 0.5, nullptr, nullptr};
+                sk->box(),
+                r / 0.5,
+                nullptr,
+                nullptr};
     t.near = [sk, r](Rng& rng) {
       const Vec3 q = sk->surface().point(rng.uniform(), rng.uniform());
       return Vec3(q + rng.uniform(0, 3 * r) * random_unit(rng));
@@ -530,7 +548,10 @@ std::vector<TestField> test_fields() {
     TestField t{"superquadric",
                 make_surface_skeleton_field(sk, r, make_def(K::kWave, 0.3, 2),
                                             make_def(K::kSquaredCosine, 0.5)),
-                sk->box(), r / 0.5, nullptr, nullptr};
+                sk->box(),
+                r / 0.5,
+                nullptr,
+                nullptr};
     t.near = [sk, r](Rng& rng) {
       const Vec3 p = sk->surface().point(rng.uniform(), rng.uniform());
       return Vec3(p + rng.uniform(0, 3 * r) * random_unit(rng));
@@ -542,8 +563,12 @@ std::vector<TestField> test_fields() {
     Superquadric q;  // plain sphere, identity deformations
     auto sk = std::make_shared<const SurfaceSkeleton>(make_superquadric_surface(q),
                                                       SubdivisionOptions{10, 4});
-    TestField t{"superquadric sphere", make_surface_skeleton_field(sk, 0.2, {}, {}), sk->box(),
-                0.2, nullptr, nullptr};
+    TestField t{"superquadric sphere",
+                make_surface_skeleton_field(sk, 0.2, {}, {}),
+                sk->box(),
+                0.2,
+                nullptr,
+                nullptr};
     t.near = [sk](Rng& rng) {
       const Vec3 p = sk->surface().point(rng.uniform(), rng.uniform());
       return Vec3(p + rng.uniform(0, 0.35) * random_unit(rng));
@@ -574,7 +599,8 @@ TEST(AnisotropicFields, GradientsMatchCentralDifferences) {
         for (double sgn : {-1.0, 1.0}) {
           Vec3 q = p;
           q[k] += sgn * h;
-          if ((tf.field->gradient(q) - g).norm() > 1e-3 * (g.norm() + 1 / tf.thickness)) smooth = false;
+          if ((tf.field->gradient(q) - g).norm() > 1e-3 * (g.norm() + 1 / tf.thickness))
+            smooth = false;
         }
       }
       // ... or the edge of the kernel's support (f is only C1 there: O(h) truncation error).
@@ -595,8 +621,8 @@ TEST(AnisotropicFields, GradientsMatchCentralDifferences) {
       if (g.norm() > 1e-6) ++nonzero;
       const Vec3 fd = test::central_gradient(*tf.field, p, h);
       ASSERT_LE((g - fd).norm(), 1e-5 * g.norm() + 1e-8)
-          << tf.name << " at " << p.transpose() << ": analytic " << g.transpose()
-          << " vs central " << fd.transpose();
+          << tf.name << " at " << p.transpose() << ": analytic " << g.transpose() << " vs central "
+          << fd.transpose();
     }
     EXPECT_GT(tested, 320) << tf.name << " (skipped " << skipped << ")";
     EXPECT_GT(nonzero, 200) << tf.name;
@@ -609,34 +635,16 @@ TEST(AnisotropicFields, BoundContainsSampledValues) {
     Rng rng(5);
     int straddling = 0;
     for (int b = 0; b < 250; ++b) {
-      const Vec3 c = b % 3 == 0 ? random_point(rng, grown(tf.skeleton_box, 2 * tf.thickness))
-                                : tf.near(rng);
+      const Vec3 c =
+          b % 3 == 0 ? random_point(rng, grown(tf.skeleton_box, 2 * tf.thickness)) : tf.near(rng);
       Vec3 half;
       for (int k = 0; k < 3; ++k) {
         half[k] = std::exp(rng.uniform(std::log(0.005), std::log(3.0))) * tf.thickness;
       }
       const Aabb box(c - half, c + half);
-      const Interval iv = f->bound(box);
-      ASSERT_LE(iv.lo, iv.hi) << tf.name;
-      std::vector<Vec3> pts;
-      for (int k = 0; k < 8; ++k) pts.push_back(box.corner(static_cast<Aabb::CornerType>(k)));
-      pts.push_back(c);
-      for (int i = 0; i < 60; ++i) pts.push_back(random_point(rng, box));
-      std::vector<double> v(pts.size());
-      f->evaluate(pts, v);
-      bool in = false, out = false;
-      for (std::size_t i = 0; i < pts.size(); ++i) {
-        ASSERT_TRUE(iv.contains(v[i]))
-            << tf.name << ": box " << box.min().transpose() << " / " << box.max().transpose()
-            << " bound [" << iv.lo << ", " << iv.hi << "] but f(" << pts[i].transpose()
-            << ") = " << v[i];
-        in |= v[i] > f->iso();
-        out |= v[i] <= f->iso();
-      }
-      if (in && out) {
-        ++straddling;
-        EXPECT_TRUE(iv.straddles(f->iso())) << tf.name;
-      }
+      bool failed = false;
+      straddling += check_bound_in_box(*f, box, rng, 60, tf.name, failed) ? 1 : 0;
+      if (failed) return;
     }
     EXPECT_GT(straddling, 10) << tf.name;
   }
@@ -725,7 +733,8 @@ TEST(AnisotropicFields, BlendWithOperators) {
 double brute_curve_distance(const std::vector<Vec3>& c, const Vec3& p, double* t_out) {
   constexpr int kN = 1000;
   std::vector<double> d(kN + 1);
-  for (int i = 0; i <= kN; ++i) d[static_cast<std::size_t>(i)] = (bernstein_point(c, i / double(kN)) - p).norm();
+  for (int i = 0; i <= kN; ++i)
+    d[static_cast<std::size_t>(i)] = (bernstein_point(c, i / double(kN)) - p).norm();
   double best = kInf, best_t = 0;
   for (int i = 0; i <= kN; ++i) {
     const double di = d[static_cast<std::size_t>(i)];
@@ -758,8 +767,8 @@ Skeleton random_curved_skeleton(std::uint64_t seed) {
   Rng rng(seed);
   Skeleton s;
   for (int i = 0; i < 10; ++i) {
-    s.nodes.push_back({Vec3(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(-4, 4)),
-                       rng.uniform(0.1, 0.5)});
+    s.nodes.push_back(
+        {Vec3(rng.uniform(-4, 4), rng.uniform(-4, 4), rng.uniform(-4, 4)), rng.uniform(0.1, 0.5)});
   }
   // A chain 0-1-...-8 plus two chords; node 9 stays isolated.
   for (std::uint32_t i = 0; i + 1 < 9; ++i) s.edges.push_back({i, i + 1});
@@ -785,8 +794,10 @@ TEST(SkeletonDistances, MatchBruteForce) {
   ASSERT_TRUE(s.has_curves());
   Rng rng(7);
   std::vector<Vec3> pts;
-  for (int i = 0; i < 400; ++i) pts.push_back(random_point(rng, Aabb(Vec3(-6, -6, -6), Vec3(8, 8, 8))));
-  for (std::size_t i = 0; i < 11; ++i) pts.push_back(s.nodes[i].position + Vec3(0.01, -0.02, 0.005));
+  for (int i = 0; i < 400; ++i)
+    pts.push_back(random_point(rng, Aabb(Vec3(-6, -6, -6), Vec3(8, 8, 8))));
+  for (std::size_t i = 0; i < 11; ++i)
+    pts.push_back(s.nodes[i].position + Vec3(0.01, -0.02, 0.005));
   const std::vector<SkeletonDistance> got = skeleton_distances(s, pts);
   ASSERT_EQ(got.size(), pts.size());
   std::vector<Vec3> controls;
@@ -859,8 +870,8 @@ TEST(SkeletonDistances, TiesPickTheLowerEdgeIndexAndEdgesBeforeNodes) {
   // Two parallel straight edges at y = +-1: the point between them is 1 from both.
   for (bool swap : {false, true}) {
     Skeleton s;
-    s.nodes = {{Vec3(0, 1, 0), 0.2}, {Vec3(2, 1, 0), 0.2}, {Vec3(0, -1, 0), 0.2},
-               {Vec3(2, -1, 0), 0.2}};
+    s.nodes = {
+        {Vec3(0, 1, 0), 0.2}, {Vec3(2, 1, 0), 0.2}, {Vec3(0, -1, 0), 0.2}, {Vec3(2, -1, 0), 0.2}};
     s.edges = {{0, 1}, {2, 3}};
     if (swap) std::swap(s.edges[0], s.edges[1]);
     const std::vector<Vec3> p = {Vec3(0.5, 0, 0), Vec3(1.75, 0, 0.25)};
@@ -884,7 +895,9 @@ TEST(SkeletonDistances, TiesPickTheLowerEdgeIndexAndEdgesBeforeNodes) {
   // Two mirror-image curved edges (x -> -x) and points on the mirror plane.
   for (bool swap : {false, true}) {
     Skeleton s;
-    s.nodes = {{Vec3(-3, 0.1, 0), 0.2}, {Vec3(-0.7, 0.3, 0.9), 0.2}, {Vec3(3, 0.1, 0), 0.2},
+    s.nodes = {{Vec3(-3, 0.1, 0), 0.2},
+               {Vec3(-0.7, 0.3, 0.9), 0.2},
+               {Vec3(3, 0.1, 0), 0.2},
                {Vec3(0.7, 0.3, 0.9), 0.2}};
     s.edges = {{0, 1}, {2, 3}};
     s.curves.resize(2);

@@ -104,7 +104,8 @@ inline long double brute_closest_t(const Vec3& p, const Vec3& a, const Vec3& b) 
 }
 
 /// Distance from p to segment [a, b] by brute force (see brute_closest_t).
-inline double brute_distance(const Vec3& p, const Vec3& a, const Vec3& b, long double* t_out = nullptr) {
+inline double brute_distance(const Vec3& p, const Vec3& a, const Vec3& b,
+                             long double* t_out = nullptr) {
   const long double t = brute_closest_t(p, a, b);
   if (t_out != nullptr) *t_out = t;
   return static_cast<double>(std::sqrt(squared_distance_at(p, a, b, t)));
@@ -137,6 +138,35 @@ inline Vec3 random_point(Rng& rng, const Aabb& box) {
 }
 
 /// A box grown by `margin` on every side.
+/// Checks `f.bound(box)` against f at the box's corners, its centre and `samples` random points
+/// in it: every value within the bound, and a bound that straddles iso when the values do.
+/// Returns true when the values straddle iso (sets `failed` on a violation, which is reported).
+inline bool check_bound_in_box(const Field& f, const Aabb& box, Rng& rng, int samples,
+                               const std::string& what, bool& failed) {
+  const Interval iv = f.bound(box);
+  std::vector<Vec3> pts;
+  for (int k = 0; k < 8; ++k) pts.push_back(box.corner(static_cast<Aabb::CornerType>(k)));
+  pts.push_back(box.center());
+  for (int i = 0; i < samples; ++i) pts.push_back(random_point(rng, box));
+  std::vector<double> v(pts.size());
+  f.evaluate(pts, v);
+  bool in = false, out = false;
+  failed = !(iv.lo <= iv.hi);
+  EXPECT_FALSE(failed) << what << ": empty bound [" << iv.lo << ", " << iv.hi << "]";
+  for (std::size_t i = 0; i < pts.size() && !failed; ++i) {
+    failed = !iv.contains(v[i]);
+    EXPECT_FALSE(failed) << what << ": box " << box.min().transpose() << " / "
+                         << box.max().transpose() << " bound [" << iv.lo << ", " << iv.hi
+                         << "] but f(" << pts[i].transpose() << ") = " << v[i];
+    in |= v[i] > f.iso();
+    out |= v[i] <= f.iso();
+  }
+  if (in && out) {
+    EXPECT_TRUE(iv.straddles(f.iso())) << what;
+  }
+  return in && out;
+}
+
 inline Aabb grown(const Aabb& b, double margin) {
   return Aabb(b.min() - Vec3::Constant(margin), b.max() + Vec3::Constant(margin));
 }
@@ -158,15 +188,16 @@ inline Vec3 point_near(const Skeleton& s, Rng& rng, double spread) {
   return (1 - t) * a.position + t * b.position + rng.uniform(0, spread) * r * random_unit(rng);
 }
 
-
 // bound(box) is conservative: sampled values never leave it.
-inline void check_bound_conservative(const Field& f, const Skeleton& s, std::uint64_t seed, const std::string& what) {
+inline void check_bound_conservative(const Field& f, const Skeleton& s, std::uint64_t seed,
+                                     const std::string& what) {
   Rng rng(seed);
   double rmax = 0;
   for (const auto& n : s.nodes) rmax = std::max(rmax, n.radius);
   int straddling = 0;
   for (int b = 0; b < 150; ++b) {
-    const Vec3 c = b % 3 == 0 ? random_point(rng, grown(bounding_box(s), 3 * rmax)) : point_near(s, rng, 3.0);
+    const Vec3 c =
+        b % 3 == 0 ? random_point(rng, grown(bounding_box(s), 3 * rmax)) : point_near(s, rng, 3.0);
     const Vec3 half(std::exp(rng.uniform(std::log(0.02), std::log(10.0))) * rmax,
                     std::exp(rng.uniform(std::log(0.02), std::log(10.0))) * rmax,
                     std::exp(rng.uniform(std::log(0.02), std::log(10.0))) * rmax);
@@ -196,7 +227,8 @@ inline void check_bound_conservative(const Field& f, const Skeleton& s, std::uin
 }
 
 // Points outside bounds() are never inside; inside points lie in bounds().
-inline void check_bounds_contain_inside(const Field& f, const Skeleton& s, std::uint64_t seed, const std::string& what) {
+inline void check_bounds_contain_inside(const Field& f, const Skeleton& s, std::uint64_t seed,
+                                        const std::string& what) {
   Rng rng(seed);
   const Aabb b = f.bounds();
   ASSERT_FALSE(b.isEmpty()) << what;
@@ -208,8 +240,9 @@ inline void check_bounds_contain_inside(const Field& f, const Skeleton& s, std::
     const Vec3 p = i % 2 ? random_point(rng, sample) : point_near(s, rng, 4.0);
     if (b.contains(p)) continue;
     ++outside;
-    ASSERT_LE(f.value(p), f.iso()) << what << ": " << p.transpose() << " is inside but outside bounds "
-                                   << b.min().transpose() << " / " << b.max().transpose();
+    ASSERT_LE(f.value(p), f.iso())
+        << what << ": " << p.transpose() << " is inside but outside bounds " << b.min().transpose()
+        << " / " << b.max().transpose();
   }
   EXPECT_GT(outside, 500);
   // Every node is inside and in the box.
