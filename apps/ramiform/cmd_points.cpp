@@ -208,7 +208,10 @@ int run_particles(ParticlesArgs& args) {
   }
   timer.lap("write");
   stats["iso"] = field->iso();
-  stats["particles"] = ps.particles;
+  stats["particles"] = system.particles.size();
+  stats["simulated"] = ps.particles;
+  stats["kept"] = ps.kept;
+  stats["dropped"] = ps.dropped;
   stats["cells"] = ps.cells;
   stats["iterations"] = ps.iterations;
   stats["residual_max"] = ps.residual_max;
