@@ -125,7 +125,15 @@ PointSurface build_point_surface(const std::string& path, const ReconstructOptio
   lap("read");
   NormalReport nr;
   const bool given = read.points.has_normals();
-  s.points = orient_normals(read.points, options.normals, &nr, &ctx);
+  // The library names the point (0-based); the user needs the file too.
+  const auto in_file = [&path](const auto& work) {
+    try {
+      return work();
+    } catch (const InvalidArgument& e) {
+      throw InputError(path, 0, e.what());
+    }
+  };
+  s.points = in_file([&] { return orient_normals(read.points, options.normals, &nr, &ctx); });
   s.stats["normals"] = {{"given", given},
                         {"estimated", nr.estimated},
                         {"flipped", nr.flipped},
@@ -136,7 +144,7 @@ PointSurface build_point_surface(const std::string& path, const ReconstructOptio
   s.diagonal = box.diagonal().norm();
   s.spacing = sampling_spacing(s.points.positions);
   MpuStats ms;
-  s.field = make_mpu_field(s.points, options.mpu, &ms, &ctx);
+  s.field = in_file([&] { return make_mpu_field(s.points, options.mpu, &ms, &ctx); });
   s.cells = mpu_leaf_cells(*s.field);
   lap("mpu");
   s.stats["spacing"] = s.spacing;
