@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+/// \file
+/// Pen-and-ink lines of an implicit surface, found from the particles spread over it:
+/// silhouettes, suggestive contours and feature lines, each point classified visible or hidden.
+///
+/// From Proença, Jorge & Costa Sousa 2008, "Suggestive Contours over Point-Set Implicits"
+/// (GRAPP), §5 (suggestive contours: eqs. 3–8, clustering, MST line fitting), §6 (silhouettes:
+/// eqs. 9–10, the predictor–corrector tracing with steps scaled by δ_i, chaining; feature lines:
+/// straddle points by eq. 11 and the neighbourhood search, tracing) and §3 (hidden lines by
+/// surfels), which build on DeCarlo, Finkelstein, Rusinkiewicz & Santella 2003, "Suggestive
+/// Contours for Conveying Shape" (SIGGRAPH), and Foster, Jepp, Wyvill, Costa Sousa, Galbraith &
+/// Jorge 2005, "Drawing surfaces" (Computers & Graphics).
+///
+/// Lengths in the options are relative to each particle's repulsion radius δ_i (the paper's
+/// stated weakness is parameters that depend on the model's scale), angles are in degrees.
+/// Every function here is deterministic: the same inputs give byte-identical results on any
+/// thread count. The implementations are in src/lines/ (one file per line kind).
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "ramiform/core/context.h"
+#include "ramiform/core/types.h"
+#include "ramiform/field/field.h"
+#include "ramiform/lines/camera.h"
+#include "ramiform/particles/surface_particles.h"
+
+namespace ramiform {
+
+/// What a line depicts.
+enum class LineKind : std::uint8_t {
+  kSilhouette,  ///< contour generator: n·v = 0 (view-dependent)
+  kSuggestive,  ///< suggestive contour: minima of n·v along w (view-dependent)
+  kFeature,     ///< crease: a sharp change of the normal (view-independent)
+};
+
+/// "silhouette", "suggestive", "feature".
+[[nodiscard]] std::string_view line_kind_name(LineKind kind);
+
+/// One line on the surface.
+struct Polyline {
+  LineKind kind = LineKind::kSilhouette;
+  std::vector<Vec3> points;  ///< on f == iso, model units, in drawing order
+  /// Per point: 1 visible, 0 hidden; empty until classify_visibility() ran.
+  std::vector<std::uint8_t> visible;
+  bool closed = false;  ///< the last point joins the first
+};
+
+/// How suggestive-contour clusters become lines (§5.3).
+enum class SuggestiveFit : std::uint8_t {
+  kLongestPath,  ///< the longest path of each cluster's MST (one line per cluster)
+  kTrim,         ///< the MST with leaf branches of fewer than k_trim particles removed
+};
+
+/// How hidden lines are found.
+enum class Visibility : std::uint8_t {
+  kNone,     ///< every point visible
+  kRays,     ///< exact: a ray from the eye to the point, the field's roots bracketed on it
+  kSurfels,  ///< the paper's §3: a depth buffer of disks behind the particles
+};
+
+/// Options of the line extraction. Lengths are multiples of each particle's δ_i.
+struct LineOptions {
+  // Silhouettes (§6).
+  double k_c = 0.05;  ///< seed particles: |v·n| < k_c (eq. 9), in (0, 1)
+  double k_e = 2.0;   ///< tracing continues while |v·n| < k_c·k_e (eq. 10), ≥ 1
+  double silhouette_step = 0.5;  ///< predictor step, × δ_i, > 0
+  /// Polylines whose ends come within this distance (× δ_i) with similar directions in the
+  /// image are chained into one (§6's 2-D analysis), ≥ 0.
+  double chain_distance = 1.0;
+
+  // Suggestive contours (§5).
+  double k_d = 0.5;            ///< x± = x ± k_d·δ_i·w (eqs. 4–5), > 0
+  double theta_sc_deg = 10.0;  ///< stability: the angle between n and −v exceeds θ_sc (eq. 8)
+  double cluster_radius = 2.0;  ///< neighbour search radius, × δ_i (§5.2), > 0
+  int cluster_k = 3;            ///< neighbours per particle in the cluster graph (§5.2), ≥ 1
+  SuggestiveFit fit = SuggestiveFit::kLongestPath;  ///< §5.3
+  int k_trim = 3;           ///< kTrim: leaf branches with fewer particles are removed, ≥ 1
+  int smoothing = 2;        ///< Laplacian smoothing passes of each line, re-projected, ≥ 0
+  int min_cluster = 3;      ///< clusters with fewer particles give no line, ≥ 2
+
+  // Feature lines (§6).
+  double k_a_deg = 8.6;         ///< straddle points: angle(n_i, n_j) > k_a (eq. 11; 0.15 rad)
+  double straddle_radius = 1.5;  ///< neighbourhood search radius for straddle pairs, × δ_i
+
+  // Hidden lines.
+  Visibility visibility = Visibility::kRays;
+  /// A point is hidden when the surface lies in front of it by more than this (× δ_i).
+  double occlusion_tolerance = 0.25;
+  int surfel_resolution = 1024;  ///< kSurfels: depth-buffer pixels along the frame's height
+
+  // Which lines draw_lines() extracts.
+  bool silhouettes = true;
+  bool suggestive = true;
+  bool features = true;
+};
+
+/// Throws InvalidArgument naming the first option out of its documented range.
+void validate(const LineOptions& options);
+
+/// What an extraction did (each call adds to the fields it concerns).
+struct LineStats {
+  std::size_t particles = 0;             ///< particles of the system
+  std::size_t silhouette_seeds = 0;      ///< particles with |v·n| < k_c
+  std::size_t suggestive_particles = 0;  ///< particles passing eqs. 6–8
+  std::size_t suggestive_clusters = 0;   ///< clusters (after merging)
+  std::size_t straddle_pairs = 0;        ///< straddle point pairs found
+  std::size_t lines[3] = {0, 0, 0};      ///< polylines per LineKind
+  double length[3] = {0, 0, 0};          ///< total 3-D length per LineKind, model units
+  double hidden_fraction = 0;            ///< hidden length / total length (after visibility)
+  double seconds_features = 0, seconds_silhouettes = 0, seconds_suggestive = 0,
+         seconds_visibility = 0;         ///< wall-clock seconds
+  std::uint64_t field_evals = 0;         ///< point evaluations of the field
+};
+
+/// Feature lines (§6): straddle particle pairs within straddle_radius·δ whose normals differ by
+/// more than k_a, traced along the crease (direction n_i × n_j, the two sides re-projected each
+/// step of ~δ_i) until the normals no longer differ by k_a or another feature line is near.
+/// View-independent: compute once, reuse for every view.
+[[nodiscard]] std::vector<Polyline> feature_lines(const Field& field,
+                                                  const ParticleSystem& particles,
+                                                  const LineOptions& options = {},
+                                                  LineStats* stats = nullptr,
+                                                  const Context* ctx = nullptr);
+
+/// Silhouettes (§6): seeds with |v·n| < k_c, each traced both ways by a predictor (along the
+/// contour's image tangent, step silhouette_step·δ) and corrector (back onto f == iso and
+/// n·v == 0) until the line closes a loop, reaches another silhouette, or |v·n| ≥ k_c·k_e;
+/// nearby ends chained. Points satisfy |f − iso| / |∇f| ≤ 1e-3 δ and |n·v| ≤ 1e-3.
+[[nodiscard]] std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& particles,
+                                                const Camera& camera,
+                                                const LineOptions& options = {},
+                                                LineStats* stats = nullptr,
+                                                const Context* ctx = nullptr);
+
+/// Suggestive contours (§5): particles where n·v has a local minimum along w (eqs. 4–7) on the
+/// front-facing side, away from where the surface faces the viewer (eq. 8); clustered (§5.2),
+/// fitted by the MST's longest path or trimmed MST (§5.3), smoothed and re-projected.
+[[nodiscard]] std::vector<Polyline> suggestive_contours(const Field& field,
+                                                        const ParticleSystem& particles,
+                                                        const Camera& camera,
+                                                        const LineOptions& options = {},
+                                                        LineStats* stats = nullptr,
+                                                        const Context* ctx = nullptr);
+
+/// Sets every line's `visible` flags for `camera` by options.visibility (kRays: the segment
+/// from the eye to the point, shortened by occlusion_tolerance·δ at the point's end, is tested
+/// for a crossing of f == iso by interval bounds and bracketing; kSurfels: a depth buffer of
+/// particle disks). δ at a line point is the nearest particle's. Updates stats->hidden_fraction.
+void classify_visibility(const Field& field, const ParticleSystem& particles,
+                         const Camera& camera, std::span<Polyline> lines,
+                         const LineOptions& options = {}, LineStats* stats = nullptr,
+                         const Context* ctx = nullptr);
+
+/// A drawing: the lines of one view.
+struct LineDrawing {
+  Camera camera;
+  std::vector<Polyline> lines;  ///< silhouettes, then suggestive contours, then feature lines
+};
+
+/// One view: the line kinds the options ask for, then classify_visibility(). `features`:
+/// feature lines computed earlier by feature_lines() for this field and particle system (they
+/// are view-independent and copied into the drawing); nullptr computes them when
+/// options.features is set.
+[[nodiscard]] LineDrawing draw_lines(const Field& field, const ParticleSystem& particles,
+                                     const Camera& camera, const LineOptions& options = {},
+                                     const std::vector<Polyline>* features = nullptr,
+                                     LineStats* stats = nullptr, const Context* ctx = nullptr);
+
+}  // namespace ramiform

@@ -1,0 +1,2 @@
+set(RAMIFORM_LINES_SOURCES
+  src/lines/camera.cpp)

@@ -1,0 +1,2 @@
+set(RAMIFORM_lines_TESTS
+  lines/camera_test.cpp)
