@@ -1,2 +1,4 @@
 set(RAMIFORM_LINES_SOURCES
-  src/lines/camera.cpp)
+  src/lines/camera.cpp
+  src/lines/draw.cpp
+  src/lines/options.cpp)
