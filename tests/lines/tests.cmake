@@ -1,2 +1,4 @@
 set(RAMIFORM_lines_TESTS
-  lines/camera_test.cpp)
+  lines/camera_test.cpp
+  lines/features_test.cpp
+  lines/silhouettes_test.cpp)

@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+// Internal helpers shared by the silhouette and feature-line tracers (silhouettes.cpp,
+// features.cpp): δ at any point from the nearest particle, a growable spatial hash of line
+// points for "is another line near", batched projection onto f == iso, and polyline length.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "field/point_kdtree.h"
+#include "ramiform/core/context.h"
+#include "ramiform/core/types.h"
+#include "ramiform/field/field.h"
+#include "ramiform/lines/lines.h"
+#include "ramiform/particles/surface_particles.h"
+
+namespace ramiform::detail {
+
+/// Residual goals of the tracers' correctors, tighter than what lines.h promises (1e-3 δ for
+/// |f − iso| / |∇f| and 1e-3 for |n·v|) so that every accepted point meets the promise with a
+/// margin.
+inline constexpr double kLineSurfaceTolerance = 1e-4;  ///< |f − iso| / |∇f|, × δ
+inline constexpr double kLineContourTolerance = 1e-4;  ///< |n·v|
+
+/// δ at any point: the repulsion radius of the nearest particle (ties by index).
+class DeltaLookup {
+ public:
+  /// `particles` must be non-empty and outlive the lookup.
+  explicit DeltaLookup(const ParticleSystem& particles);
+
+  /// δ of the particle nearest to p.
+  [[nodiscard]] double delta_at(const Vec3& p) const;
+  /// Index of the particle nearest to p.
+  [[nodiscard]] std::uint32_t nearest(const Vec3& p) const;
+
+  [[nodiscard]] const std::vector<Vec3>& positions() const { return positions_; }
+  [[nodiscard]] const PointKdTree& tree() const { return tree_; }
+  [[nodiscard]] const ParticleSystem& system() const { return *system_; }
+
+ private:
+  const ParticleSystem* system_;
+  std::vector<Vec3> positions_;
+  PointKdTree tree_;
+};
+
+/// A growable uniform grid of line points, each tagged with the line it belongs to and its
+/// position along that line. Queries visit the points in insertion order within each cell and
+/// cells in a fixed order, so their answers never depend on anything but the inserted data.
+class LinePointHash {
+ public:
+  /// `cell` > 0: the grid spacing (queries of any radius work; radii near `cell` are fastest).
+  explicit LinePointHash(double cell);
+
+  void insert(const Vec3& p, std::uint32_t line, std::int32_t index);
+
+  /// True when some point within `radius` of p satisfies accept(line, index).
+  template <class Accept>
+  [[nodiscard]] bool any_within(const Vec3& p, double radius, Accept&& accept) const {
+    const double r2 = radius * radius;
+    const auto lo = cell_of(p - Vec3::Constant(radius));
+    const auto hi = cell_of(p + Vec3::Constant(radius));
+    for (std::int64_t x = lo[0]; x <= hi[0]; ++x) {
+      for (std::int64_t y = lo[1]; y <= hi[1]; ++y) {
+        for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
+          const auto it = cells_.find(key(x, y, z));
+          if (it == cells_.end()) continue;
+          for (const Entry& e : it->second) {
+            if ((e.p - p).squaredNorm() < r2 && accept(e.line, e.index)) return true;
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  struct Entry {
+    Vec3 p;
+    std::uint32_t line;
+    std::int32_t index;
+  };
+  [[nodiscard]] std::array<std::int64_t, 3> cell_of(const Vec3& p) const;
+  [[nodiscard]] static std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z);
+
+  double inv_cell_;
+  std::unordered_map<std::uint64_t, std::vector<Entry>> cells_;
+};
+
+/// Batched Newton projection onto f == iso along ∇f: every point moves by
+/// −(f − iso) ∇f / |∇f|² per round (each move capped at `scale[i]`) until
+/// |f − iso| / |∇f| ≤ tolerance · scale[i]. On return `values`/`gradients` hold f and ∇f at the
+/// returned points and ok[i] says whether point i converged within `max_rounds` rounds (points
+/// with a zero or non-finite gradient fail). One field evaluation of the still-moving points per
+/// round.
+void project_to_surface(const Field& field, std::span<Vec3> points, std::span<const double> scale,
+                        double tolerance, int max_rounds, std::span<double> values,
+                        std::span<Vec3> gradients, std::span<std::uint8_t> ok,
+                        const Context* ctx);
+
+/// 3-D length of a polyline, the closing segment included when it is closed.
+[[nodiscard]] double polyline_length(const Polyline& line);
+
+/// The angle between two unit vectors, radians (robust near 0 and π).
+[[nodiscard]] double angle_between(const Vec3& a, const Vec3& b);
+
+}  // namespace ramiform::detail

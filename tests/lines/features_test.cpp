@@ -1,0 +1,155 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "ramiform/field/operators.h"
+#include "ramiform/field/primitives.h"
+#include "ramiform/field/skeleton_field.h"
+#include "ramiform/lines/lines.h"
+#include "ramiform/particles/surface_particles.h"
+
+namespace ramiform {
+namespace {
+
+ParticleSystem particles_on(const Field& f, std::size_t count) {
+  ParticleOptions o;
+  o.count = count;
+  return spread_particles(f, o);
+}
+
+struct Segment {
+  Vec3 a, b;
+};
+
+double distance_to_segment(const Segment& s, const Vec3& q) {
+  const Vec3 ab = s.b - s.a;
+  const double t = std::clamp((q - s.a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (q - (s.a + t * ab)).norm();
+}
+
+// A sharp box: the intersection of six half-spaces, moved by `pose`; its 12 edges.
+struct SharpBox {
+  FieldPtr field;
+  std::vector<Segment> edges;
+};
+
+SharpBox sharp_box(const Vec3& half, const Affine3& pose) {
+  std::vector<FieldPtr> faces;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side : {-1, 1}) {
+      Vec3 n = Vec3::Zero();
+      n[axis] = side;
+      faces.push_back(make_plane_field(side * half[axis] * Vec3::Unit(axis), n, 0.5));
+    }
+  }
+  SharpBox box;
+  box.field = make_transform(make_intersection(faces), pose);
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+    for (int su : {-1, 1}) {
+      for (int sw : {-1, 1}) {
+        Vec3 a = Vec3::Zero();
+        a[u] = su * half[u];
+        a[w] = sw * half[w];
+        Vec3 b = a;
+        a[axis] = -half[axis];
+        b[axis] = half[axis];
+        box.edges.push_back({pose * a, pose * b});
+      }
+    }
+  }
+  return box;
+}
+
+void check_box(const SharpBox& box, std::size_t count) {
+  const ParticleSystem ps = particles_on(*box.field, count);
+  double dmax = 0;
+  for (const SurfaceParticle& p : ps.particles) dmax = std::max(dmax, p.delta);
+  LineStats st;
+  const std::vector<Polyline> lines = feature_lines(*box.field, ps, {}, &st);
+  ASSERT_FALSE(lines.empty());
+  EXPECT_GT(st.straddle_pairs, 0u);
+  EXPECT_EQ(st.lines[2], lines.size());
+  EXPECT_GT(st.field_evals, 0u);
+  // Every point on an edge (and on the surface).
+  for (const Polyline& l : lines) {
+    EXPECT_EQ(l.kind, LineKind::kFeature);
+    for (const Vec3& p : l.points) {
+      double d = 1e300;
+      for (const Segment& e : box.edges) d = std::min(d, distance_to_segment(e, p));
+      ASSERT_LE(d, 1e-3 * dmax) << p.transpose();
+      const Vec3 g = box.field->gradient(p);
+      ASSERT_LE(std::abs(box.field->value(p) - box.field->iso()) / g.norm(), 1e-3 * dmax);
+    }
+  }
+  // Every edge mostly covered: 90 % of 200 samples along it within δ of a line point.
+  for (const Segment& e : box.edges) {
+    int covered = 0;
+    for (int i = 0; i < 200; ++i) {
+      const Vec3 q = e.a + (i + 0.5) / 200 * (e.b - e.a);
+      double d = 1e300;
+      for (const Polyline& l : lines)
+        for (const Vec3& p : l.points) d = std::min(d, (p - q).norm());
+      if (d <= dmax) ++covered;
+    }
+    EXPECT_GE(covered, 180) << "edge " << e.a.transpose() << " -> " << e.b.transpose();
+  }
+  // About 12 lines (an edge may be split in two where traces meet), total length close to
+  // the edges' total length.
+  double edges_length = 0;
+  for (const Segment& e : box.edges) edges_length += (e.b - e.a).norm();
+  EXPECT_LE(lines.size(), 24u);
+  EXPECT_GE(st.length[2], 0.9 * edges_length);
+  EXPECT_LE(st.length[2], 1.02 * edges_length);
+}
+
+TEST(FeatureLines, AxisAlignedBoxEdges) {
+  check_box(sharp_box(Vec3(1.0, 0.8, 0.6), Affine3::Identity()), 3000);
+}
+
+TEST(FeatureLines, RotatedBoxEdges) {
+  Affine3 pose = Affine3::Identity();
+  pose.translate(Vec3(0.3, -0.2, 0.1));
+  pose.rotate(Eigen::AngleAxisd(0.5, Vec3(1, 2, 3).normalized()));
+  check_box(sharp_box(Vec3(0.9, 0.7, 0.5), pose), 3000);
+}
+
+TEST(FeatureLines, NoneOnSmoothSurfaces) {
+  const FieldPtr sphere = make_box_field(Vec3(0.1, 0.2, 0.3), Vec3::Constant(1), 1);
+  const FieldPtr torus = make_circle_field(Vec3::Zero(), Vec3::UnitZ(), 1.0, 0.35);
+  const FieldPtr blend =
+      make_sum({make_segment_field(Vec3(-0.8, 0, 0), 0.3, Vec3(0.4, 0, 0), 0.3),
+                make_segment_field(Vec3(0, -0.7, 0.2), 0.25, Vec3(0, 0.7, -0.2), 0.25)});
+  for (const FieldPtr& f : {sphere, torus, blend}) {
+    const ParticleSystem ps = particles_on(*f, 2000);
+    LineStats st;
+    const std::vector<Polyline> lines = feature_lines(*f, ps, {}, &st);
+    EXPECT_TRUE(lines.empty()) << f->describe() << ": " << lines.size() << " lines from "
+                               << st.straddle_pairs << " straddle pairs";
+  }
+}
+
+TEST(FeatureLines, SameBytesOnOneAndTwoThreads) {
+  const SharpBox box = sharp_box(Vec3(1.0, 0.8, 0.6), Affine3(Eigen::AngleAxisd(0.3, Vec3::UnitY())));
+  const ParticleSystem ps = particles_on(*box.field, 2000);
+  const Context one(1), two(2);
+  const auto a = feature_lines(*box.field, ps, {}, nullptr, &one);
+  const auto b = feature_lines(*box.field, ps, {}, nullptr, &two);
+  ASSERT_FALSE(a.empty());
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    ASSERT_EQ(a[k].points.size(), b[k].points.size());
+    EXPECT_EQ(a[k].closed, b[k].closed);
+    EXPECT_EQ(std::memcmp(a[k].points.data(), b[k].points.data(),
+                          a[k].points.size() * sizeof(Vec3)),
+              0);
+  }
+}
+
+}  // namespace
+}  // namespace ramiform

@@ -1,0 +1,274 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <vector>
+
+#include "ramiform/core/errors.h"
+#include "ramiform/field/operators.h"
+#include "ramiform/field/primitives.h"
+#include "ramiform/field/skeleton_field.h"
+#include "ramiform/lines/lines.h"
+#include "ramiform/particles/surface_particles.h"
+
+namespace ramiform {
+namespace {
+
+ParticleSystem particles_on(const Field& f, std::size_t count) {
+  ParticleOptions o;
+  o.count = count;
+  return spread_particles(f, o);
+}
+
+double max_delta(const ParticleSystem& ps) {
+  double d = 0;
+  for (const SurfaceParticle& p : ps.particles) d = std::max(d, p.delta);
+  return d;
+}
+
+double nearest_delta(const ParticleSystem& ps, const Vec3& q) {
+  double best = 1e300, delta = 0;
+  for (const SurfaceParticle& p : ps.particles) {
+    const double d = (p.position - q).squaredNorm();
+    if (d < best) {
+      best = d;
+      delta = p.delta;
+    }
+  }
+  return delta;
+}
+
+// Distance from q to the nearest segment of the lines (closing segments included).
+double distance_to_lines(const std::vector<Polyline>& lines, const Vec3& q) {
+  double best = 1e300;
+  for (const Polyline& l : lines) {
+    const std::size_t m = l.points.size();
+    for (std::size_t i = 0; i < m; ++i) {
+      if (i + 1 == m && !l.closed) {
+        best = std::min(best, (q - l.points[i]).norm());
+        break;
+      }
+      const Vec3& a = l.points[i];
+      const Vec3& b = l.points[(i + 1) % m];
+      const Vec3 ab = b - a;
+      const double t = std::clamp((q - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+      best = std::min(best, (q - (a + t * ab)).norm());
+    }
+  }
+  return best;
+}
+
+// Every point on f == iso within 1e-3 δ and on n·v == 0 within 1e-3 (lines.h's promise),
+// checked with the field itself; consecutive points at most `max_gap` δ apart.
+void expect_on_contour(const Field& f, const ParticleSystem& ps, const Camera& cam,
+                       const std::vector<Polyline>& lines, double max_gap) {
+  for (const Polyline& l : lines) {
+    EXPECT_EQ(l.kind, LineKind::kSilhouette);
+    EXPECT_TRUE(l.visible.empty());
+    ASSERT_GE(l.points.size(), 2u);
+    for (std::size_t i = 0; i < l.points.size(); ++i) {
+      const Vec3& p = l.points[i];
+      const double delta = nearest_delta(ps, p);
+      const Vec3 g = f.gradient(p);
+      ASSERT_LE(std::abs(f.value(p) - f.iso()) / g.norm(), 1e-3 * delta);
+      ASSERT_LE(std::abs(g.normalized().dot(view_vector(cam, p))), 1e-3);
+      if (i > 0) {
+        ASSERT_LE((p - l.points[i - 1]).norm(), max_gap * delta) << "gap at point " << i;
+      }
+    }
+    if (l.closed) {
+      EXPECT_LE((l.points.front() - l.points.back()).norm(), max_gap * nearest_delta(ps, l.points[0]));
+    }
+  }
+}
+
+bool same_bytes(const std::vector<Polyline>& a, const std::vector<Polyline>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (a[k].closed != b[k].closed || a[k].kind != b[k].kind ||
+        a[k].points.size() != b[k].points.size()) {
+      return false;
+    }
+    for (std::size_t i = 0; i < a[k].points.size(); ++i) {
+      if (std::memcmp(a[k].points[i].data(), b[k].points[i].data(), 3 * sizeof(double)) != 0)
+        return false;
+    }
+  }
+  return true;
+}
+
+TEST(Silhouettes, SphereGivesTheContourCircle) {
+  const Vec3 c(0.2, -0.1, 0.3);
+  const double r = 1.0;
+  const FieldPtr f = make_box_field(c, Vec3::Constant(r), r);
+  const ParticleSystem ps = particles_on(*f, 3000);
+  // Three eyes: along an axis, oblique and near (a small circle), oblique and far.
+  for (const Vec3& eye : {Vec3(0.2, -0.1, 5.3), Vec3(2.0, 1.5, -1.0), Vec3(-6.0, 4.0, 7.0)}) {
+    Camera cam;
+    cam.eye = eye;
+    cam.target = c;
+    LineStats st;
+    const std::vector<Polyline> lines = silhouettes(*f, ps, cam, {}, &st);
+    // The contour circle: centre c + (r²/D) a, radius r √(1 − r²/D²), in the plane ⟂ a.
+    const double D = (eye - c).norm();
+    const Vec3 a = (eye - c) / D;
+    const Vec3 centre = c + (r * r / D) * a;
+    const double rho = r * std::sqrt(1 - r * r / (D * D));
+    ASSERT_EQ(lines.size(), 1u) << "eye " << eye.transpose();
+    EXPECT_TRUE(lines[0].closed);
+    expect_on_contour(*f, ps, cam, lines, 1.0);
+    std::vector<double> angle;
+    const Vec3 e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+    for (const Vec3& p : lines[0].points) {
+      const Vec3 y = p - centre;
+      const double axial = y.dot(a);
+      const double radial = (y - axial * a).norm();
+      EXPECT_LE(std::hypot(axial, radial - rho), 1e-4);
+      angle.push_back(std::atan2(y.dot(e2), y.dot(e1)));
+    }
+    // Coverage: the largest angular gap (wrap included) is a few δ of arc, so the line covers
+    // well over 95 % of the circle.
+    std::sort(angle.begin(), angle.end());
+    double gap = angle.front() + 2 * std::numbers::pi - angle.back();
+    for (std::size_t i = 1; i < angle.size(); ++i) gap = std::max(gap, angle[i] - angle[i - 1]);
+    EXPECT_LE(gap * rho, 2 * max_delta(ps));
+    const double circumference = 2 * std::numbers::pi * rho;
+    EXPECT_GE(st.length[0], 0.95 * circumference);
+    EXPECT_LE(st.length[0], 1.02 * circumference);
+    EXPECT_EQ(st.lines[0], 1u);
+    EXPECT_GT(st.silhouette_seeds, 0u);
+    EXPECT_GT(st.field_evals, 0u);
+    EXPECT_GT(st.seconds_silhouettes, 0.0);
+  }
+}
+
+// The contour generator of a torus found independently: for each of 360 meridians, the sign
+// changes of n·(p − eye) along the meridian, refined by bisection.
+std::vector<Vec3> torus_contour(double R, double r, const Vec3& eye) {
+  std::vector<Vec3> out;
+  auto point = [&](double u, double v) {
+    return Vec3((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
+                r * std::sin(v));
+  };
+  auto g = [&](double u, double v) {
+    const Vec3 n(std::cos(v) * std::cos(u), std::cos(v) * std::sin(u), std::sin(v));
+    return n.dot(point(u, v) - eye);
+  };
+  for (int i = 0; i < 360; ++i) {
+    const double u = 2 * std::numbers::pi * i / 360;
+    const int m = 720;
+    for (int j = 0; j < m; ++j) {
+      double v0 = 2 * std::numbers::pi * j / m, v1 = 2 * std::numbers::pi * (j + 1) / m;
+      double g0 = g(u, v0);
+      if ((g0 < 0) == (g(u, v1) < 0)) continue;
+      for (int it = 0; it < 60; ++it) {
+        const double vm = 0.5 * (v0 + v1);
+        if ((g(u, vm) < 0) == (g0 < 0)) {
+          v0 = vm;
+        } else {
+          v1 = vm;
+        }
+      }
+      out.push_back(point(u, 0.5 * (v0 + v1)));
+    }
+  }
+  return out;
+}
+
+TEST(Silhouettes, ObliqueTorusOnTheAnalyticContour) {
+  const double R = 1.0, r = 0.35;
+  const FieldPtr f = make_circle_field(Vec3::Zero(), Vec3::UnitZ(), R, r);
+  const ParticleSystem ps = particles_on(*f, 3000);
+  Camera cam;
+  cam.eye = Vec3(3.0, 1.0, 2.0);
+  LineStats st;
+  const std::vector<Polyline> lines = silhouettes(*f, ps, cam, {}, &st);
+  ASSERT_FALSE(lines.empty());
+  expect_on_contour(*f, ps, cam, lines, 1.0);
+  // Analytically: on the torus, and the exact normal nearly perpendicular to the view.
+  for (const Polyline& l : lines) {
+    for (const Vec3& p : l.points) {
+      const Vec3 ring = R * Vec3(p.x(), p.y(), 0).normalized();
+      const Vec3 n = (p - ring).normalized();
+      ASSERT_LE(std::abs((p - ring).norm() - r), 1e-4);
+      ASSERT_LE(std::abs(n.dot(view_vector(cam, p))), 2e-3);
+    }
+  }
+  // Coverage: every analytic contour point is near the traced lines.
+  const double dmax = max_delta(ps);
+  const std::vector<Vec3> truth = torus_contour(R, r, cam.eye);
+  ASSERT_GT(truth.size(), 700u);
+  std::size_t far = 0;
+  for (const Vec3& q : truth)
+    if (distance_to_lines(lines, q) > 0.5 * dmax) ++far;
+  EXPECT_LE(far, truth.size() / 100) << far << " of " << truth.size() << " contour points missed";
+  // The contour of a torus is made of closed curves.
+  for (const Polyline& l : lines) EXPECT_TRUE(l.closed);
+}
+
+FieldPtr capsule_blend() {
+  SkeletonFieldOptions o;
+  return make_sum({make_segment_field(Vec3(-0.8, 0, 0), 0.3, Vec3(0.4, 0, 0), 0.3, o),
+                   make_segment_field(Vec3(0, -0.7, 0.2), 0.25, Vec3(0, 0.7, -0.2), 0.25, o)});
+}
+
+TEST(Silhouettes, BlendedCapsules) {
+  const FieldPtr f = capsule_blend();
+  const ParticleSystem ps = particles_on(*f, 3000);
+  Camera cam = frame_box(f->bounds(), 35, 25);
+  LineStats st;
+  const std::vector<Polyline> lines = silhouettes(*f, ps, cam, {}, &st);
+  ASSERT_FALSE(lines.empty());
+  expect_on_contour(*f, ps, cam, lines, 1.0);
+  // Every particle very near the contour generator lies near a traced line.
+  std::size_t near = 0, missed = 0;
+  for (const SurfaceParticle& p : ps.particles) {
+    if (std::abs(p.normal.dot(view_vector(cam, p.position))) >= 0.01) continue;
+    ++near;
+    if (distance_to_lines(lines, p.position) > 2 * p.delta) ++missed;
+  }
+  EXPECT_GT(near, 10u);
+  EXPECT_EQ(missed, 0u) << missed << " of " << near;
+}
+
+TEST(Silhouettes, SameBytesOnOneAndTwoThreads) {
+  const FieldPtr f = capsule_blend();
+  const ParticleSystem ps = particles_on(*f, 2000);
+  const Camera cam = frame_box(f->bounds(), -50, 10);
+  const Context one(1), two(2);
+  const auto a = silhouettes(*f, ps, cam, {}, nullptr, &one);
+  const auto b = silhouettes(*f, ps, cam, {}, nullptr, &two);
+  ASSERT_FALSE(a.empty());
+  EXPECT_TRUE(same_bytes(a, b));
+}
+
+TEST(Silhouettes, LargerStepsStillOnTheContour) {
+  const FieldPtr f = make_circle_field(Vec3::Zero(), Vec3::UnitZ(), 1.0, 0.35);
+  const ParticleSystem ps = particles_on(*f, 2000);
+  Camera cam;
+  cam.eye = Vec3(-1.0, 3.0, 2.5);
+  LineOptions o;
+  o.silhouette_step = 1.5;
+  o.chain_distance = 2.0;
+  const std::vector<Polyline> lines = silhouettes(*f, ps, cam, o);
+  ASSERT_FALSE(lines.empty());
+  expect_on_contour(*f, ps, cam, lines, 2.0);
+}
+
+TEST(Silhouettes, BadOptionsAndCameraThrow) {
+  const FieldPtr f = make_box_field(Vec3::Zero(), Vec3::Constant(1), 1);
+  const ParticleSystem ps = particles_on(*f, 500);
+  LineOptions o;
+  o.k_c = 0;
+  EXPECT_THROW((void)silhouettes(*f, ps, Camera{}, o), InvalidArgument);
+  Camera cam;
+  cam.eye = cam.target;
+  EXPECT_THROW((void)silhouettes(*f, ps, cam), InvalidArgument);
+}
+
+}  // namespace
+}  // namespace ramiform
