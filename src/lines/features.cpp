@@ -43,6 +43,7 @@ constexpr double kCreaseStep = 1.0;   ///< × δ: step along the crease
 constexpr double kSideOffset = 0.05;  ///< × δ: side points' distance from the crease
 constexpr double kFeatureNear = 0.5;  ///< × δ: another feature line is near
 constexpr double kPairCovered = 2.0;  ///< × δ: a candidate this near a line is not traced
+constexpr double kIntermediate = 0.25;  ///< share of a pair's angle that marks a between normal
 constexpr double kCreaseJump = 1.0;   ///< × step: farthest a crease point may be from its guess
 constexpr int kProjectRounds = 12;    ///< Newton rounds of a projection onto f = iso
 constexpr std::size_t kBatch = 256;   ///< candidates verified per batch
@@ -172,6 +173,25 @@ struct Candidate {
   std::uint32_t i, j;
 };
 
+// True when a particle of `near` lies between the pair's particles (within half their distance
+// of their midpoint) with a normal turned by more than kIntermediate of the pair's angle from
+// both of theirs: the normal turns gradually there, as on a smooth surface, where a crease
+// would give every particle the normal of one face or the other. Saves verifying the many
+// straddle pairs of coarsely sampled smooth surfaces.
+bool intermediate_normal(const std::vector<SurfaceParticle>& ps,
+                         const std::vector<std::pair<std::uint32_t, double>>& near,
+                         const Candidate& c) {
+  const Vec3 mid = 0.5 * (ps[c.i].position + ps[c.j].position);
+  const double r2 = 0.25 * (ps[c.i].position - ps[c.j].position).squaredNorm();
+  const double cos_limit = std::cos(kIntermediate * c.angle);
+  for (const auto& [k, d2] : near) {
+    if (k == c.i || k == c.j || (ps[k].position - mid).squaredNorm() >= r2) continue;
+    const Vec3& n = ps[k].normal;
+    if (std::max(n.dot(ps[c.i].normal), n.dot(ps[c.j].normal)) < cos_limit) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 std::vector<Polyline> feature_lines(const Field& field, const ParticleSystem& particles,
@@ -187,44 +207,50 @@ std::vector<Polyline> feature_lines(const Field& field, const ParticleSystem& pa
   const double k_a = options.k_a_deg * std::numbers::pi / 180;
   const double cos_k_a = std::cos(k_a);
 
-  // Straddle pairs (eq. 11) by the neighbourhood search: every pair (i < j), and each
-  // particle's best partner as a candidate.
+  // Straddle pairs (eq. 11) by the neighbourhood search: each particle's best partner (largest
+  // angle) as a candidate, and the number of distinct pairs (a pair seen from both of its
+  // particles is counted from the lower index only).
   struct Found {
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    std::size_t pairs = 0;
     std::vector<Candidate> best;
   };
+  const double r = options.straddle_radius;
   Found found = parallel::reduce(
       ps.size(), 256, Found{},
       [&](std::size_t lo, std::size_t hi) {
         Found part;
         std::vector<std::pair<std::uint32_t, double>> near;
         for (std::size_t i = lo; i < hi; ++i) {
-          lookup.tree().within_by_index(ps[i].position, options.straddle_radius * ps[i].delta,
-                                        near);
-          Candidate best{-1, 0, 0};
+          lookup.tree().within_by_index(ps[i].position, r * ps[i].delta, near);
+          double best_cos = cos_k_a;
+          std::uint32_t best_j = 0;
           for (const auto& [j, d2] : near) {
             if (j == i) continue;
             const double cosine = ps[i].normal.dot(ps[j].normal);
             if (!(cosine < cos_k_a)) continue;
-            const auto a = static_cast<std::uint32_t>(std::min<std::size_t>(i, j));
-            const auto b = static_cast<std::uint32_t>(std::max<std::size_t>(i, j));
-            part.pairs.emplace_back(a, b);
-            const double angle = detail::angle_between(ps[i].normal, ps[j].normal);
-            if (angle > best.angle) best = {angle, a, b};
+            const double rj = r * ps[j].delta;
+            if (j > i || !(d2 < rj * rj)) ++part.pairs;
+            if (cosine < best_cos) {  // ties: the lower index (near is sorted by index)
+              best_cos = cosine;
+              best_j = j;
+            }
           }
-          if (best.angle >= 0) part.best.push_back(best);
+          if (best_cos < cos_k_a) {
+            const auto ii = static_cast<std::uint32_t>(i);
+            const Candidate c{detail::angle_between(ps[i].normal, ps[best_j].normal),
+                              std::min(ii, best_j), std::max(ii, best_j)};
+            if (!intermediate_normal(ps, near, c)) part.best.push_back(c);
+          }
         }
         return part;
       },
       [](Found acc, Found part) {
-        acc.pairs.insert(acc.pairs.end(), part.pairs.begin(), part.pairs.end());
+        acc.pairs += part.pairs;
         acc.best.insert(acc.best.end(), part.best.begin(), part.best.end());
         return acc;
       },
       ctx);
-  std::sort(found.pairs.begin(), found.pairs.end());
-  found.pairs.erase(std::unique(found.pairs.begin(), found.pairs.end()), found.pairs.end());
-  if (stats != nullptr) stats->straddle_pairs += found.pairs.size();
+  if (stats != nullptr) stats->straddle_pairs += found.pairs;
   std::vector<Candidate>& candidates = found.best;
   std::sort(candidates.begin(), candidates.end(), [](const Candidate& l, const Candidate& r) {
     if (l.angle != r.angle) return l.angle > r.angle;
@@ -239,7 +265,7 @@ std::vector<Polyline> feature_lines(const Field& field, const ParticleSystem& pa
   double mean_delta = 0;
   for (const SurfaceParticle& p : ps) mean_delta += p.delta;
   mean_delta /= static_cast<double>(ps.size());
-  LinePointHash hash(kFeatureNear * mean_delta);
+  LinePointHash hash(kPairCovered * mean_delta);
   auto any = [](std::uint32_t, std::int32_t) { return true; };
 
   CreaseTracer tracer(field, lookup, k_a, ctx);

@@ -235,6 +235,32 @@ TEST(Silhouettes, BlendedCapsules) {
   EXPECT_EQ(missed, 0u) << missed << " of " << near;
 }
 
+// Seeds traced together stop where they meet; the chaining joins the pieces into the one
+// closed circle, and without chaining the pieces stay apart (still covering the circle).
+TEST(Silhouettes, ChainingJoinsThePiecesOfOneContour) {
+  const FieldPtr f = make_box_field(Vec3::Zero(), Vec3::Constant(1), 1);
+  const ParticleSystem ps = particles_on(*f, 3000);
+  Camera cam;
+  cam.eye = Vec3(1.0, 4.0, 2.0);
+  LineOptions o;
+  o.chain_distance = 0;
+  LineStats apart, joined;
+  const std::vector<Polyline> pieces = silhouettes(*f, ps, cam, o, &apart);
+  const std::vector<Polyline> chained = silhouettes(*f, ps, cam, {}, &joined);
+  EXPECT_GT(pieces.size(), 1u);
+  for (const Polyline& l : pieces) EXPECT_FALSE(l.closed);
+  ASSERT_EQ(chained.size(), 1u);
+  EXPECT_TRUE(chained[0].closed);
+  expect_on_contour(*f, ps, cam, pieces, 1.0);
+  expect_on_contour(*f, ps, cam, chained, 1.0);
+  // Same points, same length but for the joins.
+  std::size_t points = 0;
+  for (const Polyline& l : pieces) points += l.points.size();
+  EXPECT_EQ(points, chained[0].points.size());
+  EXPECT_GE(joined.length[0], apart.length[0]);
+  EXPECT_LE(joined.length[0], apart.length[0] + static_cast<double>(pieces.size()) * max_delta(ps));
+}
+
 TEST(Silhouettes, SameBytesOnOneAndTwoThreads) {
   const FieldPtr f = capsule_blend();
   const ParticleSystem ps = particles_on(*f, 2000);
