@@ -13,11 +13,13 @@
 // - The crease point between two side points a, b (normals n_a, n_b) is the point of the line
 //   where their tangent planes meet nearest to a guess (exact for planar faces), projected onto
 //   f = iso. The crease direction is n_a × n_b.
-// - Side points sit kSideOffset·δ across the crease on each face (c + ρ (t × n_a), projected).
-//   Eq. 11 is tested on their normals, not on the straddle pair's: over 2ρ a smooth surface
-//   turns by 2ρκ, well under k_a for any particle system that resolves the curvature, while a
-//   crease keeps its full dihedral angle. So straddle pairs on smooth but coarsely sampled
-//   surfaces (whose particles 1.5 δ apart can differ by more than k_a) give no line.
+// - Side points sit ρ = kSideOffset·δ = 0.05 δ across the crease on each face (c + ρ (t × n_a),
+//   projected). Eq. 11 is tested on their normals, not on the straddle pair's: over 2ρ a smooth
+//   surface turns by 2ρκ = 0.1 δκ, under k_a unless δ exceeds 1.5 curvature radii, while a
+//   crease keeps its full dihedral angle. Straddle pairs are common on smooth surfaces (a torus
+//   with 10,000 particles has 30,000 of them: particles 1.5 δ apart often differ by more than
+//   k_a); they give no line. Pairs with a particle between them whose normal lies between
+//   theirs are dropped before any field evaluation for the same reason.
 // - Each particle contributes its best partner (largest normal angle) as a candidate; the
 //   candidates, strongest first, are verified in batches (one field evaluation per Newton
 //   round for the whole batch) and traced one at a time, skipping those already on a line.
@@ -327,7 +329,7 @@ std::vector<Polyline> feature_lines(const Field& field, const ParticleSystem& pa
           const auto index = static_cast<std::int32_t>(pts.size() + 1);
           const double to_start = (next.c - start.c).norm();
           if (direction > 0 && index >= kArcMargin && to_start < 0.75 * h) {
-            if (to_start >= 0.5 * h) pts.push_back(next.c);
+            if (to_start >= 0.5 * h && (start.c - next.c).dot(cur.t) > 0) pts.push_back(next.c);
             line.closed = true;
             break;
           }

@@ -197,6 +197,49 @@ struct Trace {
   bool finished = false;
 };
 
+// Appends `next` to `line` where two traces met: points of either side that overshoot the
+// joint (the path would turn back there) and duplicates are left out.
+void join(std::vector<Vec3>& line, const std::vector<Vec3>& next) {
+  std::size_t skip = 0;
+  if (!line.empty()) {
+    auto back_overshoots = [&] {
+      const std::size_t m = line.size();
+      return m >= 2 && (next[skip] - line[m - 1]).dot(line[m - 1] - line[m - 2]) <= 0;
+    };
+    auto front_overshoots = [&] {
+      return skip + 1 < next.size() &&
+             (next[skip + 1] - next[skip]).dot(next[skip] - line.back()) <= 0;
+    };
+    for (bool changed = true; changed;) {
+      changed = false;
+      if (back_overshoots()) {
+        line.pop_back();
+        changed = true;
+      }
+      if (front_overshoots()) {
+        ++skip;
+        changed = true;
+      }
+    }
+  }
+  line.insert(line.end(), next.begin() + static_cast<std::ptrdiff_t>(skip), next.end());
+}
+
+// The closing joint of a chained loop, trimmed as in join().
+void close_join(std::vector<Vec3>& line) {
+  for (bool changed = true; changed && line.size() > 3;) {
+    changed = false;
+    const std::size_t m = line.size();
+    if ((line[0] - line[m - 1]).dot(line[m - 1] - line[m - 2]) <= 0) {
+      line.pop_back();
+      changed = true;
+    } else if ((line[1] - line[0]).dot(line[0] - line[m - 1]) <= 0) {
+      line.erase(line.begin());
+      changed = true;
+    }
+  }
+}
+
 // Joins polylines whose ends are within chain_distance · δ and run on in similar directions in
 // the image (3-D directions where the image direction degenerates). Closes chains whose two
 // ends meet. Order: by the first piece of each chain.
@@ -309,24 +352,14 @@ std::vector<Polyline> chain(std::vector<Polyline> pieces, const Camera& camera,
     for (std::size_t guard = 0; guard <= n; ++guard) {
       const std::uint32_t cur = in / 2;
       used[cur] = 1;
-      const std::vector<Vec3>& pts = pieces[cur].points;
-      auto append = [&](const Vec3& p) {
-        if (line.points.empty() || (line.points.back() - p).squaredNorm() > 0)
-          line.points.push_back(p);
-      };
-      if (in % 2 == 0) {
-        for (const Vec3& p : pts) append(p);
-      } else {
-        for (auto it = pts.rbegin(); it != pts.rend(); ++it) append(*it);
-      }
+      std::vector<Vec3> pts = pieces[cur].points;
+      if (in % 2 == 1) std::reverse(pts.begin(), pts.end());
+      join(line.points, pts);
       const std::int64_t next = partner[in ^ 1u];
       if (next < 0 || used[static_cast<std::uint32_t>(next) / 2]) break;
       in = static_cast<std::uint32_t>(next);
     }
-    if (line.closed && line.points.size() > 1 &&
-        (line.points.front() - line.points.back()).squaredNorm() == 0) {
-      line.points.pop_back();
-    }
+    if (line.closed) close_join(line.points);
     out.push_back(std::move(line));
   }
   return out;
@@ -460,7 +493,8 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
           const double to_seed = (c.q - line.seed).norm();
           if (t.direction > 0 && index >= kArcMargin && to_seed < 0.75 * h) {
             // Back at the seed: a closed loop.
-            if (to_seed >= 0.5 * h) pts.push_back(c.q);
+            // Keep the point unless it is very near the seed or past it.
+            if (to_seed >= 0.5 * h && (line.seed - c.q).dot(t.t) > 0) pts.push_back(c.q);
             line.closed = true;
             finish = true;
           } else {

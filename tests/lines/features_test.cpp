@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 #include <vector>
 
 #include "ramiform/field/operators.h"
@@ -76,9 +77,13 @@ void check_box(const SharpBox& box, std::size_t count) {
   EXPECT_GT(st.straddle_pairs, 0u);
   EXPECT_EQ(st.lines[2], lines.size());
   EXPECT_GT(st.field_evals, 0u);
-  // Every point on an edge (and on the surface).
+  // Every point on an edge (and on the surface), steps of about δ, never turning back.
   for (const Polyline& l : lines) {
     EXPECT_EQ(l.kind, LineKind::kFeature);
+    for (std::size_t i = 1; i < l.points.size(); ++i) {
+      ASSERT_LE((l.points[i] - l.points[i - 1]).norm(), 1.5 * dmax);
+      if (i > 1) ASSERT_GT((l.points[i] - l.points[i - 1]).dot(l.points[i - 1] - l.points[i - 2]), 0);
+    }
     for (const Vec3& p : l.points) {
       double d = 1e300;
       for (const Segment& e : box.edges) d = std::min(d, distance_to_segment(e, p));
@@ -117,6 +122,36 @@ TEST(FeatureLines, RotatedBoxEdges) {
   pose.translate(Vec3(0.3, -0.2, 0.1));
   pose.rotate(Eigen::AngleAxisd(0.5, Vec3(1, 2, 3).normalized()));
   check_box(sharp_box(Vec3(0.9, 0.7, 0.5), pose), 3000);
+}
+
+// A cylinder cut by two planes: the two rims are closed feature loops; the crease between a
+// curved and a flat face.
+TEST(FeatureLines, CylinderRimsAreClosedLoops) {
+  const double R = 0.6, h = 0.7;
+  const FieldPtr f = make_intersection(
+      {make_cylinder_field(Vec3(0, 0, -2), Vec3(0, 0, 2), R, 0.1),
+       make_plane_field(Vec3(0, 0, h), Vec3::UnitZ(), 0.5),
+       make_plane_field(Vec3(0, 0, -h), -Vec3::UnitZ(), 0.5)});
+  const ParticleSystem ps = particles_on(*f, 3000);
+  double dmax = 0;
+  for (const SurfaceParticle& p : ps.particles) dmax = std::max(dmax, p.delta);
+  LineStats st;
+  const std::vector<Polyline> lines = feature_lines(*f, ps, {}, &st);
+  ASSERT_EQ(lines.size(), 2u);
+  double z_sum = 0;
+  for (const Polyline& l : lines) {
+    EXPECT_TRUE(l.closed);
+    const double z = l.points[0].z();
+    z_sum += z;
+    for (const Vec3& p : l.points) {
+      ASSERT_LE(std::hypot(std::hypot(p.x(), p.y()) - R, p.z() - z), 1e-3 * dmax) << p.transpose();
+      ASSERT_NEAR(std::abs(z), h, 1e-3 * dmax);
+    }
+    for (std::size_t i = 0; i < l.points.size(); ++i)
+      EXPECT_LE((l.points[i] - l.points[(i + 1) % l.points.size()]).norm(), 1.5 * dmax);
+  }
+  EXPECT_NEAR(z_sum, 0, 1e-9);
+  EXPECT_NEAR(st.length[2], 2 * 2 * std::numbers::pi * R, 0.02 * 2 * 2 * std::numbers::pi * R);
 }
 
 TEST(FeatureLines, NoneOnSmoothSurfaces) {
