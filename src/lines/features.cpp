@@ -41,16 +41,16 @@ namespace {
 using detail::DeltaLookup;
 using detail::LinePointHash;
 
-constexpr double kCreaseStep = 1.0;   ///< × δ: step along the crease
-constexpr double kSideOffset = 0.05;  ///< × δ: side points' distance from the crease
-constexpr double kFeatureNear = 0.5;  ///< × δ: another feature line is near
-constexpr double kPairCovered = 2.0;  ///< × δ: a candidate this near a line is not traced
+constexpr double kCreaseStep = 1.0;     ///< × δ: step along the crease
+constexpr double kSideOffset = 0.05;    ///< × δ: side points' distance from the crease
+constexpr double kFeatureNear = 0.5;    ///< × δ: another feature line is near
+constexpr double kPairCovered = 2.0;    ///< × δ: a candidate this near a line is not traced
 constexpr double kIntermediate = 0.25;  ///< share of a pair's angle that marks a between normal
-constexpr double kCreaseJump = 1.0;   ///< × step: farthest a crease point may be from its guess
-constexpr int kProjectRounds = 12;    ///< Newton rounds of a projection onto f = iso
-constexpr std::size_t kBatch = 256;   ///< candidates verified per batch
+constexpr double kCreaseJump = 1.0;     ///< × step: farthest a crease point may be from its guess
+constexpr int kProjectRounds = 12;      ///< Newton rounds of a projection onto f = iso
+constexpr std::size_t kBatch = 256;     ///< candidates verified per batch
 constexpr std::size_t kMaxTracePoints = std::size_t{1} << 16;  ///< per direction of one trace
-constexpr int kArcMargin = 4;  ///< own points fewer steps away along the trace are not "near"
+constexpr int kArcMargin = 4;      ///< own points fewer steps away along the trace are not "near"
 constexpr double kAdvance = 0.25;  ///< × step: least progress along the crease of a step
 
 // A crease sample: the crease point c, its direction t, and a side point on each face.
@@ -157,8 +157,8 @@ class CreaseTracer {
     values_.resize(m);
     grads_.resize(m);
     ok_.resize(m);
-    detail::project_to_surface(field_, pts_, scale_, detail::kLineSurfaceTolerance,
-                               kProjectRounds, values_, grads_, ok_, ctx_);
+    detail::project_to_surface(field_, pts_, scale_, detail::kLineSurfaceTolerance, kProjectRounds,
+                               values_, grads_, ok_, ctx_);
   }
 
   const Field& field_;
@@ -258,11 +258,10 @@ std::vector<Polyline> feature_lines(const Field& field, const ParticleSystem& pa
     if (l.angle != r.angle) return l.angle > r.angle;
     return l.i != r.i ? l.i < r.i : l.j < r.j;
   });
-  candidates.erase(std::unique(candidates.begin(), candidates.end(),
-                               [](const Candidate& l, const Candidate& r) {
-                                 return l.i == r.i && l.j == r.j;
-                               }),
-                   candidates.end());
+  candidates.erase(
+      std::unique(candidates.begin(), candidates.end(),
+                  [](const Candidate& l, const Candidate& r) { return l.i == r.i && l.j == r.j; }),
+      candidates.end());
 
   double mean_delta = 0;
   for (const SurfaceParticle& p : ps) mean_delta += p.delta;
@@ -334,12 +333,12 @@ std::vector<Polyline> feature_lines(const Field& field, const ParticleSystem& pa
             break;
           }
           const bool forward_dir = direction > 0;
-          const bool near_other = hash.any_within(
-              next.c, kFeatureNear * next.delta,
-              [id, forward_dir, index](std::uint32_t line_id, std::int32_t at) {
-                if (line_id != id) return true;
-                return !forward_dir && at >= 0 && at + index > kArcMargin;
-              });
+          const bool near_other =
+              hash.any_within(next.c, kFeatureNear * next.delta,
+                              [id, forward_dir, index](std::uint32_t line_id, std::int32_t at) {
+                                if (line_id != id) return true;
+                                return !forward_dir && at >= 0 && at + index > kArcMargin;
+                              });
           if (near_other) break;
           pts.push_back(next.c);
           hash.insert(next.c, id, direction * index);

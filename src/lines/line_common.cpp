@@ -28,9 +28,7 @@ std::uint32_t DeltaLookup::nearest(const Vec3& p) const {
   return found.empty() ? 0 : found[0].first;
 }
 
-double DeltaLookup::delta_at(const Vec3& p) const {
-  return system_->particles[nearest(p)].delta;
-}
+double DeltaLookup::delta_at(const Vec3& p) const { return system_->particles[nearest(p)].delta; }
 
 LinePointHash::LinePointHash(double cell) : inv_cell_(1.0 / cell) {
   if (!(cell > 0) || !std::isfinite(inv_cell_)) {
@@ -58,8 +56,7 @@ void LinePointHash::insert(const Vec3& p, std::uint32_t line, std::int32_t index
 
 void project_to_surface(const Field& field, std::span<Vec3> points, std::span<const double> scale,
                         double tolerance, int max_rounds, std::span<double> values,
-                        std::span<Vec3> gradients, std::span<std::uint8_t> ok,
-                        const Context* ctx) {
+                        std::span<Vec3> gradients, std::span<std::uint8_t> ok, const Context* ctx) {
   const std::size_t n = points.size();
   const double iso = field.iso();
   std::vector<std::uint32_t> active(n);
@@ -103,7 +100,8 @@ double polyline_length(const Polyline& line) {
   double length = 0;
   for (std::size_t i = 1; i < line.points.size(); ++i)
     length += (line.points[i] - line.points[i - 1]).norm();
-  if (line.closed && line.points.size() > 2) length += (line.points.front() - line.points.back()).norm();
+  if (line.closed && line.points.size() > 2)
+    length += (line.points.front() - line.points.back()).norm();
   return length;
 }
 

@@ -100,8 +100,7 @@ class LinePointHash {
 /// round.
 void project_to_surface(const Field& field, std::span<Vec3> points, std::span<const double> scale,
                         double tolerance, int max_rounds, std::span<double> values,
-                        std::span<Vec3> gradients, std::span<std::uint8_t> ok,
-                        const Context* ctx);
+                        std::span<Vec3> gradients, std::span<std::uint8_t> ok, const Context* ctx);
 
 /// 3-D length of a polyline, the closing segment included when it is closed.
 [[nodiscard]] double polyline_length(const Polyline& line);

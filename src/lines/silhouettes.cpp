@@ -55,20 +55,20 @@ constexpr double kStepReach = 2.0;       ///< × step: farthest a predicted poin
 constexpr double kRoundSeparation = 16;  ///< × δ: seeds of one round are at least this far apart
 constexpr double kMinStepScale = 0.25;   ///< a failed step is halved down to this fraction
 constexpr std::size_t kMaxTracePoints = std::size_t{1} << 16;  ///< per direction of one trace
-constexpr int kArcMargin = 4;  ///< own points fewer steps away along the trace are not "near"
+constexpr int kArcMargin = 4;      ///< own points fewer steps away along the trace are not "near"
 constexpr double kAdvance = 0.25;  ///< × step: least progress along the tangent of a step
 constexpr double kChainCos = 0.70710678118654752;  ///< chained ends: directions within 45°
 constexpr double kDegenerate = 1e-9;  ///< relative size below which a direction is unusable
 
 // One point being corrected onto the contour generator.
 struct Correction {
-  Vec3 q;       // the point (moves)
-  Vec3 start;   // where it started
+  Vec3 q;      // the point (moves)
+  Vec3 start;  // where it started
   double delta = 0;
-  double reach = 0;  // the point fails when it moves farther than this from start
+  double reach = 0;        // the point fails when it moves farther than this from start
   Vec3 hv = Vec3::Zero();  // H v̂: the derivative of ∇f along the unit view direction
   Vec3 grad = Vec3::Zero(), grad_g = Vec3::Zero();  // ∇f and ∇g at the final point
-  double first_nv = 0;  // |n·v| where the correction started
+  double first_nv = 0;                              // |n·v| where the correction started
   int round = 0;
   enum : std::uint8_t { kRunning, kDone, kFailed } state = kRunning;
 };
@@ -296,8 +296,8 @@ std::vector<Polyline> chain(std::vector<Polyline> pieces, const Camera& camera,
         // The ends continue each other: outward directions opposite.
         const double cos3 = -ea.dir3.dot(eb.dir3);
         const double cos2 = -(ea.dx * eb.dx + ea.dy * eb.dy);
-        const bool similar = (ea.image_ok && eb.image_ok) ? (cos2 >= kChainCos && cos3 >= 0)
-                                                          : cos3 >= kChainCos;
+        const bool similar =
+            (ea.image_ok && eb.image_ok) ? (cos2 >= kChainCos && cos3 >= 0) : cos3 >= kChainCos;
         if (similar) candidates.push_back({d, a, b});
       }
     }
@@ -423,9 +423,8 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
       if (consumed[k]) continue;
       const Correction& c = jobs[candidates[k]];
       const double delta = lookup.delta_at(c.q);
-      if (hash.any_within(c.q, near_factor * delta, [](std::uint32_t, std::int32_t) {
-            return true;
-          })) {
+      if (hash.any_within(c.q, near_factor * delta,
+                          [](std::uint32_t, std::int32_t) { return true; })) {
         consumed[k] = 1;
         continue;
       }

@@ -82,7 +82,9 @@ void check_box(const SharpBox& box, std::size_t count) {
     EXPECT_EQ(l.kind, LineKind::kFeature);
     for (std::size_t i = 1; i < l.points.size(); ++i) {
       ASSERT_LE((l.points[i] - l.points[i - 1]).norm(), 1.5 * dmax);
-      if (i > 1) ASSERT_GT((l.points[i] - l.points[i - 1]).dot(l.points[i - 1] - l.points[i - 2]), 0);
+      if (i > 1) {
+        ASSERT_GT((l.points[i] - l.points[i - 1]).dot(l.points[i - 1] - l.points[i - 2]), 0);
+      }
     }
     for (const Vec3& p : l.points) {
       double d = 1e300;
@@ -128,10 +130,9 @@ TEST(FeatureLines, RotatedBoxEdges) {
 // curved and a flat face.
 TEST(FeatureLines, CylinderRimsAreClosedLoops) {
   const double R = 0.6, h = 0.7;
-  const FieldPtr f = make_intersection(
-      {make_cylinder_field(Vec3(0, 0, -2), Vec3(0, 0, 2), R, 0.1),
-       make_plane_field(Vec3(0, 0, h), Vec3::UnitZ(), 0.5),
-       make_plane_field(Vec3(0, 0, -h), -Vec3::UnitZ(), 0.5)});
+  const FieldPtr f = make_intersection({make_cylinder_field(Vec3(0, 0, -2), Vec3(0, 0, 2), R, 0.1),
+                                        make_plane_field(Vec3(0, 0, h), Vec3::UnitZ(), 0.5),
+                                        make_plane_field(Vec3(0, 0, -h), -Vec3::UnitZ(), 0.5)});
   const ParticleSystem ps = particles_on(*f, 3000);
   double dmax = 0;
   for (const SurfaceParticle& p : ps.particles) dmax = std::max(dmax, p.delta);
@@ -170,7 +171,8 @@ TEST(FeatureLines, NoneOnSmoothSurfaces) {
 }
 
 TEST(FeatureLines, SameBytesOnOneAndTwoThreads) {
-  const SharpBox box = sharp_box(Vec3(1.0, 0.8, 0.6), Affine3(Eigen::AngleAxisd(0.3, Vec3::UnitY())));
+  const SharpBox box =
+      sharp_box(Vec3(1.0, 0.8, 0.6), Affine3(Eigen::AngleAxisd(0.3, Vec3::UnitY())));
   const ParticleSystem ps = particles_on(*box.field, 2000);
   const Context one(1), two(2);
   const auto a = feature_lines(*box.field, ps, {}, nullptr, &one);
@@ -180,9 +182,8 @@ TEST(FeatureLines, SameBytesOnOneAndTwoThreads) {
   for (std::size_t k = 0; k < a.size(); ++k) {
     ASSERT_EQ(a[k].points.size(), b[k].points.size());
     EXPECT_EQ(a[k].closed, b[k].closed);
-    EXPECT_EQ(std::memcmp(a[k].points.data(), b[k].points.data(),
-                          a[k].points.size() * sizeof(Vec3)),
-              0);
+    EXPECT_EQ(
+        std::memcmp(a[k].points.data(), b[k].points.data(), a[k].points.size() * sizeof(Vec3)), 0);
   }
 }
 

@@ -87,7 +87,8 @@ void expect_on_contour(const Field& f, const ParticleSystem& ps, const Camera& c
       }
     }
     if (l.closed) {
-      const double d = std::max(nearest_delta(ps, l.points.front()), nearest_delta(ps, l.points.back()));
+      const double d =
+          std::max(nearest_delta(ps, l.points.front()), nearest_delta(ps, l.points.back()));
       EXPECT_LE((l.points.front() - l.points.back()).norm(), max_gap * d);
     }
   }
@@ -265,7 +266,8 @@ TEST(Silhouettes, ChainingJoinsThePiecesOfOneContour) {
   for (const Polyline& l : pieces) points += l.points.size();
   EXPECT_LE(chained[0].points.size(), points);
   EXPECT_GE(chained[0].points.size() + 2 * pieces.size(), points);
-  EXPECT_NEAR(joined.length[0], apart.length[0], static_cast<double>(pieces.size()) * max_delta(ps));
+  EXPECT_NEAR(joined.length[0], apart.length[0],
+              static_cast<double>(pieces.size()) * max_delta(ps));
 }
 
 TEST(Silhouettes, SameBytesOnOneAndTwoThreads) {
@@ -296,10 +298,9 @@ TEST(Silhouettes, LargerStepsStillOnTheContour) {
 // side where n ⟂ v, each ending at the rims, so the lines are open and stop at the rims.
 TEST(Silhouettes, OpenLinesEndAtSharpRims) {
   const double R = 0.6, h = 0.7;
-  const FieldPtr f = make_intersection(
-      {make_cylinder_field(Vec3(0, 0, -2), Vec3(0, 0, 2), R, 0.1),
-       make_plane_field(Vec3(0, 0, h), Vec3::UnitZ(), 0.5),
-       make_plane_field(Vec3(0, 0, -h), -Vec3::UnitZ(), 0.5)});
+  const FieldPtr f = make_intersection({make_cylinder_field(Vec3(0, 0, -2), Vec3(0, 0, 2), R, 0.1),
+                                        make_plane_field(Vec3(0, 0, h), Vec3::UnitZ(), 0.5),
+                                        make_plane_field(Vec3(0, 0, -h), -Vec3::UnitZ(), 0.5)});
   const ParticleSystem ps = particles_on(*f, 3000);
   Camera cam;
   cam.eye = Vec3(3.0, 1.0, 1.5);
