@@ -57,6 +57,7 @@ constexpr double kMinStepScale = 0.25;   ///< a failed step is halved down to th
 constexpr std::size_t kMaxTracePoints = std::size_t{1} << 16;  ///< per direction of one trace
 constexpr int kArcMargin = 4;      ///< own points fewer steps away along the trace are not "near"
 constexpr double kAdvance = 0.25;  ///< × step: least progress along the tangent of a step
+constexpr int kMaxTrim = 3;        ///< overshooting points dropped at most per side of a join
 constexpr double kChainCos = 0.70710678118654752;  ///< chained ends: directions within 45°
 constexpr double kDegenerate = 1e-9;  ///< relative size below which a direction is unusable
 
@@ -210,7 +211,8 @@ void join(std::vector<Vec3>& line, const std::vector<Vec3>& next) {
       return skip + 1 < next.size() &&
              (next[skip + 1] - next[skip]).dot(next[skip] - line.back()) <= 0;
     };
-    for (bool changed = true; changed;) {
+    int trimmed = 0;
+    for (bool changed = true; changed && trimmed < kMaxTrim; ++trimmed) {
       changed = false;
       if (back_overshoots()) {
         line.pop_back();
@@ -227,8 +229,8 @@ void join(std::vector<Vec3>& line, const std::vector<Vec3>& next) {
 
 // The closing joint of a chained loop, trimmed as in join().
 void close_join(std::vector<Vec3>& line) {
-  for (bool changed = true; changed && line.size() > 3;) {
-    changed = false;
+  for (int trimmed = 0; trimmed < kMaxTrim && line.size() > 3; ++trimmed) {
+    bool changed = false;
     const std::size_t m = line.size();
     if ((line[0] - line[m - 1]).dot(line[m - 1] - line[m - 2]) <= 0) {
       line.pop_back();
@@ -237,6 +239,7 @@ void close_join(std::vector<Vec3>& line) {
       line.erase(line.begin());
       changed = true;
     }
+    if (!changed) break;
   }
 }
 
