@@ -214,8 +214,22 @@ TEST(Silhouettes, ObliqueTorusOnTheAnalyticContour) {
   for (const Vec3& q : truth)
     if (distance_to_lines(lines, q) > 0.5 * dmax) ++far;
   EXPECT_LE(far, truth.size() / 100) << far << " of " << truth.size() << " contour points missed";
-  // The contour of a torus is made of closed curves.
+  // The contour of a torus is made of closed curves, each traced once: no point of one line
+  // lies near another line.
   for (const Polyline& l : lines) EXPECT_TRUE(l.closed);
+  for (std::size_t a = 0; a < lines.size(); ++a) {
+    for (std::size_t b = 0; b < lines.size(); ++b) {
+      if (a == b) continue;
+      for (const Vec3& p : lines[a].points)
+        ASSERT_GT(distance_to_lines({lines[b]}, p), 0.25 * dmax);
+    }
+  }
+  // The seed count of eq. 9, counted here.
+  std::size_t seeds = 0;
+  for (const SurfaceParticle& p : ps.particles)
+    if (std::abs(p.normal.dot(view_vector(cam, p.position))) < LineOptions{}.k_c) ++seeds;
+  EXPECT_EQ(st.silhouette_seeds, seeds);
+  EXPECT_EQ(st.lines[0], lines.size());
 }
 
 FieldPtr capsule_blend() {
