@@ -28,6 +28,20 @@
 // κ_r = −n·e / |eye − x|, a bias that grows as the eye comes closer; both agree for a distant
 // eye. Eq. 8 and the front-facing test use the unit vector (they are about angles).
 //
+// Deviation: a correction of eqs. 6–7 for the bend of w. DeCarlo et al.'s minima are along
+// the integral curves of the field w, and those curves bend on the surface: their tangential
+// acceleration is −(n·V) (Sŵ)⊥ / |w| (S the shape operator, V = eye − x, ⊥ the part normal to
+// ŵ in the tangent plane), whereas x± = x ± h ŵ (h = k_d δ_i) sample the normal section along
+// ŵ, which does not bend. dp's second derivative along the section therefore exceeds the one
+// along w by dp·II(ŵ, t)² (t = n × ŵ, II the second fundamental form), and the paper's test
+// passes particles where n·v has a minimum along the section but a maximum along w: the zeros
+// of κ_r with D_w κ_r < 0, next to where suggestive contours end and wherever w runs oblique to
+// the principal directions (measured on a torus: particles 2.7 δ beyond DeCarlo's contour, on
+// its κ_r = 0, D_w κ_r < 0 continuation). The fix subtracts the difference from both sides:
+// dp + Δ < dp± with Δ = dp·h²·II(ŵ, t)² / 2, and II(ŵ, t) ≈ t·(n+ − n−) / 2h from the two
+// normals the test evaluates anyway. Δ ≥ 0, so the test only tightens (and dp < dp− stays a
+// necessary condition, which the two-batch evaluation below relies on).
+//
 // The normal at x±: from ∇f at x± directly, as the paper's Figure 4 does, not after
 // re-projecting x± onto the surface. x± lie on the tangent plane, off the surface by about
 // κ_r (k_d δ)² / 2 along n (the normal curvature along ±ŵ is κ_r for both). For a distance-like
@@ -148,13 +162,11 @@ std::vector<std::uint32_t> suggestive_particles(const Field& field, const Partic
   // then x+ only for those with dp < dp−. ŵ points towards the eye's side, so where the surface
   // is convex along w dp grows along ŵ and eq. 7 already fails at x−: the second batch is a
   // fraction of the first (about 40 % on an MPU bunny), which saves about 30 % of the
-  // evaluations that dominate the cost, for the same result as one batch of all x± points.
-  // dp± = n(x±)·(eye − x±) with n(x±) = −∇f/|∇f| there.
-  std::vector<Vec3> points;
-  std::vector<double> values;
-  std::vector<Vec3> gradients;
-  auto evaluate_dp = [&](const std::vector<std::size_t>& which, double sign,
-                         std::vector<std::size_t>& passed) {
+  // evaluations that dominate the cost. dp± = n(x±)·(eye − x±) with n(x±) = −∇f/|∇f| there.
+  const std::size_t m = candidate.size();
+  std::vector<Vec3> points, gradients, normal_minus(m);
+  std::vector<double> values, dp_minus(m);
+  auto evaluate_at = [&](const std::vector<std::size_t>& which, double sign) {
     points.resize(which.size());
     for (std::size_t k = 0; k < which.size(); ++k) {
       const std::size_t j = which[k];
@@ -163,21 +175,39 @@ std::vector<std::uint32_t> suggestive_particles(const Field& field, const Partic
     values.resize(points.size());
     gradients.resize(points.size());
     field.evaluate(points, values, gradients, ctx);
-    passed.clear();
-    for (std::size_t k = 0; k < which.size(); ++k) {
-      const double g = gradients[k].norm();
-      if (!(g > 0) || !std::isfinite(g)) continue;
-      const double dp_there = -gradients[k].dot(camera.eye - points[k]) / g;
-      if (dp[which[k]] < dp_there) passed.push_back(which[k]);
-    }
   };
-  std::vector<std::size_t> all(candidate.size()), below_minus, below_both;
+  // The unit normal at points[k], false where ∇f vanishes.
+  auto normal_at = [&](std::size_t k, Vec3& n) {
+    const double g = gradients[k].norm();
+    if (!(g > 0) || !std::isfinite(g)) return false;
+    n = gradients[k] / -g;
+    return true;
+  };
+
+  std::vector<std::size_t> all(m), below_minus;
   std::iota(all.begin(), all.end(), std::size_t{0});
-  evaluate_dp(all, -1.0, below_minus);        // eq. 7: dp < dp−
-  evaluate_dp(below_minus, 1.0, below_both);  // eq. 6: dp < dp+
+  evaluate_at(all, -1.0);
+  for (std::size_t j = 0; j < m; ++j) {
+    if (!normal_at(j, normal_minus[j])) continue;
+    dp_minus[j] = normal_minus[j].dot(camera.eye - points[j]);
+    if (dp[j] < dp_minus[j]) below_minus.push_back(j);  // eq. 7 (necessary, see below)
+  }
+  evaluate_at(below_minus, 1.0);
   std::vector<std::uint32_t> result;
-  result.reserve(below_both.size());
-  for (const std::size_t j : below_both) result.push_back(candidate[j]);
+  for (std::size_t k = 0; k < below_minus.size(); ++k) {
+    const std::size_t j = below_minus[k];
+    Vec3 normal_plus;
+    if (!normal_at(k, normal_plus)) continue;
+    const double dp_plus = normal_plus.dot(camera.eye - points[k]);
+    // The curvature of w's integral curve (see the file comment): with h = k_d·δ_i and t the
+    // unit tangent normal to ŵ, II(ŵ, t) ≈ t·(n+ − n−) / 2h, and both inequalities tighten by
+    // Δ = dp·h²·II(ŵ, t)² / 2 = dp·((n × h ŵ)·(n+ − n−))² / 8h².
+    const SurfaceParticle& p = particles[candidate[j]];
+    const double h2 = offset[j].squaredNorm();
+    const double twist = p.normal.cross(offset[j]).dot(normal_plus - normal_minus[j]);
+    const double tighten = dp[j] * twist * twist / (8 * h2);
+    if (dp[j] + tighten < dp_plus && dp[j] + tighten < dp_minus[j]) result.push_back(candidate[j]);
+  }
   return result;
 }
 

@@ -144,8 +144,9 @@ struct LineStats {
 /// plane (eqs. 4–7: a local minimum along w, DeCarlo et al.'s n·v with their v = eye − x; the
 /// paper's n·v with eq. 3's v has this sign with an inward normal ∇f/|∇f|; the vector is not
 /// normalized, so that the minima are exactly the zeros of the radial curvature that grows
-/// along w), on the front-facing side (n·(eye − x) > 0), away from where the surface faces the
-/// viewer (eq. 8: angle(n, −v) > θ_sc). Clustered (§5.2: links to the cluster_k nearest
+/// along w; both inequalities are tightened by the bend of w's integral curves, estimated from
+/// the normals at x±, see src/lines/suggestive.cpp), on the front-facing side
+/// (n·(eye − x) > 0), away from where the surface faces the viewer (eq. 8: angle(n, −v) > θ_sc). Clustered (§5.2: links to the cluster_k nearest
 /// suggestive particles within cluster_radius·δ_i, clusters that meet merged), fitted by each
 /// cluster's minimum spanning tree's longest path or trimmed tree (§5.3; clusters of fewer
 /// than min_cluster particles give no line), smoothed with fixed ends and re-projected (interior
