@@ -190,7 +190,7 @@ std::vector<std::uint32_t> suggestive_particles(const Field& field, const Partic
   for (std::size_t j = 0; j < m; ++j) {
     if (!normal_at(j, normal_minus[j])) continue;
     dp_minus[j] = normal_minus[j].dot(camera.eye - points[j]);
-    if (dp[j] < dp_minus[j]) below_minus.push_back(j);  // eq. 7 (necessary, see below)
+    if (dp[j] < dp_minus[j]) below_minus.push_back(j);  // eq. 7, necessary for the full test
   }
   evaluate_at(below_minus, 1.0);
   std::vector<std::uint32_t> result;

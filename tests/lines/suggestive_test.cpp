@@ -202,8 +202,8 @@ TEST(SuggestiveContours, SphereHasNone) {
   po.count = 3000;
   const ParticleSystem ps = spread_particles(*sphere, po);
   ASSERT_GT(ps.particles.size(), 2000u);
-  for (const Vec3& eye : {Vec3(0, 0, 6), Vec3(3, -2, 1.5), Vec3(-1.5, 1.2, -1.0),
-                          Vec3(40, 25, -30)}) {
+  for (const Vec3& eye :
+       {Vec3(0, 0, 6), Vec3(3, -2, 1.5), Vec3(-1.5, 1.2, -1.0), Vec3(40, 25, -30)}) {
     Camera cam;
     cam.eye = eye;
     cam.target = c;
@@ -402,8 +402,7 @@ bool same_bytes(const std::vector<Polyline>& a, const std::vector<Polyline>& b) 
     if (a[l].points.size() != b[l].points.size() || a[l].closed != b[l].closed ||
         a[l].kind != b[l].kind)
       return false;
-    if (std::memcmp(a[l].points.data(), b[l].points.data(), sizeof(Vec3) * a[l].points.size()) !=
-        0)
+    if (std::memcmp(a[l].points.data(), b[l].points.data(), sizeof(Vec3) * a[l].points.size()) != 0)
       return false;
   }
   return true;
@@ -455,8 +454,9 @@ TEST(SuggestiveContours, CancelledThroughTheContext) {
   const FieldPtr f = torus_field();
   Context ctx;
   ctx.cancel();
-  EXPECT_THROW((void)suggestive_contours(*f, torus_particles(), oblique_camera(), {}, nullptr, &ctx),
-               Cancelled);
+  EXPECT_THROW(
+      (void)suggestive_contours(*f, torus_particles(), oblique_camera(), {}, nullptr, &ctx),
+      Cancelled);
 }
 
 }  // namespace
