@@ -146,12 +146,14 @@ struct LineStats {
 /// normalized, so that the minima are exactly the zeros of the radial curvature that grows
 /// along w; both inequalities are tightened by the bend of w's integral curves, estimated from
 /// the normals at x±, see src/lines/suggestive.cpp), on the front-facing side
-/// (n·(eye − x) > 0), away from where the surface faces the viewer (eq. 8: angle(n, −v) > θ_sc). Clustered (§5.2: links to the cluster_k nearest
-/// suggestive particles within cluster_radius·δ_i, clusters that meet merged), fitted by each
-/// cluster's minimum spanning tree's longest path or trimmed tree (§5.3; clusters of fewer
-/// than min_cluster particles give no line), smoothed with fixed ends and re-projected (interior
-/// points satisfy |f − iso| / |∇f| ≤ 1e-7 δ; the ends are particles). Lines are open, `visible`
-/// left empty, in the order of their clusters' first particles.
+/// (n·(eye − x) > 0), away from where the surface faces the viewer (eq. 8: angle(n, −v) >
+/// θ_sc). Clustered (§5.2: links to the cluster_k nearest suggestive particles within
+/// cluster_radius·δ_i, clusters that meet merged), fitted by each cluster's minimum spanning
+/// tree's longest path or trimmed tree (§5.3; clusters of fewer than min_cluster particles give
+/// no line), smoothed with fixed ends and re-projected (interior points satisfy
+/// |f − iso| / |∇f| ≤ 1e-7 δ; the ends are particles). Lines are open, `visible` left empty, in
+/// the order of their clusters' first particles. stats->suggestive_clusters counts every
+/// cluster, single particles included.
 [[nodiscard]] std::vector<Polyline> suggestive_contours(const Field& field,
                                                         const ParticleSystem& particles,
                                                         const Camera& camera,
