@@ -139,9 +139,21 @@ struct LineStats {
                                                 LineStats* stats = nullptr,
                                                 const Context* ctx = nullptr);
 
-/// Suggestive contours (§5): particles where n·v has a local minimum along w (eqs. 4–7) on the
-/// front-facing side, away from where the surface faces the viewer (eq. 8); clustered (§5.2),
-/// fitted by the MST's longest path or trimmed MST (§5.3), smoothed and re-projected.
+/// Suggestive contours (§5): particles where n·(eye − x) (n the particle's outward normal) is
+/// smaller than at x± = x ± k_d·δ_i·ŵ, ŵ the unit projection of the view vector on the tangent
+/// plane (eqs. 4–7: a local minimum along w, DeCarlo et al.'s n·v with their v = eye − x; the
+/// paper's n·v with eq. 3's v has this sign with an inward normal ∇f/|∇f|; the vector is not
+/// normalized, so that the minima are exactly the zeros of the radial curvature that grows
+/// along w; both inequalities are tightened by the bend of w's integral curves, estimated from
+/// the normals at x±, see src/lines/suggestive.cpp), on the front-facing side
+/// (n·(eye − x) > 0), away from where the surface faces the viewer (eq. 8: angle(n, −v) >
+/// θ_sc). Clustered (§5.2: links to the cluster_k nearest suggestive particles within
+/// cluster_radius·δ_i, clusters that meet merged), fitted by each cluster's minimum spanning
+/// tree's longest path or trimmed tree (§5.3; clusters of fewer than min_cluster particles give
+/// no line), smoothed with fixed ends and re-projected (interior points satisfy
+/// |f − iso| / |∇f| ≤ 1e-7 δ; the ends are particles). Lines are open, `visible` left empty, in
+/// the order of their clusters' first particles. stats->suggestive_clusters counts every
+/// cluster, single particles included.
 [[nodiscard]] std::vector<Polyline> suggestive_contours(const Field& field,
                                                         const ParticleSystem& particles,
                                                         const Camera& camera,
