@@ -1,2 +1,3 @@
 set(RAMIFORM_lines_TESTS
-  lines/camera_test.cpp)
+  lines/camera_test.cpp
+  lines/visibility_test.cpp)
