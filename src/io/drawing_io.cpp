@@ -120,6 +120,10 @@ void cut_runs(const Camera& camera, const CameraFrame& frame, const Polyline& li
     if (!open) {
       if (s == end) break;
       cur = Run{line.kind, !flag(i), false, {at(i)}, 0};
+      const std::size_t prev = (i + n - 1) % n;
+      if (line.closed && s == begin && ok[prev] != 0 && flag(prev) != flag(i)) {
+        cur.points.insert(cur.points.begin(), midpoint(prev, i));  // the break's midpoint
+      }
       open = true;
       continue;
     }

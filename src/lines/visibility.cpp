@@ -31,25 +31,32 @@
 // Every step depends on one ray (or one fixed group of rays) only, so the result does not
 // depend on the thread count.
 //
-// kSurfels. The depth buffer covers the camera's frame (camera.h), surfel_resolution pixels
-// along its height. Its value at a pixel is the least depth, over the disks, of the point where
-// the ray through the pixel's centre meets a disk; order independent, so any rasterization
-// order gives the same buffer. Only the pixels that line points fall in are ever read, so only
-// those are computed: the disks are binned by their projected bounding rectangles into tiles,
-// and each line point meets the disks of its tile at its pixel's centre, which gives exactly the
-// value a full rasterization would. "Slightly behind": each disk is moved away from the eye,
-// along the view ray through the particle, by kSurfelBehind times its radius. A disk tangent
-// at a particle s away from a silhouette point lies up to about s/2 in front of it (the view
-// direction is tangent to the surface there), and s reaches the disk's radius; pushing the disks
-// back by half their radius keeps silhouettes from being hidden by their own surface's disks.
-// Offsetting along −n instead, the paper's other reading, barely moves a disk in depth near a
-// silhouette and shrinks the outline of occluders instead. A line point is visible when its
-// depth ≤ buffer + occlusion_tolerance·δ; points outside the frame or behind the eye are left
-// visible (the frame is all the buffer covers, and they are not drawn).
+// kSurfels. The depth buffer covers the camera's frame (camera.h). Its value for a line point
+// is the least depth, over the disks, of the point where the view ray through the line point
+// meets a disk: a depth buffer sampled at the point's own image position instead of a pixel
+// centre. Near a contour the surface's depth changes without bound across the image, so a
+// buffer sampled half a pixel away from a contour point sees its own surface well in front of
+// it (on a unit sphere seen from 4 units, half a pixel of a 1024-pixel buffer is 0.04 in
+// depth, about a third of δ for 1,500 particles). The min is order independent, and only the
+// values at line points are ever read, so only those are computed: the disks' conservative
+// image rectangles (of their bounding cubes) are binned into tiles of 8×8 pixels of a grid
+// with surfel_resolution pixels along the frame's height, and each line point meets the disks
+// of its tile. Measured on the tests' two spheres (disks one radius back): sampled at pixel
+// centres, the flags differ from the analytic ones on 20 % of the points at 128 pixels, 9 % at
+// 256, 0.06 % at 1024; sampled at the points, on 0.09 % at every resolution (the resolution
+// then sets only the bins, hence the speed). "Slightly behind": each disk is moved away from the eye, along the view ray
+// through its particle, by kSurfelBehind times its radius. On a sphere, a disk tangent at a
+// particle covers a contour point's image position from as far as twice its radius, and lies
+// in front of the contour point by as much as the in-plane distance to it, up to its radius:
+// so the disks go back by their radius (half of it left 24 % of the lone sphere's contour
+// hidden, three quarters none). Offsetting along −n instead, the paper's other reading, barely
+// moves a disk in depth near a contour and shrinks the outline of occluders instead. A line
+// point is visible when its depth ≤ buffer + occlusion_tolerance·δ; points outside the frame
+// or behind the eye are left visible (the frame is all the buffer covers, and they are not
+// drawn). The price of the offset: an occluder thinner than a disk's radius plus the
+// tolerance (about 1.5 δ) does not hide what lies right behind it.
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -296,14 +303,6 @@ std::uint64_t classify_rays(const Field& field, const Camera& camera, const Poin
     }
   }
   f.resize(mids.size());
-  if (std::getenv("VISDBG")) {
-    std::vector<int> per(n, 0);
-    for (auto o : owner) per[o]++;
-    int mx = 0; std::size_t arg = 0;
-    for (std::size_t i = 0; i < n; ++i) if (per[i] > mx) { mx = per[i]; arg = i; }
-    std::fprintf(stderr, "rays %zu groups %zu leaves %zu max %d at %zu p=(%g %g %g) delta %g\n", rays.size(), groups.size(), mids.size(), mx, arg, pts.p[arg].x(), pts.p[arg].y(), pts.p[arg].z(), pts.delta[arg]);
-    for (std::size_t k = 0; k < mids.size(); ++k) if (owner[k] == arg) std::fprintf(stderr, "  %g %g %g\n", mids[k].x(), mids[k].y(), mids[k].z());
-  }
   field.evaluate(mids, f, {}, ctx);
   evals += mids.size();
   for (std::size_t k = 0; k < mids.size(); ++k) {

@@ -352,10 +352,23 @@ TEST(DrawingIo, JoinStrokesJoinsRunsThatShareAnEnd) {
   ASSERT_EQ(square.size(), 1u);
   EXPECT_TRUE(square[0].closed);
   EXPECT_EQ(square[0].points.size(), 4u);
-  // Ends further apart than the tolerance stay apart.
+  // Ends further apart than the tolerance stay apart: one corner opened by 0.01 (0.002 in
+  // camera units) leaves one open path.
   sq.lines[1].points[0].x() += 0.01;
-  EXPECT_EQ(join_strokes(sq, 1e-4).size(), 2u);
-  EXPECT_EQ(join_strokes(sq, 0.01).size(), 1u);
+  const std::vector<Stroke> opened = join_strokes(sq, 1e-4);
+  ASSERT_EQ(opened.size(), 1u);
+  EXPECT_FALSE(opened[0].closed);
+  EXPECT_EQ(opened[0].points.size(), 5u);
+  const std::vector<Stroke> closed = join_strokes(sq, 0.01);
+  ASSERT_EQ(closed.size(), 1u);
+  EXPECT_TRUE(closed[0].closed);
+  EXPECT_EQ(closed[0].points.size(), 4u);
+  // Two runs of different visibility never join.
+  LineDrawing two;
+  two.lines.push_back(segment(LineKind::kFeature, Vec3(0, 0, 0), Vec3(0.2, 0, 0), 2));
+  two.lines.push_back(segment(LineKind::kFeature, Vec3(0.2, 0, 0), Vec3(0.4, 0, 0), 2));
+  two.lines[1].visible = {0, 0, 0};
+  EXPECT_EQ(join_strokes(two, 1e-9).size(), 2u);
   EXPECT_THROW((void)join_strokes(sq, -1), InvalidArgument);
 }
 
@@ -394,9 +407,10 @@ TEST(DrawingIo, PngHasItsSizeAndDarkPixelsOnTheLines) {
   LineDrawing d;
   d.camera.aspect = 2;
   // A horizontal silhouette at y = 0.1 (camera units 0.02), visible; a feature line at
-  // y = -0.3, hidden.
-  d.lines.push_back(segment(LineKind::kSilhouette, Vec3(-1, 0.1, 0), Vec3(1, 0.1, 0), 10));
-  d.lines.push_back(segment(LineKind::kFeature, Vec3(-1, -0.3, 0), Vec3(1, -0.3, 0), 10));
+  // y = -0.3, hidden; both run out of the frame on either side (x = ±3: ±0.6 camera units,
+  // the frame ends at ±0.54).
+  d.lines.push_back(segment(LineKind::kSilhouette, Vec3(-3, 0.1, 0), Vec3(3, 0.1, 0), 10));
+  d.lines.push_back(segment(LineKind::kFeature, Vec3(-3, -0.3, 0), Vec3(3, -0.3, 0), 10));
   d.lines[0].visible.assign(11, 1);
   d.lines[1].visible.assign(11, 0);
   DrawingStyle style;
@@ -405,7 +419,7 @@ TEST(DrawingIo, PngHasItsSizeAndDarkPixelsOnTheLines) {
   style.hidden.dash = 0;
   style.hidden.width = 3;
   const double t = std::tan(15 * std::numbers::pi / 180);
-  const double scale = 150 / t;  // pixels per camera unit: 150 pixels for tan(fov/2)
+  const double scale = 75 / t;  // pixels per camera unit: 75 pixels for tan(fov/2)
   auto row_of = [&](double y_model) {
     return static_cast<int>(std::floor(75 - scale * y_model / 5));
   };
@@ -431,7 +445,7 @@ TEST(DrawingIo, PngHasItsSizeAndDarkPixelsOnTheLines) {
     ASSERT_EQ(cairo_image_surface_get_height(img), 150);
     cairo_surface_flush(img);
     const int on = row_of(0.1), hidden_row = row_of(-0.3);
-    for (int x : {40, 150, 260}) {
+    for (int x : {2, 40, 150, 260, 297}) {
       const Rgb p = pixel(img, x, on);
       EXPECT_LT(p.r + p.g + p.b, 3 * 60) << x;
       const Rgb blank = pixel(img, x, on + 12);
