@@ -1,6 +1,7 @@
 set(RAMIFORM_IO_SOURCES
   src/io/atomic_file.cpp
   src/io/curve_io.cpp
+  src/io/drawing_io.cpp
   src/io/gltf_format.cpp
   src/io/mesh_io.cpp
   src/io/obj_format.cpp

@@ -5,4 +5,5 @@ set(RAMIFORM_LINES_SOURCES
   src/lines/line_common.cpp
   src/lines/options.cpp
   src/lines/silhouettes.cpp
-  src/lines/suggestive.cpp)
+  src/lines/suggestive.cpp
+  src/lines/visibility.cpp)

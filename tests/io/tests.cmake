@@ -1,6 +1,7 @@
 set(RAMIFORM_io_TESTS
   io/atomic_file_test.cpp
   io/curve_io_test.cpp
+  io/drawing_io_test.cpp
   io/mesh_io_test.cpp
   io/neuron_mesh_test.cpp
   io/particles_io_test.cpp

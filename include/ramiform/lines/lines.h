@@ -62,7 +62,8 @@ enum class SuggestiveFit : std::uint8_t {
 enum class Visibility : std::uint8_t {
   kNone,     ///< every point visible
   kRays,     ///< exact: a ray from the eye to the point, the field's roots bracketed on it
-  kSurfels,  ///< the paper's §3: a depth buffer of disks behind the particles
+  kSurfels,  ///< the paper's §3: a depth buffer of disks behind the particles (read at each
+             ///< line point's own image position, not at a pixel centre)
 };
 
 /// Options of the line extraction. Lengths are multiples of each particle's δ_i.
@@ -93,7 +94,9 @@ struct LineOptions {
   Visibility visibility = Visibility::kRays;
   /// A point is hidden when the surface lies in front of it by more than this (× δ_i).
   double occlusion_tolerance = 0.25;
-  int surfel_resolution = 1024;  ///< kSurfels: depth-buffer pixels along the frame's height
+  /// kSurfels: pixels along the frame's height of the grid the disks are binned on. The depth
+  /// buffer is read at each line point's exact image position, so this sets only the speed.
+  int surfel_resolution = 1024;
 
   // Which lines draw_lines() extracts.
   bool silhouettes = true;
@@ -163,8 +166,14 @@ struct LineStats {
 
 /// Sets every line's `visible` flags for `camera` by options.visibility (kRays: the segment
 /// from the eye to the point, shortened by occlusion_tolerance·δ at the point's end, is tested
-/// for a crossing of f == iso by interval bounds and bracketing; kSurfels: a depth buffer of
-/// particle disks). δ at a line point is the nearest particle's. Updates stats->hidden_fraction.
+/// for a point inside (f > iso) by interval bounds over pieces of it and samples at most δ/2
+/// apart where the bounds cannot decide; kSurfels: a depth buffer of particle disks, each of
+/// radius the distance to the nearest other particle, one radius behind its particle). δ at a
+/// line point is the nearest particle's. kSurfels leaves points outside the frame or behind the
+/// eye visible. Sets stats->hidden_fraction (hidden length / total length, each segment's
+/// length split half to each end) and adds to seconds_visibility and field_evals. Throws
+/// InvalidArgument for bad options or camera, and for lines with points but no particles
+/// (unless kNone).
 void classify_visibility(const Field& field, const ParticleSystem& particles,
                          const Camera& camera, std::span<Polyline> lines,
                          const LineOptions& options = {}, LineStats* stats = nullptr,
