@@ -105,11 +105,7 @@ void particles_on(benchmark::State& state, const Field& field) {
   o.count = 10000;
   o.iterations = 20;
   ParticleStats st;
-  const std::vector<ParticleCell> cells = [&] {
-    std::vector<ParticleCell> c;
-    for (const MpuCell& m : mpu_leaf_cells(field)) c.push_back({m.box, m.depth});
-    return c;
-  }();
+  const std::vector<ParticleCell> cells = field_cells(field);
   double simulate = 0;
   for (auto _ : state) {
     benchmark::DoNotOptimize(spread_particles(field, o, cells, {}, &st, &ctx));

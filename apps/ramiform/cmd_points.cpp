@@ -4,7 +4,7 @@
 // `ramiform reconstruct POINTS -o MESH`: a point cloud or a mesh to an MPU implicit, meshed by
 // marching cubes (docs/reconstruction.md).
 // `ramiform particles INPUT -o PARTICLES`: particles spread evenly over any surface
-// (docs/particles.md).
+// (docs/particles.md). Their INPUT and options: surface_input.h.
 
 #include <filesystem>
 #include <iostream>
@@ -20,37 +20,10 @@
 #include "ramiform/particles/surface_particles.h"
 #include "ramiform/script/script.h"
 #include "reconstruct_job.h"
+#include "surface_input.h"
 
 namespace ramiform::cli {
 namespace {
-
-// The options of the MPU fit and of reading the points, shared by both commands.
-void add_mpu_options(CLI::App& c, ReconstructOptions& o) {
-  c.add_option("--tolerance", o.mpu.tolerance,
-               with_default("MPU fit tolerance ε0, a fraction of the points' bounding-box diagonal",
-                            o.mpu.tolerance))
-      ->check(CLI::PositiveNumber);
-  c.add_option("--support", o.mpu.support,
-               with_default("MPU support radius, in cell diagonals (α)", o.mpu.support))
-      ->check(CLI::PositiveNumber);
-  c.add_option("--min-points", o.mpu.min_points,
-               with_default("fewest points a local fit uses (N_min)", o.mpu.min_points, 6, 100000))
-      ->check(CLI::Range(6, 100000));
-  c.add_option("--max-depth", o.mpu.max_depth,
-               with_default("deepest MPU octree level", o.mpu.max_depth, 0, 20))
-      ->check(CLI::Range(0, 20));
-  c.add_flag(
-      "--no-sharp", [&o](std::int64_t) { o.mpu.sharp_features = false; },
-      "no piecewise quadrics at sharp edges and corners");
-  c.add_option("--neighbours", o.normals.neighbours,
-               with_default("neighbours for estimating and orienting normals", o.normals.neighbours,
-                            3, 256))
-      ->check(CLI::Range(3, 256));
-  c.add_option(
-       "--mesh-samples", o.read.mesh_samples,
-       with_default("points drawn on a mesh input", static_cast<double>(o.read.mesh_samples)))
-      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 26));
-}
 
 struct ReconstructArgs {
   std::string input;
@@ -108,33 +81,12 @@ int run_reconstruct(ReconstructArgs& args) {
 }
 
 struct ParticlesArgs {
-  std::string input;
+  SurfaceInputArgs in;
   std::string out_path;
-  bool skeleton = false;
-  ReconstructOptions reconstruct;
-  FieldFlags field;
-  ParticleOptions particles;
   std::string previous_path;
   std::vector<double> edit_box;
   CommonOptions common;
 };
-
-// INPUT is SCRIPT.rf:NAME (a shape of a scene script) when it ends in ":NAME" after ".rf".
-bool split_script_input(const std::string& input, std::string& script, std::string& name) {
-  const std::size_t at = input.rfind(".rf:");
-  if (at == std::string::npos) return false;
-  script = input.substr(0, at + 3);
-  name = input.substr(at + 4);
-  if (name.empty()) throw InvalidArgument("'" + input + "': the shape's name is missing after ':'");
-  return true;
-}
-
-bool is_skeleton_input(const std::string& path, bool forced) {
-  if (forced) return true;
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return ext == ".json" || ext == ".swc";
-}
 
 int run_particles(ParticlesArgs& args) {
   check_output_path(args.out_path);
@@ -148,39 +100,7 @@ int run_particles(ParticlesArgs& args) {
   RunScope scope(args.common);
   Context& ctx = scope.context();
   StageTimer timer;
-  nlohmann::json stats;
-  FieldPtr field;
-  std::vector<ParticleCell> cells;
-  std::vector<Vec3> seeds;
-  std::string script;
-  std::string name;
-  if (split_script_input(args.input, script, name)) {
-    ScriptOptions so;
-    so.allow_any_path = true;
-    ScriptSession session(so, &ctx);
-    session.run_file(script);
-    session.discard();  // the script's own outputs are not this command's
-    field = session.shape(name);
-    stats["input"] = "script";
-    timer.lap("script");
-  } else if (is_skeleton_input(args.input, args.skeleton)) {
-    const Skeleton skeleton = read_skeleton(args.input, read_options(args.field));
-    timer.lap("read");
-    field = build_surface(skeleton, field_options(args.field), false, timer, ctx,
-                          equipotential_options(args.field))
-                .field;
-    stats["input"] = "skeleton";
-    timer.lap("field");
-  } else {
-    args.reconstruct.read.seed = args.particles.seed;
-    PointSurface s = build_point_surface(args.input, args.reconstruct, ctx,
-                                         [&timer](const char* stage) { timer.lap(stage); });
-    field = s.field;
-    for (const MpuCell& c : s.cells) cells.push_back({c.box, c.depth});
-    seeds = s.points.positions;
-    stats = s.stats;
-    stats["input"] = "points";
-  }
+  SurfaceInput in = load_surface_input(args.in, ctx, timer);
   ParticleStats ps;
   ParticleSystem system;
   if (!args.previous_path.empty()) {
@@ -189,9 +109,9 @@ int run_particles(ParticlesArgs& args) {
     const Aabb box(Vec3(b[0], b[1], b[2]), Vec3(b[3], b[4], b[5]));
     if (box.isEmpty()) throw InvalidArgument("--edit-box: the minimum corner exceeds the maximum");
     timer.lap("read_previous");
-    system = regenerate_particles(*field, previous, box, args.particles, &ps, &ctx);
+    system = regenerate_particles(*in.field, previous, box, args.in.particles, &ps, &ctx);
   } else {
-    system = spread_particles(*field, args.particles, cells, seeds, &ps, &ctx);
+    system = spread_particles(*in.field, args.in.particles, in.cells, in.seeds, &ps, &ctx);
   }
   timer.lap("particles");
   std::string ext = std::filesystem::path(args.out_path).extension().string();
@@ -199,26 +119,13 @@ int run_particles(ParticlesArgs& args) {
   if (ext == ".ply") {
     write_particles(system, args.out_path);
   } else {
-    PointSet out;
-    for (const SurfaceParticle& p : system.particles) {
-      out.positions.push_back(p.position);
-      out.normals.push_back(p.normal);
-    }
-    write_points(out, args.out_path);
+    write_points(particle_points(system), args.out_path);
   }
   timer.lap("write");
-  stats["iso"] = field->iso();
-  stats["particles"] = system.particles.size();
-  stats["simulated"] = ps.particles;
-  stats["kept"] = ps.kept;
-  stats["dropped"] = ps.dropped;
-  stats["cells"] = ps.cells;
-  stats["iterations"] = ps.iterations;
-  stats["residual_max"] = ps.residual_max;
-  stats["spacing_cv"] = ps.spacing_cv;
-  stats["particle_seconds"] = {
-      {"cells", ps.seconds_cells}, {"seed", ps.seconds_seed}, {"simulate", ps.seconds_simulate}};
-  stats["field_evals"] = field->evaluations();
+  nlohmann::json stats = std::move(in.stats);
+  stats["iso"] = in.field->iso();
+  add_particle_stats(stats, system, ps);
+  stats["field_evals"] = in.field->evaluations();
   stats["seconds"] = timer.seconds();
   write_stats(args.common.stats_path, stats);
   std::cout << "wrote " << args.out_path << " (" << system.particles.size() << " particles)\n";
@@ -268,40 +175,15 @@ void register_particles(CLI::App& root, Action& action) {
       "particles",
       "Spread particles evenly over a surface: of a point cloud or mesh (its MPU implicit), a "
       "skeleton, or a shape of a scene script (docs/particles.md).");
-  c->add_option("INPUT", a->input,
-                "points or a mesh (as for reconstruct), a skeleton (.json, .swc; others with "
-                "--skeleton), or SCRIPT.rf:NAME")
-      ->required();
+  add_surface_input_options(*c, a->in, "");
   c->add_option("-o,--out", a->out_path,
                 "output: .ply (the particle state, docs/formats.md) or 'x y z nx ny nz' text")
       ->required();
-  ParticleOptions& p = a->particles;
-  c->add_option("--per-cell", p.per_cell,
-                with_default("initial particles per leaf cell (k), on average",
-                             static_cast<double>(p.per_cell), 1, 1000))
-      ->check(CLI::Range(std::size_t{1}, std::size_t{1000}));
-  c->add_option("--count", p.count, "about this many particles in all (instead of --per-cell)")
-      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 26));
-  c->add_option("--iterations", p.iterations,
-                with_default("simulation steps", p.iterations, 0, ParticleOptions::kMaxIterations))
-      ->check(CLI::Range(0, ParticleOptions::kMaxIterations));
-  c->add_option("--seed", p.seed, "random seed")->capture_default_str();
-  c->add_option("--cell-depth", p.max_depth,
-                with_default("deepest adaptive cell (fields without an MPU octree)", p.max_depth, 0,
-                             ParticleOptions::kMaxDepth))
-      ->check(CLI::Range(0, ParticleOptions::kMaxDepth));
-  c->add_option(
-       "--flatness", p.flatness_deg,
-       with_default("split a cell while its normals vary more than this, degrees", p.flatness_deg))
-      ->check(CLI::Range(0.1, 180.0));
-  c->add_flag("--skeleton", a->skeleton, "read INPUT as a skeleton whatever its extension");
   c->add_option("--previous", a->previous_path,
                 "a particle state (.ply) to regenerate locally after an edit (with --edit-box)");
   c->add_option("--edit-box", a->edit_box, "X0,Y0,Z0,X1,Y1,Z1: the box the edit stayed in")
       ->delimiter(',')
       ->expected(6);
-  add_mpu_options(*c, a->reconstruct);
-  add_field_options(*c, a->field);
   add_common_options(*c, a->common);
   c->callback([a, &action] { action = [a] { return run_particles(*a); }; });
 }

@@ -12,6 +12,7 @@
 #include <numbers>
 
 #include "ramiform/core/errors.h"
+#include "ramiform/mesh/cleanup.h"
 
 namespace ramiform::cli {
 namespace {
@@ -73,43 +74,6 @@ nlohmann::json first_order_distances(const Field& field, std::span<const Vec3> p
   return j;
 }
 
-// Removes the pieces of `mesh` whose bounding box has a diagonal below `size`: specks of a
-// few grid cells that marching cubes leaves where the implicit surface has a detail smaller than
-// its cells (a lobe of a local quadric off a hoof or a fingertip). Returns how many.
-std::size_t drop_specks(TriMesh& mesh, double size) {
-  const TriangleComponents c = triangle_components(mesh);
-  if (c.count <= 1) return 0;
-  std::vector<Aabb> boxes(c.count);
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    for (const std::uint32_t v : mesh.triangles[t]) boxes[c.label[t]].extend(mesh.positions[v]);
-  }
-  std::vector<bool> drop(c.count);
-  std::size_t dropped = 0;
-  for (std::uint32_t k = 0; k < c.count; ++k) {
-    drop[k] = boxes[k].diagonal().norm() < size;
-    dropped += drop[k] ? 1 : 0;
-  }
-  if (dropped == 0 || dropped == c.count) return 0;
-  TriMesh kept;
-  std::vector<std::uint32_t> index(mesh.positions.size(), UINT32_MAX);
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    if (drop[c.label[t]]) continue;
-    std::array<std::uint32_t, 3> tri{};
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t v = mesh.triangles[t][static_cast<std::size_t>(k)];
-      if (index[v] == UINT32_MAX) {
-        index[v] = static_cast<std::uint32_t>(kept.positions.size());
-        kept.positions.push_back(mesh.positions[v]);
-        if (!mesh.normals.empty()) kept.normals.push_back(mesh.normals[v]);
-      }
-      tri[static_cast<std::size_t>(k)] = index[v];
-    }
-    kept.triangles.push_back(tri);
-  }
-  mesh = std::move(kept);
-  return dropped;
-}
-
 }  // namespace
 
 PointSurface build_point_surface(const std::string& path, const ReconstructOptions& options,
@@ -145,7 +109,6 @@ PointSurface build_point_surface(const std::string& path, const ReconstructOptio
   s.spacing = sampling_spacing(s.points.positions);
   MpuStats ms;
   s.field = in_file([&] { return make_mpu_field(s.points, options.mpu, &ms, &ctx); });
-  s.cells = mpu_leaf_cells(*s.field);
   lap("mpu");
   s.stats["spacing"] = s.spacing;
   s.stats["diagonal"] = s.diagonal;
@@ -194,7 +157,7 @@ TriMesh mesh_point_surface(PointSurface& surface, const ReconstructOptions& opti
   TriMesh mesh =
       marching_cubes(*surface.field, reconstruct_mc_options(surface, options), &ctx, &st);
   const std::size_t specks =
-      options.speck_cells > 0 ? drop_specks(mesh, options.speck_cells * st.cell_size) : 0;
+      options.speck_cells > 0 ? remove_small_pieces(mesh, options.speck_cells * st.cell_size) : 0;
   const MeshReport r = check_mesh(mesh, &ctx);
   if (report != nullptr) *report = r;
   nlohmann::json j;

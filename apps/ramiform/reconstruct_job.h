@@ -40,7 +40,6 @@ struct ReconstructOptions {
 struct PointSurface {
   PointSet points;  ///< as oriented
   FieldPtr field;
-  std::vector<MpuCell> cells;
   double spacing = 0.0;   ///< sampling spacing of the points, 1/sqrt(surface density)
   double diagonal = 0.0;  ///< of the points' bounding box
   nlohmann::json stats;   ///< points, normals, mpu, interpolation

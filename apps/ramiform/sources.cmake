@@ -14,4 +14,6 @@ set(RAMIFORM_APP_SOURCES
   cmd_generate.cpp
   cmd_script.cpp
   cmd_grow.cpp
-  cmd_points.cpp)
+  cmd_draw.cpp
+  cmd_points.cpp
+  surface_input.cpp)

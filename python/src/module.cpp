@@ -489,12 +489,20 @@ void bind_points(py::module_& m) {
   m.def(
       "reconstruct",
       [](const std::string& path, std::optional<std::string> out, double tolerance,
-         std::optional<double> cell, double spacing_cells, std::size_t mesh_samples,
-         std::uint64_t seed, int threads) {
+         double support, int min_points, int max_depth, bool sharp, int neighbours,
+         std::optional<double> cell, int resolution, double spacing_cells, double speck_cells,
+         std::size_t mesh_samples, std::uint64_t seed, int threads) {
         cli::ReconstructOptions o;
         o.mpu.tolerance = tolerance;
+        o.mpu.support = support;
+        o.mpu.min_points = min_points;
+        o.mpu.max_depth = max_depth;
+        o.mpu.sharp_features = sharp;
+        o.normals.neighbours = neighbours;
         if (cell) o.cell_size = *cell;
+        o.resolution = resolution;
         o.spacing_cells = spacing_cells;
+        o.speck_cells = speck_cells;
         o.read.mesh_samples = mesh_samples;
         o.read.seed = seed;
         Context ctx = make_context(threads);
@@ -508,11 +516,17 @@ void bind_points(py::module_& m) {
         return result;
       },
       py::arg("path"), py::kw_only(), py::arg("out") = py::none(),
-      py::arg("tolerance") = ro.mpu.tolerance, py::arg("cell") = py::none(),
-      py::arg("spacing_cells") = ro.spacing_cells, py::arg("mesh_samples") = ro.read.mesh_samples,
-      py::arg("seed") = ro.read.seed, py::arg("threads") = 0,
-      "`ramiform reconstruct`: the MPU surface of a point cloud or a mesh file, meshed by "
-      "marching cubes at `cell` (default `spacing_cells` median point spacings); the Mesh's "
+      py::arg("tolerance") = ro.mpu.tolerance, py::arg("support") = ro.mpu.support,
+      py::arg("min_points") = ro.mpu.min_points, py::arg("max_depth") = ro.mpu.max_depth,
+      py::arg("sharp") = ro.mpu.sharp_features, py::arg("neighbours") = ro.normals.neighbours,
+      py::arg("cell") = py::none(), py::arg("resolution") = ro.resolution,
+      py::arg("spacing_cells") = ro.spacing_cells, py::arg("speck_cells") = ro.speck_cells,
+      py::arg("mesh_samples") = ro.read.mesh_samples, py::arg("seed") = ro.read.seed,
+      py::arg("threads") = 0,
+      "`ramiform reconstruct`: the MPU surface of a point cloud or a mesh file (options as the "
+      "command's: tolerance, support, min_points, max_depth, sharp, neighbours), meshed by "
+      "marching cubes at `cell` or `resolution` cells along the longest side (default "
+      "`spacing_cells` point spacings), pieces below `speck_cells` cells removed; the Mesh's "
       "stats hold the same figures as --stats. Written to `out` when given.");
   const ParticleOptions po;
   m.def(
@@ -526,8 +540,7 @@ void bind_points(py::module_& m) {
         o.seed = seed;
         o.max_depth = cell_depth;
         o.flatness_deg = flatness;
-        std::vector<ParticleCell> cells;
-        for (const MpuCell& c : mpu_leaf_cells(*f.field)) cells.push_back({c.box, c.depth});
+        const std::vector<ParticleCell> cells = field_cells(*f.field);
         Context ctx = make_context(threads);
         ParticleSystem sys;
         ParticleStats st;

@@ -63,6 +63,19 @@ def test_reconstruct_a_file_gives_a_closed_mesh_with_stats(tmp_path):
     assert points.shape == (600, 3) and normals.shape == (600, 3)
 
 
+def test_reconstruct_takes_the_commands_options():
+    path = os.path.join(EXAMPLES, "pebble.xyz")
+    coarse = rf.reconstruct(path, resolution=16, sharp=False, neighbours=8, min_points=12)
+    fine = rf.reconstruct(path, resolution=48, support=0.9, max_depth=6, speck_cells=0)
+    assert coarse.stats["mesh"]["watertight"] and fine.stats["mesh"]["watertight"]
+    # 16 and 48 cells along the longest side (2.4): the cell sizes the stats report
+    assert abs(coarse.stats["mesh"]["cell_size"] - 2.4 / 16) < 0.01
+    assert abs(fine.stats["mesh"]["cell_size"] - 2.4 / 48) < 0.005
+    assert len(fine.triangles) > 4 * len(coarse.triangles)
+    with pytest.raises(Exception):
+        rf.reconstruct(path, min_points=2)
+
+
 def test_particles_lie_on_the_surface_evenly():
     points, normals = sphere(3000)
     f = rf.mpu_field(points, normals)

@@ -12,6 +12,7 @@
 
 #include "mesh/mesh_indices.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/mesh/checks.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/core/portable_math.h"
 #include "ramiform/core/tolerances.h"
@@ -676,6 +677,40 @@ void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& o, NeedleCleanupSt
     st.median_angle_after = after.median_deg;
   }
   if (stats != nullptr) *stats = st;
+}
+
+std::size_t remove_small_pieces(TriMesh& mesh, double min_diagonal) {
+  const TriangleComponents c = triangle_components(mesh);
+  if (c.count <= 1) return 0;
+  std::vector<Aabb> boxes(c.count);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (const std::uint32_t v : mesh.triangles[t]) boxes[c.label[t]].extend(mesh.positions[v]);
+  }
+  std::vector<bool> drop(c.count);
+  std::size_t dropped = 0;
+  for (std::uint32_t k = 0; k < c.count; ++k) {
+    drop[k] = boxes[k].diagonal().norm() < min_diagonal;
+    dropped += drop[k] ? 1 : 0;
+  }
+  if (dropped == 0 || dropped == c.count) return 0;
+  TriMesh kept;
+  std::vector<std::uint32_t> index(mesh.positions.size(), UINT32_MAX);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (drop[c.label[t]]) continue;
+    std::array<std::uint32_t, 3> tri{};
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = mesh.triangles[t][static_cast<std::size_t>(k)];
+      if (index[v] == UINT32_MAX) {
+        index[v] = static_cast<std::uint32_t>(kept.positions.size());
+        kept.positions.push_back(mesh.positions[v]);
+        if (!mesh.normals.empty()) kept.normals.push_back(mesh.normals[v]);
+      }
+      tri[static_cast<std::size_t>(k)] = index[v];
+    }
+    kept.triangles.push_back(tri);
+  }
+  mesh = std::move(kept);
+  return dropped;
 }
 
 }  // namespace ramiform

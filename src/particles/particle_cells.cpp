@@ -5,6 +5,7 @@
 #include "particles/particle_common.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
+#include "ramiform/field/mpu.h"
 #include "ramiform/particles/surface_particles.h"
 
 namespace ramiform {
@@ -91,6 +92,23 @@ std::vector<ParticleCell> adaptive_cells(const Field& field, const ParticleOptio
   particles_detail::validate(options, "adaptive_cells");
   return particles_detail::octree_cells(field, options, particles_detail::kMinDepth,
                                         particles_detail::root_cube(field), Aabb(), nullptr, ctx);
+}
+
+std::vector<ParticleCell> field_cells(const Field& field) {
+  std::vector<ParticleCell> cells;
+  for (const MpuCell& m : mpu_leaf_cells(field)) cells.push_back({m.box, m.depth});
+  return cells;
+}
+
+PointSet particle_points(const ParticleSystem& system) {
+  PointSet points;
+  points.positions.reserve(system.particles.size());
+  points.normals.reserve(system.particles.size());
+  for (const SurfaceParticle& p : system.particles) {
+    points.positions.push_back(p.position);
+    points.normals.push_back(p.normal);
+  }
+  return points;
 }
 
 }  // namespace ramiform

@@ -62,17 +62,34 @@ CommandResult run_particles(Call& c) {
   o.seed = seed_for(c, name);
   // An MPU shape brings its octree leaves (the paper's cells); any other shape gets adaptive
   // cells from its bound.
-  std::vector<ParticleCell> cells;
-  for (const MpuCell& m : mpu_leaf_cells(*object.field)) cells.push_back({m.box, m.depth});
   ParticleStats st;
-  const ParticleSystem system = spread_particles(*object.field, o, cells, {}, &st, c.session().ctx);
-  PointSet points;
-  points.positions.reserve(system.particles.size());
-  points.normals.reserve(system.particles.size());
-  for (const SurfaceParticle& p : system.particles) {
-    points.positions.push_back(p.position);
-    points.normals.push_back(p.normal);
+  ParticleSystem system;
+  if (c.has_option("previous")) {
+    // Local regeneration (paper §3): only the particles near the edit box move.
+    const Token& prev = *c.option_token("previous");
+    if (!c.has_option("edit_min") || !c.has_option("edit_max")) {
+      c.fail(prev, "previous= needs edit_min=X,Y,Z and edit_max=X,Y,Z (the box the edit stayed in)");
+    }
+    const Aabb box(c.option_vec3("edit_min", Vec3::Zero()), c.option_vec3("edit_max", Vec3::Zero()));
+    if (box.isEmpty()) c.fail(*c.option_token("edit_max"), "edit_max is below edit_min");
+    ParticleSystem previous;
+    try {
+      previous = read_particles(c.written_or_input_path(prev));
+    } catch (const InputError& e) {
+      c.fail(prev, e.what());
+    }
+    if (previous.iso != object.field->iso()) {
+      c.fail(prev, "the saved particles lie on iso " + format_number(previous.iso) + ", the shape's "
+                   "surface is iso " + format_number(object.field->iso()));
+    }
+    system = regenerate_particles(*object.field, previous, box, o, &st, c.session().ctx);
+  } else {
+    if (c.has_option("edit_min") || c.has_option("edit_max")) {
+      c.fail("edit_min= and edit_max= need previous=STATE.ply (the particles to regenerate)");
+    }
+    system = spread_particles(*object.field, o, field_cells(*object.field), {}, &st, c.session().ctx);
   }
+  PointSet points = particle_points(system);
   const std::size_t n = points.size();
   c.session().point_sets[name] = std::move(points);
   c.session().current_points = name;
@@ -106,14 +123,17 @@ void add_point_commands(std::vector<CommandSpec>& out) {
   out.push_back(
       {"particles",
        "particles SHAPE [count=N] [per_cell=K] [iterations=I] [cell_depth=D] [flatness=DEG] "
-       "[seed=S] [name=P] [state=FILE.ply]",
+       "[seed=S] [name=P] [state=FILE.ply] [previous=STATE.ply edit_min=X,Y,Z edit_max=X,Y,Z]",
        "Spreads particles evenly over the surface of SHAPE (Witkin and Heckbert; Proenca et "
        "al. 2008 §4): K per cell of the shape's MPU octree or of adaptive cells, repelled "
        "within their radius and held on the surface, `iterations` steps (docs/particles.md). "
        "The particles become the point set P (positions and normals; save_point_set writes "
-       "them); state= also writes the whole particle state.",
+       "them); state= also writes the whole particle state. With previous= (a state saved "
+       "before an edit of SHAPE confined to the box edit_min..edit_max) only the particles near "
+       "the box are regenerated; the rest keep their exact positions (§3).",
        "sphere s 1\nparticles s count=2000\nsave_point_set particles.ply",
-       {"count", "per_cell", "iterations", "cell_depth", "flatness", "seed", "name", "state"},
+       {"count", "per_cell", "iterations", "cell_depth", "flatness", "seed", "name", "state",
+        "previous", "edit_min", "edit_max"},
        run_particles,
        {}});
 }

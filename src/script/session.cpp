@@ -159,6 +159,7 @@ const std::map<std::string, const CommandSpec*>& command_table() {
     add_output_commands(all);
     add_growth_commands(all);
     add_point_commands(all);
+    add_draw_commands(all);
     return all;
   }();
   static const std::map<std::string, const CommandSpec*> table = [] {
@@ -335,7 +336,10 @@ std::string Call::input_path(const Token& token) const {
 std::string Call::input_path(std::size_t i) const { return input_path(arg(i)); }
 
 std::string Call::written_or_input_path(std::size_t i) const {
-  const Token& t = arg(i);
+  return written_or_input_path(arg(i));
+}
+
+std::string Call::written_or_input_path(const Token& t) const {
   const fs::path rel(t.text);
   if (rel.is_relative()) {
     const fs::path written = (fs::path(session_.options.out_dir) / rel).lexically_normal();

@@ -131,6 +131,7 @@ void add_output_commands(std::vector<CommandSpec>& out);
 void add_growth_commands(std::vector<CommandSpec>& out);
 void add_skeletal_commands(std::vector<CommandSpec>& out);
 void add_point_commands(std::vector<CommandSpec>& out);
+void add_draw_commands(std::vector<CommandSpec>& out);
 
 /// The arguments of one command line, with typed accessors that throw InputError pointing at
 /// the offending token.
@@ -165,6 +166,7 @@ class Call {
   std::string input_path(const Token& token) const;
   /// A file this script wrote earlier under this name (relative to out_dir), else input_path.
   std::string written_or_input_path(std::size_t i) const;
+  std::string written_or_input_path(const Token& token) const;
   /// An output path resolved against out_dir (inside it unless allow_any_path), staged: the
   /// returned path is where to write now (a held file, io/atomic_file.h: unnamed until read
   /// back or published); commit() publishes it under the final path.

@@ -5,4 +5,5 @@ set(RAMIFORM_SCRIPT_SOURCES
   src/script/commands_skeletal.cpp
   src/script/commands_output.cpp
   src/script/commands_growth.cpp
-  src/script/commands_points.cpp)
+  src/script/commands_points.cpp
+  src/script/commands_draw.cpp)

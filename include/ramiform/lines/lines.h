@@ -133,7 +133,8 @@ struct LineStats {
                                                   const Context* ctx = nullptr);
 
 /// Silhouettes (§6): seeds with |v·n| < k_c, each traced both ways by a predictor (along the
-/// contour's image tangent, step silhouette_step·δ) and corrector (back onto f == iso and
+/// contour generator's 3-D tangent ∇f × ∇(n·v), whose projection is the image tangent except at
+/// cusps; step silhouette_step·δ) and corrector (back onto f == iso and
 /// n·v == 0) until the line closes a loop, reaches another silhouette, or |v·n| ≥ k_c·k_e;
 /// nearby ends chained. Points satisfy |f − iso| / |∇f| ≤ 1e-3 δ and |n·v| ≤ 1e-3.
 [[nodiscard]] std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& particles,

@@ -3,7 +3,7 @@
 #pragma once
 
 /// \file
-/// Needle cleanup for polygonizer output. Marching tetrahedra (and marching cubes) make long,
+/// Cleanup of polygonizer output: needles, and specks (remove_small_pieces()). Marching tetrahedra (and marching cubes) make long,
 /// narrow triangles wherever the surface passes close to a grid corner: the vertices on the
 /// edges around that corner crowd together (Zhu, Guo & Jin 2013, "Efficient polygonization of tree
 /// trunks modeled by convolution surfaces", §6, name this their method's weakness). clean_needles()
@@ -79,5 +79,13 @@ struct AngleSummary {
 /// changes made so far.
 void clean_needles(TriMesh& mesh, const NeedleCleanupOptions& options = {},
                    NeedleCleanupStats* stats = nullptr, const Context* ctx = nullptr);
+
+/// Removes the pieces (edge-connected triangle components) of `mesh` whose bounding box has a
+/// diagonal below `min_diagonal`: the specks of a few grid cells that marching cubes leaves
+/// where an implicit surface has a detail smaller than its cells (a lobe of an MPU's local
+/// quadric off a hoof or a fingertip). Nothing is removed when every piece is that small. Unused
+/// vertices go; the rest keep their relative order (with their normals). Returns how many pieces
+/// were removed.
+std::size_t remove_small_pieces(TriMesh& mesh, double min_diagonal);
 
 }  // namespace ramiform

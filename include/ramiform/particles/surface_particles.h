@@ -42,6 +42,7 @@
 #include <vector>
 
 #include "ramiform/core/context.h"
+#include "ramiform/core/geometry.h"
 #include "ramiform/core/types.h"
 #include "ramiform/field/field.h"
 
@@ -105,6 +106,14 @@ struct ParticleStats {
   double seconds_cells = 0, seconds_seed = 0, seconds_simulate = 0;  ///< wall-clock seconds
   std::uint64_t field_evals = 0;  ///< point evaluations of the field during the call
 };
+
+/// The cells a field brings for spread_particles(): an MPU field's octree leaves (paper §4 places
+/// the particles in the MPU's own cells; field/mpu.h), else none (spread_particles() then builds
+/// adaptive_cells()).
+[[nodiscard]] std::vector<ParticleCell> field_cells(const Field& field);
+
+/// The particles' positions and normals as a point set, in particle order.
+[[nodiscard]] PointSet particle_points(const ParticleSystem& system);
 
 /// Adaptive cells for any field: an octree over a cube around field.bounds(); cells whose
 /// bound(box) straddles iso are kept and split (always down to depth 3, or max_depth when that

@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+// The scene language's `draw`: a pen-and-ink line drawing of a shape (lines/, io/drawing_io.h).
+
+#include <string>
+
+#include "ramiform/core/errors.h"
+#include "ramiform/io/drawing_io.h"
+#include "ramiform/lines/lines.h"
+#include "ramiform/particles/surface_particles.h"
+#include "session.h"
+
+namespace ramiform::script {
+namespace {
+
+LineOptions line_options(const Call& c) {
+  LineOptions o;
+  if (c.has_option("lines")) {
+    o.silhouettes = o.suggestive = o.features = false;
+    const Token& t = *c.option_token("lines");
+    std::string_view rest = t.text;
+    while (true) {
+      const std::size_t comma = rest.find(',');
+      const std::string kind(rest.substr(0, comma));
+      if (kind == "silhouette") {
+        o.silhouettes = true;
+      } else if (kind == "suggestive") {
+        o.suggestive = true;
+      } else if (kind == "feature") {
+        o.features = true;
+      } else {
+        c.fail(t, "unknown line kind '" + kind + "' (kinds: silhouette, suggestive, feature)");
+      }
+      if (comma == std::string_view::npos) break;
+      rest.remove_prefix(comma + 1);
+    }
+  }
+  o.k_c = c.option_positive("k_c", o.k_c);
+  o.k_e = c.option_positive("k_e", o.k_e);
+  o.k_d = c.option_positive("k_d", o.k_d);
+  o.theta_sc_deg = c.option_number("theta_sc", o.theta_sc_deg);
+  o.k_a_deg = c.option_positive("k_a", o.k_a_deg);
+  o.k_trim = c.option_integer("k_trim", o.k_trim, 1, 1000);
+  o.fit = c.option_word("fit", "longest", {"longest", "trim"}) == "trim"
+              ? SuggestiveFit::kTrim
+              : SuggestiveFit::kLongestPath;
+  const std::string vis = c.option_word("visibility", "rays", {"rays", "surfels", "none"});
+  o.visibility = vis == "surfels" ? Visibility::kSurfels
+                 : vis == "none"  ? Visibility::kNone
+                                  : Visibility::kRays;
+  try {
+    validate(o);
+  } catch (const InvalidArgument& e) {
+    c.fail(e.what());
+  }
+  return o;
+}
+
+CommandResult run_draw(Call& c) {
+  c.expect_count(2, 2, "SHAPE FILE");
+  const Object& object = c.object(0, ObjectKind::kShape);
+  const Field& field = *object.field;
+  const LineOptions lo = line_options(c);
+  DrawingStyle style;
+  style.width = c.option_integer("width", style.width, 16, 16384);
+  style.height = c.option_integer("height", style.width, 16, 16384);
+  style.show_hidden = c.option_word("hidden", "no", {"yes", "no"}) == "yes";
+
+  ParticleOptions po;
+  po.count = static_cast<std::size_t>(c.option_integer("count", 10000, 1, 1 << 24));
+  po.seed = seed_for(c, c.arg(0).text + "/draw");
+  ParticleStats ps;
+  const ParticleSystem system =
+      spread_particles(field, po, field_cells(field), {}, &ps, c.session().ctx);
+  if (system.particles.empty()) c.fail(c.arg(0), "no particles reached the surface of the shape");
+  Aabb box;
+  for (const SurfaceParticle& p : system.particles) box.extend(p.position);
+  Camera camera = frame_box(box, c.option_number("azimuth", 30), c.option_number("elevation", 15),
+                            c.option_number("fov", 30),
+                            static_cast<double>(style.width) / style.height);
+  camera.eye = c.option_vec3("eye", camera.eye);
+  camera.target = c.option_vec3("target", camera.target);
+  camera.up = c.option_vec3("up", camera.up);
+  try {
+    validate(camera);
+  } catch (const InvalidArgument& e) {
+    c.fail(e.what());
+  }
+  LineStats ls;
+  const LineDrawing drawing = draw_lines(field, system, camera, lo, nullptr, &ls, c.session().ctx);
+  const std::string& file = c.arg(1).text;
+  const std::string path = c.output_path(1);
+  const bool png = file.size() >= 4 && (file.ends_with(".png") || file.ends_with(".PNG"));
+  if (png) {
+    write_drawing_png(path, drawing, style);
+  } else if (file.ends_with(".svg") || file.ends_with(".SVG")) {
+    write_drawing_svg(path, drawing, style);
+  } else {
+    c.fail(c.arg(1), "a drawing is written as .svg or .png");
+  }
+  if (c.has_option("polylines")) {
+    const Token& t = *c.option_token("polylines");
+    write_polylines_json(c.output_path(t, t.text), drawing);
+  }
+  return {c.spec().name,
+          file + ": " + std::to_string(ls.lines[0]) + " silhouettes, " +
+              std::to_string(ls.lines[1]) + " suggestive contours, " +
+              std::to_string(ls.lines[2]) + " feature lines of " + c.arg(0).text + " (" +
+              std::to_string(system.particles.size()) + " particles, " +
+              format_number(100 * ls.hidden_fraction) + " % hidden)",
+          true};
+}
+
+}  // namespace
+
+void add_draw_commands(std::vector<CommandSpec>& out) {
+  out.push_back(
+      {"draw",
+       "draw SHAPE FILE [lines=silhouette,suggestive,feature] [azimuth=A] [elevation=E] [fov=F] "
+       "[eye=X,Y,Z] [target=X,Y,Z] [up=X,Y,Z] [count=N] [visibility=rays|surfels|none] "
+       "[fit=longest|trim] [k_c=K] [k_e=K] [k_d=K] [theta_sc=DEG] [k_a=DEG] [k_trim=N] "
+       "[width=PX] [height=PX] [hidden=yes|no] [polylines=FILE.json] [seed=S]",
+       "A pen-and-ink line drawing of SHAPE written to FILE (.svg or .png): silhouettes, "
+       "suggestive contours and feature lines found from `count` particles spread over the "
+       "surface, hidden lines removed (Proença et al. 2008; docs/drawing.md). The camera frames "
+       "the shape from `azimuth` and `elevation` unless eye/target/up are given.",
+       "sphere a 1\nsphere b 0.7 center=1.1,0,0\nblend a b ab\ndraw ab ab.svg count=3000",
+       {"lines", "azimuth", "elevation", "fov", "eye", "target", "up", "count", "visibility", "fit",
+        "k_c", "k_e", "k_d", "theta_sc", "k_a", "k_trim", "width", "height", "hidden", "polylines",
+        "seed"},
+       run_draw,
+       {}});
+}
+
+}  // namespace ramiform::script
