@@ -187,9 +187,14 @@ TEST(LineVisibility, HiddenFractionIsTheHiddenLength) {
     }
   }
   LineStats st;
-  classify_visibility(*s.field, s.particles, s.camera, lines, {}, &st);
-  EXPECT_NEAR(st.hidden_fraction, hidden / length, 0.01);
-  EXPECT_GT(st.seconds_visibility, 0);
+  for (Visibility method : {Visibility::kRays, Visibility::kSurfels}) {
+    LineOptions o;
+    o.visibility = method;
+    st = {};
+    classify_visibility(*s.field, s.particles, s.camera, lines, o, &st);
+    EXPECT_NEAR(st.hidden_fraction, hidden / length, 0.01) << static_cast<int>(method);
+    EXPECT_GT(st.seconds_visibility, 0);
+  }
   // kNone: everything visible.
   LineOptions none;
   none.visibility = Visibility::kNone;
@@ -267,6 +272,18 @@ TEST(LineVisibility, ToleranceKeepsContourPointsOfTheirOwnSurface) {
     classify_visibility(*f, ps, cam, lines, o, &st);
     EXPECT_EQ(st.hidden_fraction, 0) << static_cast<int>(method);
   }
+}
+
+TEST(LineVisibility, EyeInsideHidesEverything) {
+  const TwoSpheres& s = scene();
+  Camera cam = s.camera;
+  cam.eye = s.front.c + Vec3(0.1, 0, 0.1);  // inside the front ball
+  std::vector<Polyline> lines = test_lines();
+  LineOptions o;
+  o.visibility = Visibility::kRays;
+  LineStats st;
+  classify_visibility(*s.field, s.particles, cam, lines, o, &st);
+  EXPECT_EQ(st.hidden_fraction, 1);
 }
 
 TEST(LineVisibility, RejectsBadInput) {
