@@ -52,13 +52,13 @@
 // of its tile. Measured on the tests' two spheres (disks one radius back): sampled at pixel
 // centres, the flags differ from the analytic ones on 20 % of the points at 128 pixels, 9 % at
 // 256, 0.06 % at 1024; sampled at the points, on 0.09 % at every resolution (the resolution
-// then sets only the bins, hence the speed). "Slightly behind": each disk is moved away from the eye, along the view ray
-// through its particle, by kSurfelBehind times its radius. On a sphere, a disk tangent at a
-// particle covers a contour point's image position from as far as twice its radius, and lies
-// in front of the contour point by as much as the in-plane distance to it, up to its radius:
-// so the disks go back by their radius (half of it left 24 % of the lone sphere's contour
-// hidden, three quarters none). Offsetting along −n instead, the paper's other reading, barely
-// moves a disk in depth near a contour and shrinks the outline of occluders instead. A line
+// then sets only the bins, hence the speed). "Slightly behind": each disk is moved away from the
+// eye, along the view ray through its particle, by kSurfelBehind times its radius. On a sphere, a
+// disk tangent at a particle covers a contour point's image position from as far as twice its
+// radius, and lies in front of the contour point by as much as the in-plane distance to it, up to
+// its radius: so the disks go back by their radius (half of it left 24 % of the lone sphere's
+// contour hidden, three quarters none). Offsetting along −n instead, the paper's other reading,
+// barely moves a disk in depth near a contour and shrinks the outline of occluders instead. A line
 // point is visible when its depth ≤ buffer + occlusion_tolerance·δ; points outside the frame
 // or behind the eye are left visible (the frame is all the buffer covers, and they are not
 // drawn). The price of the offset: an occluder thinner than a disk's radius plus the
@@ -159,9 +159,9 @@ std::pair<double, double> clip(const Vec3& eye, const Vec3& dir, const Aabb& box
 /// Bounds the pieces [s0, s1] of rays [first, last) (step 2 of the file comment): sets
 /// hidden[r] for a ray with a piece proven inside (bound(box).lo > iso), appends the midpoints
 /// of the other rays' leaves.
-void bound_group(const Field& field, const Vec3& eye, const Aabb& bounds,
-                 std::span<const Ray> rays, std::uint32_t first, std::uint32_t last,
-                 std::span<std::uint8_t> hidden, std::vector<Leaf>& leaves) {
+void bound_group(const Field& field, const Vec3& eye, const Aabb& bounds, std::span<const Ray> rays,
+                 std::uint32_t first, std::uint32_t last, std::span<std::uint8_t> hidden,
+                 std::vector<Leaf>& leaves) {
   struct Piece {
     std::uint32_t first, last;
     double s0, s1;
@@ -197,8 +197,8 @@ void bound_group(const Field& field, const Vec3& eye, const Aabb& bounds,
     // Several rays spread wider than their pieces are long (or with pieces as short as a leaf)
     // are split apart without a bound: such a box is large, its bound costly (an MPU field's
     // cost grows with the leaves the box meets) and rarely clear.
-    if (several && (longest <= shortest_leaf || box.diagonal().norm() > 1.5 * longest ||
-                    !can_halve)) {
+    if (several &&
+        (longest <= shortest_leaf || box.diagonal().norm() > 1.5 * longest || !can_halve)) {
       const std::uint32_t half = piece.first + (piece.last - piece.first) / 2;
       stack.push_back({half, piece.last, piece.s0, piece.s1});
       stack.push_back({piece.first, half, piece.s0, piece.s1});
@@ -284,8 +284,7 @@ std::uint64_t classify_rays(const Field& field, const Camera& camera, const Poin
   // Groups: runs of at most kGroup consecutive open points of one line.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> groups;
   for (std::uint32_t r = 0; r < rays.size(); ++r) {
-    if (groups.empty() || rays[r].line != rays[r - 1].line ||
-        r - groups.back().first >= kGroup) {
+    if (groups.empty() || rays[r].line != rays[r - 1].line || r - groups.back().first >= kGroup) {
       groups.push_back({r, r + 1});
     } else {
       groups.back().second = r + 1;
@@ -473,9 +472,9 @@ void classify_surfels(const ParticleSystem& particles, const detail::PointKdTree
 
 }  // namespace
 
-void classify_visibility(const Field& field, const ParticleSystem& particles,
-                         const Camera& camera, std::span<Polyline> lines,
-                         const LineOptions& options, LineStats* stats, const Context* ctx) {
+void classify_visibility(const Field& field, const ParticleSystem& particles, const Camera& camera,
+                         std::span<Polyline> lines, const LineOptions& options, LineStats* stats,
+                         const Context* ctx) {
   const auto start = std::chrono::steady_clock::now();
   validate(camera);
   validate(options);
