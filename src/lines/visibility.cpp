@@ -28,9 +28,11 @@
 //      closer to each other than a piece is long (one box around several nearly parallel
 //      pieces), so the long stretches near the eye cost one bound for up to kGroup rays; rays
 //      spread wider are split apart without a bound (a large box is costly to bound: an MPU
-//      field's bound visits every leaf the box meets). Pieces are halved until they are proven
-//      clear, proven inside (bound(box).lo > iso: the point is hidden), or a single ray's
-//      piece is at most kLeaf·δ long.
+//      field's bound visits every leaf the box meets). The first pieces double in length from
+//      the line points' end (2, 4, 8, … leaves), so the large ones lie away from the surface
+//      the points sit on. Pieces are halved until they are proven clear, proven inside
+//      (bound(box).lo > iso: the point is hidden), or a single ray's piece is at most kLeaf·δ
+//      long.
 //   3. The midpoint of every such leaf piece is evaluated; any f > iso hides the point. The
 //      leaves of one ray cover every stretch not proven clear, each leaf at most kLeaf·δ long,
 //      so an inside stretch of the segment longer than kLeaf·δ (an occluder the ray crosses over
@@ -50,19 +52,19 @@
 // image rectangles (of their bounding cubes) are binned into tiles of 8×8 pixels of a grid
 // with surfel_resolution pixels along the frame's height, and each line point meets the disks
 // of its tile. Measured on the tests' two spheres (disks one radius back): sampled at pixel
-// centres, the flags differ from the analytic ones on 20 % of the points at 128 pixels, 9 % at
-// 256, 0.06 % at 1024; sampled at the points, on 0.09 % at every resolution (the resolution
-// then sets only the bins, hence the speed). "Slightly behind": each disk is moved away from the
-// eye, along the view ray through its particle, by kSurfelBehind times its radius. On a sphere, a
-// disk tangent at a particle covers a contour point's image position from as far as twice its
-// radius, and lies in front of the contour point by as much as the in-plane distance to it, up to
-// its radius: so the disks go back by their radius (half of it left 24 % of the lone sphere's
-// contour hidden, three quarters none). Offsetting along −n instead, the paper's other reading,
-// barely moves a disk in depth near a contour and shrinks the outline of occluders instead. A line
-// point is visible when its depth ≤ buffer + occlusion_tolerance·δ; points outside the frame
-// or behind the eye are left visible (the frame is all the buffer covers, and they are not
-// drawn). The price of the offset: an occluder thinner than a disk's radius plus the
-// tolerance (about 1.5 δ) does not hide what lies right behind it.
+// centres, the flags differed from the analytic ones on 20 % of the points at 128 pixels, 9 %
+// at 256, 0.06 % at 1024; sampled at the points, on 0.09 % at every resolution, all within the
+// tolerance band (the resolution then sets only the bins, hence the speed). "Slightly behind": each
+// disk is moved away from the eye, along the view ray through its particle, by kSurfelBehind times
+// its radius. On a sphere, a disk tangent at a particle covers a contour point's image position
+// from as far as twice its radius, and lies in front of the contour point by as much as the
+// in-plane distance to it, up to its radius: so the disks go back by their radius (with
+// nearest-particle radii, half of it left 24 % of the tests' lone sphere's contour hidden, three
+// quarters none). Offsetting along −n instead, the paper's other reading, barely moves a disk in
+// depth near a contour and shrinks the outline of occluders instead. A line point is visible when
+// its depth ≤ buffer + occlusion_tolerance·δ; points outside the frame or behind the eye are left
+// visible (the frame is all the buffer covers, and they are not drawn). The price of the offset: an
+// occluder thinner than a disk's radius plus the tolerance does not hide what lies right behind it.
 
 #include <algorithm>
 #include <chrono>
@@ -168,12 +170,22 @@ void bound_group(const Field& field, const Vec3& eye, const Aabb& bounds, std::s
   };
   double s0 = kInf, s1 = -kInf;
   double shortest_leaf = kInf;  // the shortest leaf of the group, model units
+  double leaf_s = kInf;         // and in s units
   for (std::uint32_t r = first; r < last; ++r) {
     s0 = std::min(s0, rays[r].lo);
     s1 = std::max(s1, rays[r].hi);
     shortest_leaf = std::min(shortest_leaf, rays[r].leaf * rays[r].dir.norm());
+    leaf_s = std::min(leaf_s, rays[r].leaf);
   }
-  std::vector<Piece> stack{{first, last, s0, s1}};
+  // The first pieces double in length away from the line points: the box of a piece that
+  // reaches the surface the points lie on never clears, and a large one is costly to bound.
+  std::vector<Piece> stack;
+  for (double end = s1, length = 2 * leaf_s; end > s0; length *= 2) {
+    const double begin = std::max(s0, end - length);
+    stack.push_back({first, last, begin, end});
+    end = begin;
+  }
+  std::reverse(stack.begin(), stack.end());  // the pieces nearest the points first
   const double iso = field.iso();
   while (!stack.empty()) {
     const Piece piece = stack.back();
