@@ -93,9 +93,10 @@ struct LineOptions {
 
   // Hidden lines.
   /// kSurfels by default, for speed: on 2,495 line points over 10,000 particles of an MPU bunny
-  /// (one thread) it took 9–13 ms against 70–110 ms for kRays (each bound(box) of an MPU field
-  /// costs 4–11 µs), while 0.9 % of the points away from contours showed through gaps between
-  /// the disks; on analytic fields kRays is as fast and exact (tests/lines/visibility_test.cpp).
+  /// it took 11–18 ms against 39–74 ms for kRays (12,083 bound(box) calls of 3–6 µs on the MPU
+  /// field; 2 cores shared with other work), while 17 of the 1,870 points away from contours
+  /// (0.9 %) showed through gaps between the disks. On analytic fields kRays is about as fast,
+  /// and it is exact (tests/lines/visibility_test.cpp): choose it where no leak is acceptable.
   Visibility visibility = Visibility::kSurfels;
   /// A point is hidden when the surface lies in front of it by more than this (× δ_i).
   double occlusion_tolerance = 0.25;
