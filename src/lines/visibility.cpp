@@ -71,6 +71,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -288,7 +289,8 @@ std::uint64_t classify_rays(const Field& field, const Camera& camera, const Poin
     r.dir = q[i + 1] - eye;
     std::tie(r.lo, r.hi) = clip(eye, r.dir, bounds);
     if (!(r.lo <= r.hi)) continue;  // never inside the bounds: clear
-    r.leaf = kLeaf * pts.delta[i] / r.dir.norm();
+    // (Floored at a millionth of the segment: δ ≤ 0 must not halve pieces forever.)
+    r.leaf = std::max(kLeaf * pts.delta[i] / r.dir.norm(), 1e-6);
     r.point = static_cast<std::uint32_t>(i);
     r.line = pts.line[i];
     rays.push_back(r);
@@ -491,7 +493,15 @@ void classify_visibility(const Field& field, const ParticleSystem& particles, co
   validate(camera);
   validate(options);
   std::size_t total_points = 0;
-  for (const Polyline& line : lines) total_points += line.points.size();
+  for (std::size_t l = 0; l < lines.size(); ++l) {
+    for (std::size_t i = 0; i < lines[l].points.size(); ++i) {
+      if (!is_finite(lines[l].points[i])) {
+        throw InvalidArgument("classify_visibility: line " + std::to_string(l) + " point " +
+                              std::to_string(i) + " is not finite");
+      }
+    }
+    total_points += lines[l].points.size();
+  }
   std::vector<std::uint8_t> visible(total_points, 1);
   std::uint64_t evals = 0;
   if (options.visibility != Visibility::kNone && total_points > 0) {

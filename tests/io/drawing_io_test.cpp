@@ -7,6 +7,7 @@
 #include <cairo/cairo.h>
 
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>

@@ -295,6 +295,9 @@ TEST(LineVisibility, RejectsBadInput) {
   cam.target = cam.eye;
   EXPECT_THROW(classify_visibility(*s.field, s.particles, cam, lines), InvalidArgument);
   EXPECT_THROW(classify_visibility(*s.field, ParticleSystem{}, s.camera, lines), InvalidArgument);
+  std::vector<Polyline> nan = test_lines();
+  nan[1].points[7].y() = std::nan("");
+  EXPECT_THROW(classify_visibility(*s.field, s.particles, s.camera, nan), InvalidArgument);
   // No lines, no particles: nothing to do.
   std::vector<Polyline> none;
   classify_visibility(*s.field, ParticleSystem{}, s.camera, none);
