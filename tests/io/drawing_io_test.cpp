@@ -396,6 +396,19 @@ TEST(DrawingIo, ClosedLineHiddenAcrossItsSeam) {
   EXPECT_EQ(s[1].points[4], Vec2(p0.x, p0.y));
 }
 
+TEST(DrawingIo, PointsBehindTheEyeCutTheirLine) {
+  // The default eye is at z = 5 looking down -z: points at z >= 5 are not in front of it.
+  LineDrawing d;
+  d.lines.push_back(segment(LineKind::kFeature, Vec3(0.1, 0, 0), Vec3(0.1, 0, 9), 9));
+  d.lines.push_back(segment(LineKind::kFeature, Vec3(0.7, 0, 9), Vec3(0.7, 0, 0), 9));
+  const std::vector<Stroke> s = join_strokes(d, 0.0);
+  ASSERT_EQ(s.size(), 2u);
+  for (const Stroke& st : s) {
+    EXPECT_EQ(st.points.size(), 5u);  // z = 0 .. 4
+    for (const Vec2& p : st.points) EXPECT_TRUE(std::isfinite(p.x()) && std::isfinite(p.y()));
+  }
+}
+
 // The colour of pixel (x, y) of an RGB24 cairo surface.
 Rgb pixel(cairo_surface_t* s, int x, int y) {
   const unsigned char* row =
