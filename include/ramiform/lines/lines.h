@@ -163,12 +163,11 @@ struct LineStats {
 /// for a point inside (f > iso) by interval bounds over pieces of it and samples at most δ/2
 /// apart where the bounds cannot decide; kSurfels: a depth buffer of particle disks, each of
 /// radius the distance to the third nearest other particle, one radius behind its particle,
-/// read at each line point's image position). δ at a
-/// line point is the nearest particle's. kSurfels leaves points outside the frame or behind the
-/// eye visible. Sets stats->hidden_fraction (hidden length / total length, each segment's
-/// length split half to each end) and adds to seconds_visibility and field_evals. Throws
-/// InvalidArgument for bad options or camera, and for lines with points but no particles
-/// (unless kNone).
+/// read at each line point's image position; points outside the frame or behind the eye stay
+/// visible). δ at a line point is the nearest particle's. Sets stats->hidden_fraction (hidden
+/// length / total length, each segment's length split half to each end) and adds to
+/// seconds_visibility and field_evals. Throws InvalidArgument for bad options or camera, a line
+/// point that is not finite, and lines with points but no particles (unless kNone).
 void classify_visibility(const Field& field, const ParticleSystem& particles,
                          const Camera& camera, std::span<Polyline> lines,
                          const LineOptions& options = {}, LineStats* stats = nullptr,
