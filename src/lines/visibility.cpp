@@ -374,13 +374,16 @@ void classify_surfels(const ParticleSystem& particles, const detail::PointKdTree
           const SurfaceParticle& sp = particles.particles[i];
           // The radius: the distance to the kNeighbour-th nearest other particle (coincident
           // ones do not count; with fewer, the farthest found, or δ for a lone particle).
-          tree.nearest(sp.position, kNeighbour + 3, near);
           double r = sp.delta;
-          int found = 0;
-          for (const auto& [j, d2] : near) {
-            if (j == i || !(d2 > 0)) continue;
-            r = std::sqrt(d2);
-            if (++found == kNeighbour) break;
+          for (std::size_t k = kNeighbour + 1;; k *= 2) {
+            tree.nearest(sp.position, k, near);
+            int found = 0;
+            for (const auto& [j, d2] : near) {
+              if (j == i || !(d2 > 0)) continue;
+              r = std::sqrt(d2);
+              if (++found == kNeighbour) break;
+            }
+            if (found == kNeighbour || near.size() < k) break;  // done, or no more particles
           }
           Disk& d = disks[i];
           const Vec3 rel = sp.position - camera.eye;
