@@ -169,7 +169,8 @@ void join_group(const std::vector<Run>& runs, const std::vector<std::size_t>& gr
     const Run& r = runs[open[id / 2]];
     return id % 2 == 0 ? r.points.front() : r.points.back();
   };
-  for (std::size_t id = 0; id < 2 * open.size(); ++id) grid[cell_of(end_point(id), cell)].push_back(id);
+  for (std::size_t id = 0; id < 2 * open.size(); ++id)
+    grid[cell_of(end_point(id), cell)].push_back(id);
   std::vector<std::size_t> order(open.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -227,7 +228,8 @@ void join_group(const std::vector<Run>& runs, const std::vector<std::size_t>& gr
     }
     paths.push_back(std::move(path));
   }
-  for (Run& p : paths) p.length = length_of(p.points) + (p.closed ? (p.points.back() - p.points.front()).norm() : 0.0);
+  for (Run& p : paths)
+    p.length = length_of(p.points) + (p.closed ? (p.points.back() - p.points.front()).norm() : 0.0);
   std::stable_sort(paths.begin(), paths.end(),
                    [](const Run& a, const Run& b) { return a.length > b.length; });
   for (Run& p : paths) out.push_back(std::move(p));
@@ -249,19 +251,21 @@ Canvas canvas_of(const Camera& camera, const DrawingStyle& style) {
   c.half_h = std::tan(0.5 * camera.fov_deg * kDeg);
   c.half_w = camera.aspect * c.half_h;
   c.width = style.width;
-  c.height = style.height > 0
-                 ? style.height
-                 : static_cast<int>(std::clamp(std::round(style.width / camera.aspect), 1.0,
-                                               static_cast<double>(kMaxPixels)));
+  c.height = style.height > 0 ? style.height
+                              : static_cast<int>(std::clamp(std::round(style.width / camera.aspect),
+                                                            1.0, static_cast<double>(kMaxPixels)));
   c.scale = std::min(c.width / (2 * c.half_w), c.height / (2 * c.half_h));
   return c;
 }
 
 const StrokeStyle& style_of(const DrawingStyle& style, LineKind kind) {
   switch (kind) {
-    case LineKind::kSilhouette: return style.silhouette;
-    case LineKind::kSuggestive: return style.suggestive;
-    case LineKind::kFeature: return style.feature;
+    case LineKind::kSilhouette:
+      return style.silhouette;
+    case LineKind::kSuggestive:
+      return style.suggestive;
+    case LineKind::kFeature:
+      return style.feature;
   }
   return style.silhouette;
 }
@@ -369,11 +373,10 @@ void validate(const DrawingStyle& style) {
   if (style.height < 0 || style.height > kMaxPixels) {
     fail("height", style.height, "in 0.." + std::to_string(kMaxPixels));
   }
-  const std::pair<const char*, const StrokeStyle*> strokes[] = {
-      {"silhouette", &style.silhouette},
-      {"suggestive", &style.suggestive},
-      {"feature", &style.feature},
-      {"hidden", &style.hidden}};
+  const std::pair<const char*, const StrokeStyle*> strokes[] = {{"silhouette", &style.silhouette},
+                                                                {"suggestive", &style.suggestive},
+                                                                {"feature", &style.feature},
+                                                                {"hidden", &style.hidden}};
   for (const auto& [name, s] : strokes) {
     if (!(std::isfinite(s->width) && s->width > 0)) {
       fail(std::string(name) + " width", s->width, "> 0 pixels");
@@ -483,8 +486,8 @@ void write_drawing_png(const std::string& path, const LineDrawing& drawing,
                        &cairo_surface_destroy);
   if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS) {
     throw Failure(path + ": cannot create a " + std::to_string(canvas.width) + "x" +
-                  std::to_string(canvas.height) + " image: " +
-                  cairo_status_to_string(cairo_surface_status(surface.get())));
+                  std::to_string(canvas.height) +
+                  " image: " + cairo_status_to_string(cairo_surface_status(surface.get())));
   }
   CairoContext cr(cairo_create(surface.get()), &cairo_destroy);
   cairo_set_source_rgb(cr.get(), 1, 1, 1);

@@ -7,6 +7,7 @@
 #include <cairo/cairo.h>
 
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -138,7 +139,8 @@ std::vector<Vec2> path_points(const std::string& d, bool& closed) {
     numbers.push_back(v);
   }
   EXPECT_EQ(numbers.size() % 2, 0u);
-  for (std::size_t i = 0; i + 1 < numbers.size(); i += 2) out.emplace_back(numbers[i], -numbers[i + 1]);
+  for (std::size_t i = 0; i + 1 < numbers.size(); i += 2)
+    out.emplace_back(numbers[i], -numbers[i + 1]);
   return out;
 }
 
@@ -170,7 +172,8 @@ LineDrawing sample_drawing() {
   d.camera.target = Vec3(0, 0, 0);
   d.camera.fov_deg = 30;
   d.lines.push_back(circle(LineKind::kSilhouette, Vec3::Zero(), 0.8, 120));
-  d.lines.push_back(segment(LineKind::kSuggestive, Vec3(-0.5, -0.3, 0.2), Vec3(0.5, -0.2, 0.1), 30));
+  d.lines.push_back(
+      segment(LineKind::kSuggestive, Vec3(-0.5, -0.3, 0.2), Vec3(0.5, -0.2, 0.1), 30));
   d.lines.push_back(segment(LineKind::kFeature, Vec3(-0.2, 0.4, 0.3), Vec3(0.3, 0.5, -0.2), 20));
   for (Polyline& line : d.lines) line.visible.assign(line.points.size(), 1);
   for (std::size_t i = 10; i < 20; ++i) d.lines[1].visible[i] = 0;
@@ -277,7 +280,8 @@ TEST(DrawingIo, SvgCoordinatesAreTheProjectedPoints) {
   std::size_t pos = 0;
   while ((pos = text.find('.', pos)) != std::string::npos) {
     std::size_t digits = 0;
-    while (++pos < text.size() && std::isdigit(static_cast<unsigned char>(text[pos])) != 0) ++digits;
+    while (++pos < text.size() && std::isdigit(static_cast<unsigned char>(text[pos])) != 0)
+      ++digits;
     EXPECT_LE(digits, 6u);
   }
   // The suggestive contour's visible runs end at the midpoints of the segments where the
@@ -344,9 +348,8 @@ TEST(DrawingIo, JoinStrokesJoinsRunsThatShareAnEnd) {
   const Vec3 corner[4] = {Vec3(0, 0, 0), Vec3(0.5, 0, 0), Vec3(0.5, 0.5, 0), Vec3(0, 0.5, 0)};
   for (int k = 0; k < 4; ++k) {
     // Every other side reversed.
-    sq.lines.push_back(k % 2 == 0
-                           ? segment(LineKind::kFeature, corner[k], corner[(k + 1) % 4], 1)
-                           : segment(LineKind::kFeature, corner[(k + 1) % 4], corner[k], 1));
+    sq.lines.push_back(k % 2 == 0 ? segment(LineKind::kFeature, corner[k], corner[(k + 1) % 4], 1)
+                                  : segment(LineKind::kFeature, corner[(k + 1) % 4], corner[k], 1));
   }
   const std::vector<Stroke> square = join_strokes(sq, 1e-9);
   ASSERT_EQ(square.size(), 1u);
@@ -393,9 +396,23 @@ TEST(DrawingIo, ClosedLineHiddenAcrossItsSeam) {
   EXPECT_EQ(s[1].points[4], Vec2(p0.x, p0.y));
 }
 
+TEST(DrawingIo, PointsBehindTheEyeCutTheirLine) {
+  // The default eye is at z = 5 looking down -z: points at z >= 5 are not in front of it.
+  LineDrawing d;
+  d.lines.push_back(segment(LineKind::kFeature, Vec3(0.1, 0, 0), Vec3(0.1, 0, 9), 9));
+  d.lines.push_back(segment(LineKind::kFeature, Vec3(0.7, 0, 9), Vec3(0.7, 0, 0), 9));
+  const std::vector<Stroke> s = join_strokes(d, 0.0);
+  ASSERT_EQ(s.size(), 2u);
+  for (const Stroke& st : s) {
+    EXPECT_EQ(st.points.size(), 5u);  // z = 0 .. 4
+    for (const Vec2& p : st.points) EXPECT_TRUE(std::isfinite(p.x()) && std::isfinite(p.y()));
+  }
+}
+
 // The colour of pixel (x, y) of an RGB24 cairo surface.
 Rgb pixel(cairo_surface_t* s, int x, int y) {
-  const unsigned char* row = cairo_image_surface_get_data(s) + y * cairo_image_surface_get_stride(s);
+  const unsigned char* row =
+      cairo_image_surface_get_data(s) + y * cairo_image_surface_get_stride(s);
   std::uint32_t v = 0;
   std::memcpy(&v, row + 4 * x, 4);
   return {static_cast<std::uint8_t>(v >> 16), static_cast<std::uint8_t>(v >> 8),

@@ -60,8 +60,7 @@ Polyline latitude(const Ball& ball, const Vec3& eye, double theta, int n) {
   line.closed = true;
   for (int k = 0; k < n; ++k) {
     const double a = 2 * std::numbers::pi * k / n;
-    const Vec3 dir = std::cos(theta) * u +
-                     std::sin(theta) * (std::cos(a) * e1 + std::sin(a) * e2);
+    const Vec3 dir = std::cos(theta) * u + std::sin(theta) * (std::cos(a) * e1 + std::sin(a) * e2);
     line.points.push_back(ball.c + ball.r * dir);
   }
   return line;
@@ -127,8 +126,7 @@ Comparison classify(std::vector<Polyline> lines, Visibility method, double margi
 
 std::vector<Polyline> test_lines() {
   const TwoSpheres& s = scene();
-  return {contour_circle(s.back, s.camera.eye, 2000),
-          latitude(s.back, s.camera.eye, 0.6, 1500)};
+  return {contour_circle(s.back, s.camera.eye, 2000), latitude(s.back, s.camera.eye, 0.6, 1500)};
 }
 
 double mean_delta() {
@@ -149,10 +147,11 @@ TEST(LineVisibility, RaysMatchTheAnalyticOcclusion) {
   EXPECT_LT(hidden, c.points - 300);
   EXPECT_EQ(c.wrong, 0u) << "of " << c.decided;
   EXPECT_GT(c.stats.field_evals, c.points);
-  std::printf("[ kRays    ] %zu points, %zu outside the band, %zu wrong; %.2f ms, %.1f evaluations"
-              " per point\n",
-              c.points, c.decided, c.wrong, 1e3 * c.seconds,
-              static_cast<double>(c.stats.field_evals) / static_cast<double>(c.points));
+  std::printf(
+      "[ kRays    ] %zu points, %zu outside the band, %zu wrong; %.2f ms, %.1f evaluations"
+      " per point\n",
+      c.points, c.decided, c.wrong, 1e3 * c.seconds,
+      static_cast<double>(c.stats.field_evals) / static_cast<double>(c.points));
 }
 
 TEST(LineVisibility, SurfelsMatchTheAnalyticOcclusionAwayFromOutlines) {
@@ -168,10 +167,10 @@ TEST(LineVisibility, SurfelsMatchTheAnalyticOcclusionAwayFromOutlines) {
   for (std::size_t i = 0; i < all.flags.size(); ++i) differ += all.flags[i] != rays.flags[i];
   const double fraction = static_cast<double>(differ) / static_cast<double>(all.points);
   EXPECT_LT(fraction, 0.02);
-  std::printf("[ kSurfels ] %zu points, %zu outside the 2 δ band, %zu wrong; %zu of all wrong "
-              "(rays: %zu); differ from kRays on %.3f %% of the points; %.2f ms\n",
-              c.points, c.decided, c.wrong, all.wrong, rays.wrong, 100 * fraction,
-              1e3 * all.seconds);
+  std::printf(
+      "[ kSurfels ] %zu points, %zu outside the 2 δ band, %zu wrong; %zu of all wrong "
+      "(rays: %zu); differ from kRays on %.3f %% of the points; %.2f ms\n",
+      c.points, c.decided, c.wrong, all.wrong, rays.wrong, 100 * fraction, 1e3 * all.seconds);
 }
 
 TEST(LineVisibility, HiddenFractionIsTheHiddenLength) {
@@ -187,9 +186,14 @@ TEST(LineVisibility, HiddenFractionIsTheHiddenLength) {
     }
   }
   LineStats st;
-  classify_visibility(*s.field, s.particles, s.camera, lines, {}, &st);
-  EXPECT_NEAR(st.hidden_fraction, hidden / length, 0.01);
-  EXPECT_GT(st.seconds_visibility, 0);
+  for (Visibility method : {Visibility::kRays, Visibility::kSurfels}) {
+    LineOptions o;
+    o.visibility = method;
+    st = {};
+    classify_visibility(*s.field, s.particles, s.camera, lines, o, &st);
+    EXPECT_NEAR(st.hidden_fraction, hidden / length, 0.01) << static_cast<int>(method);
+    EXPECT_GT(st.seconds_visibility, 0);
+  }
   // kNone: everything visible.
   LineOptions none;
   none.visibility = Visibility::kNone;
@@ -269,18 +273,31 @@ TEST(LineVisibility, ToleranceKeepsContourPointsOfTheirOwnSurface) {
   }
 }
 
+TEST(LineVisibility, EyeInsideHidesEverything) {
+  const TwoSpheres& s = scene();
+  Camera cam = s.camera;
+  cam.eye = s.front.c + Vec3(0.1, 0, 0.1);  // inside the front ball
+  std::vector<Polyline> lines = test_lines();
+  LineOptions o;
+  o.visibility = Visibility::kRays;
+  LineStats st;
+  classify_visibility(*s.field, s.particles, cam, lines, o, &st);
+  EXPECT_EQ(st.hidden_fraction, 1);
+}
+
 TEST(LineVisibility, RejectsBadInput) {
   const TwoSpheres& s = scene();
   std::vector<Polyline> lines = test_lines();
   LineOptions bad;
   bad.occlusion_tolerance = -1;
-  EXPECT_THROW(classify_visibility(*s.field, s.particles, s.camera, lines, bad),
-               InvalidArgument);
+  EXPECT_THROW(classify_visibility(*s.field, s.particles, s.camera, lines, bad), InvalidArgument);
   Camera cam = s.camera;
   cam.target = cam.eye;
   EXPECT_THROW(classify_visibility(*s.field, s.particles, cam, lines), InvalidArgument);
-  EXPECT_THROW(classify_visibility(*s.field, ParticleSystem{}, s.camera, lines),
-               InvalidArgument);
+  EXPECT_THROW(classify_visibility(*s.field, ParticleSystem{}, s.camera, lines), InvalidArgument);
+  std::vector<Polyline> nan = test_lines();
+  nan[1].points[7].y() = std::nan("");
+  EXPECT_THROW(classify_visibility(*s.field, s.particles, s.camera, nan), InvalidArgument);
   // No lines, no particles: nothing to do.
   std::vector<Polyline> none;
   classify_visibility(*s.field, ParticleSystem{}, s.camera, none);

@@ -31,9 +31,9 @@ struct Rgb {
 
 /// How one kind of line is drawn.
 struct StrokeStyle {
-  Rgb colour;           ///< stroke colour
-  double width = 1.0;   ///< stroke width in pixels of the image, > 0
-  double dash = 0;      ///< dash and gap length in pixels; 0 = a solid line, ≥ 0
+  Rgb colour;          ///< stroke colour
+  double width = 1.0;  ///< stroke width in pixels of the image, > 0
+  double dash = 0;     ///< dash and gap length in pixels; 0 = a solid line, ≥ 0
 };
 
 /// How a drawing is rendered.
@@ -79,10 +79,11 @@ struct Stroke {
 
 /// Writes the drawing as SVG 1.1: groups <g id="hidden"> (only with show_hidden; drawn first),
 /// <g id="silhouette">, <g id="suggestive">, <g id="feature">, each always present and holding
-/// one <path d="M x y L x y …"/> per stroke (closed ones end in "Z"), coordinates with about 6
-/// significant digits of the frame's size; strokes with round caps and joins, no fill. Throws
-/// InvalidArgument for a bad style or camera, or a line point that is not finite; Failure when
-/// the file cannot be written.
+/// one <path d="M x y L x y …"/> per stroke (closed ones end in "Z"), coordinates rounded to
+/// multiples of the largest power of ten at most 1e-5 of the frame's height (5–6 digits); strokes
+/// with round caps and joins, no fill. Throws InvalidArgument for a bad style or camera, a line
+/// point that is not finite or flags whose count differs from the points'; Failure when the
+/// file cannot be written.
 void write_drawing_svg(const std::string& path, const LineDrawing& drawing,
                        const DrawingStyle& style = {});
 
