@@ -31,7 +31,7 @@ struct DrawArgs {
   int views = 1;
   std::string polylines_path;
   std::string state_path;  // --particle-state: particles saved by `ramiform particles`
-  std::string visibility = "rays";
+  std::string visibility = "surfels";
   std::string fit = "longest";
   LineOptions lines;
   DrawingStyle style;
@@ -80,9 +80,9 @@ int run_draw(DrawArgs& args) {
                             "' (kinds: silhouette, suggestive, feature)");
     }
   }
-  lo.visibility = args.visibility == "surfels" ? Visibility::kSurfels
-                  : args.visibility == "none"  ? Visibility::kNone
-                                               : Visibility::kRays;
+  lo.visibility = args.visibility == "rays"   ? Visibility::kRays
+                  : args.visibility == "none" ? Visibility::kNone
+                                              : Visibility::kSurfels;
   lo.fit = args.fit == "trim" ? SuggestiveFit::kTrim : SuggestiveFit::kLongestPath;
   if (args.style.height == 0) args.style.height = args.style.width;
   args.style.suggestive.width = 0.5 * args.style.silhouette.width;
@@ -221,6 +221,11 @@ void register_draw(CLI::App& root, Action& action) {
   c->add_option("--k-e", l.k_e,
                 with_default("silhouettes grow while |v.n| < k_c k_e (eq. 10)", l.k_e))
       ->check(CLI::Range(1.0, 1000.0));
+  c->add_option("--chain-distance", l.chain_distance,
+                with_default("silhouette pieces whose ends are this close (x delta) and run on in "
+                             "similar directions are joined",
+                             l.chain_distance))
+      ->check(CLI::Range(0.0, 100.0));
   c->add_option("--k-d", l.k_d,
                 with_default("suggestive contours: x +- k_d delta w (eqs. 4-5)", l.k_d))
       ->check(CLI::PositiveNumber);
@@ -233,7 +238,7 @@ void register_draw(CLI::App& root, Action& action) {
                                  "longest path) or trim (short branches removed); default longest")
       ->check(CLI::IsMember({"longest", "trim"}));
   c->add_option("--k-trim", l.k_trim,
-                with_default("--fit trim: remove leaf branches of fewer particles", l.k_trim, 1,
+                with_default("trimmed MST (fit trim): remove leaf branches of fewer particles", l.k_trim, 1,
                              1000))
       ->check(CLI::Range(1, 1000));
   c->add_option("--k-a", l.k_a_deg,
@@ -242,7 +247,7 @@ void register_draw(CLI::App& root, Action& action) {
                              l.k_a_deg, 0, 180))
       ->check(CLI::Range(0.001, 179.999));
   c->add_option("--visibility", a->visibility,
-                "hidden lines: rays (exact, the default), surfels (the paper's) or none")
+                "hidden lines: surfels (the paper's disks behind the particles, the default), rays (exact, slower on MPU surfaces) or none")
       ->check(CLI::IsMember({"rays", "surfels", "none"}));
   DrawingStyle& st = a->style;
   c->add_option("--width", st.width, with_default("image width, pixels", st.width, 16, 16384))

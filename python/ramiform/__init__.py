@@ -14,6 +14,7 @@ try:
         bezier_field,
         branching_tree,
         check,
+        draw,
         grow,
         marching_cubes,
         mesh_skeleton,
@@ -69,7 +70,7 @@ else:
 
 
 __all__ = [
-    "Field", "Mesh", "Skeleton", "bezier_field", "branching_tree", "check", "grow",
+    "Field", "Mesh", "Skeleton", "bezier_field", "branching_tree", "check", "draw", "grow",
     "marching_cubes", "mesh_file", "mesh_skeleton", "mpu_field", "orient_normals", "particles",
     "patch_field", "polygonize_tets", "read_mesh", "read_points", "read_skeleton",
     "read_surface_points", "reconstruct", "run_script", "segment_field",

@@ -39,6 +39,8 @@
 #include "ramiform/field/anisotropic.h"
 #include "ramiform/field/equipotential.h"
 #include "ramiform/grow/space_colonization.h"
+#include "ramiform/lines/lines.h"
+#include "ramiform/io/drawing_io.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/points_io.h"
 #include "ramiform/io/skeleton_io.h"
@@ -576,6 +578,135 @@ void bind_points(py::module_& m) {
       "Particles spread evenly over the field's surface (docs/particles.md): about `count` in "
       "all, or `per_cell` per cell of an MPU field's octree or of adaptive cells. Returns "
       "{'positions' (K, 3), 'normals' (K, 3), 'delta' (K,), 'stats'}.");
+  const LineOptions lo;
+  const DrawingStyle ds;
+  m.def(
+      "draw",
+      [](const FieldHandle& f, std::optional<std::string> out, std::optional<std::string> camera,
+         double azimuth, double elevation, double fov, const std::vector<std::string>& kinds,
+         std::size_t count, std::uint64_t seed, const std::string& visibility,
+         const std::string& fit, double k_c, double k_e, double k_d, double theta_sc, double k_a,
+         int k_trim, int width, int height, bool hidden, std::optional<std::string> polylines,
+         int threads) {
+        LineOptions o;
+        o.silhouettes = o.suggestive = o.features = false;
+        for (const std::string& k : kinds) {
+          if (k == "silhouette") {
+            o.silhouettes = true;
+          } else if (k == "suggestive") {
+            o.suggestive = true;
+          } else if (k == "feature") {
+            o.features = true;
+          } else {
+            throw InvalidArgument("lines: unknown line kind '" + k +
+                                  "' (kinds: silhouette, suggestive, feature)");
+          }
+        }
+        if (visibility != "rays" && visibility != "surfels" && visibility != "none") {
+          throw InvalidArgument("visibility must be rays, surfels or none, got '" + visibility + "'");
+        }
+        if (fit != "longest" && fit != "trim") {
+          throw InvalidArgument("fit must be longest or trim, got '" + fit + "'");
+        }
+        o.visibility = visibility == "surfels" ? Visibility::kSurfels
+                       : visibility == "none"  ? Visibility::kNone
+                                               : Visibility::kRays;
+        o.fit = fit == "trim" ? SuggestiveFit::kTrim : SuggestiveFit::kLongestPath;
+        o.k_c = k_c;
+        o.k_e = k_e;
+        o.k_d = k_d;
+        o.theta_sc_deg = theta_sc;
+        o.k_a_deg = k_a;
+        o.k_trim = k_trim;
+        validate(o);
+        DrawingStyle style;
+        style.width = width;
+        style.height = height > 0 ? height : width;
+        style.show_hidden = hidden;
+        validate(style);
+        ParticleOptions po;
+        po.count = count;
+        po.seed = seed;
+        Context ctx = make_context(threads);
+        LineDrawing drawing;
+        LineStats ls;
+        std::size_t particles = 0;
+        interruptible(ctx, [&] {
+          const ParticleSystem sys =
+              spread_particles(*f.field, po, field_cells(*f.field), {}, nullptr, &ctx);
+          particles = sys.particles.size();
+          if (sys.particles.empty()) throw InvalidArgument("no particles reached the surface");
+          Aabb box;
+          for (const SurfaceParticle& p : sys.particles) box.extend(p.position);
+          const Camera framing = frame_box(box, azimuth, elevation, fov,
+                                           static_cast<double>(style.width) / style.height);
+          const Camera cam = camera ? parse_camera(*camera, framing) : framing;
+          drawing = draw_lines(*f.field, sys, cam, o, nullptr, &ls, &ctx);
+          if (out) {
+            const bool png = out->size() >= 4 && out->substr(out->size() - 4) == ".png";
+            if (png) {
+              write_drawing_png(*out, drawing, style);
+            } else {
+              write_drawing_svg(*out, drawing, style);
+            }
+          }
+          if (polylines) write_polylines_json(*polylines, drawing);
+        });
+        py::list lines;
+        for (const Polyline& l : drawing.lines) {
+          py::dict d;
+          d["kind"] = std::string(line_kind_name(l.kind));
+          d["closed"] = l.closed;
+          const auto n = static_cast<py::ssize_t>(l.points.size());
+          py::array_t<double> pts({n, py::ssize_t{3}});
+          py::array_t<bool> vis(n);
+          for (std::size_t i = 0; i < l.points.size(); ++i) {
+            for (int k = 0; k < 3; ++k) {
+              pts.mutable_data()[3 * i + static_cast<std::size_t>(k)] = l.points[i][k];
+            }
+            vis.mutable_data()[i] = l.visible.empty() || l.visible[i] != 0;
+          }
+          d["points"] = pts;
+          d["visible"] = vis;
+          lines.append(d);
+        }
+        const Camera& c = drawing.camera;
+        py::dict cam;
+        cam["eye"] = std::vector<double>{c.eye.x(), c.eye.y(), c.eye.z()};
+        cam["target"] = std::vector<double>{c.target.x(), c.target.y(), c.target.z()};
+        cam["up"] = std::vector<double>{c.up.x(), c.up.y(), c.up.z()};
+        cam["fov"] = c.fov_deg;
+        cam["aspect"] = c.aspect;
+        py::dict stats;
+        stats["particles"] = particles;
+        stats["silhouette_seeds"] = ls.silhouette_seeds;
+        stats["suggestive_particles"] = ls.suggestive_particles;
+        stats["straddle_pairs"] = ls.straddle_pairs;
+        stats["hidden_fraction"] = ls.hidden_fraction;
+        for (int k = 0; k < 3; ++k) {
+          stats[py::str(std::string("lines_") +
+                        std::string(line_kind_name(static_cast<LineKind>(k))))] = ls.lines[k];
+        }
+        py::dict d;
+        d["camera"] = cam;
+        d["lines"] = lines;
+        d["stats"] = stats;
+        return d;
+      },
+      py::arg("field"), py::kw_only(), py::arg("out") = py::none(), py::arg("camera") = py::none(),
+      py::arg("azimuth") = 30.0, py::arg("elevation") = 15.0, py::arg("fov") = 30.0,
+      py::arg("lines") = std::vector<std::string>{"silhouette", "suggestive", "feature"},
+      py::arg("count") = 10000, py::arg("seed") = 1, py::arg("visibility") = "surfels",
+      py::arg("fit") = "longest", py::arg("k_c") = lo.k_c, py::arg("k_e") = lo.k_e,
+      py::arg("k_d") = lo.k_d, py::arg("theta_sc") = lo.theta_sc_deg, py::arg("k_a") = lo.k_a_deg,
+      py::arg("k_trim") = lo.k_trim, py::arg("width") = ds.width, py::arg("height") = 0,
+      py::arg("hidden") = false, py::arg("polylines") = py::none(), py::arg("threads") = 0,
+      "`ramiform draw` on a field (docs/drawing.md): silhouettes, suggestive contours and "
+      "feature lines from `count` particles, hidden lines classified. `camera` is the command's "
+      "text (\"eye=x,y,z;target=...;up=...;fov=deg\", any subset), else the surface is framed from "
+      "`azimuth` and `elevation`. Writes `out` (.svg or .png) and `polylines` (.json) when given. "
+      "Returns {'camera', 'lines': [{'kind', 'closed', 'points' (K, 3), 'visible' (K,)}], "
+      "'stats'}.");
 }
 
 // ---------------------------------------------------------------------------------------------

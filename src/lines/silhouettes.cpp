@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <numeric>
 #include <vector>
@@ -501,14 +502,16 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
             finish = true;
           } else {
             const std::uint32_t own = t.line;
-            const bool forward = t.direction > 0;
+            const std::int32_t here = t.direction * index;  // position along the line
             const double radius = near_factor * lookup.delta_at(c.q);
             const bool near_other = hash.any_within(
-                c.q, radius, [own, forward, index](std::uint32_t line_id, std::int32_t at) {
+                c.q, radius, [own, here](std::uint32_t line_id, std::int32_t at) {
                   if (line_id != own) return true;
-                  // Own points: the forward trace ignores them (closing is tested above), the
-                  // backward one stops at forward points beyond the seed's neighbourhood.
-                  return !forward && at >= 0 && at + index > kArcMargin;
+                  // Own points more than kArcMargin steps away along the line: the trace came
+                  // back onto itself (a loop that missed the seed's closing test, or the
+                  // backward trace meeting the forward one); without this a trace can circle
+                  // a loop until kMaxTracePoints.
+                  return std::abs(here - at) > kArcMargin;
                 });
             pts.push_back(c.q);
             hash.insert(c.q, t.line, t.direction * index);

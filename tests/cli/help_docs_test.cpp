@@ -32,6 +32,7 @@
 #include "ramiform/grow/space_colonization.h"
 #include "ramiform/io/points_io.h"
 #include "ramiform/io/skeleton_io.h"
+#include "ramiform/lines/lines.h"
 #include "ramiform/particles/surface_particles.h"
 #include "ramiform/polygonize/marching_cubes.h"
 #include "ramiform/polygonize/refine.h"
@@ -90,6 +91,7 @@ std::vector<OptionCase> cases() {
   const MpuOptions mpu;
   const NormalOptions normals;
   const ParticleOptions particles;
+  const LineOptions lines;
   using Particles = ParticleOptions;
   return {
       {"reconstruct", "--tolerance", "", "", def(mpu.tolerance)},
@@ -102,6 +104,13 @@ std::vector<OptionCase> cases() {
        def(particles.iterations, 0, Particles::kMaxIterations)},
       {"particles", "--cell-depth", "", "", def(particles.max_depth, 0, Particles::kMaxDepth)},
       {"particles", "--flatness", "", "", def(particles.flatness_deg)},
+      {"draw", "--k-c", "", "", def(lines.k_c, 0, 1)},
+      {"draw", "--k-e", "", "", def(lines.k_e)},
+      {"draw", "--chain-distance", "", "", def(lines.chain_distance)},
+      {"draw", "--k-d", "", "", def(lines.k_d)},
+      {"draw", "--theta-sc", "", "", def(lines.theta_sc_deg, 0, 90)},
+      {"draw", "--k-trim", "", "", def(lines.k_trim, 1, 1000)},
+      {"draw", "--k-a", "", "", def(lines.k_a_deg, 0, 180)},
       {"mesh", "--levels", "save_mesh", "levels", levels},
       {"mesh", "--tolerance", "save_mesh", "tolerance", tolerance},
       {"demo", "--tolerance", "", "", tolerance},

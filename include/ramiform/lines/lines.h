@@ -75,7 +75,7 @@ struct LineOptions {
   double silhouette_step = 0.5;  ///< predictor step, × δ_i, > 0
   /// Polylines whose ends come within this distance (× δ_i) with similar directions in the
   /// image are chained into one (§6's 2-D analysis), ≥ 0.
-  double chain_distance = 1.0;
+  double chain_distance = 3.0;
 
   // Suggestive contours (§5).
   double k_d = 0.5;            ///< x± = x ± k_d·δ_i·w (eqs. 4–5), > 0

@@ -1,0 +1,51 @@
+# SPDX-License-Identifier: MIT
+# Copyright (c) 2026 the ramiform authors
+"""Line drawings from Python (docs/drawing.md): the silhouette of an MPU sphere lies on its
+contour circle, the files are written, bad options raise."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import ramiform as rf
+
+
+def sphere(n):
+    i = np.arange(n) + 0.5
+    z = 1 - 2 * i / n
+    r = np.sqrt(1 - z * z)
+    a = math.pi * (3 - math.sqrt(5)) * i
+    p = np.stack([r * np.cos(a), r * np.sin(a), z], axis=1)
+    return p, p.copy()
+
+
+def test_sphere_silhouette_is_the_contour_circle(tmp_path):
+    points, normals = sphere(3000)
+    f = rf.mpu_field(points, normals)
+    svg, js = tmp_path / "s.svg", tmp_path / "s.json"
+    d = rf.draw(f, camera="eye=0,0,5;target=0,0,0", count=3000, out=str(svg),
+                polylines=str(js), threads=2)
+    sil = [l for l in d["lines"] if l["kind"] == "silhouette"]
+    assert len(sil) == 1 and sil[0]["closed"]
+    p = sil[0]["points"]
+    # The contour of a unit sphere seen from distance 5 is the circle z = 1/5, radius sqrt(24)/5.
+    assert np.max(np.abs(p[:, 2] - 0.2)) < 0.01
+    assert np.max(np.abs(np.linalg.norm(p[:, :2], axis=1) - math.sqrt(24) / 5)) < 0.01
+    assert sil[0]["visible"].all()
+    assert d["camera"]["eye"] == [0, 0, 5]
+    assert d["stats"]["lines_silhouette"] == 1
+    assert "<g id=\"silhouette\"" in svg.read_text()
+    assert len(json.loads(js.read_text())["lines"]) == len(d["lines"])
+
+
+def test_bad_options_raise():
+    points, normals = sphere(500)
+    f = rf.mpu_field(points, normals)
+    with pytest.raises(ValueError, match="unknown line kind 'contour'"):
+        rf.draw(f, lines=["contour"], count=300)
+    with pytest.raises(ValueError, match="'eye'"):
+        rf.draw(f, camera="eye=1,2", count=300)
+    with pytest.raises(ValueError, match="k_c"):
+        rf.draw(f, k_c=2.0, count=300)
