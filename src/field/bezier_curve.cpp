@@ -29,6 +29,9 @@ constexpr double kTieRelative = 1e-12;
 // Candidates closer than this in t are the same point, not a tie.
 constexpr double kSameParameter = 1e-12;
 constexpr int kNewtonSteps = 20;
+// Rounding bound of the dot product E·(c - P) in the arc certificate, per unit of
+// max|E_i| * |c - P|_1 (a generous multiple of 3 eps).
+constexpr double kSlopeRounding = 16 * std::numeric_limits<double>::epsilon();
 
 struct Binomials {
   double c[kMaxG + 1][kMaxG + 1] = {};
@@ -669,6 +672,7 @@ void BezierProjector::build_arcs() {
     }
     for (int j = 0; j + 2 <= n; ++j) arc.second[j] = n * (n - 1) * (q[j + 2] - 2 * q[j + 1] + q[j]);
     arc.floor = floor;
+    for (int j = 0; j + 2 <= n; ++j) arc.second_max = std::max(arc.second_max, arc.second[j].cwiseAbs().maxCoeff());
     // |g''| = |3 C'·C'' + C'''·(C - P)| <= 3 max|C'| max|C''| + max|C'''| (|P - c| + R).
     {
       double max_first = 0, max_third = 0;
@@ -856,8 +860,10 @@ BezierProjection BezierProjector::project_arcs(const Vec3& q, TieRule rule) cons
     for (int j = 0; j + 1 < N; ++j) {
       bend = std::min(bend, arc.second[j].x() * dx + arc.second[j].y() * dy + arc.second[j].z() * dz);
     }
+    // Certified when the bound beats the rounding of the query-dependent term.
     const double slope = arc.floor + bend;
-    if (slope > 0) {
+    const double rounding = kSlopeRounding * arc.second_max * (std::abs(dx) + std::abs(dy) + std::abs(dz));
+    if (slope > rounding) {
       // g increasing on the arc: one minimum inside when g goes from - to +, else none.
       const double g0 = g_end(i);
       const double g1 = g_end(i + 1);
