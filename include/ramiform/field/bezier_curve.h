@@ -39,16 +39,24 @@
 ///   than the rounding-error bound is found; a root that is missed lies where |g| is within
 ///   that bound of 0, which changes the nearest distance only by rounding-level amounts.
 ///
-/// Fast certified path (BezierProjector::project, degree <= 7): the constructor splits [0, 1]
-/// into arcs (midpoint halving, to depth 6) until each arc's bounding sphere (centre c, radius R)
-/// is small against rho = min|C'|² / max|C''| on it (both bounded from the arc's Bernstein
-/// controls). Since g' = |C'|² + C''·(C - P) >= min|C'|² - max|C''| (|P - c| + R), g is
-/// strictly increasing on an arc, so has at most one root there, a minimum of the distance, for
-/// every P with |P - c| < rho - R (the arc's reach). A query takes the nearest arc end as an
-/// upper bound, discards the arcs whose sphere is farther, runs safeguarded Newton (from the
-/// chord of g) on each remaining arc within reach where g goes from - to +, and runs the exact
-/// isolation above, restricted to the arc, on each remaining arc out of reach. Same guarantee as
-/// the isolation; the paper's derivative chain still decides every arc that is not certified.
+/// Certified arc path (BezierProjector::project for degree <= 7; not in the paper, which finds
+/// all roots on [0, 1] for every query): the constructor halves [0, 1] (to depth 6, at most 64
+/// arcs) until each arc, with local parameter s in [0, 1], centre c and radius R of the sphere
+/// around its Bernstein controls, has R <= rho / 2 with rho = floor / max|C''|. On an arc
+///   g'(s) = [|C'|² + C''·(C - c)] + C''·(c - P) >= floor + min_j E_j·(c - P),
+/// where floor is the least Bernstein coefficient of the bracket (degree 2n-2, precomputed) and
+/// E_j are the controls of C''. When this bound is > 0 (plus a rounding margin) g is strictly
+/// increasing on the arc: it has a root there only if g goes from - to + between the arc's
+/// ends, and that root is the arc's only stationary point, a minimum of the distance. A query:
+/// - the arc with the nearest centre first, then every arc whose sphere is not farther than the
+///   nearest curve point found so far (ends of the curve and of that arc, minima found);
+/// - a certified arc costs two dot products (g at its ends) and, if g changes sign, Newton from
+///   the root of g's cubic Hermite interpolant at the arc's ends (values and slopes of g),
+///   safeguarded by the bracket and stopped by an a-priori bound (|g''| bounded on the arc) once
+///   the step's error is below 1e-15 in t;
+/// - an arc that is not certified (the query near a centre of curvature, a cusp, or far on the
+///   concave side) gets the exact isolation above (Descartes, then the paper's derivative chain)
+///   on its own g. Same guarantee as the isolation on [0, 1].
 ///
 /// The plain functions (bezier_point, ...) validate the curve and t on every call; the projector
 /// validates once.
