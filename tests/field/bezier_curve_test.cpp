@@ -448,6 +448,35 @@ TEST(BezierProject, ArcPathMatchesWholeCurveIsolation) {
   EXPECT_EQ(misses, 0);
 }
 
+TEST(BezierProject, ArcPathOnCuspsFoldedLinesAndExtremePoints) {
+  // Curves where |C'| vanishes (a cusp; collinear controls that fold back; a repeated control),
+  // and queries on the curve, at its ends, and far away, against the brute-force reference.
+  const std::vector<BezierCurve> curves = {
+      planar({{0, 0}, {2, 2}, {0, 2}, {2, 0}}),                  // cusp
+      planar({{0, 0}, {3, 0}, {-1, 0}, {2, 0}}),                 // folded straight line
+      planar({{0, 0}, {0, 0}, {1, 1}, {2, 0}}),                  // C'(0) = 0
+      planar({{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {5, 0}}),  // straight quintic
+      BezierCurve{{{0, 0, 0}, {1, 2, 3}, {-2, 1, 0}, {3, -1, 2}, {0, 0, 1}, {1, 1, 1}, {2, 0, -1}, {0, 3, 0}}, {}},
+  };
+  Rng rng(606);
+  for (std::size_t ci = 0; ci < curves.size(); ++ci) {
+    const BezierProjector proj(curves[ci]);
+    const DenseReference reference(proj.curve());
+    std::vector<Vec3> points = {proj.curve().controls.front(), proj.curve().controls.back(),
+                                Vec3(1e3, -2e3, 5e2)};
+    for (int k = 0; k < 200; ++k) {
+      const Vec3 on = bezier_point(proj.curve(), rng.uniform());
+      points.push_back(k % 4 == 0 ? on : on + (k % 4) * 0.2 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)));
+    }
+    for (const Vec3& p : points) {
+      const double ref = reference.distance(p);
+      const BezierProjection r = proj.project(p);
+      EXPECT_NEAR(r.distance, ref, 1e-9 * ref + 1e-12) << "curve " << ci;
+      EXPECT_LE(r.distance, nearest_by_isolation(proj, p) * (1 + 1e-10) + 1e-14) << "curve " << ci;
+    }
+  }
+}
+
 TEST(BezierProject, BatchEqualsOneByOneAndArcsOnlyUpToDegreeSeven) {
   Rng rng(31);
   const BezierProjector cubic(random_curve(rng, 3));
