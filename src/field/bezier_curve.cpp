@@ -384,7 +384,8 @@ int stationary_roots(const double* h, const Vec3* w, const double* h_error, cons
   // sign within rounding) the derivative chain runs on all of [0, 1].
   std::array<Piece, kMaxCoeff> pieces;
   const int piece_count = isolate(b.data(), bound, m, pieces.data());
-  if (piece_count < 0) return derivative_chain(b.data(), e.data(), m, locate_maxima, roots, skipped);
+  if (piece_count < 0)
+    return derivative_chain(b.data(), e.data(), m, locate_maxima, roots, skipped);
   std::array<double, kMaxCoeff> d;  // g' / m
   for (int k = 0; k < m; ++k) d[k] = b[k + 1] - b[k];
   int count = 0;
@@ -394,7 +395,8 @@ int stationary_roots(const double* h, const Vec3* w, const double* h_error, cons
       ++*skipped;  // g goes from + to -: a maximum of the distance
       continue;
     }
-    roots[count++] = bracketed_root(b.data(), d.data(), m, piece.lo, piece.hi, piece.sign_lo, piece.guess);
+    roots[count++] =
+        bracketed_root(b.data(), d.data(), m, piece.lo, piece.hi, piece.sign_lo, piece.guess);
   }
   return count;
 }
@@ -597,7 +599,7 @@ void BezierProjector::build_arcs() {
   }
   std::vector<Vec3> centres;
   std::vector<double> radii;
-  std::vector<Vec3> tangents;  // C'(t0) of each arc in t
+  std::vector<Vec3> tangents;       // C'(t0) of each arc in t
   std::vector<Vec3> accelerations;  // C''(t0) of each arc in t
   Vec3 last_tangent = Vec3::Zero();
   Vec3 last_acceleration = Vec3::Zero();
@@ -639,7 +641,8 @@ void BezierProjector::build_arcs() {
         floor = std::min(floor, v - kReachMargin * v_abs);
       }
     }
-    const double rho = max_second > 0 ? floor / max_second : std::numeric_limits<double>::infinity();
+    const double rho =
+        max_second > 0 ? floor / max_second : std::numeric_limits<double>::infinity();
     if (w.depth < kMaxArcDepth && !(floor > 0 && radius <= kArcSplit * rho)) {
       // de Casteljau at 1/2: left half's controls are the first entries of each row.
       Work left, right;
@@ -672,7 +675,8 @@ void BezierProjector::build_arcs() {
     }
     for (int j = 0; j + 2 <= n; ++j) arc.second[j] = n * (n - 1) * (q[j + 2] - 2 * q[j + 1] + q[j]);
     arc.floor = floor;
-    for (int j = 0; j + 2 <= n; ++j) arc.second_max = std::max(arc.second_max, arc.second[j].cwiseAbs().maxCoeff());
+    for (int j = 0; j + 2 <= n; ++j)
+      arc.second_max = std::max(arc.second_max, arc.second[j].cwiseAbs().maxCoeff());
     // |g''| = |3 C'·C'' + C'''·(C - P)| <= 3 max|C'| max|C''| + max|C'''| (|P - c| + R).
     {
       double max_first = 0, max_third = 0;
@@ -684,15 +688,18 @@ void BezierProjector::build_arcs() {
       arc.g2_fixed = 3 * max_first * max_second * (1 + kReachMargin);
       arc.g2_per_distance = max_third * (1 + kReachMargin);
     }
-    g_coefficients(q, n, arc.g.h.data(), arc.g.w.data(), arc.g.h_error.data(), arc.g.w_error.data());
+    g_coefficients(q, n, arc.g.h.data(), arc.g.w.data(), arc.g.h_error.data(),
+                   arc.g.w_error.data());
     arcs_.push_back(arc);
     centres.push_back(centre);
     radii.push_back(radius);
     const double span = w.t1 - w.t0;
     tangents.push_back(n * (q[1] - q[0]) / span);
     last_tangent = n * (q[n] - q[n - 1]) / span;
-    accelerations.push_back(n > 1 ? Vec3(n * (n - 1) * (q[2] - 2 * q[1] + q[0]) / (span * span)) : Vec3::Zero());
-    last_acceleration = n > 1 ? Vec3(n * (n - 1) * (q[n] - 2 * q[n - 1] + q[n - 2]) / (span * span)) : Vec3::Zero();
+    accelerations.push_back(n > 1 ? Vec3(n * (n - 1) * (q[2] - 2 * q[1] + q[0]) / (span * span))
+                                  : Vec3::Zero());
+    last_acceleration =
+        n > 1 ? Vec3(n * (n - 1) * (q[n] - 2 * q[n - 1] + q[n - 2]) / (span * span)) : Vec3::Zero();
   }
   const std::size_t count = arcs_.size();
   ArcScan& a = scan_;
@@ -839,7 +846,9 @@ BezierProjection BezierProjector::project_arcs(const Vec3& q, TieRule rule) cons
     return dx * dx + dy * dy + dz * dz;
   };
   // g at arc end k (in t), the same value wherever it is used, and g' there.
-  auto g_end = [&](int k) { return tx[k] * (px[k] - qx) + ty[k] * (py[k] - qy) + tz[k] * (pz[k] - qz); };
+  auto g_end = [&](int k) {
+    return tx[k] * (px[k] - qx) + ty[k] * (py[k] - qy) + tz[k] * (pz[k] - qz);
+  };
   auto g_slope = [&](int k) {
     return tx[k] * tx[k] + ty[k] * ty[k] + tz[k] * tz[k] + a.ax[k] * (px[k] - qx) +
            a.ay[k] * (py[k] - qy) + a.az[k] * (pz[k] - qz);
@@ -858,18 +867,22 @@ BezierProjection BezierProjector::project_arcs(const Vec3& q, TieRule rule) cons
     // A lower bound of g' on the arc (in s); C'' = 0 for n = 1.
     double bend = N > 1 ? std::numeric_limits<double>::infinity() : 0.0;
     for (int j = 0; j + 1 < N; ++j) {
-      bend = std::min(bend, arc.second[j].x() * dx + arc.second[j].y() * dy + arc.second[j].z() * dz);
+      bend =
+          std::min(bend, arc.second[j].x() * dx + arc.second[j].y() * dy + arc.second[j].z() * dz);
     }
     // Certified when the bound beats the rounding of the query-dependent term.
     const double slope = arc.floor + bend;
-    const double rounding = kSlopeRounding * arc.second_max * (std::abs(dx) + std::abs(dy) + std::abs(dz));
+    const double rounding =
+        kSlopeRounding * arc.second_max * (std::abs(dx) + std::abs(dy) + std::abs(dz));
     if (slope > rounding) {
       // g increasing on the arc: one minimum inside when g goes from - to +, else none.
       const double g0 = g_end(i);
       const double g1 = g_end(i + 1);
       if (!(g0 < 0 && g1 >= 0)) return;
       const double tolerance = kRootTolerance / span;
-      const double g2 = arc.g2_fixed + arc.g2_per_distance * (std::sqrt(dc2[static_cast<std::size_t>(i)]) + radius[i]);
+      const double g2 =
+          arc.g2_fixed +
+          arc.g2_per_distance * (std::sqrt(dc2[static_cast<std::size_t>(i)]) + radius[i]);
       const double stop = g2 > 0 ? 2 * tolerance * slope * slope * slope / g2
                                  : std::numeric_limits<double>::infinity();
       // Start: the root of g's cubic Hermite interpolant from the ends (values and slopes),
@@ -878,9 +891,10 @@ BezierProjection BezierProjector::project_arcs(const Vec3& q, TieRule rule) cons
       double s0 = g0 / (g0 - g1);
       {
         const double u = s0, u2 = u * u, u3 = u2 * u;
-        const double h = g0 * (2 * u3 - 3 * u2 + 1) + g1 * (3 * u2 - 2 * u3) + m0 * (u3 - 2 * u2 + u) +
-                         m1 * (u3 - u2);
-        const double dh = (g1 - g0) * (6 * u - 6 * u2) + m0 * (3 * u2 - 4 * u + 1) + m1 * (3 * u2 - 2 * u);
+        const double h = g0 * (2 * u3 - 3 * u2 + 1) + g1 * (3 * u2 - 2 * u3) +
+                         m0 * (u3 - 2 * u2 + u) + m1 * (u3 - u2);
+        const double dh =
+            (g1 - g0) * (6 * u - 6 * u2) + m0 * (3 * u2 - 4 * u + 1) + m1 * (3 * u2 - 2 * u);
         const double next = u - h / dh;
         if (dh > 0 && next > 0 && next < 1) s0 = next;
       }
@@ -893,9 +907,9 @@ BezierProjection BezierProjector::project_arcs(const Vec3& q, TieRule rule) cons
     // Out of reach: the exact isolation on the arc (Rigaudière et al. §3.4).
     std::array<double, kMaxCoefficients + 2> roots;
     int arc_skipped = 0;
-    const int found = stationary_roots(arc.g.h.data(), arc.g.w.data(), arc.g.h_error.data(),
-                                       arc.g.w_error.data(), 2 * N - 1, q, false, roots.data(),
-                                       &arc_skipped);
+    const int found =
+        stationary_roots(arc.g.h.data(), arc.g.w.data(), arc.g.h_error.data(), arc.g.w_error.data(),
+                         2 * N - 1, q, false, roots.data(), &arc_skipped);
     skipped += arc_skipped;
     for (int k = 0; k < found; ++k) {
       const double s = roots[k];
@@ -952,14 +966,22 @@ BezierProjection BezierProjector::project(const Vec3& p, TieRule rule) const {
   check_point(p, "project");
   const Vec3 q = p - origin_;
   switch (arcs_.empty() ? 0 : n_) {
-    case 1: return project_arcs<1>(q, rule);
-    case 2: return project_arcs<2>(q, rule);
-    case 3: return project_arcs<3>(q, rule);
-    case 4: return project_arcs<4>(q, rule);
-    case 5: return project_arcs<5>(q, rule);
-    case 6: return project_arcs<6>(q, rule);
-    case 7: return project_arcs<7>(q, rule);
-    default: return project_whole(q, rule);
+    case 1:
+      return project_arcs<1>(q, rule);
+    case 2:
+      return project_arcs<2>(q, rule);
+    case 3:
+      return project_arcs<3>(q, rule);
+    case 4:
+      return project_arcs<4>(q, rule);
+    case 5:
+      return project_arcs<5>(q, rule);
+    case 6:
+      return project_arcs<6>(q, rule);
+    case 7:
+      return project_arcs<7>(q, rule);
+    default:
+      return project_whole(q, rule);
   }
 }
 

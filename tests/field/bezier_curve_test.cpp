@@ -385,8 +385,10 @@ TEST(BezierProject, TieBetweenTwoLobesFollowsTheRule) {
 // The nearest of the stationary parameters (whole-curve isolation, the path project() takes
 // above degree 7) and the two ends.
 double nearest_by_isolation(const BezierProjector& proj, const Vec3& p) {
-  double best = std::min((proj.curve().controls.front() - p).norm(), (proj.curve().controls.back() - p).norm());
-  for (const double t : proj.stationary_parameters(p)) best = std::min(best, (bezier_point(proj.curve(), t) - p).norm());
+  double best = std::min((proj.curve().controls.front() - p).norm(),
+                         (proj.curve().controls.back() - p).norm());
+  for (const double t : proj.stationary_parameters(p))
+    best = std::min(best, (bezier_point(proj.curve(), t) - p).norm());
   return best;
 }
 
@@ -456,7 +458,15 @@ TEST(BezierProject, ArcPathOnCuspsFoldedLinesAndExtremePoints) {
       planar({{0, 0}, {3, 0}, {-1, 0}, {2, 0}}),                 // folded straight line
       planar({{0, 0}, {0, 0}, {1, 1}, {2, 0}}),                  // C'(0) = 0
       planar({{0, 0}, {1, 0}, {2, 0}, {3, 0}, {4, 0}, {5, 0}}),  // straight quintic
-      BezierCurve{{{0, 0, 0}, {1, 2, 3}, {-2, 1, 0}, {3, -1, 2}, {0, 0, 1}, {1, 1, 1}, {2, 0, -1}, {0, 3, 0}}, {}},
+      BezierCurve{{{0, 0, 0},
+                   {1, 2, 3},
+                   {-2, 1, 0},
+                   {3, -1, 2},
+                   {0, 0, 1},
+                   {1, 1, 1},
+                   {2, 0, -1},
+                   {0, 3, 0}},
+                  {}},
   };
   Rng rng(606);
   for (std::size_t ci = 0; ci < curves.size(); ++ci) {
@@ -466,7 +476,10 @@ TEST(BezierProject, ArcPathOnCuspsFoldedLinesAndExtremePoints) {
                                 Vec3(1e3, -2e3, 5e2)};
     for (int k = 0; k < 200; ++k) {
       const Vec3 on = bezier_point(proj.curve(), rng.uniform());
-      points.push_back(k % 4 == 0 ? on : on + (k % 4) * 0.2 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)));
+      points.push_back(
+          k % 4 == 0 ? on
+                     : on + (k % 4) * 0.2 *
+                                Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)));
     }
     for (const Vec3& p : points) {
       const double ref = reference.distance(p);

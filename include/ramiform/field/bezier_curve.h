@@ -162,7 +162,7 @@ class BezierProjector {
   static constexpr int kMaxCoefficients = 30;       // g has degree <= 29
   static constexpr int kMaxFastDegree = 7;          // the arc path (power basis per arc)
   static constexpr int kMaxFastCoefficients = 2 * kMaxFastDegree;
-  static constexpr int kMaxArcs = 64;               // halving to depth 6
+  static constexpr int kMaxArcs = 64;  // halving to depth 6
 
   // g restricted to an arc, in Bernstein form on the arc's own parameter s in [0, 1] (same
   // layout as h_, w_, ...): for the exact isolation of an arc out of reach.
@@ -217,7 +217,7 @@ class BezierProjector {
   std::array<Vec3, kMaxCoefficients> w_{};
   std::array<double, kMaxCoefficients> h_error_{};  // rounding bound of h_k
   std::array<double, kMaxCoefficients> w_error_{};  // rounding bound of w_k·q per unit max|q_i|
-  std::vector<Arc> arcs_;     // empty above kMaxFastDegree
+  std::vector<Arc> arcs_;                           // empty above kMaxFastDegree
   ArcScan scan_;
 };
 
