@@ -180,7 +180,7 @@ class BezierProjector {
     std::array<Vec3, kMaxFastDegree - 1> second{};  // controls of C'' in s
     double floor = -1;
     double second_max = 0;  // largest |coordinate| of the second[j]
-    // |g''| <= g2_fixed + g2_per_distance |centre - P| + R) on the arc (stops Newton early).
+    // |g''| <= g2_fixed + g2_per_distance (|centre - P| + R) on the arc (stops Newton early).
     double g2_fixed = 0, g2_per_distance = 0;
     ArcG g;
   };
