@@ -29,6 +29,9 @@ constexpr double kTieRelative = 1e-12;
 // Candidates closer than this in t are the same point, not a tie.
 constexpr double kSameParameter = 1e-12;
 constexpr int kNewtonSteps = 20;
+// Rounding bound of the dot product E·(c - P) in the arc certificate, per unit of
+// max|E_i| * |c - P|_1 (a generous multiple of 3 eps).
+constexpr double kSlopeRounding = 16 * std::numeric_limits<double>::epsilon();
 
 struct Binomials {
   double c[kMaxG + 1][kMaxG + 1] = {};
@@ -330,6 +333,128 @@ int derivative_chain(const double* b, const double* e, int m, bool locate_maxima
   return found_count;
 }
 
+// g's Bernstein coefficients of degree m = 2n-1 (b_k = h_k - w_k·q) and their rounding bounds,
+// from the controls q[0..n] of a curve (relative to the projector's origin).
+// C'(t)·(C(t) - P) = n sum_i sum_j ΔP_i·(P_j - P) B_i^{n-1} B_j^n, and
+// B_i^{n-1} B_j^n = C(n-1,i) C(n,j) / C(m,i+j) B_{i+j}^m.
+void g_coefficients(const Vec3* q, int n, double* h_out, Vec3* w_out, double* h_error,
+                    double* w_error) {
+  const int m = 2 * n - 1;
+  std::array<Vec3, kMaxDegree> diff;
+  for (int i = 0; i < n; ++i) diff[i] = q[i + 1] - q[i];
+  const double factor = error_factor(m);
+  for (int k = 0; k <= m; ++k) {
+    double h = 0, h_abs = 0, w_abs = 0;
+    Vec3 w = Vec3::Zero();
+    for (int i = std::max(0, k - n); i <= std::min(n - 1, k); ++i) {
+      const int j = k - i;
+      const double coef = n * kBinomial.c[n - 1][i] * kBinomial.c[n][j] / kBinomial.c[m][k];
+      h += coef * diff[i].dot(q[j]);
+      h_abs += coef * diff[i].cwiseAbs().dot(q[j].cwiseAbs());
+      w += coef * diff[i];
+      w_abs += coef * diff[i].cwiseAbs().sum();
+    }
+    h_out[k] = h;
+    w_out[k] = w;
+    h_error[k] = factor * h_abs;
+    w_error[k] = factor * w_abs;
+  }
+}
+
+// The roots of g (coefficients from g_coefficients, degree m) for the point q, sorted, into
+// `roots`; returns their count. When `locate_maxima` is false, roots where g goes from + to -
+// (maxima of the distance) may be skipped; `skipped` counts them.
+int stationary_roots(const double* h, const Vec3* w, const double* h_error, const double* w_error,
+                     int m, const Vec3& q, bool locate_maxima, double* roots, int* skipped) {
+  *skipped = 0;
+  const double q_max = q.cwiseAbs().maxCoeff();
+  // g's Bernstein coefficients and their rounding bounds.
+  std::array<double, kMaxCoeff> b;
+  std::array<double, kMaxCoeff> e;
+  double bound = 0;
+  for (int k = 0; k <= m; ++k) {
+    b[k] = h[k] - w[k].dot(q);
+    e[k] = h_error[k] + w_error[k] * q_max;
+    bound = std::max(bound, e[k]);
+  }
+
+  // Exact early exit: Descartes' rule of signs on Bernstein coefficients, on [0, 1] and on
+  // halves of it (de Casteljau subdivision) down to a bounded depth. When every piece has 0 or 1
+  // sign variation, each root of g is isolated on its piece. Otherwise (clustered roots, or a
+  // sign within rounding) the derivative chain runs on all of [0, 1].
+  std::array<Piece, kMaxCoeff> pieces;
+  const int piece_count = isolate(b.data(), bound, m, pieces.data());
+  if (piece_count < 0)
+    return derivative_chain(b.data(), e.data(), m, locate_maxima, roots, skipped);
+  std::array<double, kMaxCoeff> d;  // g' / m
+  for (int k = 0; k < m; ++k) d[k] = b[k + 1] - b[k];
+  int count = 0;
+  for (int k = 0; k < piece_count; ++k) {
+    const Piece& piece = pieces[k];
+    if (!locate_maxima && piece.sign_lo > 0) {
+      ++*skipped;  // g goes from + to -: a maximum of the distance
+      continue;
+    }
+    roots[count++] =
+        bracketed_root(b.data(), d.data(), m, piece.lo, piece.hi, piece.sign_lo, piece.guess);
+  }
+  return count;
+}
+
+// The candidates of a projection (in any order); the nearest wins, ties by `rule` on t. When full,
+// those that can neither win nor tie are dropped (g has at most 2n-1 roots, but arcs of the fast
+// path may each report a root at a shared end).
+struct Candidates {
+  static constexpr int kCapacity = kMaxCoeff + 4;
+  std::array<double, kCapacity> t;
+  std::array<double, kCapacity> d2;
+  std::array<Vec3, kCapacity> point;  // relative to the projector's origin
+  int count = 0;
+  void add(double tc, const Vec3& pc, const Vec3& q) {
+    if (count == kCapacity) compact();
+    if (count == kCapacity) --count;  // every one ties: memory safety only
+    t[count] = tc;
+    point[count] = pc;
+    d2[count] = (pc - q).squaredNorm();
+    ++count;
+  }
+  void compact() {
+    const double best = *std::min_element(d2.begin(), d2.begin() + count);
+    // Twice the tie limit: a later, nearer candidate may still tie with a kept one.
+    const double limit = best * (1 + 4 * kTieRelative);
+    int kept = 0;
+    for (int k = 0; k < count; ++k) {
+      if (d2[k] > limit) continue;
+      t[kept] = t[k];
+      d2[kept] = d2[k];
+      point[kept] = point[k];
+      ++kept;
+    }
+    count = kept;
+  }
+};
+
+BezierProjection choose(const Candidates& c, TieRule rule, const Vec3& origin, int counted) {
+  int best = 0;
+  for (int k = 1; k < c.count; ++k) {
+    if (c.d2[k] < c.d2[best]) best = k;
+  }
+  const double limit = c.d2[best] * (1 + kTieRelative) * (1 + kTieRelative);
+  int chosen = best;
+  bool tie = false;
+  for (int k = 0; k < c.count; ++k) {
+    if (k == best || c.d2[k] > limit) continue;
+    if (std::abs(c.t[k] - c.t[best]) > kSameParameter) tie = true;
+    if (rule == TieRule::kFirst ? c.t[k] < c.t[chosen] : c.t[k] > c.t[chosen]) chosen = k;
+  }
+  BezierProjection out;
+  out.t = c.t[chosen];
+  out.distance = std::sqrt(c.d2[chosen]);
+  out.point = c.point[chosen] + origin;
+  out.candidates = counted;
+  out.tie = tie;
+  return out;
+}
 
 void check_t(double t, const char* what) {
   if (!(t >= 0.0 && t <= 1.0)) {
@@ -434,62 +559,399 @@ BezierProjector::BezierProjector(BezierCurve curve, const std::string& what)
   for (int i = 0; i + 1 < n_; ++i) {
     second_[i] = n_ * (n_ - 1) * kBinomial.c[n_ - 2][i] * (diff[i + 1] - diff[i]);
   }
-  // C'(t)·(C(t) - P) = n sum_i sum_j ΔP_i·(P_j - P) B_i^{n-1} B_j^n, and
-  // B_i^{n-1} B_j^n = C(n-1,i) C(n,j) / C(m,i+j) B_{i+j}^m.
-  const double factor = error_factor(m_);
-  for (int k = 0; k <= m_; ++k) {
-    double h = 0, h_abs = 0, w_abs = 0;
-    Vec3 w = Vec3::Zero();
-    for (int i = std::max(0, k - n_); i <= std::min(n_ - 1, k); ++i) {
-      const int j = k - i;
-      const double coef = n_ * kBinomial.c[n_ - 1][i] * kBinomial.c[n_][j] / kBinomial.c[m_][k];
-      h += coef * diff[i].dot(q[j]);
-      h_abs += coef * diff[i].cwiseAbs().dot(q[j].cwiseAbs());
-      w += coef * diff[i];
-      w_abs += coef * diff[i].cwiseAbs().sum();
-    }
-    h_[k] = h;
-    w_[k] = w;
-    h_error_[k] = factor * h_abs;
-    w_error_[k] = factor * w_abs;
-  }
+  g_coefficients(q.data(), n_, h_.data(), w_.data(), h_error_.data(), w_error_.data());
+  if (n_ <= kMaxFastDegree) build_arcs();
 }
 
 Vec3 BezierProjector::local_point(double t) const { return bernstein_scaled(scaled_.data(), n_, t); }
 
 int BezierProjector::stationary(const Vec3& q, bool locate_maxima, double* roots, int* skipped) const {
-  const int m = m_;
-  *skipped = 0;
-  const double q_max = q.cwiseAbs().maxCoeff();
-  // g's Bernstein coefficients and their rounding bounds.
-  std::array<double, kMaxCoefficients> b;
-  std::array<double, kMaxCoefficients> e;
-  double bound = 0;
-  for (int k = 0; k <= m; ++k) {
-    b[k] = h_[k] - w_[k].dot(q);
-    e[k] = h_error_[k] + w_error_[k] * q_max;
-    bound = std::max(bound, e[k]);
-  }
+  return stationary_roots(h_.data(), w_.data(), h_error_.data(), w_error_.data(), m_, q,
+                          locate_maxima, roots, skipped);
+}
 
-  // Exact early exit: Descartes' rule of signs on Bernstein coefficients, on [0, 1] and on
-  // halves of it (de Casteljau subdivision) down to a bounded depth. When every piece has 0 or 1
-  // sign variation, each root of g is isolated on its piece. Otherwise (clustered roots, or a
-  // sign within rounding) the derivative chain runs on all of [0, 1].
-  std::array<Piece, kMaxCoefficients> pieces;
-  const int piece_count = isolate(b.data(), bound, m, pieces.data());
-  if (piece_count < 0) return derivative_chain(b.data(), e.data(), m, locate_maxima, roots, skipped);
-  std::array<double, kMaxCoefficients> d;  // g' / m
-  for (int k = 0; k < m; ++k) d[k] = b[k + 1] - b[k];
-  int count = 0;
-  for (int k = 0; k < piece_count; ++k) {
-    const Piece& piece = pieces[k];
-    if (!locate_maxima && piece.sign_lo > 0) {
-      ++*skipped;  // g goes from + to -: a maximum of the distance
+void BezierProjector::build_arcs() {
+  // Midpoint halving of the control polygon until each arc's sphere (radius R) is small against
+  // rho = floor / max|C''| (floor: below): g is then certified increasing for every query
+  // within about rho - R of the arc's centre, whatever its direction, and farther on the convex
+  // side, so halving further would gain little (kArcSplit 0.25 gives twice the arcs for a few
+  // per cent fewer fallbacks, and is slower). Near a cusp (|C'| -> 0) or a tight bend the depth
+  // limit stops it, and queries there fall back to the exact isolation on the arc.
+  constexpr int kMaxArcDepth = 6;
+  constexpr double kArcSplit = 0.5;
+  // Rounding of the bounds (computed from rounded controls): the floor is lowered by this much
+  // of its terms' magnitude.
+  constexpr double kReachMargin = 1e-9;
+  const int n = n_;
+  struct Work {
+    std::array<Vec3, kMaxControls> q;
+    double t0, t1;
+    int depth;
+  };
+  std::vector<Work> stack;
+  {
+    Work root;
+    for (int i = 0; i <= n; ++i) root.q[i] = curve_.controls[i] - origin_;
+    root.t0 = 0;
+    root.t1 = 1;
+    root.depth = 0;
+    stack.push_back(root);
+  }
+  std::vector<Vec3> centres;
+  std::vector<double> radii;
+  std::vector<Vec3> tangents;       // C'(t0) of each arc in t
+  std::vector<Vec3> accelerations;  // C''(t0) of each arc in t
+  Vec3 last_tangent = Vec3::Zero();
+  Vec3 last_acceleration = Vec3::Zero();
+  while (!stack.empty()) {
+    Work w = stack.back();
+    stack.pop_back();
+    const Vec3* q = w.q.data();
+    // Hodograph controls D_j = n ΔQ_j (C' in the arc's s), and C'' controls n(n-1) Δ²Q_j.
+    double max_second = 0;
+    for (int j = 0; j + 2 <= n; ++j) {
+      max_second = std::max(max_second, (n * (n - 1) * (q[j + 2] - 2 * q[j + 1] + q[j])).norm());
+    }
+    Aabb box;
+    for (int j = 0; j <= n; ++j) box.extend(q[j]);
+    const Vec3 centre = box.center();
+    double radius = 0;
+    for (int j = 0; j <= n; ++j) radius = std::max(radius, (q[j] - centre).norm());
+    // g'(s) = |C'|² + C''·(C - c) + C''·(c - P). The first two terms form a polynomial of degree
+    // 2n-2 in s whose least Bernstein coefficient bounds them from below (`floor`); the last is
+    // at least min_j E_j·(c - P) (E_j: the controls of C'', convex hull).
+    double floor = std::numeric_limits<double>::infinity();
+    {
+      const int d = 2 * n - 2;
+      for (int k = 0; k <= d; ++k) {
+        double v = 0, v_abs = 0;
+        for (int i = std::max(0, k - (n - 1)); i <= std::min(n - 1, k); ++i) {
+          const Vec3 di = n * (q[i + 1] - q[i]), dj = n * (q[k - i + 1] - q[k - i]);
+          const double coef = kBinomial.c[n - 1][i] * kBinomial.c[n - 1][k - i] / kBinomial.c[d][k];
+          v += coef * di.dot(dj);
+          v_abs += coef * di.norm() * dj.norm();
+        }
+        for (int i = std::max(0, k - n); i <= std::min(n - 2, k); ++i) {
+          const Vec3 ei = n * (n - 1) * (q[i + 2] - 2 * q[i + 1] + q[i]);
+          const Vec3 rj = q[k - i] - centre;
+          const double coef = kBinomial.c[n - 2][i] * kBinomial.c[n][k - i] / kBinomial.c[d][k];
+          v += coef * ei.dot(rj);
+          v_abs += coef * ei.norm() * rj.norm();
+        }
+        floor = std::min(floor, v - kReachMargin * v_abs);
+      }
+    }
+    const double rho =
+        max_second > 0 ? floor / max_second : std::numeric_limits<double>::infinity();
+    if (w.depth < kMaxArcDepth && !(floor > 0 && radius <= kArcSplit * rho)) {
+      // de Casteljau at 1/2: left half's controls are the first entries of each row.
+      Work left, right;
+      std::array<Vec3, kMaxControls> row = w.q;
+      left.q[0] = row[0];
+      right.q[n] = row[n];
+      for (int r = 1; r <= n; ++r) {
+        for (int i = 0; i <= n - r; ++i) row[i] = 0.5 * (row[i] + row[i + 1]);
+        left.q[r] = row[0];
+        right.q[n - r] = row[n - r];
+      }
+      const double mid = 0.5 * (w.t0 + w.t1);
+      left.t0 = w.t0;
+      left.t1 = mid;
+      right.t0 = mid;
+      right.t1 = w.t1;
+      left.depth = right.depth = w.depth + 1;
+      stack.push_back(right);
+      stack.push_back(left);  // processed first: arcs come out in ascending t
       continue;
     }
-    roots[count++] = bracketed_root(b.data(), d.data(), m, piece.lo, piece.hi, piece.sign_lo, piece.guess);
+    Arc arc;
+    arc.t0 = w.t0;
+    arc.t1 = w.t1;
+    // Power basis in s: a_j = C(n,j) Δ^j Q_0.
+    std::array<Vec3, kMaxControls> diff = w.q;
+    for (int j = 0; j <= n; ++j) {
+      arc.power[j] = kBinomial.c[n][j] * diff[0];
+      for (int i = 0; i + j < n; ++i) diff[i] = diff[i + 1] - diff[i];
+    }
+    for (int j = 0; j + 2 <= n; ++j) arc.second[j] = n * (n - 1) * (q[j + 2] - 2 * q[j + 1] + q[j]);
+    arc.floor = floor;
+    for (int j = 0; j + 2 <= n; ++j)
+      arc.second_max = std::max(arc.second_max, arc.second[j].cwiseAbs().maxCoeff());
+    // |g''| = |3 C'·C'' + C'''·(C - P)| <= 3 max|C'| max|C''| + max|C'''| (|P - c| + R).
+    {
+      double max_first = 0, max_third = 0;
+      for (int j = 0; j < n; ++j) max_first = std::max(max_first, (n * (q[j + 1] - q[j])).norm());
+      for (int j = 0; j + 3 <= n; ++j) {
+        const Vec3 third = n * (n - 1) * (n - 2) * (q[j + 3] - 3 * q[j + 2] + 3 * q[j + 1] - q[j]);
+        max_third = std::max(max_third, third.norm());
+      }
+      arc.g2_fixed = 3 * max_first * max_second * (1 + kReachMargin);
+      arc.g2_per_distance = max_third * (1 + kReachMargin);
+    }
+    g_coefficients(q, n, arc.g.h.data(), arc.g.w.data(), arc.g.h_error.data(),
+                   arc.g.w_error.data());
+    arcs_.push_back(arc);
+    centres.push_back(centre);
+    radii.push_back(radius);
+    const double span = w.t1 - w.t0;
+    tangents.push_back(n * (q[1] - q[0]) / span);
+    last_tangent = n * (q[n] - q[n - 1]) / span;
+    accelerations.push_back(n > 1 ? Vec3(n * (n - 1) * (q[2] - 2 * q[1] + q[0]) / (span * span))
+                                  : Vec3::Zero());
+    last_acceleration =
+        n > 1 ? Vec3(n * (n - 1) * (q[n] - 2 * q[n - 1] + q[n - 2]) / (span * span)) : Vec3::Zero();
   }
-  return count;
+  const std::size_t count = arcs_.size();
+  ArcScan& a = scan_;
+  for (std::size_t k = 0; k < count; ++k) {
+    a.cx.push_back(centres[k].x());
+    a.cy.push_back(centres[k].y());
+    a.cz.push_back(centres[k].z());
+    a.radius.push_back(radii[k]);
+  }
+  for (std::size_t k = 0; k <= count; ++k) {
+    const Vec3 p = k < count ? Vec3(arcs_[k].power[0]) : Vec3(curve_.controls[n] - origin_);
+    const Vec3 t = k < count ? tangents[k] : last_tangent;
+    a.px.push_back(p.x());
+    a.py.push_back(p.y());
+    a.pz.push_back(p.z());
+    a.tx.push_back(t.x());
+    a.ty.push_back(t.y());
+    a.tz.push_back(t.z());
+    const Vec3 acc = k < count ? accelerations[k] : last_acceleration;
+    a.ax.push_back(acc.x());
+    a.ay.push_back(acc.y());
+    a.az.push_back(acc.z());
+  }
+}
+
+namespace {
+
+// C, C' and C'' of a power-basis polynomial (coefficients a[0..N]) at s, by Horner.
+struct Jet {
+  Vec3 c, d1, d2;
+};
+template <int N>
+inline Jet power_jet(const Vec3* a, double s) {
+  Vec3 c = a[N], d1 = Vec3::Zero(), d2 = Vec3::Zero();
+  for (int j = N - 1; j >= 0; --j) {
+    d2 = d2 * s + d1;
+    d1 = d1 * s + c;
+    c = c * s + a[j];
+  }
+  return {c, d1, 2 * d2};
+}
+inline Vec3 power_point(const Vec3* a, int n, double s) {
+  Vec3 c = a[n];
+  for (int j = n - 1; j >= 0; --j) c = c * s + a[j];
+  return c;
+}
+
+struct ArcRoot {
+  double s;
+  Vec3 point;
+};
+
+// The root of g on an arc where g is increasing (certified), g(0) < 0 <= g(1): Newton from the
+// chord guess s0, safeguarded by bisection with the bracket kept. With g' >= slope > 0 and
+// |g''| <= G2 on the arc, the root is within |g(s)| / slope of s, and the Newton step from s
+// lands within G2 g(s)² / (2 slope³) of it: the iteration stops once g(s)² <= `stop`, which the
+// caller sets so that this is below `tolerance` (or once the step itself is).
+template <int N>
+ArcRoot arc_root(const Vec3* a, const Vec3& q, double s0, double tolerance, double stop) {
+  // Coordinates apart (plain scalars keep the Horner chains in registers).
+  double ax[N + 1], ay[N + 1], az[N + 1];
+  for (int j = 0; j <= N; ++j) {
+    ax[j] = a[j].x();
+    ay[j] = a[j].y();
+    az[j] = a[j].z();
+  }
+  const double qx = q.x(), qy = q.y(), qz = q.z();
+  double lo = 0, hi = 1;
+  double s = s0 > 0 && s0 < 1 ? s0 : 0.5;
+  for (int it = 0; it < kMaxRootIterations; ++it) {
+    double cx = ax[N], cy = ay[N], cz = az[N];
+    double ux = 0, uy = 0, uz = 0;  // C'
+    double vx = 0, vy = 0, vz = 0;  // C'' / 2
+    for (int j = N - 1; j >= 0; --j) {
+      vx = vx * s + ux;
+      vy = vy * s + uy;
+      vz = vz * s + uz;
+      ux = ux * s + cx;
+      uy = uy * s + cy;
+      uz = uz * s + cz;
+      cx = cx * s + ax[j];
+      cy = cy * s + ay[j];
+      cz = cz * s + az[j];
+    }
+    const double rx = cx - qx, ry = cy - qy, rz = cz - qz;
+    const double g = ux * rx + uy * ry + uz * rz;
+    if (g == 0) return {s, Vec3(cx, cy, cz)};
+    if (g < 0) {
+      lo = s;
+    } else {
+      hi = s;
+    }
+    const double gp = ux * ux + uy * uy + uz * uz + 2 * (vx * rx + vy * ry + vz * rz);
+    const double step = g / gp;
+    const double next = s - step;
+    if (!(gp > 0) || !(next > lo && next < hi)) {
+      s = 0.5 * (lo + hi);
+      if (hi - lo <= tolerance) return {s, power_point(a, N, s)};
+      continue;
+    }
+    if (g * g <= stop || std::abs(step) <= tolerance) {
+      // C(next) by Taylor from s; the remainder (|C'''| step³ / 6) is below rounding here.
+      const double h = -step, h2 = step * step;
+      return {next, Vec3(cx + h * ux + h2 * vx, cy + h * uy + h2 * vy, cz + h * uz + h2 * vz)};
+    }
+    s = next;
+  }
+  return {s, power_point(a, N, s)};
+}
+
+}  // namespace
+
+template <int N>
+BezierProjection BezierProjector::project_arcs(const Vec3& q, TieRule rule) const {
+  const ArcScan& a = scan_;
+  const int count = static_cast<int>(arcs_.size());
+  const double qx = q.x(), qy = q.y(), qz = q.z();
+  const double* cx = a.cx.data();
+  const double* cy = a.cy.data();
+  const double* cz = a.cz.data();
+  const double* radius = a.radius.data();
+  const double* px = a.px.data();
+  const double* py = a.py.data();
+  const double* pz = a.pz.data();
+  const double* tx = a.tx.data();
+  const double* ty = a.ty.data();
+  const double* tz = a.tz.data();
+  // Squared distance from q to every arc's centre; the arc with the nearest centre goes first:
+  // what it finds bounds the others.
+  std::array<double, kMaxArcs> dc2;
+  int first = 0;
+  double first_d2 = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < count; ++i) {
+    const double dx = cx[i] - qx, dy = cy[i] - qy, dz = cz[i] - qz;
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    dc2[static_cast<std::size_t>(i)] = d2;
+    if (d2 < first_d2) {
+      first_d2 = d2;
+      first = i;
+    }
+  }
+  auto end_d2 = [&](int k) {
+    const double dx = px[k] - qx, dy = py[k] - qy, dz = pz[k] - qz;
+    return dx * dx + dy * dy + dz * dz;
+  };
+  // g at arc end k (in t), the same value wherever it is used, and g' there.
+  auto g_end = [&](int k) {
+    return tx[k] * (px[k] - qx) + ty[k] * (py[k] - qy) + tz[k] * (pz[k] - qz);
+  };
+  auto g_slope = [&](int k) {
+    return tx[k] * tx[k] + ty[k] * ty[k] + tz[k] * tz[k] + a.ax[k] * (px[k] - qx) +
+           a.ay[k] * (py[k] - qy) + a.az[k] * (pz[k] - qz);
+  };
+  Candidates c;
+  c.add(0, Vec3(px[0], py[0], pz[0]), q);
+  c.add(1, Vec3(px[count], py[count], pz[count]), q);
+  // Upper bound of the nearest distance: the curve's ends and the first arc's ends.
+  double best2 = std::min({c.d2[0], c.d2[1], end_d2(first), end_d2(first + 1)});
+  int interior = 0, skipped = 0;
+
+  auto visit = [&](int i) {
+    const Arc& arc = arcs_[static_cast<std::size_t>(i)];
+    const double span = arc.t1 - arc.t0;
+    const double dx = cx[i] - qx, dy = cy[i] - qy, dz = cz[i] - qz;
+    // A lower bound of g' on the arc (in s); C'' = 0 for n = 1.
+    double bend = N > 1 ? std::numeric_limits<double>::infinity() : 0.0;
+    for (int j = 0; j + 1 < N; ++j) {
+      bend =
+          std::min(bend, arc.second[j].x() * dx + arc.second[j].y() * dy + arc.second[j].z() * dz);
+    }
+    // Certified when the bound beats the rounding of the query-dependent term.
+    const double slope = arc.floor + bend;
+    const double rounding =
+        kSlopeRounding * arc.second_max * (std::abs(dx) + std::abs(dy) + std::abs(dz));
+    if (slope > rounding) {
+      // g increasing on the arc: one minimum inside when g goes from - to +, else none.
+      const double g0 = g_end(i);
+      const double g1 = g_end(i + 1);
+      if (!(g0 < 0 && g1 >= 0)) return;
+      const double tolerance = kRootTolerance / span;
+      const double g2 =
+          arc.g2_fixed +
+          arc.g2_per_distance * (std::sqrt(dc2[static_cast<std::size_t>(i)]) + radius[i]);
+      const double stop = g2 > 0 ? 2 * tolerance * slope * slope * slope / g2
+                                 : std::numeric_limits<double>::infinity();
+      // Start: the root of g's cubic Hermite interpolant from the ends (values and slopes),
+      // by one Newton step from the chord's root (a second costs more than it saves).
+      const double m0 = span * g_slope(i), m1 = span * g_slope(i + 1);
+      double s0 = g0 / (g0 - g1);
+      {
+        const double u = s0, u2 = u * u, u3 = u2 * u;
+        const double h = g0 * (2 * u3 - 3 * u2 + 1) + g1 * (3 * u2 - 2 * u3) +
+                         m0 * (u3 - 2 * u2 + u) + m1 * (u3 - u2);
+        const double dh =
+            (g1 - g0) * (6 * u - 6 * u2) + m0 * (3 * u2 - 4 * u + 1) + m1 * (3 * u2 - 2 * u);
+        const double next = u - h / dh;
+        if (dh > 0 && next > 0 && next < 1) s0 = next;
+      }
+      const ArcRoot root = arc_root<N>(arc.power.data(), q, s0, tolerance, stop);
+      ++interior;
+      c.add(arc.t0 + root.s * span, root.point, q);
+      best2 = std::min(best2, c.d2[c.count - 1]);
+      return;
+    }
+    // Out of reach: the exact isolation on the arc (Rigaudière et al. §3.4).
+    std::array<double, kMaxCoefficients + 2> roots;
+    int arc_skipped = 0;
+    const int found =
+        stationary_roots(arc.g.h.data(), arc.g.w.data(), arc.g.h_error.data(), arc.g.w_error.data(),
+                         2 * N - 1, q, false, roots.data(), &arc_skipped);
+    skipped += arc_skipped;
+    for (int k = 0; k < found; ++k) {
+      const double s = roots[k];
+      if (!(s >= 0 && s <= 1)) continue;
+      const double t = arc.t0 + s * span;
+      if (!(t > 0 && t < 1)) continue;
+      ++interior;
+      c.add(t, power_point(arc.power.data(), N, s), q);
+      best2 = std::min(best2, c.d2[c.count - 1]);
+    }
+  };
+
+  visit(first);
+  // An arc whose sphere is farther than the best point found (inflated for ties and rounding)
+  // cannot hold the nearest point.
+  constexpr double kPruneSlack = 1e-9;
+  double prune = std::sqrt(best2) * (1 + kPruneSlack);
+  for (int i = 0; i < count; ++i) {
+    const double lim = radius[i] + prune;
+    if (i == first || dc2[static_cast<std::size_t>(i)] > lim * lim) continue;
+    visit(i);
+    prune = std::sqrt(best2) * (1 + kPruneSlack);
+  }
+  return choose(c, rule, origin_, interior + skipped + 2);
+}
+
+BezierProjection BezierProjector::project_whole(const Vec3& q, TieRule rule) const {
+  std::array<double, kMaxCoefficients + 2> roots;
+  int skipped = 0;
+  const int count = stationary(q, false, roots.data(), &skipped);
+  // Candidates in ascending t: the ends and the interior roots.
+  Candidates c;
+  c.add(0, curve_.controls[0] - origin_, q);
+  int interior = 0;
+  for (int k = 0; k < count; ++k) {
+    const double t = roots[k];
+    if (!(t > 0 && t < 1)) continue;
+    ++interior;
+    c.add(t, local_point(t), q);
+  }
+  c.add(1, curve_.controls[n_] - origin_, q);
+  return choose(c, rule, origin_, interior + skipped + 2);
 }
 
 std::vector<double> BezierProjector::stationary_parameters(const Vec3& p) const {
@@ -503,52 +965,33 @@ std::vector<double> BezierProjector::stationary_parameters(const Vec3& p) const 
 BezierProjection BezierProjector::project(const Vec3& p, TieRule rule) const {
   check_point(p, "project");
   const Vec3 q = p - origin_;
-  std::array<double, kMaxCoefficients + 2> roots;
-  int skipped = 0;
-  const int count = stationary(q, false, roots.data(), &skipped);
+  switch (arcs_.empty() ? 0 : n_) {
+    case 1:
+      return project_arcs<1>(q, rule);
+    case 2:
+      return project_arcs<2>(q, rule);
+    case 3:
+      return project_arcs<3>(q, rule);
+    case 4:
+      return project_arcs<4>(q, rule);
+    case 5:
+      return project_arcs<5>(q, rule);
+    case 6:
+      return project_arcs<6>(q, rule);
+    case 7:
+      return project_arcs<7>(q, rule);
+    default:
+      return project_whole(q, rule);
+  }
+}
 
-  // Candidates in ascending t: the ends and the interior roots.
-  std::array<double, kMaxCoefficients + 4> ts;
-  std::array<double, kMaxCoefficients + 4> d2;
-  std::array<Vec3, kMaxCoefficients + 4> points;
-  int c = 0;
-  int interior = 0;
-  ts[c] = 0;
-  points[c] = curve_.controls[0] - origin_;
-  d2[c++] = (points[0] - q).squaredNorm();
-  for (int k = 0; k < count; ++k) {
-    const double t = roots[k];
-    if (!(t > 0 && t < 1)) continue;
-    ++interior;
-    ts[c] = t;
-    points[c] = local_point(t);
-    d2[c] = (points[c] - q).squaredNorm();
-    ++c;
+void BezierProjector::project(std::span<const Vec3> points, std::span<BezierProjection> out,
+                              TieRule rule) const {
+  if (points.size() != out.size()) {
+    throw InvalidArgument("project: " + std::to_string(points.size()) + " points but " +
+                          std::to_string(out.size()) + " outputs");
   }
-  ts[c] = 1;
-  points[c] = curve_.controls[n_] - origin_;
-  d2[c] = (points[c] - q).squaredNorm();
-  ++c;
-
-  int best = 0;
-  for (int k = 1; k < c; ++k) {
-    if (d2[k] < d2[best]) best = k;
-  }
-  const double limit = d2[best] * (1 + kTieRelative) * (1 + kTieRelative);
-  int chosen = best;
-  bool tie = false;
-  for (int k = 0; k < c; ++k) {
-    if (k == best || d2[k] > limit) continue;
-    if (std::abs(ts[k] - ts[best]) > kSameParameter) tie = true;
-    if (rule == TieRule::kFirst ? k < chosen : k > chosen) chosen = k;
-  }
-  BezierProjection out;
-  out.t = ts[chosen];
-  out.distance = std::sqrt(d2[chosen]);
-  out.point = points[chosen] + origin_;
-  out.candidates = interior + skipped + 2;
-  out.tie = tie;
-  return out;
+  for (std::size_t k = 0; k < points.size(); ++k) out[k] = project(points[k], rule);
 }
 
 BezierProjection BezierProjector::project_newton(const Vec3& p, int starts) const {

@@ -39,10 +39,30 @@
 ///   than the rounding-error bound is found; a root that is missed lies where |g| is within
 ///   that bound of 0, which changes the nearest distance only by rounding-level amounts.
 ///
+/// Certified arc path (BezierProjector::project for degree <= 7; not in the paper, which finds
+/// all roots on [0, 1] for every query): the constructor halves [0, 1] (to depth 6, at most 64
+/// arcs) until each arc, with local parameter s in [0, 1], centre c and radius R of the sphere
+/// around its Bernstein controls, has R <= rho / 2 with rho = floor / max|C''|. On an arc
+///   g'(s) = [|C'|² + C''·(C - c)] + C''·(c - P) >= floor + min_j E_j·(c - P),
+/// where floor is the least Bernstein coefficient of the bracket (degree 2n-2, precomputed) and
+/// E_j are the controls of C''. When this bound is > 0 (plus a rounding margin) g is strictly
+/// increasing on the arc: it has a root there only if g goes from - to + between the arc's
+/// ends, and that root is the arc's only stationary point, a minimum of the distance. A query:
+/// - the arc with the nearest centre first, then every arc whose sphere is not farther than the
+///   nearest curve point found so far (ends of the curve and of that arc, minima found);
+/// - a certified arc costs two dot products (g at its ends) and, if g changes sign, Newton from
+///   the root of g's cubic Hermite interpolant at the arc's ends (values and slopes of g),
+///   safeguarded by the bracket and stopped by an a-priori bound (|g''| bounded on the arc) once
+///   the step's error is below 1e-15 in t;
+/// - an arc that is not certified (the query near a centre of curvature, a cusp, or far on the
+///   concave side) gets the exact isolation above (Descartes, then the paper's derivative chain)
+///   on its own g. Same guarantee as the isolation on [0, 1].
+///
 /// The plain functions (bezier_point, ...) validate the curve and t on every call; the projector
 /// validates once.
 
 #include <array>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -85,7 +105,8 @@ struct BezierProjection {
   double t = 0;          ///< parameter of the nearest point, in [0, 1]
   double distance = 0;   ///< |P - C(t)|, model units
   Vec3 point;            ///< C(t)
-  int candidates = 0;    ///< stationary parameters found in (0,1) plus the 2 ends examined
+  int candidates = 0;    ///< stationary parameters located or counted in (0,1), plus the 2 ends
+                         ///< (arcs proven farther than the nearest point are not searched)
   bool tie = false;      ///< another candidate was equally near (the tie rule chose)
 };
 
@@ -115,9 +136,19 @@ class BezierProjector {
 
   /// Nearest point: the candidates are the stationary parameters and the two ends; the nearest
   /// wins, ties (distances within 1e-12 relative, parameters more than 1e-12 apart) by `rule`.
-  /// A single stationary parameter known to be a maximum of the distance (exact sign test) is
-  /// counted in `candidates` but not located. Throws InvalidArgument for a non-finite p.
+  /// A stationary parameter known to be a maximum of the distance (exact sign test) is counted
+  /// in `candidates` but not located. Degree <= 7 takes the certified arc path (file comment):
+  /// parts of the curve whose bounding sphere is farther than a curve point already found are
+  /// not searched. Throws InvalidArgument for a non-finite p.
   [[nodiscard]] BezierProjection project(const Vec3& p, TieRule rule = TieRule::kFirst) const;
+
+  /// Number of arcs of the fast path (0 above degree 7, where project() isolates on [0, 1]).
+  [[nodiscard]] int arc_count() const { return static_cast<int>(arcs_.size()); }
+
+  /// project() on every point of `points` into `out` (same size; throws InvalidArgument
+  /// otherwise or for a non-finite point). Equal, point by point, to project(points[k], rule).
+  void project(std::span<const Vec3> points, std::span<BezierProjection> out,
+               TieRule rule = TieRule::kFirst) const;
 
   /// The Newton-iteration baseline, for the benchmark only: Newton on g from the best of
   /// `starts` (>= 2) uniform samples (t = i/(starts-1)), clamped to [0,1], at most 20 steps; the
@@ -129,6 +160,43 @@ class BezierProjector {
  private:
   static constexpr int kMaxControls = 16;           // degree <= 15
   static constexpr int kMaxCoefficients = 30;       // g has degree <= 29
+  static constexpr int kMaxFastDegree = 7;          // the arc path (power basis per arc)
+  static constexpr int kMaxFastCoefficients = 2 * kMaxFastDegree;
+  static constexpr int kMaxArcs = 64;  // halving to depth 6
+
+  // g restricted to an arc, in Bernstein form on the arc's own parameter s in [0, 1] (same
+  // layout as h_, w_, ...): for the exact isolation of an arc out of reach.
+  struct ArcG {
+    std::array<double, kMaxFastCoefficients> h{};
+    std::array<Vec3, kMaxFastCoefficients> w{};
+    std::array<double, kMaxFastCoefficients> h_error{};
+    std::array<double, kMaxFastCoefficients> w_error{};
+  };
+  // One arc [t0, t1] of the fast path. C(t0 + s (t1 - t0)) - origin_ = sum_j power[j] s^j.
+  struct Arc {
+    double t0 = 0, t1 = 1;
+    std::array<Vec3, kMaxFastDegree + 1> power{};
+    // g' >= floor + min_j second[j]·(centre - P) on the arc: g increasing when this is > 0.
+    std::array<Vec3, kMaxFastDegree - 1> second{};  // controls of C'' in s
+    double floor = -1;
+    double second_max = 0;  // largest |coordinate| of the second[j]
+    // |g''| <= g2_fixed + g2_per_distance (|centre - P| + R) on the arc (stops Newton early).
+    double g2_fixed = 0, g2_per_distance = 0;
+    ArcG g;
+  };
+  // The per-query scan, structure of arrays: arcs (bounding sphere) and their ends
+  // (K + 1 for K arcs: point relative to origin_, C'(t_k), C''(t_k)).
+  struct ArcScan {
+    std::vector<double> cx, cy, cz, radius;
+    std::vector<double> px, py, pz, tx, ty, tz, ax, ay, az;
+  };
+
+  void build_arcs();
+  // The nearest point by the arc path (project() after the checks), for degree N.
+  template <int N>
+  [[nodiscard]] BezierProjection project_arcs(const Vec3& q, TieRule rule) const;
+  // The nearest point by isolation on [0, 1] (project() after the checks, degree > 7).
+  [[nodiscard]] BezierProjection project_whole(const Vec3& q, TieRule rule) const;
 
   // Stationary parameters of the point q (relative to origin_) into `roots` (sorted); returns
   // their count. When `locate_maxima` is false, roots where g goes from + to - (maxima of the
@@ -149,6 +217,8 @@ class BezierProjector {
   std::array<Vec3, kMaxCoefficients> w_{};
   std::array<double, kMaxCoefficients> h_error_{};  // rounding bound of h_k
   std::array<double, kMaxCoefficients> w_error_{};  // rounding bound of w_k·q per unit max|q_i|
+  std::vector<Arc> arcs_;                           // empty above kMaxFastDegree
+  ArcScan scan_;
 };
 
 }  // namespace ramiform
