@@ -31,7 +31,7 @@ struct DrawArgs {
   int views = 1;
   std::string polylines_path;
   std::string state_path;  // --particle-state: particles saved by `ramiform particles`
-  std::string visibility = "surfels";
+  std::string visibility = "rays";
   std::string fit = "longest";
   LineOptions lines;
   DrawingStyle style;
@@ -247,7 +247,8 @@ void register_draw(CLI::App& root, Action& action) {
                              l.k_a_deg, 0, 180))
       ->check(CLI::Range(0.001, 179.999));
   c->add_option("--visibility", a->visibility,
-                "hidden lines: surfels (the paper's disks behind the particles, the default), rays (exact, slower on MPU surfaces) or none")
+                "hidden lines: rays (exact, the default), surfels (the paper's disks behind the "
+                "particles: faster on scans, but they hide bits of silhouettes) or none")
       ->check(CLI::IsMember({"rays", "surfels", "none"}));
   DrawingStyle& st = a->style;
   c->add_option("--width", st.width, with_default("image width, pixels", st.width, 16, 16384))

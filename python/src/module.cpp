@@ -696,7 +696,7 @@ void bind_points(py::module_& m) {
       py::arg("field"), py::kw_only(), py::arg("out") = py::none(), py::arg("camera") = py::none(),
       py::arg("azimuth") = 30.0, py::arg("elevation") = 15.0, py::arg("fov") = 30.0,
       py::arg("lines") = std::vector<std::string>{"silhouette", "suggestive", "feature"},
-      py::arg("count") = 10000, py::arg("seed") = 1, py::arg("visibility") = "surfels",
+      py::arg("count") = 10000, py::arg("seed") = 1, py::arg("visibility") = "rays",
       py::arg("fit") = "longest", py::arg("k_c") = lo.k_c, py::arg("k_e") = lo.k_e,
       py::arg("k_d") = lo.k_d, py::arg("theta_sc") = lo.theta_sc_deg, py::arg("k_a") = lo.k_a_deg,
       py::arg("k_trim") = lo.k_trim, py::arg("width") = ds.width, py::arg("height") = 0,

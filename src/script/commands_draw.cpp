@@ -44,7 +44,7 @@ LineOptions line_options(const Call& c) {
   o.fit = c.option_word("fit", "longest", {"longest", "trim"}) == "trim"
               ? SuggestiveFit::kTrim
               : SuggestiveFit::kLongestPath;
-  const std::string vis = c.option_word("visibility", "surfels", {"surfels", "rays", "none"});
+  const std::string vis = c.option_word("visibility", "rays", {"rays", "surfels", "none"});
   o.visibility = vis == "rays"   ? Visibility::kRays
                  : vis == "none" ? Visibility::kNone
                                  : Visibility::kSurfels;
@@ -117,7 +117,7 @@ void add_draw_commands(std::vector<CommandSpec>& out) {
   out.push_back(
       {"draw",
        "draw SHAPE FILE [lines=silhouette,suggestive,feature] [azimuth=A] [elevation=E] [fov=F] "
-       "[eye=X,Y,Z] [target=X,Y,Z] [up=X,Y,Z] [count=N] [visibility=surfels|rays|none] "
+       "[eye=X,Y,Z] [target=X,Y,Z] [up=X,Y,Z] [count=N] [visibility=rays|surfels|none] "
        "[fit=longest|trim] [k_c=K] [k_e=K] [k_d=K] [theta_sc=DEG] [k_a=DEG] [k_trim=N] "
        "[width=PX] [height=PX] [hidden=yes|no] [polylines=FILE.json] [seed=S]",
        "A pen-and-ink line drawing of SHAPE written to FILE (.svg or .png): silhouettes, "

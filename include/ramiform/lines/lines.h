@@ -92,12 +92,14 @@ struct LineOptions {
   double straddle_radius = 1.5;  ///< neighbourhood search radius for straddle pairs, × δ_i
 
   // Hidden lines.
-  /// kSurfels by default, for speed: on 2,495 line points over 10,000 particles of an MPU bunny
-  /// it took 11–18 ms against 39–74 ms for kRays (12,083 bound(box) calls of 3–6 µs on the MPU
-  /// field; 2 cores shared with other work), while 17 of the 1,870 points away from contours
-  /// (0.9 %) showed through gaps between the disks. On analytic fields kRays is about as fast,
-  /// and it is exact (tests/lines/visibility_test.cpp): choose it where no leak is acceptable.
-  Visibility visibility = Visibility::kSurfels;
+  /// kRays by default, for correctness. Surfels are faster on MPU fields (on 2,495 line points
+  /// over 10,000 particles of an MPU bunny 11–18 ms against 39–74 ms for kRays, whose 12,083
+  /// bound(box) calls cost 3–6 µs each; 2 cores shared with other work) but wrong where it
+  /// shows: 17 of the 1,870 points away from contours (0.9 %) showed through gaps between the
+  /// disks, and on a scanned cow seen from the side a third of the back's silhouette came out
+  /// dashed, its points hidden by the disks of the particles just in front of the rim. kRays is
+  /// exact (tests/lines/visibility_test.cpp) and about as fast on analytic fields.
+  Visibility visibility = Visibility::kRays;
   /// A point is hidden when the surface lies in front of it by more than this (× δ_i).
   double occlusion_tolerance = 0.25;
   /// kSurfels: pixels along the frame's height of the grid the disks are binned on. The depth
