@@ -27,6 +27,7 @@ struct DrawArgs {
   std::string out_path;
   std::string camera;  // --camera "eye=...;target=...;up=...;fov=..."
   double azimuth = 30, elevation = 15, fov = 30;
+  std::string vertical;  // --vertical y|z; default z for a skeleton, else y
   std::vector<std::string> kinds{"silhouette", "suggestive", "feature"};
   int views = 1;
   std::string polylines_path;
@@ -114,7 +115,9 @@ int run_draw(DrawArgs& args) {
   Aabb box;
   for (const SurfaceParticle& p : system.particles) box.extend(p.position);
   const double aspect = static_cast<double>(args.style.width) / args.style.height;
-  const Camera framing = frame_box(box, args.azimuth, args.elevation, args.fov, aspect);
+  const bool z_up = args.vertical.empty() ? in.stats["input"] == "skeleton" : args.vertical == "z";
+  const Camera framing = frame_box(box, args.azimuth, args.elevation, args.fov, aspect,
+                                   z_up ? ViewUp::kZ : ViewUp::kY);
   const Camera camera = parse_camera(args.camera, framing);
 
   LineStats feature_stats;
@@ -196,10 +199,14 @@ void register_draw(CLI::App& root, Action& action) {
                 "\"eye=x,y,z;target=x,y,z;up=x,y,z;fov=deg\" (any subset; the rest frames the "
                 "surface from --azimuth and --elevation)");
   c->add_option("--azimuth", a->azimuth,
-                with_default("default camera: degrees about +y from +z", a->azimuth));
+                with_default("default camera: degrees about the up axis", a->azimuth));
   c->add_option("--elevation", a->elevation,
                 with_default("default camera: degrees above the horizon", a->elevation, -90, 90))
       ->check(CLI::Range(-90.0, 90.0));
+  c->add_option("--vertical", a->vertical,
+                "default camera: the model axis that points up, y or z (default: z for a "
+                "skeleton, whose trees grow along +z, else y as in scans and glTF)")
+      ->check(CLI::IsMember({"y", "z"}));
   c->add_option("--fov", a->fov, with_default("default camera: vertical field of view, degrees",
                                               a->fov, 1, 170))
       ->check(CLI::Range(1.0, 170.0));

@@ -583,7 +583,7 @@ void bind_points(py::module_& m) {
   m.def(
       "draw",
       [](const FieldHandle& f, std::optional<std::string> out, std::optional<std::string> camera,
-         double azimuth, double elevation, double fov, const std::vector<std::string>& kinds,
+         double azimuth, double elevation, const std::string& vertical, double fov, const std::vector<std::string>& kinds,
          std::size_t count, std::uint64_t seed, const std::string& visibility,
          const std::string& fit, double k_c, double k_e, double k_d, double theta_sc, double k_a,
          int k_trim, int width, int height, bool hidden, std::optional<std::string> polylines,
@@ -604,6 +604,9 @@ void bind_points(py::module_& m) {
         }
         if (visibility != "rays" && visibility != "surfels" && visibility != "none") {
           throw InvalidArgument("visibility must be rays, surfels or none, got '" + visibility + "'");
+        }
+        if (vertical != "y" && vertical != "z") {
+          throw InvalidArgument("vertical must be y or z, got '" + vertical + "'");
         }
         if (fit != "longest" && fit != "trim") {
           throw InvalidArgument("fit must be longest or trim, got '" + fit + "'");
@@ -639,7 +642,8 @@ void bind_points(py::module_& m) {
           Aabb box;
           for (const SurfaceParticle& p : sys.particles) box.extend(p.position);
           const Camera framing = frame_box(box, azimuth, elevation, fov,
-                                           static_cast<double>(style.width) / style.height);
+                                           static_cast<double>(style.width) / style.height,
+                                           vertical == "z" ? ViewUp::kZ : ViewUp::kY);
           const Camera cam = camera ? parse_camera(*camera, framing) : framing;
           drawing = draw_lines(*f.field, sys, cam, o, nullptr, &ls, &ctx);
           if (out) {
@@ -694,7 +698,8 @@ void bind_points(py::module_& m) {
         return d;
       },
       py::arg("field"), py::kw_only(), py::arg("out") = py::none(), py::arg("camera") = py::none(),
-      py::arg("azimuth") = 30.0, py::arg("elevation") = 15.0, py::arg("fov") = 30.0,
+      py::arg("azimuth") = 30.0, py::arg("elevation") = 15.0, py::arg("vertical") = "y",
+      py::arg("fov") = 30.0,
       py::arg("lines") = std::vector<std::string>{"silhouette", "suggestive", "feature"},
       py::arg("count") = 10000, py::arg("seed") = 1, py::arg("visibility") = "rays",
       py::arg("fit") = "longest", py::arg("k_c") = lo.k_c, py::arg("k_e") = lo.k_e,
@@ -704,7 +709,7 @@ void bind_points(py::module_& m) {
       "`ramiform draw` on a field (docs/drawing.md): silhouettes, suggestive contours and "
       "feature lines from `count` particles, hidden lines classified. `camera` is the command's "
       "text (\"eye=x,y,z;target=...;up=...;fov=deg\", any subset), else the surface is framed from "
-      "`azimuth` and `elevation`. Writes `out` (.svg or .png) and `polylines` (.json) when given. "
+      "`azimuth` and `elevation` about the `vertical` axis (\"y\" or \"z\"). Writes `out` (.svg or .png) and `polylines` (.json) when given. "
       "Returns {'camera', 'lines': [{'kind', 'closed', 'points' (K, 3), 'visible' (K,)}], "
       "'stats'}.");
 }

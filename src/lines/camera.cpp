@@ -91,7 +91,7 @@ Projected project(const Camera& camera, const CameraFrame& frame, const Vec3& p)
 Vec3 view_vector(const Camera& camera, const Vec3& p) { return (p - camera.eye).normalized(); }
 
 Camera frame_box(const Aabb& box, double azimuth_deg, double elevation_deg, double fov_deg,
-                 double aspect) {
+                 double aspect, ViewUp up) {
   if (box.isEmpty() || !finite(box.min()) || !finite(box.max())) {
     throw InvalidArgument("frame_box: the box is empty or not finite");
   }
@@ -105,10 +105,17 @@ Camera frame_box(const Aabb& box, double azimuth_deg, double elevation_deg, doub
   const double half_x = std::atan(std::tan(half) * aspect);
   const double distance = 1.05 * radius / std::sin(std::min(half, half_x));
   const double az = azimuth_deg * kDeg, el = elevation_deg * kDeg;
-  const Vec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
-  c.eye = c.target + distance * dir;
-  c.up = Vec3(0, 1, 0);
-  if (std::abs(dir.y()) > 0.999) c.up = Vec3(0, 0, dir.y() > 0 ? -1 : 1);
+  if (up == ViewUp::kY) {
+    const Vec3 dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+    c.eye = c.target + distance * dir;
+    c.up = Vec3(0, 1, 0);
+    if (std::abs(dir.y()) > 0.999) c.up = Vec3(0, 0, dir.y() > 0 ? -1 : 1);
+  } else {
+    const Vec3 dir(std::cos(el) * std::sin(az), -std::cos(el) * std::cos(az), std::sin(el));
+    c.eye = c.target + distance * dir;
+    c.up = Vec3(0, 0, 1);
+    if (std::abs(dir.z()) > 0.999) c.up = Vec3(0, dir.z() > 0 ? 1 : -1, 0);
+  }
   validate(c);
   return c;
 }

@@ -75,9 +75,11 @@ CommandResult run_draw(Call& c) {
   if (system.particles.empty()) c.fail(c.arg(0), "no particles reached the surface of the shape");
   Aabb box;
   for (const SurfaceParticle& p : system.particles) box.extend(p.position);
+  const bool z_up = c.option_word("vertical", "y", {"y", "z"}) == "z";
   Camera camera = frame_box(box, c.option_number("azimuth", 30), c.option_number("elevation", 15),
                             c.option_number("fov", 30),
-                            static_cast<double>(style.width) / style.height);
+                            static_cast<double>(style.width) / style.height,
+                            z_up ? ViewUp::kZ : ViewUp::kY);
   camera.eye = c.option_vec3("eye", camera.eye);
   camera.target = c.option_vec3("target", camera.target);
   camera.up = c.option_vec3("up", camera.up);
@@ -117,15 +119,17 @@ void add_draw_commands(std::vector<CommandSpec>& out) {
   out.push_back(
       {"draw",
        "draw SHAPE FILE [lines=silhouette,suggestive,feature] [azimuth=A] [elevation=E] [fov=F] "
+       "[vertical=y|z] "
        "[eye=X,Y,Z] [target=X,Y,Z] [up=X,Y,Z] [count=N] [visibility=rays|surfels|none] "
        "[fit=longest|trim] [k_c=K] [k_e=K] [k_d=K] [theta_sc=DEG] [k_a=DEG] [k_trim=N] "
        "[width=PX] [height=PX] [hidden=yes|no] [polylines=FILE.json] [seed=S]",
        "A pen-and-ink line drawing of SHAPE written to FILE (.svg or .png): silhouettes, "
        "suggestive contours and feature lines found from `count` particles spread over the "
        "surface, hidden lines removed (Proença et al. 2008; docs/drawing.md). The camera frames "
-       "the shape from `azimuth` and `elevation` unless eye/target/up are given.",
+       "the shape from `azimuth` and `elevation` (about the `vertical` axis) unless "
+       "eye/target/up are given.",
        "sphere a 1\nsphere b 0.7 center=1.1,0,0\nblend a b ab\ndraw ab ab.svg count=3000",
-       {"lines", "azimuth", "elevation", "fov", "eye", "target", "up", "count", "visibility", "fit",
+       {"lines", "azimuth", "elevation", "vertical", "fov", "eye", "target", "up", "count", "visibility", "fit",
         "k_c", "k_e", "k_d", "theta_sc", "k_a", "k_trim", "width", "height", "hidden", "polylines",
         "seed"},
        run_draw,

@@ -45,8 +45,21 @@ TEST(Camera, FrameBoxKeepsEveryCornerInsideTheFrame) {
         EXPECT_LE(std::abs(p.x), 1.5 * half);
       }
       EXPECT_NEAR((c.target - box.center()).norm(), 0, 1e-12);
+      // The same with +z up: every corner inside, and the frame's up is +z (or, looking
+      // straight down or up, the view's up lies in the xy-plane).
+      const Camera z = frame_box(box, az, el, 40, 1.5, ViewUp::kZ);
+      const CameraFrame fz = camera_frame(z);
+      for (int i = 0; i < 8; ++i) {
+        const Projected p = project(z, fz, box.corner(static_cast<Aabb::CornerType>(i)));
+        EXPECT_LE(std::abs(p.y), half);
+        EXPECT_LE(std::abs(p.x), 1.5 * half);
+      }
+      if (std::abs(el) < 89) EXPECT_GT(fz.up.z(), 0);
     }
   }
+  // Azimuth 0, elevation 0 with +z up: the eye on −y, looking along +y.
+  const Camera front = frame_box(box, 0, 0, 40, 1, ViewUp::kZ);
+  EXPECT_NEAR(camera_frame(front).forward.y(), 1, 1e-12);
 }
 
 TEST(Camera, ParsesKeysInAnyOrderAndKeepsDefaultsForTheRest) {

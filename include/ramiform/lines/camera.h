@@ -10,6 +10,7 @@
 /// the frame is |y| ≤ tan(fov/2), |x| ≤ aspect·tan(fov/2). SVG drawings use these units for
 /// their viewBox (with y flipped).
 
+#include <cstdint>
 #include <string_view>
 #include <vector>
 
@@ -50,11 +51,17 @@ void validate(const Camera& camera);
 /// The unit view vector of Proença et al. 2008 eq. 3: (p − eye) / |p − eye|.
 [[nodiscard]] Vec3 view_vector(const Camera& camera, const Vec3& p);
 
-/// A camera that frames `box` (its bounding sphere fills the frame's height with a 5 % margin)
-/// from the direction given by azimuth (degrees about +y, 0 = looking along −z from +z) and
-/// elevation (degrees above the xz-plane), +y up.
+/// Which model axis points up in a framed view.
+enum class ViewUp : std::uint8_t {
+  kY,  ///< +y up (scans, meshes, glTF): azimuth about +y, 0 = looking along −z from +z
+  kZ,  ///< +z up (skeletons, trees): azimuth about +z, 0 = looking along +y from −y
+};
+
+/// A camera that frames `box` (its bounding sphere fills the frame's smaller side with a 5 %
+/// margin) from the direction given by azimuth (degrees about the up axis) and elevation
+/// (degrees above the horizontal plane).
 [[nodiscard]] Camera frame_box(const Aabb& box, double azimuth_deg = 30, double elevation_deg = 15,
-                               double fov_deg = 30, double aspect = 1);
+                               double fov_deg = 30, double aspect = 1, ViewUp up = ViewUp::kY);
 
 /// Parses "eye=x,y,z;target=x,y,z;up=x,y,z;fov=deg;aspect=a" (any subset, in any order, spaces
 /// allowed around separators). Keys left out come from `defaults`. Throws InputError naming the
