@@ -133,8 +133,8 @@ void register_demo(CLI::App& root, Action& action) {
   CLI::App* c = root.add_subcommand(
       "demo",
       "Run the whole pipeline on the built-in scene (examples/demo.rf): model a crown, fill it "
-      "with points, grow a tree, mesh it; writes crown.ply, points.txt, skeleton.json, tree.ply, "
-      "tree.glb and stats.json into --out.");
+      "with points, grow a tree, mesh it, draw it; writes crown.ply, points.txt, skeleton.json, "
+      "tree.ply, tree.glb, tree.svg and stats.json into --out.");
   c->add_option("--out", args->out_dir, "output directory (created if missing)")
       ->capture_default_str();
   // The demo's own default (a quick run); the range is the polygonizer's.

@@ -49,3 +49,24 @@ def test_bad_options_raise():
         rf.draw(f, camera="eye=1,2", count=300)
     with pytest.raises(ValueError, match="k_c"):
         rf.draw(f, k_c=2.0, count=300)
+
+
+def test_shipped_drawings_parse_as_svg_with_their_groups():
+    import glob
+    import os
+    import xml.etree.ElementTree as ET
+
+    folder = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "drawings")
+    files = sorted(glob.glob(os.path.join(folder, "*.svg")))
+    assert len(files) >= 10
+    ns = "{http://www.w3.org/2000/svg}"
+    for f in files:
+        root = ET.parse(f).getroot()
+        assert root.tag == ns + "svg", f
+        assert len(root.get("viewBox").split()) == 4, f
+        groups = {g.get("id"): g for g in root.iter(ns + "g")}
+        assert {"silhouette", "suggestive", "feature"} <= set(groups), f
+        assert len(groups["silhouette"].findall(ns + "path")) > 0, f
+        for p in root.iter(ns + "path"):
+            d = p.get("d")
+            assert d.startswith("M") and "nan" not in d.lower(), f

@@ -218,7 +218,8 @@ TEST_F(CliTest, EveryCommandHasHelp) {
 TEST_F(CliTest, DemoRunsTheWholePipelineIdenticallyOnAnyThreadCount) {
   const CliRun r = run_cli("demo --out " + path("demo") + " --levels 1 --points 600 --threads 2");
   ASSERT_EQ(r.code, 0) << r.out;
-  for (const char* f : {"crown.ply", "points.txt", "skeleton.json", "tree.ply", "tree.glb", "stats.json"}) {
+  for (const char* f : {"crown.ply", "points.txt", "skeleton.json", "tree.ply", "tree.glb", "tree.svg",
+                        "stats.json"}) {
     EXPECT_TRUE(fs::exists(dir_ / "demo" / f)) << f;
     EXPECT_NE(r.out.find(f), std::string::npos) << "summary should name " << f;
   }
@@ -260,7 +261,7 @@ TEST_F(CliTest, DemoRunsTheWholePipelineIdenticallyOnAnyThreadCount) {
   // Same seed, one thread: byte-identical outputs.
   const CliRun one = run_cli("demo --out " + path("demo1") + " --levels 1 --points 600 --threads 1");
   ASSERT_EQ(one.code, 0) << one.out;
-  for (const char* f : {"crown.ply", "points.txt", "skeleton.json", "tree.ply", "tree.glb"}) {
+  for (const char* f : {"crown.ply", "points.txt", "skeleton.json", "tree.ply", "tree.glb", "tree.svg"}) {
     EXPECT_EQ(test::read_file((dir_ / "demo" / f).string()), test::read_file((dir_ / "demo1" / f).string())) << f;
   }
   const CliRun other = run_cli("demo --out " + path("demo2") + " --levels 0 --points 600 --seed 2");
