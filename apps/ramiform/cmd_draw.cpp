@@ -68,23 +68,13 @@ int run_draw(DrawArgs& args) {
   check_output_path(args.polylines_path, std::array<const char*, 1>{".json"});
   check_output_path(args.common.stats_path);
   LineOptions& lo = args.lines;
-  lo.silhouettes = lo.suggestive = lo.features = false;
-  for (const std::string& k : args.kinds) {
-    if (k == "silhouette") {
-      lo.silhouettes = true;
-    } else if (k == "suggestive") {
-      lo.suggestive = true;
-    } else if (k == "feature") {
-      lo.features = true;
-    } else {
-      throw InvalidArgument("--lines: unknown line kind '" + k +
-                            "' (kinds: silhouette, suggestive, feature)");
-    }
+  try {
+    select_line_kinds(lo, args.kinds);
+  } catch (const InvalidArgument& e) {
+    throw InvalidArgument(std::string("--lines: ") + e.what());
   }
-  lo.visibility = args.visibility == "rays"   ? Visibility::kRays
-                  : args.visibility == "none" ? Visibility::kNone
-                                              : Visibility::kSurfels;
-  lo.fit = args.fit == "trim" ? SuggestiveFit::kTrim : SuggestiveFit::kLongestPath;
+  lo.visibility = visibility_from_name(args.visibility);
+  lo.fit = fit_from_name(args.fit);
   if (args.style.height == 0) args.style.height = args.style.width;
   args.style.suggestive.width = 0.5 * args.style.silhouette.width;
   args.style.feature.width = 0.625 * args.style.silhouette.width;

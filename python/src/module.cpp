@@ -589,32 +589,16 @@ void bind_points(py::module_& m) {
          int k_trim, int width, int height, bool hidden, std::optional<std::string> polylines,
          int threads) {
         LineOptions o;
-        o.silhouettes = o.suggestive = o.features = false;
-        for (const std::string& k : kinds) {
-          if (k == "silhouette") {
-            o.silhouettes = true;
-          } else if (k == "suggestive") {
-            o.suggestive = true;
-          } else if (k == "feature") {
-            o.features = true;
-          } else {
-            throw InvalidArgument("lines: unknown line kind '" + k +
-                                  "' (kinds: silhouette, suggestive, feature)");
-          }
-        }
-        if (visibility != "rays" && visibility != "surfels" && visibility != "none") {
-          throw InvalidArgument("visibility must be rays, surfels or none, got '" + visibility + "'");
+        try {
+          select_line_kinds(o, kinds);
+        } catch (const InvalidArgument& e) {
+          throw InvalidArgument(std::string("lines: ") + e.what());
         }
         if (vertical != "y" && vertical != "z") {
           throw InvalidArgument("vertical must be y or z, got '" + vertical + "'");
         }
-        if (fit != "longest" && fit != "trim") {
-          throw InvalidArgument("fit must be longest or trim, got '" + fit + "'");
-        }
-        o.visibility = visibility == "surfels" ? Visibility::kSurfels
-                       : visibility == "none"  ? Visibility::kNone
-                                               : Visibility::kRays;
-        o.fit = fit == "trim" ? SuggestiveFit::kTrim : SuggestiveFit::kLongestPath;
+        o.visibility = visibility_from_name(visibility);
+        o.fit = fit_from_name(fit);
         o.k_c = k_c;
         o.k_e = k_e;
         o.k_d = k_d;

@@ -28,6 +28,36 @@ std::string_view line_kind_name(LineKind kind) {
   return "unknown";
 }
 
+void select_line_kinds(LineOptions& options, const std::vector<std::string>& kinds) {
+  options.silhouettes = options.suggestive = options.features = false;
+  for (const std::string& k : kinds) {
+    if (k == line_kind_name(LineKind::kSilhouette)) {
+      options.silhouettes = true;
+    } else if (k == line_kind_name(LineKind::kSuggestive)) {
+      options.suggestive = true;
+    } else if (k == line_kind_name(LineKind::kFeature)) {
+      options.features = true;
+    } else {
+      throw InvalidArgument("unknown line kind '" + k +
+                            "' (kinds: silhouette, suggestive, feature)");
+    }
+  }
+}
+
+Visibility visibility_from_name(std::string_view name) {
+  if (name == "rays") return Visibility::kRays;
+  if (name == "surfels") return Visibility::kSurfels;
+  if (name == "none") return Visibility::kNone;
+  throw InvalidArgument("visibility must be rays, surfels or none, got '" + std::string(name) +
+                        "'");
+}
+
+SuggestiveFit fit_from_name(std::string_view name) {
+  if (name == "longest") return SuggestiveFit::kLongestPath;
+  if (name == "trim") return SuggestiveFit::kTrim;
+  throw InvalidArgument("fit must be longest or trim, got '" + std::string(name) + "'");
+}
+
 void validate(const LineOptions& o) {
   auto finite_positive = [](double v) { return std::isfinite(v) && v > 0; };
   require(o.k_c > 0 && o.k_c < 1, "k_c", o.k_c, "in (0, 1)");

@@ -16,23 +16,18 @@ namespace {
 LineOptions line_options(const Call& c) {
   LineOptions o;
   if (c.has_option("lines")) {
-    o.silhouettes = o.suggestive = o.features = false;
     const Token& t = *c.option_token("lines");
+    std::vector<std::string> kinds;
     std::string_view rest = t.text;
-    while (true) {
-      const std::size_t comma = rest.find(',');
-      const std::string kind(rest.substr(0, comma));
-      if (kind == "silhouette") {
-        o.silhouettes = true;
-      } else if (kind == "suggestive") {
-        o.suggestive = true;
-      } else if (kind == "feature") {
-        o.features = true;
-      } else {
-        c.fail(t, "unknown line kind '" + kind + "' (kinds: silhouette, suggestive, feature)");
-      }
+    for (std::size_t comma = rest.find(','); true; comma = rest.find(',')) {
+      kinds.emplace_back(rest.substr(0, comma));
       if (comma == std::string_view::npos) break;
       rest.remove_prefix(comma + 1);
+    }
+    try {
+      select_line_kinds(o, kinds);
+    } catch (const InvalidArgument& e) {
+      c.fail(t, e.what());
     }
   }
   o.k_c = c.option_positive("k_c", o.k_c);
@@ -41,13 +36,8 @@ LineOptions line_options(const Call& c) {
   o.theta_sc_deg = c.option_number("theta_sc", o.theta_sc_deg);
   o.k_a_deg = c.option_positive("k_a", o.k_a_deg);
   o.k_trim = c.option_integer("k_trim", o.k_trim, 1, 1000);
-  o.fit = c.option_word("fit", "longest", {"longest", "trim"}) == "trim"
-              ? SuggestiveFit::kTrim
-              : SuggestiveFit::kLongestPath;
-  const std::string vis = c.option_word("visibility", "rays", {"rays", "surfels", "none"});
-  o.visibility = vis == "rays"   ? Visibility::kRays
-                 : vis == "none" ? Visibility::kNone
-                                 : Visibility::kSurfels;
+  o.fit = fit_from_name(c.option_word("fit", "longest", {"longest", "trim"}));
+  o.visibility = visibility_from_name(c.option_word("visibility", "rays", {"rays", "surfels", "none"}));
   try {
     validate(o);
   } catch (const InvalidArgument& e) {

@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -114,6 +115,17 @@ struct LineOptions {
 
 /// Throws InvalidArgument naming the first option out of its documented range.
 void validate(const LineOptions& options);
+
+/// Sets options.silhouettes, .suggestive and .features to exactly the kinds named
+/// ("silhouette", "suggestive", "feature"; the names of line_kind_name). Throws InvalidArgument
+/// naming an unknown kind.
+void select_line_kinds(LineOptions& options, const std::vector<std::string>& kinds);
+
+/// "rays", "surfels" or "none"; throws InvalidArgument for another name.
+[[nodiscard]] Visibility visibility_from_name(std::string_view name);
+
+/// "longest" (kLongestPath) or "trim" (kTrim); throws InvalidArgument for another name.
+[[nodiscard]] SuggestiveFit fit_from_name(std::string_view name);
 
 /// What an extraction did (each call adds to the fields it concerns).
 struct LineStats {
