@@ -100,7 +100,8 @@ int run_draw(DrawArgs& args) {
     timer.lap("particles");
   }
   if (system.particles.empty()) {
-    throw InvalidArgument("'" + args.in.input + "': no particles reached the surface, nothing to draw");
+    throw InvalidArgument("'" + args.in.input +
+                          "': no particles reached the surface, nothing to draw");
   }
   Aabb box;
   for (const SurfaceParticle& p : system.particles) box.extend(p.position);
@@ -121,8 +122,8 @@ int run_draw(DrawArgs& args) {
   for (int v = 0; v < args.views; ++v) {
     LineStats ls;
     const auto start = std::chrono::steady_clock::now();
-    const LineDrawing drawing =
-        draw_lines(*in.field, system, cameras[static_cast<std::size_t>(v)], lo, &features, &ls, &ctx);
+    const LineDrawing drawing = draw_lines(*in.field, system, cameras[static_cast<std::size_t>(v)],
+                                           lo, &features, &ls, &ctx);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     line_seconds += seconds;
@@ -197,15 +198,15 @@ void register_draw(CLI::App& root, Action& action) {
                 "default camera: the model axis that points up, y or z (default: z for a "
                 "skeleton, whose trees grow along +z, else y as in scans and glTF)")
       ->check(CLI::IsMember({"y", "z"}));
-  c->add_option("--fov", a->fov, with_default("default camera: vertical field of view, degrees",
-                                              a->fov, 1, 170))
+  c->add_option("--fov", a->fov,
+                with_default("default camera: vertical field of view, degrees", a->fov, 1, 170))
       ->check(CLI::Range(1.0, 170.0));
   c->add_option("--lines", a->kinds,
                 "line kinds to draw, comma-separated (default silhouette,suggestive,feature)")
       ->delimiter(',');
-  c->add_option("--views", a->views,
-                with_default("a turntable of this many views about the camera's up axis",
-                             a->views, 1, 3600))
+  c->add_option(
+       "--views", a->views,
+       with_default("a turntable of this many views about the camera's up axis", a->views, 1, 3600))
       ->check(CLI::Range(1, 3600));
   c->add_option("--polylines", a->polylines_path,
                 "also write the lines as JSON: camera and 3-D points with visibility");
@@ -231,12 +232,13 @@ void register_draw(CLI::App& root, Action& action) {
                              "(eq. 8)",
                              l.theta_sc_deg, 0, 90))
       ->check(CLI::Range(0.0, 89.999));
-  c->add_option("--fit", a->fit, "suggestive contours from each cluster's MST: longest (its "
-                                 "longest path) or trim (short branches removed); default longest")
+  c->add_option("--fit", a->fit,
+                "suggestive contours from each cluster's MST: longest (its "
+                "longest path) or trim (short branches removed); default longest")
       ->check(CLI::IsMember({"longest", "trim"}));
   c->add_option("--k-trim", l.k_trim,
-                with_default("trimmed MST (fit trim): remove leaf branches of fewer particles", l.k_trim, 1,
-                             1000))
+                with_default("trimmed MST (fit trim): remove leaf branches of fewer particles",
+                             l.k_trim, 1, 1000))
       ->check(CLI::Range(1, 1000));
   c->add_option("--k-a", l.k_a_deg,
                 with_default("feature lines: normals differing by more than this, degrees "

@@ -60,7 +60,8 @@ void add_mpu_options(CLI::App& c, ReconstructOptions& o) {
 void add_surface_input_options(CLI::App& c, SurfaceInputArgs& a, const std::string& what) {
   c.add_option("INPUT", a.input,
                "points or a mesh (as for reconstruct), a skeleton (.json, .swc; others with "
-               "--skeleton), or SCRIPT.rf:NAME" + what)
+               "--skeleton), or SCRIPT.rf:NAME" +
+                   what)
       ->required();
   ParticleOptions& p = a.particles;
   c.add_option("--per-cell", p.per_cell,

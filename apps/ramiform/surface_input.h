@@ -41,8 +41,8 @@ struct SurfaceInput {
 // The options of the MPU fit and of reading the points (reconstruct, particles, draw).
 void add_mpu_options(CLI::App& c, ReconstructOptions& o);
 
-// Adds INPUT (its description ending in `what`), --skeleton, the particle options, the MPU options and the
-// skeleton field options.
+// Adds INPUT (its description ending in `what`), --skeleton, the particle options, the MPU options
+// and the skeleton field options.
 void add_surface_input_options(CLI::App& c, SurfaceInputArgs& a, const std::string& what);
 
 // Reads INPUT and builds its surface; timer laps "script", "read", "field", ... as it goes.

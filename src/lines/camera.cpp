@@ -29,9 +29,12 @@ std::string_view trim(std::string_view s) {
 double number(std::string_view token, const std::string& key) {
   double value = 0;
   switch (parse_number(trim(token), value)) {
-    case NumberStatus::kOk: return value;
-    case NumberStatus::kNotFinite: bad(key, "'" + std::string(trim(token)) + "' is not finite");
-    default: bad(key, "'" + std::string(trim(token)) + "' is not a number");
+    case NumberStatus::kOk:
+      return value;
+    case NumberStatus::kNotFinite:
+      bad(key, "'" + std::string(trim(token)) + "' is not finite");
+    default:
+      bad(key, "'" + std::string(trim(token)) + "' is not a number");
   }
 }
 
@@ -58,8 +61,7 @@ void validate(const Camera& camera) {
   }
   const Vec3 view = camera.target - camera.eye;
   if (!(view.norm() > 0)) throw InvalidArgument("camera: the eye and the target coincide");
-  if (!(camera.up.norm() > 0) ||
-      view.normalized().cross(camera.up.normalized()).norm() < 1e-9) {
+  if (!(camera.up.norm() > 0) || view.normalized().cross(camera.up.normalized()).norm() < 1e-9) {
     throw InvalidArgument("camera: up is zero or parallel to the view direction");
   }
   if (!(camera.fov_deg > 0 && camera.fov_deg <= 170)) {
@@ -132,8 +134,9 @@ Camera parse_camera(std::string_view text, const Camera& defaults) {
     const auto eq = item.find('=');
     if (eq == std::string_view::npos) {
       throw InputError("--camera", 0,
-                       "'" + std::string(item) + "' is not KEY=VALUE (keys: eye, target, up, fov, "
-                       "aspect)");
+                       "'" + std::string(item) +
+                           "' is not KEY=VALUE (keys: eye, target, up, fov, "
+                           "aspect)");
     }
     const std::string key(trim(item.substr(0, eq)));
     const std::string_view value = trim(item.substr(eq + 1));
@@ -143,11 +146,21 @@ Camera parse_camera(std::string_view text, const Camera& defaults) {
     if (seen[k]) bad(key, "given twice");
     seen[k] = true;
     switch (k) {
-      case 0: c.eye = vector3(value, key); break;
-      case 1: c.target = vector3(value, key); break;
-      case 2: c.up = vector3(value, key); break;
-      case 3: c.fov_deg = number(value, key); break;
-      default: c.aspect = number(value, key); break;
+      case 0:
+        c.eye = vector3(value, key);
+        break;
+      case 1:
+        c.target = vector3(value, key);
+        break;
+      case 2:
+        c.up = vector3(value, key);
+        break;
+      case 3:
+        c.fov_deg = number(value, key);
+        break;
+      default:
+        c.aspect = number(value, key);
+        break;
     }
   }
   validate(c);

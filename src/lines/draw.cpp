@@ -18,7 +18,8 @@ LineDrawing draw_lines(const Field& field, const ParticleSystem& particles, cons
     for (Polyline& line : lines) drawing.lines.push_back(std::move(line));
   };
   if (options.silhouettes) append(silhouettes(field, particles, camera, options, stats, ctx));
-  if (options.suggestive) append(suggestive_contours(field, particles, camera, options, stats, ctx));
+  if (options.suggestive)
+    append(suggestive_contours(field, particles, camera, options, stats, ctx));
   if (options.features) {
     if (features != nullptr) {
       drawing.lines.insert(drawing.lines.end(), features->begin(), features->end());

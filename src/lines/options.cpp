@@ -21,9 +21,12 @@ void require(bool ok, const char* name, double value, const char* range) {
 
 std::string_view line_kind_name(LineKind kind) {
   switch (kind) {
-    case LineKind::kSilhouette: return "silhouette";
-    case LineKind::kSuggestive: return "suggestive";
-    case LineKind::kFeature: return "feature";
+    case LineKind::kSilhouette:
+      return "silhouette";
+    case LineKind::kSuggestive:
+      return "suggestive";
+    case LineKind::kFeature:
+      return "feature";
   }
   return "unknown";
 }
@@ -76,8 +79,8 @@ void validate(const LineOptions& o) {
   require(o.min_cluster >= 2, "min_cluster", o.min_cluster, ">= 2");
   require(o.k_a_deg > 0 && o.k_a_deg < 180, "k_a", o.k_a_deg, "in (0, 180) degrees");
   require(finite_positive(o.straddle_radius), "straddle_radius", o.straddle_radius, "> 0");
-  require(std::isfinite(o.occlusion_tolerance) && o.occlusion_tolerance >= 0,
-          "occlusion_tolerance", o.occlusion_tolerance, ">= 0");
+  require(std::isfinite(o.occlusion_tolerance) && o.occlusion_tolerance >= 0, "occlusion_tolerance",
+          o.occlusion_tolerance, ">= 0");
   require(o.surfel_resolution >= 16 && o.surfel_resolution <= 16384, "surfel_resolution",
           o.surfel_resolution, "in 16..16384");
 }

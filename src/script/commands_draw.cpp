@@ -37,7 +37,8 @@ LineOptions line_options(const Call& c) {
   o.k_a_deg = c.option_positive("k_a", o.k_a_deg);
   o.k_trim = c.option_integer("k_trim", o.k_trim, 1, 1000);
   o.fit = fit_from_name(c.option_word("fit", "longest", {"longest", "trim"}));
-  o.visibility = visibility_from_name(c.option_word("visibility", "rays", {"rays", "surfels", "none"}));
+  o.visibility =
+      visibility_from_name(c.option_word("visibility", "rays", {"rays", "surfels", "none"}));
   try {
     validate(o);
   } catch (const InvalidArgument& e) {
@@ -66,10 +67,10 @@ CommandResult run_draw(Call& c) {
   Aabb box;
   for (const SurfaceParticle& p : system.particles) box.extend(p.position);
   const bool z_up = c.option_word("vertical", "y", {"y", "z"}) == "z";
-  Camera camera = frame_box(box, c.option_number("azimuth", 30), c.option_number("elevation", 15),
-                            c.option_number("fov", 30),
-                            static_cast<double>(style.width) / style.height,
-                            z_up ? ViewUp::kZ : ViewUp::kY);
+  Camera camera =
+      frame_box(box, c.option_number("azimuth", 30), c.option_number("elevation", 15),
+                c.option_number("fov", 30), static_cast<double>(style.width) / style.height,
+                z_up ? ViewUp::kZ : ViewUp::kY);
   camera.eye = c.option_vec3("eye", camera.eye);
   camera.target = c.option_vec3("target", camera.target);
   camera.up = c.option_vec3("up", camera.up);
@@ -96,8 +97,8 @@ CommandResult run_draw(Call& c) {
   }
   return {c.spec().name,
           file + ": " + std::to_string(ls.lines[0]) + " silhouettes, " +
-              std::to_string(ls.lines[1]) + " suggestive contours, " +
-              std::to_string(ls.lines[2]) + " feature lines of " + c.arg(0).text + " (" +
+              std::to_string(ls.lines[1]) + " suggestive contours, " + std::to_string(ls.lines[2]) +
+              " feature lines of " + c.arg(0).text + " (" +
               std::to_string(system.particles.size()) + " particles, " +
               format_number(100 * ls.hidden_fraction) + " % hidden)",
           true};
@@ -119,9 +120,9 @@ void add_draw_commands(std::vector<CommandSpec>& out) {
        "the shape from `azimuth` and `elevation` (about the `vertical` axis) unless "
        "eye/target/up are given.",
        "sphere a 1\nsphere b 0.7 center=1.1,0,0\nblend a b ab\ndraw ab ab.svg count=3000",
-       {"lines", "azimuth", "elevation", "vertical", "fov", "eye", "target", "up", "count", "visibility", "fit",
-        "k_c", "k_e", "k_d", "theta_sc", "k_a", "k_trim", "width", "height", "hidden", "polylines",
-        "seed"},
+       {"lines",  "azimuth",    "elevation", "vertical", "fov",       "eye", "target",   "up",
+        "count",  "visibility", "fit",       "k_c",      "k_e",       "k_d", "theta_sc", "k_a",
+        "k_trim", "width",      "height",    "hidden",   "polylines", "seed"},
        run_draw,
        {}});
 }

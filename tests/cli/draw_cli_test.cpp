@@ -74,14 +74,15 @@ TEST_F(DrawCliTest, SphereSilhouetteLiesOnTheContourCircle) {
   EXPECT_EQ(count(text, "<path"), 1u);
   EXPECT_EQ(count(text, "Z\""), 1u);
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(text, m, std::regex("viewBox=\"([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)")));
+  ASSERT_TRUE(
+      std::regex_search(text, m, std::regex("viewBox=\"([-0-9.e]+) ([-0-9.e]+) ([-0-9.e]+)")));
   EXPECT_NEAR(std::stod(m[1]), -std::tan(15 * M_PI / 180), 1e-4);
   EXPECT_NEAR(std::stod(m[3]), 2 * std::tan(15 * M_PI / 180), 1e-4);
   // One thread or two: the same bytes.
   const std::string one = path("one.svg");
   ASSERT_EQ(run_cli("draw " + scene + ":ball -o " + one +
-                    " --count 3000 --camera 'eye=0,0,6;target=0,0,0' --polylines " + path("one.json") +
-                    " --threads 1")
+                    " --count 3000 --camera 'eye=0,0,6;target=0,0,0' --polylines " +
+                    path("one.json") + " --threads 1")
                 .code,
             0);
   EXPECT_EQ(read_file(one), text);
@@ -96,7 +97,8 @@ TEST_F(DrawCliTest, TheBackSpheresContourBehindTheFrontOneIsHidden) {
   const std::string lines = path("ab.json");
   const CliRun r = run_cli("draw " + scene + ":ab -o " + path("ab.svg") +
                            " --count 4000 --lines silhouette --hidden --camera "
-                           "'eye=0,0,8;target=0,0,-1.5' --polylines " + lines);
+                           "'eye=0,0,8;target=0,0,-1.5' --polylines " +
+                           lines);
   ASSERT_EQ(r.code, 0) << r.out;
   const nlohmann::json j = read_json(lines);
   std::size_t checked = 0, wrong = 0;
@@ -125,9 +127,9 @@ TEST_F(DrawCliTest, TheBackSpheresContourBehindTheFrontOneIsHidden) {
 }
 
 TEST_F(DrawCliTest, TurntableWritesOneFilePerViewAndTheSceneCommandDraws) {
-  const std::string scene = write(
-      "scene.rf",
-      "torus t 1 thickness=0.35 normal=0,1,0\ndraw t t.svg count=2000 elevation=40 polylines=t.json\n");
+  const std::string scene = write("scene.rf",
+                                  "torus t 1 thickness=0.35 normal=0,1,0\ndraw t t.svg count=2000 "
+                                  "elevation=40 polylines=t.json\n");
   const std::string out = path("turn.svg");
   CliRun r = run_cli("draw " + scene + ":t -o " + out + " --count 2000 --views 3 --elevation 40");
   ASSERT_EQ(r.code, 0) << r.out;
@@ -162,7 +164,8 @@ TEST_F(DrawCliTest, BadInputsExitTwoNamingTheProblemAndWriteNothing) {
       {"--visibility xray", "--visibility", 1},
   };
   for (const Case& c : cases) {
-    const CliRun r = run_cli("draw " + scene + ":ball -o " + path("x.svg") + " --count 500 " + c.args);
+    const CliRun r =
+        run_cli("draw " + scene + ":ball -o " + path("x.svg") + " --count 500 " + c.args);
     EXPECT_EQ(r.code, c.code) << c.args << "\n" << r.out;
     EXPECT_NE(r.out.find(c.message), std::string::npos) << c.args << "\n" << r.out;
     EXPECT_FALSE(std::filesystem::exists(path("x.svg"))) << c.args;

@@ -62,10 +62,10 @@ TEST_F(PointsCommandsTest, PreviousNeedsTheBoxAndTheBoxNeedsPrevious) {
   EXPECT_NE(std::string(error_of("sphere ball 1\nparticles ball previous=before.ply\n").what())
                 .find("needs edit_min=X,Y,Z and edit_max=X,Y,Z"),
             std::string::npos);
-  EXPECT_NE(std::string(error_of("sphere ball 1\nparticles ball edit_min=0,0,0 edit_max=1,1,1\n")
-                            .what())
-                .find("need previous=STATE.ply"),
-            std::string::npos);
+  EXPECT_NE(
+      std::string(error_of("sphere ball 1\nparticles ball edit_min=0,0,0 edit_max=1,1,1\n").what())
+          .find("need previous=STATE.ply"),
+      std::string::npos);
   EXPECT_NE(std::string(error_of("sphere ball 1\nparticles ball previous=before.ply "
                                  "edit_min=1,1,1 edit_max=0,0,0\n")
                             .what())
