@@ -39,12 +39,6 @@ struct DrawArgs {
   CommonOptions common;
 };
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return ext;
-}
-
 // OUT for one view; "name-NNN.ext" (view index, from 000) for a turntable of several.
 std::string view_path(const std::string& path, int view, int views) {
   if (views == 1 || path.empty()) return path;
@@ -63,7 +57,6 @@ nlohmann::json camera_json(const Camera& c) {
 }
 
 int run_draw(DrawArgs& args) {
-  const std::string ext = lower_extension(args.out_path);
   check_output_path(args.out_path, std::array<const char*, 2>{".svg", ".png"});
   check_output_path(args.polylines_path, std::array<const char*, 1>{".json"});
   check_output_path(args.common.stats_path);
@@ -128,22 +121,18 @@ int run_draw(DrawArgs& args) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     line_seconds += seconds;
     const std::string out = view_path(args.out_path, v, args.views);
-    if (ext == ".png") {
-      write_drawing_png(out, drawing, args.style);
-    } else {
-      write_drawing_svg(out, drawing, args.style);
-    }
+    write_drawing(out, drawing, args.style);
     if (!args.polylines_path.empty()) {
       write_polylines_json(view_path(args.polylines_path, v, args.views), drawing);
     }
     nlohmann::json view = {{"file", out}, {"camera", camera_json(drawing.camera)}};
-    for (int k = 0; k < 3; ++k) {
-      const std::string name(line_kind_name(static_cast<LineKind>(k)));
-      view["lines"][name] = ls.lines[k];
-      view["length"][name] = ls.length[k];
+    // Feature lines are counted once, where feature_lines() found them; draw_lines copies them.
+    for (const LineKind kind : {LineKind::kSilhouette, LineKind::kSuggestive, LineKind::kFeature}) {
+      const LineStats& from = kind == LineKind::kFeature ? feature_stats : ls;
+      const std::string name(line_kind_name(kind));
+      view["lines"][name] = from.lines[static_cast<int>(kind)];
+      view["length"][name] = from.length[static_cast<int>(kind)];
     }
-    view["lines"]["feature"] = feature_stats.lines[2];
-    view["length"]["feature"] = feature_stats.length[2];
     view["silhouette_seeds"] = ls.silhouette_seeds;
     view["suggestive_particles"] = ls.suggestive_particles;
     view["suggestive_clusters"] = ls.suggestive_clusters;

@@ -6,7 +6,6 @@
 // `ramiform particles INPUT -o PARTICLES`: particles spread evenly over any surface
 // (docs/particles.md). Their INPUT and options: surface_input.h.
 
-#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -114,8 +113,7 @@ int run_particles(ParticlesArgs& args) {
     system = spread_particles(*in.field, args.in.particles, in.cells, in.seeds, &ps, &ctx);
   }
   timer.lap("particles");
-  std::string ext = std::filesystem::path(args.out_path).extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const std::string ext = lower_extension(args.out_path);
   if (ext == ".ply") {
     write_particles(system, args.out_path);
   } else {

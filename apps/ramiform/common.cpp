@@ -181,12 +181,16 @@ void write_stats(const std::string& path, const nlohmann::json& stats) {
   write_file_atomically(path, [&](std::ostream& out) { out << stats.dump(2) << '\n'; });
 }
 
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext;
+}
+
 void check_output_path(const std::string& path, std::span<const char* const> extensions) {
   if (path.empty()) return;
   const std::filesystem::path p(path);
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return std::tolower(c); });
+  const std::string ext = lower_extension(path);
   if (!extensions.empty() &&
       std::none_of(extensions.begin(), extensions.end(), [&](const char* e) { return ext == e; })) {
     std::string list;

@@ -91,6 +91,9 @@ class StageTimer {
 inline constexpr std::array<const char*, 3> kSkeletonFormats{".json", ".ply", ".obj"};
 inline constexpr std::array<const char*, 4> kMeshFormats{".ply", ".obj", ".off", ".glb"};
 
+/// The extension of `path` in lower case, with its dot (".ply"; "" when there is none).
+[[nodiscard]] std::string lower_extension(const std::string& path);
+
 /// Checked before the work starts, so that a long run does not end in a failed write:
 /// throws InvalidArgument when `path`'s directory does not exist or (with `extensions`, lower
 /// case with the dot) its extension is none of them. An empty path passes.

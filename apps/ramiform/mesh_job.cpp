@@ -377,8 +377,7 @@ std::vector<LodLevel> lod_levels(const std::vector<double>& values, bool budgets
 
 bool wants_uvs(const MeshJobOptions& options, const std::string& path) {
   if (options.uv >= 0) return options.uv > 0;
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const std::string ext = lower_extension(path);
   return ext == ".glb" || ext == ".obj";
 }
 

@@ -2,7 +2,6 @@
 // Copyright (c) 2026 the ramiform authors
 #include "surface_input.h"
 
-#include <filesystem>
 
 #include "ramiform/core/errors.h"
 #include "ramiform/io/skeleton_io.h"
@@ -23,8 +22,7 @@ bool split_script_input(const std::string& input, std::string& script, std::stri
 
 bool is_skeleton_input(const std::string& path, bool forced) {
   if (forced) return true;
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  const std::string ext = lower_extension(path);
   return ext == ".json" || ext == ".swc";
 }
 

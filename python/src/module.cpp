@@ -630,14 +630,7 @@ void bind_points(py::module_& m) {
                                            vertical == "z" ? ViewUp::kZ : ViewUp::kY);
           const Camera cam = camera ? parse_camera(*camera, framing) : framing;
           drawing = draw_lines(*f.field, sys, cam, o, nullptr, &ls, &ctx);
-          if (out) {
-            const bool png = out->size() >= 4 && out->substr(out->size() - 4) == ".png";
-            if (png) {
-              write_drawing_png(*out, drawing, style);
-            } else {
-              write_drawing_svg(*out, drawing, style);
-            }
-          }
+          if (out) write_drawing(*out, drawing, style);
           if (polylines) write_polylines_json(*polylines, drawing);
         });
         py::list lines;

@@ -26,6 +26,7 @@
 #include <string>
 #include <utility>
 
+#include "io/text_scan.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/numbers.h"
 #include "ramiform/io/atomic_file.h"
@@ -550,6 +551,17 @@ void write_drawing_png(const std::string& path, const LineDrawing& drawing,
         }
       },
       FileMode::kBinary);
+}
+
+void write_drawing(const std::string& path, const LineDrawing& drawing, const DrawingStyle& style) {
+  const std::string ext = io_detail::lower_extension(path);
+  if (ext == ".svg") {
+    write_drawing_svg(path, drawing, style);
+  } else if (ext == ".png") {
+    write_drawing_png(path, drawing, style);
+  } else {
+    throw InvalidArgument("unknown drawing format '" + ext + "' (supported: .svg, .png)");
+  }
 }
 
 void write_polylines_json(const std::string& path, const LineDrawing& drawing) {

@@ -83,13 +83,10 @@ CommandResult run_draw(Call& c) {
   const LineDrawing drawing = draw_lines(field, system, camera, lo, nullptr, &ls, c.session().ctx);
   const std::string& file = c.arg(1).text;
   const std::string path = c.output_path(1);
-  const bool png = file.size() >= 4 && (file.ends_with(".png") || file.ends_with(".PNG"));
-  if (png) {
-    write_drawing_png(path, drawing, style);
-  } else if (file.ends_with(".svg") || file.ends_with(".SVG")) {
-    write_drawing_svg(path, drawing, style);
-  } else {
-    c.fail(c.arg(1), "a drawing is written as .svg or .png");
+  try {
+    write_drawing(path, drawing, style);
+  } catch (const InvalidArgument& e) {
+    c.fail(c.arg(1), e.what());
   }
   if (c.has_option("polylines")) {
     const Token& t = *c.option_token("polylines");

@@ -92,6 +92,11 @@ void write_drawing_svg(const std::string& path, const LineDrawing& drawing,
 void write_drawing_png(const std::string& path, const LineDrawing& drawing,
                        const DrawingStyle& style = {});
 
+/// write_drawing_svg or write_drawing_png by the extension of `path` (.svg or .png, any case);
+/// throws InvalidArgument naming the extension for another one, before anything is written.
+void write_drawing(const std::string& path, const LineDrawing& drawing,
+                   const DrawingStyle& style = {});
+
 /// Writes the drawing's camera and polylines as JSON:
 /// {"camera":{"eye":[x,y,z],"target":[..],"up":[..],"fov":degrees,"aspect":a},
 ///  "lines":[{"kind":"silhouette","closed":false,"points":[[x,y,z],…],"visible":[true,…]}]}
