@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "common.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/io/atomic_file.h"
 #include "ramiform/io/drawing_io.h"
 #include "ramiform/io/particles_io.h"
 #include "ramiform/lines/lines.h"
@@ -112,6 +113,9 @@ int run_draw(DrawArgs& args) {
   nlohmann::json views = nlohmann::json::array();
   double line_seconds = 0;
   const std::vector<Camera> cameras = turntable(camera, args.views);
+  // Every view's files are held until the last view is drawn: a failure in view k leaves no
+  // drawing of the turntable on disk.
+  HeldOutputs outputs;
   for (int v = 0; v < args.views; ++v) {
     LineStats ls;
     const auto start = std::chrono::steady_clock::now();
@@ -121,9 +125,9 @@ int run_draw(DrawArgs& args) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     line_seconds += seconds;
     const std::string out = view_path(args.out_path, v, args.views);
-    write_drawing(out, drawing, args.style);
+    write_drawing(outputs.add(out), drawing, args.style);
     if (!args.polylines_path.empty()) {
-      write_polylines_json(view_path(args.polylines_path, v, args.views), drawing);
+      write_polylines_json(outputs.add(view_path(args.polylines_path, v, args.views)), drawing);
     }
     nlohmann::json view = {{"file", out}, {"camera", camera_json(drawing.camera)}};
     // Feature lines are counted once, where feature_lines() found them; draw_lines copies them.
@@ -142,7 +146,10 @@ int run_draw(DrawArgs& args) {
                        {"visibility", ls.seconds_visibility},
                        {"lines", seconds}};
     views.push_back(std::move(view));
-    std::cout << "wrote " << out << '\n';
+  }
+  outputs.publish();
+  for (int v = 0; v < args.views; ++v) {
+    std::cout << "wrote " << view_path(args.out_path, v, args.views) << '\n';
   }
   timer.lap("views");
 

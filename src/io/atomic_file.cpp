@@ -385,4 +385,29 @@ void hide_held_file(const std::string& path) noexcept {
   it->second.shown = false;
 }
 
+HeldOutputs::~HeldOutputs() {
+  for (const auto& [staged, target] : outputs_) drop_held_file(staged);
+}
+
+std::string HeldOutputs::add(const std::string& target) {
+  for (const auto& [staged, t] : outputs_) {
+    if (t == target) return staged;
+  }
+  const std::filesystem::path path(target);
+  const std::filesystem::path staged =
+      path.parent_path() /
+      (".rf-held-" + std::to_string(outputs_.size()) + "-" + path.filename().string());
+  hold_file(staged.string());
+  outputs_.emplace_back(staged.string(), target);
+  return staged.string();
+}
+
+void HeldOutputs::publish() {
+  while (!outputs_.empty()) {
+    const auto& [staged, target] = outputs_.front();
+    publish_held_file(staged, target);
+    outputs_.erase(outputs_.begin());
+  }
+}
+
 }  // namespace ramiform

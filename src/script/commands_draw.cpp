@@ -57,12 +57,22 @@ CommandResult run_draw(Call& c) {
   style.height = c.option_integer("height", style.width, 16, 16384);
   style.show_hidden = c.option_word("hidden", "no", {"yes", "no"}) == "yes";
 
-  ParticleOptions po;
-  po.count = static_cast<std::size_t>(c.option_integer("count", 10000, 1, 1 << 24));
-  po.seed = seed_for(c, c.arg(0).text + "/draw");
-  ParticleStats ps;
-  const ParticleSystem system =
-      spread_particles(field, po, field_cells(field), {}, &ps, c.session().ctx);
+  // The particles: saved ones (`particles SHAPE state=FILE` earlier, or an input file), else
+  // spread here with the `particles` command's options (count 10,000 unless per_cell is given).
+  ParticleSystem system;
+  if (c.has_option("state")) {
+    for (const char* key : {"count", "per_cell", "iterations", "cell_depth", "flatness", "seed"}) {
+      if (c.has_option(key)) {
+        c.fail(*c.option_token(key),
+               std::string(key) + "= spreads new particles; state= reuses saved ones");
+      }
+    }
+    system = saved_particles(c, *c.option_token("state"), field.iso());
+  } else {
+    const ParticleOptions po =
+        particle_options(c, c.has_option("per_cell") ? 0 : 10000, c.arg(0).text + "/draw");
+    system = spread_particles(field, po, field_cells(field), {}, nullptr, c.session().ctx);
+  }
   if (system.particles.empty()) c.fail(c.arg(0), "no particles reached the surface of the shape");
   Aabb box;
   for (const SurfaceParticle& p : system.particles) box.extend(p.position);
@@ -108,18 +118,22 @@ void add_draw_commands(std::vector<CommandSpec>& out) {
       {"draw",
        "draw SHAPE FILE [lines=silhouette,suggestive,feature] [azimuth=A] [elevation=E] [fov=F] "
        "[vertical=y|z] "
-       "[eye=X,Y,Z] [target=X,Y,Z] [up=X,Y,Z] [count=N] [visibility=rays|surfels|none] "
+       "[eye=X,Y,Z] [target=X,Y,Z] [up=X,Y,Z] [count=N] [per_cell=K] [iterations=I] "
+       "[cell_depth=D] [flatness=DEG] [state=STATE.ply] [visibility=rays|surfels|none] "
        "[fit=longest|trim] [k_c=K] [k_e=K] [k_d=K] [theta_sc=DEG] [k_a=DEG] [k_trim=N] "
        "[width=PX] [height=PX] [hidden=yes|no] [polylines=FILE.json] [seed=S]",
        "A pen-and-ink line drawing of SHAPE written to FILE (.svg or .png): silhouettes, "
-       "suggestive contours and feature lines found from `count` particles spread over the "
-       "surface, hidden lines removed (Proença et al. 2008; docs/drawing.md). The camera frames "
+       "suggestive contours and feature lines found from particles spread over the surface "
+       "(options as for `particles`; 10,000 by default) or saved by `particles ... state=FILE` "
+       "and reused with state=FILE, hidden lines removed (Proença et al. 2008; docs/drawing.md). "
+       "The camera frames "
        "the shape from `azimuth` and `elevation` (about the `vertical` axis) unless "
        "eye/target/up are given.",
        "sphere a 1\nsphere b 0.7 center=1.1,0,0\nblend a b ab\ndraw ab ab.svg count=3000",
-       {"lines",  "azimuth",    "elevation", "vertical", "fov",       "eye", "target",   "up",
-        "count",  "visibility", "fit",       "k_c",      "k_e",       "k_d", "theta_sc", "k_a",
-        "k_trim", "width",      "height",    "hidden",   "polylines", "seed"},
+       {"lines",      "azimuth", "elevation", "vertical",   "fov",        "eye",      "target",
+        "up",         "count",   "per_cell",  "iterations", "cell_depth", "flatness", "state",
+        "visibility", "fit",     "k_c",       "k_e",        "k_d",        "theta_sc", "k_a",
+        "k_trim",     "width",   "height",    "hidden",     "polylines",  "seed"},
        run_draw,
        {}});
 }

@@ -48,18 +48,43 @@ CommandResult run_mpu(Call& c) {
   return defined(c, name);
 }
 
+}  // namespace
+
+ParticleOptions particle_options(const Call& c, std::size_t default_count,
+                                 const std::string& seed_name) {
+  ParticleOptions o;
+  o.per_cell =
+      static_cast<std::size_t>(c.option_integer("per_cell", static_cast<int>(o.per_cell), 1, 1000));
+  o.count = static_cast<std::size_t>(
+      c.option_integer("count", static_cast<int>(default_count), 0, 1 << 26));
+  o.iterations = c.option_integer("iterations", o.iterations, 0, ParticleOptions::kMaxIterations);
+  o.max_depth = c.option_integer("cell_depth", o.max_depth, 0, ParticleOptions::kMaxDepth);
+  o.flatness_deg = c.option_positive("flatness", o.flatness_deg);
+  o.seed = seed_for(c, seed_name);
+  return o;
+}
+
+ParticleSystem saved_particles(const Call& c, const Token& token, double iso) {
+  ParticleSystem system;
+  try {
+    system = read_particles(c.written_or_input_path(token));
+  } catch (const InputError& e) {
+    c.fail(token, e.what());
+  }
+  if (system.iso != iso) {
+    c.fail(token, "the saved particles lie on iso " + format_number(system.iso) +
+                      ", the shape's surface is iso " + format_number(iso));
+  }
+  return system;
+}
+
+namespace {
+
 CommandResult run_particles(Call& c) {
   c.expect_count(1, 1, "SHAPE");
   const Object& object = c.object(0, ObjectKind::kShape);
   const std::string name = c.has_option("name") ? c.option_token("name")->text : c.arg(0).text;
-  ParticleOptions o;
-  o.per_cell =
-      static_cast<std::size_t>(c.option_integer("per_cell", static_cast<int>(o.per_cell), 1, 1000));
-  o.count = static_cast<std::size_t>(c.option_integer("count", 0, 0, 1 << 26));
-  o.iterations = c.option_integer("iterations", o.iterations, 0, ParticleOptions::kMaxIterations);
-  o.max_depth = c.option_integer("cell_depth", o.max_depth, 0, ParticleOptions::kMaxDepth);
-  o.flatness_deg = c.option_positive("flatness", o.flatness_deg);
-  o.seed = seed_for(c, name);
+  const ParticleOptions o = particle_options(c, 0, name);
   // An MPU shape brings its octree leaves (the paper's cells); any other shape gets adaptive
   // cells from its bound.
   ParticleStats st;
@@ -68,26 +93,20 @@ CommandResult run_particles(Call& c) {
     // Local regeneration (paper §3): only the particles near the edit box move.
     const Token& prev = *c.option_token("previous");
     if (!c.has_option("edit_min") || !c.has_option("edit_max")) {
-      c.fail(prev, "previous= needs edit_min=X,Y,Z and edit_max=X,Y,Z (the box the edit stayed in)");
+      c.fail(prev,
+             "previous= needs edit_min=X,Y,Z and edit_max=X,Y,Z (the box the edit stayed in)");
     }
-    const Aabb box(c.option_vec3("edit_min", Vec3::Zero()), c.option_vec3("edit_max", Vec3::Zero()));
+    const Aabb box(c.option_vec3("edit_min", Vec3::Zero()),
+                   c.option_vec3("edit_max", Vec3::Zero()));
     if (box.isEmpty()) c.fail(*c.option_token("edit_max"), "edit_max is below edit_min");
-    ParticleSystem previous;
-    try {
-      previous = read_particles(c.written_or_input_path(prev));
-    } catch (const InputError& e) {
-      c.fail(prev, e.what());
-    }
-    if (previous.iso != object.field->iso()) {
-      c.fail(prev, "the saved particles lie on iso " + format_number(previous.iso) + ", the shape's "
-                   "surface is iso " + format_number(object.field->iso()));
-    }
+    const ParticleSystem previous = saved_particles(c, prev, object.field->iso());
     system = regenerate_particles(*object.field, previous, box, o, &st, c.session().ctx);
   } else {
     if (c.has_option("edit_min") || c.has_option("edit_max")) {
       c.fail("edit_min= and edit_max= need previous=STATE.ply (the particles to regenerate)");
     }
-    system = spread_particles(*object.field, o, field_cells(*object.field), {}, &st, c.session().ctx);
+    system =
+        spread_particles(*object.field, o, field_cells(*object.field), {}, &st, c.session().ctx);
   }
   PointSet points = particle_points(system);
   const std::size_t n = points.size();

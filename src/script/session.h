@@ -23,6 +23,7 @@
 #include "ramiform/field/curves.h"
 #include "ramiform/field/equipotential.h"
 #include "ramiform/field/field.h"
+#include "ramiform/particles/surface_particles.h"
 #include "ramiform/script/script.h"
 #include "ramiform/skeleton/skeleton.h"
 
@@ -216,6 +217,15 @@ CommandResult defined(const Call& call, const std::string& name);
 /// mixed with `name`, so that two point sets of one script differ and each stays the same when
 /// other commands change.
 std::uint64_t seed_for(const Call& c, const std::string& name);
+
+/// The particle options a command's options give (per_cell, count, iterations, cell_depth,
+/// flatness; the seed from seed_for(c, seed_name)), shared by `particles` and `draw`.
+ParticleOptions particle_options(const Call& c, std::size_t default_count,
+                                 const std::string& seed_name);
+
+/// Particles saved by `particles ... state=FILE` (earlier in the script, or an input file) at
+/// `token`; fails at the token when the file is malformed or lies on another iso value than `iso`.
+ParticleSystem saved_particles(const Call& c, const Token& token, double iso);
 
 /// The kernel and weight options of a distance primitive (kernel=K weight=W; the Cauchy kernel
 /// is refused at its token).

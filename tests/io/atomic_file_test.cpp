@@ -99,5 +99,34 @@ TEST(AtomicFile, TargetThatIsADirectoryFails) {
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"sub"});
 }
 
+TEST(HeldOutputs, NothingAppearsUntilPublishAndEverythingThen) {
+  TempDir dir;
+  write_bytes(dir.file("b.txt"), "old b");
+  HeldOutputs group;
+  write_file_atomically(group.add(dir.file("a.txt")), [](std::ostream& out) { out << "A"; });
+  write_file_atomically(group.add(dir.file("b.txt")), [](std::ostream& out) { out << "B"; });
+  // Writing the same target again replaces its held content.
+  write_file_atomically(group.add(dir.file("a.txt")), [](std::ostream& out) { out << "A2"; });
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"b.txt"});
+  EXPECT_EQ(read_bytes(dir.file("b.txt")), "old b");
+  group.publish();
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"a.txt", "b.txt"}));
+  EXPECT_EQ(read_bytes(dir.file("a.txt")), "A2");
+  EXPECT_EQ(read_bytes(dir.file("b.txt")), "B");
+}
+
+TEST(HeldOutputs, AGroupDroppedBeforePublishLeavesNothing) {
+  TempDir dir;
+  write_bytes(dir.file("keep.txt"), "precious");
+  {
+    HeldOutputs group;
+    write_file_atomically(group.add(dir.file("new.txt")), [](std::ostream& out) { out << "x"; });
+    write_file_atomically(group.add(dir.file("keep.txt")), [](std::ostream& out) { out << "y"; });
+    // A later step fails: the group goes out of scope unpublished.
+  }
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"keep.txt"});
+  EXPECT_EQ(read_bytes(dir.file("keep.txt")), "precious");
+}
+
 }  // namespace
 }  // namespace ramiform

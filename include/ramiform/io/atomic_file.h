@@ -16,6 +16,8 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace ramiform {
 
@@ -78,5 +80,28 @@ void drop_held_file(const std::string& path) noexcept;
 void show_held_file(const std::string& path);
 /// Removes the copy show_held_file made (the content stays held). Never throws.
 void hide_held_file(const std::string& path) noexcept;
+
+/// A group of outputs published together: add() gives, for each target, a held staging path in
+/// the target's directory (".rf-held-N-NAME") to write with write_file_atomically; publish()
+/// makes them all appear under their targets; a group destroyed before publish() (a later
+/// step failed) drops every held content, so a run that fails half-way leaves no output of the
+/// group (e.g. the views of `ramiform draw --views N`). Not thread-safe.
+class HeldOutputs {
+ public:
+  HeldOutputs() = default;
+  HeldOutputs(const HeldOutputs&) = delete;
+  HeldOutputs& operator=(const HeldOutputs&) = delete;
+  ~HeldOutputs();
+
+  /// The staging path to write `target` to (the same one when `target` was added before).
+  [[nodiscard]] std::string add(const std::string& target);
+  /// Publishes every held output under its target, in the order they were added, and empties
+  /// the group. Throws `Failure` as publish_held_file does; outputs not yet published are then
+  /// dropped when the group is destroyed.
+  void publish();
+
+ private:
+  std::vector<std::pair<std::string, std::string>> outputs_;  ///< (staged, target)
+};
 
 }  // namespace ramiform
