@@ -65,9 +65,10 @@ ParticleOptions particle_options(const Call& c, std::size_t default_count,
 }
 
 ParticleSystem saved_particles(const Call& c, const Token& token, double iso) {
+  const std::string path = c.written_or_input_path(token);  // fails at the token if missing
   ParticleSystem system;
   try {
-    system = read_particles(c.written_or_input_path(token));
+    system = read_particles(path);
   } catch (const InputError& e) {
     c.fail(token, e.what());
   }

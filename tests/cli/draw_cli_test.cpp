@@ -175,5 +175,41 @@ TEST_F(DrawCliTest, BadInputsExitTwoNamingTheProblemAndWriteNothing) {
   EXPECT_NE(r.out.find(".svg"), std::string::npos) << r.out;
 }
 
+TEST_F(DrawCliTest, SceneDrawReusesSavedParticlesAsTheCommandDoes) {
+  // The scene saves its particles, draws from them (state=), and the command drawing from the
+  // same saved particles with the same camera finds exactly the same lines.
+  const std::string scene = write("scene.rf",
+                                  "torus t 1 thickness=0.35 normal=0,1,0\n"
+                                  "particles t count=1500 iterations=10 state=t_state.ply\n"
+                                  "draw t scene.svg state=t_state.ply elevation=40 "
+                                  "polylines=scene.json\n");
+  CliRun r = run_cli("run " + scene + " --out " + dir_.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  r = run_cli("draw " + scene + ":t -o " + path("cli.svg") + " --particle-state " +
+              path("t_state.ply") + " --elevation 40 --polylines " + path("cli.json"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json a = read_json(path("scene.json"));
+  const nlohmann::json b = read_json(path("cli.json"));
+  ASSERT_FALSE(a["lines"].empty());
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(read_file(path("scene.svg")), read_file(path("cli.svg")));
+
+  // Spreading options beside state= are refused at their token; so is a missing state file.
+  const std::string bad = write("bad.rf",
+                                "torus t 1 thickness=0.35\n"
+                                "particles t count=500 state=s.ply\n"
+                                "draw t x.svg state=s.ply count=200\n");
+  r = run_cli("run " + bad + " --out " + dir_.string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("count= spreads new particles"), std::string::npos) << r.out;
+  const std::string missing = write("missing.rf", "torus t 1\ndraw t x.svg state=none.ply\n");
+  r = run_cli("run " + missing + " --out " + dir_.string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("missing.rf:2:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("no such file"), std::string::npos) << r.out;
+  EXPECT_EQ(count(r.out, "draw:"), 1U) << r.out;
+  EXPECT_FALSE(std::filesystem::exists(path("x.svg")));
+}
+
 }  // namespace
 }  // namespace ramiform
