@@ -39,12 +39,13 @@
 #include "ramiform/field/anisotropic.h"
 #include "ramiform/field/equipotential.h"
 #include "ramiform/grow/space_colonization.h"
-#include "ramiform/lines/lines.h"
 #include "ramiform/io/drawing_io.h"
 #include "ramiform/io/mesh_io.h"
+#include "ramiform/io/particles_io.h"
 #include "ramiform/io/points_io.h"
 #include "ramiform/io/skeleton_io.h"
 #include "ramiform/io/surface_points.h"
+#include "ramiform/lines/lines.h"
 #include "ramiform/mesh/deviation.h"
 #include "ramiform/mesh/normals.h"
 #include "ramiform/particles/surface_particles.h"
@@ -490,10 +491,10 @@ void bind_points(py::module_& m) {
   const cli::ReconstructOptions ro;
   m.def(
       "reconstruct",
-      [](const std::string& path, std::optional<std::string> out, double tolerance,
-         double support, int min_points, int max_depth, bool sharp, int neighbours,
-         std::optional<double> cell, int resolution, double spacing_cells, double speck_cells,
-         std::size_t mesh_samples, std::uint64_t seed, int threads) {
+      [](const std::string& path, std::optional<std::string> out, double tolerance, double support,
+         int min_points, int max_depth, bool sharp, int neighbours, std::optional<double> cell,
+         int resolution, double spacing_cells, double speck_cells, std::size_t mesh_samples,
+         std::uint64_t seed, int threads) {
         cli::ReconstructOptions o;
         o.mpu.tolerance = tolerance;
         o.mpu.support = support;
@@ -534,7 +535,9 @@ void bind_points(py::module_& m) {
   m.def(
       "particles",
       [](const FieldHandle& f, std::size_t count, std::size_t per_cell, int iterations,
-         std::uint64_t seed, int cell_depth, double flatness, int threads) {
+         std::uint64_t seed, int cell_depth, double flatness, std::optional<std::string> state,
+         std::optional<std::string> previous, std::optional<std::array<double, 3>> edit_min,
+         std::optional<std::array<double, 3>> edit_max, int threads) {
         ParticleOptions o;
         o.count = count;
         o.per_cell = per_cell;
@@ -542,11 +545,32 @@ void bind_points(py::module_& m) {
         o.seed = seed;
         o.max_depth = cell_depth;
         o.flatness_deg = flatness;
-        const std::vector<ParticleCell> cells = field_cells(*f.field);
+        if (previous.has_value() != (edit_min.has_value() && edit_max.has_value()) ||
+            edit_min.has_value() != edit_max.has_value()) {
+          throw InvalidArgument(
+              "previous= (saved particles) goes with edit_min= and edit_max= (the box the edit "
+              "stayed in)");
+        }
         Context ctx = make_context(threads);
         ParticleSystem sys;
         ParticleStats st;
-        interruptible(ctx, [&] { sys = spread_particles(*f.field, o, cells, {}, &st, &ctx); });
+        interruptible(ctx, [&] {
+          if (previous) {
+            // Local regeneration (paper §3): only the particles near the edit box move.
+            const ParticleSystem before = read_particles(*previous);
+            if (before.iso != f.field->iso()) {
+              throw InvalidArgument("previous=" + *previous + ": the saved particles lie on iso " +
+                                    format_number(before.iso) + ", the field's surface is iso " +
+                                    format_number(f.field->iso()));
+            }
+            const Aabb box(Vec3((*edit_min)[0], (*edit_min)[1], (*edit_min)[2]),
+                           Vec3((*edit_max)[0], (*edit_max)[1], (*edit_max)[2]));
+            sys = regenerate_particles(*f.field, before, box, o, &st, &ctx);
+          } else {
+            sys = spread_particles(*f.field, o, field_cells(*f.field), {}, &st, &ctx);
+          }
+          if (state) write_particles(sys, *state);
+        });
         const std::size_t n = sys.particles.size();
         py::array_t<double> pos({static_cast<py::ssize_t>(n), py::ssize_t{3}});
         py::array_t<double> nor({static_cast<py::ssize_t>(n), py::ssize_t{3}});
@@ -565,6 +589,7 @@ void bind_points(py::module_& m) {
         py::dict stats;
         stats["particles"] = st.particles;
         stats["cells"] = st.cells;
+        stats["kept"] = st.kept;
         stats["iterations"] = st.iterations;
         stats["residual_max"] = st.residual_max;
         stats["spacing_cv"] = st.spacing_cv;
@@ -574,20 +599,26 @@ void bind_points(py::module_& m) {
       py::arg("field"), py::kw_only(), py::arg("count") = po.count,
       py::arg("per_cell") = po.per_cell, py::arg("iterations") = po.iterations,
       py::arg("seed") = po.seed, py::arg("cell_depth") = po.max_depth,
-      py::arg("flatness") = po.flatness_deg, py::arg("threads") = 0,
+      py::arg("flatness") = po.flatness_deg, py::arg("state") = py::none(),
+      py::arg("previous") = py::none(), py::arg("edit_min") = py::none(),
+      py::arg("edit_max") = py::none(), py::arg("threads") = 0,
       "Particles spread evenly over the field's surface (docs/particles.md): about `count` in "
-      "all, or `per_cell` per cell of an MPU field's octree or of adaptive cells. Returns "
+      "all, or `per_cell` per cell of an MPU field's octree or of adaptive cells. `state` saves "
+      "them (particle-state PLY, for draw(particle_state=...) and later regeneration); "
+      "`previous` (a saved state) with `edit_min`, `edit_max` regenerates only the particles "
+      "near that box after an edit of the field confined to it (paper §3). Returns "
       "{'positions' (K, 3), 'normals' (K, 3), 'delta' (K,), 'stats'}.");
   const LineOptions lo;
   const DrawingStyle ds;
   m.def(
       "draw",
       [](const FieldHandle& f, std::optional<std::string> out, std::optional<std::string> camera,
-         double azimuth, double elevation, const std::string& vertical, double fov, const std::vector<std::string>& kinds,
-         std::size_t count, std::uint64_t seed, const std::string& visibility,
-         const std::string& fit, double k_c, double k_e, double k_d, double theta_sc, double k_a,
-         int k_trim, int width, int height, bool hidden, std::optional<std::string> polylines,
-         int threads) {
+         double azimuth, double elevation, const std::string& vertical, double fov,
+         const std::vector<std::string>& kinds, std::size_t count, std::uint64_t seed,
+         const std::string& visibility, const std::string& fit, double k_c, double k_e, double k_d,
+         double theta_sc, double k_a, int k_trim, int width, int height, bool hidden,
+         std::optional<std::string> polylines, std::optional<std::string> particle_state,
+         std::size_t per_cell, int iterations, int cell_depth, double flatness, int threads) {
         LineOptions o;
         try {
           select_line_kinds(o, kinds);
@@ -614,13 +645,28 @@ void bind_points(py::module_& m) {
         ParticleOptions po;
         po.count = count;
         po.seed = seed;
+        po.per_cell = per_cell;
+        po.iterations = iterations;
+        po.max_depth = cell_depth;
+        po.flatness_deg = flatness;
         Context ctx = make_context(threads);
         LineDrawing drawing;
         LineStats ls;
         std::size_t particles = 0;
         interruptible(ctx, [&] {
-          const ParticleSystem sys =
-              spread_particles(*f.field, po, field_cells(*f.field), {}, nullptr, &ctx);
+          ParticleSystem sys;
+          if (particle_state) {
+            // Saved by particles(state=...) or `ramiform particles --state`: not spread again.
+            sys = read_particles(*particle_state);
+            if (sys.iso != f.field->iso()) {
+              throw InvalidArgument("particle_state=" + *particle_state +
+                                    ": the saved particles lie on iso " + format_number(sys.iso) +
+                                    ", the field's surface is iso " +
+                                    format_number(f.field->iso()));
+            }
+          } else {
+            sys = spread_particles(*f.field, po, field_cells(*f.field), {}, nullptr, &ctx);
+          }
           particles = sys.particles.size();
           if (sys.particles.empty()) throw InvalidArgument("no particles reached the surface");
           Aabb box;
@@ -682,11 +728,17 @@ void bind_points(py::module_& m) {
       py::arg("fit") = "longest", py::arg("k_c") = lo.k_c, py::arg("k_e") = lo.k_e,
       py::arg("k_d") = lo.k_d, py::arg("theta_sc") = lo.theta_sc_deg, py::arg("k_a") = lo.k_a_deg,
       py::arg("k_trim") = lo.k_trim, py::arg("width") = ds.width, py::arg("height") = 0,
-      py::arg("hidden") = false, py::arg("polylines") = py::none(), py::arg("threads") = 0,
+      py::arg("hidden") = false, py::arg("polylines") = py::none(),
+      py::arg("particle_state") = py::none(), py::arg("per_cell") = po.per_cell,
+      py::arg("iterations") = po.iterations, py::arg("cell_depth") = po.max_depth,
+      py::arg("flatness") = po.flatness_deg, py::arg("threads") = 0,
       "`ramiform draw` on a field (docs/drawing.md): silhouettes, suggestive contours and "
-      "feature lines from `count` particles, hidden lines classified. `camera` is the command's "
+      "feature lines from `count` particles (spread with per_cell, iterations, cell_depth, "
+      "flatness as particles() does) or from the saved `particle_state`, hidden lines "
+      "classified. `camera` is the command's "
       "text (\"eye=x,y,z;target=...;up=...;fov=deg\", any subset), else the surface is framed from "
-      "`azimuth` and `elevation` about the `vertical` axis (\"y\" or \"z\"). Writes `out` (.svg or .png) and `polylines` (.json) when given. "
+      "`azimuth` and `elevation` about the `vertical` axis (\"y\" or \"z\"). Writes `out` (.svg or "
+      ".png) and `polylines` (.json) when given. "
       "Returns {'camera', 'lines': [{'kind', 'closed', 'points' (K, 3), 'visible' (K,)}], "
       "'stats'}.");
 }

@@ -40,6 +40,38 @@ def test_sphere_silhouette_is_the_contour_circle(tmp_path):
     assert len(json.loads(js.read_text())["lines"]) == len(d["lines"])
 
 
+def test_saved_particles_are_reused_and_regenerated_locally(tmp_path):
+    f = rf.mpu_field(*sphere(2000))
+    state = tmp_path / "p.ply"
+    p = rf.particles(f, count=1500, iterations=10, state=str(state))
+    n = len(p["positions"])
+    # A drawing from the saved state uses exactly those particles, and twice gives the same lines.
+    a = rf.draw(f, particle_state=str(state), camera="eye=0,0,5;target=0,0,0",
+                lines=["silhouette"], threads=1)
+    b = rf.draw(f, particle_state=str(state), camera="eye=0,0,5;target=0,0,0",
+                lines=["silhouette"], threads=2)
+    assert a["stats"]["particles"] == n
+    assert len(a["lines"]) == len(b["lines"]) > 0
+    for la, lb in zip(a["lines"], b["lines"]):
+        assert np.array_equal(la["points"], lb["points"])
+    # Regeneration after an "edit" confined to a box: particles away from it keep their exact
+    # positions, in order, first in the result.
+    lo, hi = np.array([0.6, -0.5, -0.5]), np.array([1.5, 0.5, 0.5])
+    r = rf.particles(f, previous=str(state), edit_min=lo.tolist(), edit_max=hi.tolist(),
+                     iterations=10)
+    kept = r["stats"]["kept"]
+    delta = p["delta"][:, None]
+    far = np.any((p["positions"] < lo - delta) | (p["positions"] > hi + delta), axis=1)
+    assert 0 < kept < n and kept >= np.count_nonzero(far)
+    old = {tuple(x) for x in p["positions"]}
+    assert all(tuple(x) in old for x in r["positions"][:kept])
+    assert len(r["positions"]) > kept
+    with pytest.raises(ValueError, match="edit_min"):
+        rf.particles(f, previous=str(state))
+    with pytest.raises(Exception, match="no_such"):
+        rf.draw(f, particle_state=str(tmp_path / "no_such.ply"))
+
+
 def test_bad_options_raise():
     points, normals = sphere(500)
     f = rf.mpu_field(points, normals)
