@@ -224,8 +224,10 @@ void label_by_node_types(std::span<TriMesh> meshes, const Skeleton& skeleton, Co
   for (TriMesh& m : meshes) m.vertex_labels = nearest_node_types(m, skeleton, nearest, ctx);
 }
 
-nlohmann::json check_json(const TriMesh& mesh, const Skeleton* skeleton, Context& ctx) {
+nlohmann::json check_json(const TriMesh& mesh, const Skeleton* skeleton, Context& ctx,
+                          MeshReport* report) {
   const MeshReport r = check_mesh(mesh, &ctx);
+  if (report != nullptr) *report = r;
   nlohmann::json j;
   j["vertices"] = r.vertices;
   j["triangles"] = r.triangles;

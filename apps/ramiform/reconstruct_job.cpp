@@ -11,6 +11,7 @@
 #include <nanoflann.hpp>
 #include <numbers>
 
+#include "mesh_job.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/mesh/cleanup.h"
 
@@ -158,20 +159,11 @@ TriMesh mesh_point_surface(PointSurface& surface, const ReconstructOptions& opti
       marching_cubes(*surface.field, reconstruct_mc_options(surface, options), &ctx, &st);
   const std::size_t specks =
       options.speck_cells > 0 ? remove_small_pieces(mesh, options.speck_cells * st.cell_size) : 0;
-  const MeshReport r = check_mesh(mesh, &ctx);
-  if (report != nullptr) *report = r;
-  nlohmann::json j;
-  j["vertices"] = mesh.positions.size();
-  j["triangles"] = mesh.triangles.size();
+  nlohmann::json j = check_json(mesh, nullptr, ctx, report);  // the figures of `check`
   j["cell_size"] = st.cell_size;
   j["blocks_skipped"] = st.blocks_skipped;
   j["blocks_total"] = st.blocks_total;
   j["specks_removed"] = specks;
-  j["watertight"] = r.watertight;
-  j["oriented"] = r.oriented;
-  j["manifold"] = r.manifold;
-  j["components"] = r.components;
-  j["min_angle_deg"] = r.min_angle_deg;
   // Where the vertices sit against the MPU surface they approximate.
   j["vertex_deviation"] = first_order_distances(*surface.field, mesh.positions,
                                                 surface.diagonal > 0 ? surface.diagonal : 1.0, ctx);
