@@ -12,6 +12,7 @@
 // (field/bezier_curve_simd.cpp): the same results bit for bit.
 
 #include <benchmark/benchmark.h>
+#include <hwy/targets.h>
 
 #include <algorithm>
 #include <vector>
@@ -101,8 +102,17 @@ void BM_BezierRootIsolation(benchmark::State& state) {
   state.counters["arcs"] = arcs / kCurves;
 }
 
+// range(1): 0 = the CPU's best Highway target, 1 = AVX2 forced (4 lanes instead of 8 with
+// AVX-512), 2 = the emulated target (plain C++ on 2 lanes).
 void BM_BezierBatched(benchmark::State& state) {
   const Workload& w = workload(static_cast<int>(state.range(0)));
+  const std::int64_t forced[] = {0, HWY_AVX2, HWY_EMU128};
+  hwy::SetSupportedTargetsForTest(forced[state.range(1)]);
+  if (state.range(1) != 0 && !(hwy::SupportedTargets() & forced[state.range(1)])) {
+    hwy::SetSupportedTargetsForTest(0);
+    state.SkipWithError("target not supported");
+    return;
+  }
   std::vector<BezierProjection> out(kPointsPerCurve);
   for (auto _ : state) {
     double sum = 0;
@@ -112,6 +122,7 @@ void BM_BezierBatched(benchmark::State& state) {
     }
     benchmark::DoNotOptimize(sum);
   }
+  hwy::SetSupportedTargetsForTest(0);
   state.SetItemsProcessed(state.iterations() * kCurves * kPointsPerCurve);
   state.counters["degree"] = static_cast<double>(state.range(0));
 }
@@ -148,7 +159,7 @@ void BM_BezierNewton(benchmark::State& state) {
 
 BENCHMARK(BM_SegmentDistance);
 BENCHMARK(BM_BezierRootIsolation)->Arg(3)->Arg(5);
-BENCHMARK(BM_BezierBatched)->Arg(3)->Arg(5);
+BENCHMARK(BM_BezierBatched)->ArgsProduct({{3, 5}, {0, 1, 2}});
 BENCHMARK(BM_BezierNewton)->Arg(3)->Arg(5);
 
 BENCHMARK_MAIN();

@@ -1051,9 +1051,9 @@ void BezierProjector::project(std::span<const Vec3> points, std::span<BezierProj
     if (!(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z())))
       check_point(p, "project");  // throws
   }
-  if (arcs_.empty()) {
-    for (std::size_t k = 0; k < points.size(); ++k)
-      out[k] = project_whole(points[k] - origin_, rule);
+  // Above degree 7 there are no arcs; below 4 points a vector would be mostly padding.
+  if (arcs_.empty() || points.size() < 4) {
+    for (std::size_t k = 0; k < points.size(); ++k) out[k] = project(points[k], rule);
     return;
   }
   // Blocks of the batched arc path (SIMD across points); a point whose nearest candidates are
