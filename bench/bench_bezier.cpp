@@ -7,9 +7,12 @@
 // curve) and by the Newton baseline (4 starts). 16 random curves (controls in [-1, 1]^3, radius
 // 0.1), 256 points each, uniform within 2 radii of a random curve point (fixed seed). The Newton
 // benchmarks also report `miss_rate`: the fraction of their points where Newton's distance
-// exceeds root isolation's by more than 1e-9 relative.
+// exceeds root isolation's by more than 1e-9 relative. BM_BezierBatched projects the same points
+// through project(points, out), one call per curve (256 points), SIMD across points
+// (field/bezier_curve_simd.cpp): the same results bit for bit.
 
 #include <benchmark/benchmark.h>
+#include <hwy/targets.h>
 
 #include <algorithm>
 #include <vector>
@@ -99,6 +102,31 @@ void BM_BezierRootIsolation(benchmark::State& state) {
   state.counters["arcs"] = arcs / kCurves;
 }
 
+// range(1): 0 = the CPU's best Highway target, 1 = AVX2 forced (4 lanes instead of 8 with
+// AVX-512), 2 = the emulated target (plain C++ on 2 lanes).
+void BM_BezierBatched(benchmark::State& state) {
+  const Workload& w = workload(static_cast<int>(state.range(0)));
+  const std::int64_t forced[] = {0, HWY_AVX2, HWY_EMU128};
+  hwy::SetSupportedTargetsForTest(forced[state.range(1)]);
+  if (state.range(1) != 0 && !(hwy::SupportedTargets() & forced[state.range(1)])) {
+    hwy::SetSupportedTargetsForTest(0);
+    state.SkipWithError("target not supported");
+    return;
+  }
+  std::vector<BezierProjection> out(kPointsPerCurve);
+  for (auto _ : state) {
+    double sum = 0;
+    for (int c = 0; c < kCurves; ++c) {
+      w.curves[c].project(w.points[c], out);
+      for (const BezierProjection& r : out) sum += r.distance;
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  hwy::SetSupportedTargetsForTest(0);
+  state.SetItemsProcessed(state.iterations() * kCurves * kPointsPerCurve);
+  state.counters["degree"] = static_cast<double>(state.range(0));
+}
+
 // Fraction of the workload's points where Newton (4 starts) is farther than root isolation.
 double newton_miss_rate(int degree) {
   const Workload& w = workload(degree);
@@ -131,6 +159,7 @@ void BM_BezierNewton(benchmark::State& state) {
 
 BENCHMARK(BM_SegmentDistance);
 BENCHMARK(BM_BezierRootIsolation)->Arg(3)->Arg(5);
+BENCHMARK(BM_BezierBatched)->ArgsProduct({{3, 5}, {0, 1, 2}});
 BENCHMARK(BM_BezierNewton)->Arg(3)->Arg(5);
 
 BENCHMARK_MAIN();

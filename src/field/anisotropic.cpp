@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 
 #include "core/bernstein.h"
 #include "field/bvh.h"
@@ -58,8 +59,8 @@ struct Normalized {
 };
 
 // grad(d def / r) = (def / r) grad d + d (def' / r - def r' / r^2) grad t.
-Normalized normalize(double d, const Vec3& grad_d, double def, double def_dt, double r,
-                     double r_dt, const Vec3& grad_t) {
+Normalized normalize(double d, const Vec3& grad_d, double def, double def_dt, double r, double r_dt,
+                     const Vec3& grad_t) {
   Normalized n;
   if (!std::isfinite(def)) {
     n.x = kInf;
@@ -167,7 +168,41 @@ class BezierElement final : public Element {
     }
   }
   double distance(const Vec3& p, Vec3& gradient) const override {
-    const BezierProjection proj = projector_.project(p, tie_);
+    return from_projection(p, projector_.project(p, tie_), gradient);
+  }
+  // The batched projection (SIMD across points), equal point by point to project().
+  void distances(std::span<const Vec3> points, std::span<double> out,
+                 std::span<Vec3> gradients) const override {
+    constexpr std::size_t kBlock = 256;
+    std::array<BezierProjection, kBlock> proj;
+    for (std::size_t b = 0; b < points.size(); b += kBlock) {
+      const std::size_t n = std::min(kBlock, points.size() - b);
+      projector_.project(points.subspan(b, n), std::span<BezierProjection>(proj.data(), n), tie_);
+      for (std::size_t i = 0; i < n; ++i)
+        out[b + i] = from_projection(points[b + i], proj[i], gradients[b + i]);
+    }
+  }
+  DistanceRange range(const Aabb& box) const override {
+    const double dc = projector_.project(box.center(), tie_).distance;
+    return scale_range(lipschitz_distance(dc, box, projector_.box()), range_, r_min_, r_max_);
+  }
+  Aabb grown_box(double pad) const override {
+    return grow(projector_.box(), pad * r_max_ / range_.lo);
+  }
+  std::string describe() const override {
+    const BezierCurve& c = projector_.curve();
+    std::string radius = c.radii.empty() ? format_number(radius_)
+                                         : format_number(r_min_) + "–" + format_number(r_max_) +
+                                               " (per control point)";
+    return "Bezier curve skeleton of degree " + std::to_string(projector_.degree()) + " from " +
+           vec(c.controls.front()) + " to " + vec(c.controls.back()) + ", radius " + radius +
+           ", def " + format_deformation(def_) +
+           (tie_ == TieRule::kLast ? ", ties to the largest t" : "");
+  }
+
+ private:
+  // The normalized distance and its gradient at p from its projection on the curve.
+  double from_projection(const Vec3& p, const BezierProjection& proj, Vec3& gradient) const {
     const double d = proj.distance;
     const Vec3 diff = p - proj.point;
     const Vec3 grad_d = d > 0 ? Vec3(diff / d) : Vec3::Zero();
@@ -191,25 +226,7 @@ class BezierElement final : public Element {
     gradient = n.gradient;
     return n.x;
   }
-  DistanceRange range(const Aabb& box) const override {
-    const double dc = projector_.project(box.center(), tie_).distance;
-    return scale_range(lipschitz_distance(dc, box, projector_.box()), range_, r_min_, r_max_);
-  }
-  Aabb grown_box(double pad) const override {
-    return grow(projector_.box(), pad * r_max_ / range_.lo);
-  }
-  std::string describe() const override {
-    const BezierCurve& c = projector_.curve();
-    std::string radius = c.radii.empty()
-                             ? format_number(radius_)
-                             : format_number(r_min_) + "–" + format_number(r_max_) + " (per control point)";
-    return "Bezier curve skeleton of degree " + std::to_string(projector_.degree()) + " from " +
-           vec(c.controls.front()) + " to " + vec(c.controls.back()) + ", radius " + radius +
-           ", def " + format_deformation(def_) +
-           (tie_ == TieRule::kLast ? ", ties to the largest t" : "");
-  }
 
- private:
   BezierProjector projector_;
   double radius_;
   Deformation def_;
@@ -301,8 +318,8 @@ void validate(const Deformation& def, const std::string& what) {
            "squared-cosine end thickness must be in [0, 1], got " + format_number(def.parameter));
       break;
     case K::kFlatEnds:
-      need(def.parameter == 0 || (std::isfinite(def.parameter) && def.parameter >= 2 &&
-                                  def.parameter <= 64),
+      need(def.parameter == 0 ||
+               (std::isfinite(def.parameter) && def.parameter >= 2 && def.parameter <= 64),
            "flat-ends exponent must be in [2, 64], got " + format_number(def.parameter));
       break;
     case K::kWave:
@@ -498,9 +515,8 @@ FieldPtr make_bezier_field(const BezierCurve& curve, double radius, const Deform
       std::make_unique<BezierElement>(std::move(projector), radius, def, tie), o, 0.0);
 }
 
-FieldPtr make_surface_skeleton_field(std::shared_ptr<const SurfaceSkeleton> skeleton,
-                                     double radius, const Deformation& def_u,
-                                     const Deformation& def_v,
+FieldPtr make_surface_skeleton_field(std::shared_ptr<const SurfaceSkeleton> skeleton, double radius,
+                                     const Deformation& def_u, const Deformation& def_v,
                                      const DistancePrimitiveOptions& options) {
   const std::string what = "surface skeleton";
   if (!skeleton) throw InvalidArgument(what + ": no surface");

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/bernstein.h"
+#include "field/bezier_curve_simd.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/tolerances.h"
 
@@ -20,8 +21,8 @@ constexpr int kMaxDegree = 15;
 constexpr int kMaxG = 2 * kMaxDegree - 1;  // degree of g
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 // Root finding stops when the Newton step or the bracket is below this (t is in [0, 1]).
-constexpr double kRootTolerance = 1e-15;
-constexpr int kMaxRootIterations = 200;
+constexpr double kRootTolerance = detail::kBezierRootTolerance;
+constexpr int kMaxRootIterations = detail::kBezierMaxRootIterations;
 // Newton steps shrinking by at least this factor are taken as in the quadratic regime.
 constexpr double kAsymptotic = 0.1;
 // Distances equal within this relative amount are a tie (see TieRule).
@@ -29,9 +30,8 @@ constexpr double kTieRelative = 1e-12;
 // Candidates closer than this in t are the same point, not a tie.
 constexpr double kSameParameter = 1e-12;
 constexpr int kNewtonSteps = 20;
-// Rounding bound of the dot product E·(c - P) in the arc certificate, per unit of
-// max|E_i| * |c - P|_1 (a generous multiple of 3 eps).
-constexpr double kSlopeRounding = 16 * std::numeric_limits<double>::epsilon();
+// Rounding bound of the dot product E·(c - P) in the arc certificate (field/bezier_curve_simd.h).
+constexpr double kSlopeRounding = detail::kBezierSlopeRounding;
 
 struct Binomials {
   double c[kMaxG + 1][kMaxG + 1] = {};
@@ -149,10 +149,10 @@ constexpr int kMaxCoeff = kMaxG + 1;
 
 // An interval of [0, 1] on which g has exactly one root, a simple one (Descartes).
 struct Piece {
-  double lo;      // interval
+  double lo;  // interval
   double hi;
-  double guess;   // where the control polygon of g crosses 0 on it: Newton's start
-  int sign_lo;    // sign of g just right of lo
+  double guess;  // where the control polygon of g crosses 0 on it: Newton's start
+  int sign_lo;   // sign of g just right of lo
 };
 
 // Sign variations of Bernstein coefficients c[0..d], each known to within `bound`: -1 when a
@@ -415,7 +415,9 @@ struct Candidates {
     if (count == kCapacity) --count;  // every one ties: memory safety only
     t[count] = tc;
     point[count] = pc;
-    d2[count] = (pc - q).squaredNorm();
+    // Written out: the batched path (bezier_curve_simd.cpp) computes the same sum.
+    const double dx = pc.x() - q.x(), dy = pc.y() - q.y(), dz = pc.z() - q.z();
+    d2[count] = dx * dx + dy * dy + dz * dz;
     ++count;
   }
   void compact() {
@@ -489,7 +491,8 @@ V checked_casteljau(const BezierCurve& c, const std::vector<V>& values, double t
 void validate(const BezierCurve& curve, const std::string& what) {
   const std::size_t count = curve.controls.size();
   if (count < 2 || count > kMaxDegree + 1) {
-    throw InvalidArgument(what + ": a Bezier curve needs 2 to 16 control points (degree 1 to 15), got " +
+    throw InvalidArgument(what +
+                          ": a Bezier curve needs 2 to 16 control points (degree 1 to 15), got " +
                           std::to_string(count));
   }
   double extent = 0;
@@ -563,9 +566,12 @@ BezierProjector::BezierProjector(BezierCurve curve, const std::string& what)
   if (n_ <= kMaxFastDegree) build_arcs();
 }
 
-Vec3 BezierProjector::local_point(double t) const { return bernstein_scaled(scaled_.data(), n_, t); }
+Vec3 BezierProjector::local_point(double t) const {
+  return bernstein_scaled(scaled_.data(), n_, t);
+}
 
-int BezierProjector::stationary(const Vec3& q, bool locate_maxima, double* roots, int* skipped) const {
+int BezierProjector::stationary(const Vec3& q, bool locate_maxima, double* roots,
+                                int* skipped) const {
   return stationary_roots(h_.data(), w_.data(), h_error_.data(), w_error_.data(), m_, q,
                           locate_maxima, roots, skipped);
 }
@@ -723,6 +729,56 @@ void BezierProjector::build_arcs() {
     a.ay.push_back(acc.y());
     a.az.push_back(acc.z());
   }
+  // The same arcs as flat arrays for the batched path (field/bezier_curve_simd.h).
+  auto table = std::make_shared<detail::BezierArcTable>();
+  table->degree = n;
+  table->count = static_cast<int>(count);
+  table->cx = a.cx;
+  table->cy = a.cy;
+  table->cz = a.cz;
+  table->radius = a.radius;
+  for (const Arc& arc : arcs_) {
+    const double span = arc.t1 - arc.t0;
+    table->t0.push_back(arc.t0);
+    table->span.push_back(span);
+    table->tolerance.push_back(kRootTolerance / span);
+    table->floor.push_back(arc.floor);
+    table->second_max.push_back(arc.second_max);
+    table->g2_fixed.push_back(arc.g2_fixed);
+    table->g2_per_distance.push_back(arc.g2_per_distance);
+  }
+  for (int j = 0; j + 1 < n; ++j) {
+    for (const Arc& arc : arcs_) {
+      table->ex.push_back(arc.second[j].x());
+      table->ey.push_back(arc.second[j].y());
+      table->ez.push_back(arc.second[j].z());
+    }
+  }
+  for (int j = 0; j <= n; ++j) {
+    for (const Arc& arc : arcs_) {
+      table->ax.push_back(arc.power[j].x());
+      table->ay.push_back(arc.power[j].y());
+      table->az.push_back(arc.power[j].z());
+    }
+  }
+  table->px = a.px;
+  table->py = a.py;
+  table->pz = a.pz;
+  table->tx = a.tx;
+  table->ty = a.ty;
+  table->tz = a.tz;
+  table->sx = a.ax;
+  table->sy = a.ay;
+  table->sz = a.az;
+  table_ = std::move(table);
+}
+
+int BezierProjector::isolate_arc(const void* self, int arc, const double* q, double* roots,
+                                 int* skipped) {
+  const auto& p = *static_cast<const BezierProjector*>(self);
+  const ArcG& g = p.arcs_[static_cast<std::size_t>(arc)].g;
+  return stationary_roots(g.h.data(), g.w.data(), g.h_error.data(), g.w_error.data(), 2 * p.n_ - 1,
+                          Vec3(q[0], q[1], q[2]), false, roots, skipped);
 }
 
 namespace {
@@ -925,7 +981,7 @@ BezierProjection BezierProjector::project_arcs(const Vec3& q, TieRule rule) cons
   visit(first);
   // An arc whose sphere is farther than the best point found (inflated for ties and rounding)
   // cannot hold the nearest point.
-  constexpr double kPruneSlack = 1e-9;
+  constexpr double kPruneSlack = detail::kBezierPruneSlack;
   double prune = std::sqrt(best2) * (1 + kPruneSlack);
   for (int i = 0; i < count; ++i) {
     const double lim = radius[i] + prune;
@@ -991,7 +1047,44 @@ void BezierProjector::project(std::span<const Vec3> points, std::span<BezierProj
     throw InvalidArgument("project: " + std::to_string(points.size()) + " points but " +
                           std::to_string(out.size()) + " outputs");
   }
-  for (std::size_t k = 0; k < points.size(); ++k) out[k] = project(points[k], rule);
+  for (const Vec3& p : points) {
+    if (!(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z())))
+      check_point(p, "project");  // throws
+  }
+  // Above degree 7 there are no arcs; below 4 points a vector would be mostly padding.
+  if (arcs_.empty() || points.size() < 4) {
+    for (std::size_t k = 0; k < points.size(); ++k) out[k] = project(points[k], rule);
+    return;
+  }
+  // Blocks of the batched arc path (SIMD across points); a point whose nearest candidates are
+  // near a tie is projected one by one, where choose() applies the rule.
+  constexpr std::size_t kBlock = detail::kBezierBatch;
+  std::array<double, kBlock> qx, qy, qz;
+  std::array<detail::BezierLaneResult, kBlock> lanes;
+  for (std::size_t begin = 0; begin < points.size(); begin += kBlock) {
+    const std::size_t count = std::min(kBlock, points.size() - begin);
+    for (std::size_t k = 0; k < count; ++k) {
+      const Vec3 q = points[begin + k] - origin_;
+      qx[k] = q.x();
+      qy[k] = q.y();
+      qz[k] = q.z();
+    }
+    detail::project_arcs_batch(*table_, qx.data(), qy.data(), qz.data(), count, &isolate_arc, this,
+                               lanes.data());
+    for (std::size_t k = 0; k < count; ++k) {
+      const detail::BezierLaneResult& r = lanes[k];
+      if (r.redo) {
+        out[begin + k] = project(points[begin + k], rule);
+        continue;
+      }
+      BezierProjection& o = out[begin + k];
+      o.t = r.t;
+      o.distance = std::sqrt(r.d2);
+      o.point = Vec3(r.x, r.y, r.z) + origin_;
+      o.candidates = r.counted + 2;
+      o.tie = false;
+    }
+  }
 }
 
 BezierProjection BezierProjector::project_newton(const Vec3& p, int starts) const {

@@ -8,9 +8,12 @@
 // distance) and its gradient; DistancePrimitive applies the kernel, its cut-off and the weight.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "field/cutoff.h"
 #include "field/pointwise_field.h"
@@ -44,6 +47,12 @@ class Element {
   virtual ~Element() = default;
   /// Distance from p, and its gradient (a unit vector, or zero where the distance is 0).
   virtual double distance(const Vec3& p, Vec3& gradient) const = 0;
+  /// distance() on every point (`out` and `gradients` of the size of `points`), equal point by
+  /// point; elements with a batched projection override it.
+  virtual void distances(std::span<const Vec3> points, std::span<double> out,
+                         std::span<Vec3> gradients) const {
+    for (std::size_t i = 0; i < points.size(); ++i) out[i] = distance(points[i], gradients[i]);
+  }
   /// Bounds of the distance over a finite, non-empty box.
   virtual DistanceRange range(const Aabb& box) const = 0;
   /// The element's bounding box grown by `pad` (the box of every point closer than pad).
@@ -125,7 +134,30 @@ class DistancePrimitive final : public PointwiseField {
  protected:
   double at(const Vec3& p, Vec3* grad) const override {
     Vec3 grad_d;
-    const double x = element_->distance(p, grad_d) / R_;
+    return from_distance(element_->distance(p, grad_d), grad_d, grad);
+  }
+
+  // The element's batched distances, then the kernel point by point (as at()).
+  void at_range(std::span<const Vec3> points, std::span<double> values,
+                std::span<Vec3> gradients) const override {
+    constexpr std::size_t kBlock = 256;
+    std::array<double, kBlock> distance;
+    std::array<Vec3, kBlock> grad_d;
+    for (std::size_t b = 0; b < points.size(); b += kBlock) {
+      const std::size_t n = std::min(kBlock, points.size() - b);
+      element_->distances(points.subspan(b, n), std::span<double>(distance.data(), n),
+                          std::span<Vec3>(grad_d.data(), n));
+      for (std::size_t i = 0; i < n; ++i) {
+        values[b + i] =
+            from_distance(distance[i], grad_d[i], gradients.empty() ? nullptr : &gradients[b + i]);
+      }
+    }
+  }
+
+ private:
+  // The value (and gradient) from the element's distance and its gradient.
+  double from_distance(double distance, const Vec3& grad_d, Vec3* grad) const {
+    const double x = distance / R_;
     if (!(x < support_)) {  // beyond the support, or infinite (an anisotropic def(t) = inf)
       if (grad != nullptr) grad->setZero();
       return 0;
@@ -142,7 +174,6 @@ class DistancePrimitive final : public PointwiseField {
     return weight_ * k;
   }
 
- private:
   // weight k(x) fade(x): non-increasing in x, 0 beyond the support.
   double contribution(double x) const {
     if (x >= support_) return 0;
@@ -154,12 +185,12 @@ class DistancePrimitive final : public PointwiseField {
   std::unique_ptr<Element> element_;
   Kernel kernel_;
   double weight_;
-  double R_ = 1;        // radius of influence: x = d / R
-  double support_ = 1;  // normalized support (cut-off for infinite kernels)
-  double inv_cut_ = 0;  // 1 / support^2 (fade argument scale)
-  bool fades_ = false;  // infinite kernel: faded out before the cut-off
+  double R_ = 1;             // radius of influence: x = d / R
+  double support_ = 1;       // normalized support (cut-off for infinite kernels)
+  double inv_cut_ = 0;       // 1 / support^2 (fade argument scale)
+  bool fades_ = false;       // infinite kernel: faded out before the cut-off
   bool normalized_ = false;  // the element's distance is divided by its own radius
-  Aabb inside_box_;     // every point with f > iso (empty when none)
+  Aabb inside_box_;          // every point with f > iso (empty when none)
 };
 
 inline Resolved resolve(const DistancePrimitiveOptions& o, const std::string& what) {

@@ -21,6 +21,12 @@ class PointwiseField : public Field {
   /// f(p), and grad f(p) in `*grad` when `grad` is set. Thread-safe.
   [[nodiscard]] virtual double at(const Vec3& p, Vec3* grad) const = 0;
 
+  /// at() on a range of points (`gradients` empty or the size of `points`): one point after
+  /// another by default; a field with a faster batched evaluation overrides it, with values
+  /// equal point by point to at()'s.
+  virtual void at_range(std::span<const Vec3> points, std::span<double> values,
+                        std::span<Vec3> gradients) const;
+
   void do_evaluate(std::span<const Vec3> points, std::span<double> values,
                    std::span<Vec3> gradients, const Context* ctx) const final;
 };

@@ -19,6 +19,7 @@ set(RAMIFORM_FIELD_SOURCES
   src/field/point_normals.cpp
   src/field/curves.cpp
   src/field/bezier_curve.cpp
+  src/field/bezier_curve_simd.cpp
   src/field/surface_skeleton.cpp
   src/field/sweep.cpp
   src/field/sweep_falloff.cpp

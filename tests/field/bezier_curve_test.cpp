@@ -5,9 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <iostream>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -54,7 +57,8 @@ double g_of(const BezierCurve& c, const Vec3& p, double t) {
 class DenseReference {
  public:
   explicit DenseReference(const BezierCurve& c) : curve_(c) {
-    for (int i = 0; i <= kSamples; ++i) samples_.push_back(bezier_point(c, static_cast<double>(i) / kSamples));
+    for (int i = 0; i <= kSamples; ++i)
+      samples_.push_back(bezier_point(c, static_cast<double>(i) / kSamples));
   }
 
   double distance(const Vec3& p) const {
@@ -182,7 +186,8 @@ TEST(BezierEval, PointMatchesBernsteinAndDerivativesMatchFiniteDifferences) {
       const double s1 = 1 + bezier_derivative(c, t).norm();
       const double s2 = 1 + bezier_second_derivative(c, t).norm();
       // One-sided differences at the ends are first-order: the tolerance allows h |C''| etc.
-      EXPECT_LE((bezier_derivative(c, t) - fd1).norm(), 1e-5 * s1 * degree * degree) << degree << " " << t;
+      EXPECT_LE((bezier_derivative(c, t) - fd1).norm(), 1e-5 * s1 * degree * degree)
+          << degree << " " << t;
       EXPECT_LE((bezier_second_derivative(c, t) - fd2).norm(), 1e-5 * s2 * degree * degree * degree)
           << degree << " " << t;
     }
@@ -230,7 +235,8 @@ TEST(BezierProject, MatchesDenseSamplingOnRandomCurves) {
         // Points near the curve and farther away.
         const double spread = k < 30 ? 0.3 : 2.0;
         const Vec3 on = bezier_point(proj.curve(), rng.uniform());
-        const Vec3 p = on + spread * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+        const Vec3 p =
+            on + spread * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
         const BezierProjection r = proj.project(p);
         const double ref = reference.distance(p);
         EXPECT_NEAR(r.distance, ref, 1e-9 * ref + 1e-14) << "degree " << degree << " point " << k;
@@ -291,7 +297,8 @@ TEST(BezierStationary, SCurveAndItsCentreOfCurvature) {
     const Vec3 centre = bezier_point(c, t0) + normal_acc.normalized() / kappa;
     // At the centre g has a double root at t0 (g = g' = 0): it must be reported.
     const std::vector<double> roots = s.stationary_parameters(centre);
-    EXPECT_TRUE(std::any_of(roots.begin(), roots.end(), [&](double t) { return std::abs(t - t0) < 1e-4; }))
+    EXPECT_TRUE(
+        std::any_of(roots.begin(), roots.end(), [&](double t) { return std::abs(t - t0) < 1e-4; }))
         << "t0 = " << t0;
     for (const double shift : {0.0, 1e-9, -1e-9, 1e-6, -1e-6, 1e-3, -1e-3}) {
       const Vec3 p = centre + shift * normal_acc.normalized();
@@ -324,9 +331,11 @@ TEST(BezierProject, NearCentresOfCurvatureOfRandomCurves) {
         if (!(kappa > 1e-3)) continue;
         const Vec3 centre = bezier_point(c, t0) + normal_acc.normalized() / kappa;
         for (const double shift : {0.0, 1e-12, -1e-12, 1e-8, -1e-8, 1e-4, -1e-4}) {
-          const Vec3 p = centre + shift * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+          const Vec3 p =
+              centre + shift * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
           const double ref = reference.distance(p);
-          EXPECT_NEAR(proj.project(p).distance, ref, 1e-9 * ref) << degree << " " << t0 << " " << shift;
+          EXPECT_NEAR(proj.project(p).distance, ref, 1e-9 * ref)
+              << degree << " " << t0 << " " << shift;
           EXPECT_NEAR(proj.project(p, TieRule::kLast).distance, ref, 1e-9 * ref);
         }
       }
@@ -506,6 +515,104 @@ TEST(BezierProject, BatchEqualsOneByOneAndArcsOnlyUpToDegreeSeven) {
   EXPECT_THROW(cubic.project(points, short_out), InvalidArgument);
   EXPECT_EQ(BezierProjector(random_curve(rng, 9)).arc_count(), 0);
   EXPECT_EQ(BezierProjector(random_curve(rng, 1)).arc_count(), 1);
+}
+
+// Bit pattern of a double (so that -0 and +0 differ).
+std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v); }
+
+// Whether two projections are the same bit for bit: parameter, distance, point, candidates, tie.
+bool same_bits(const BezierProjection& a, const BezierProjection& b) {
+  return bits(a.t) == bits(b.t) && bits(a.distance) == bits(b.distance) &&
+         bits(a.point.x()) == bits(b.point.x()) && bits(a.point.y()) == bits(b.point.y()) &&
+         bits(a.point.z()) == bits(b.point.z()) && a.candidates == b.candidates && a.tie == b.tie;
+}
+
+// Hard and easy queries for a curve: near it, near centres of curvature (within 1e-6), far (up to
+// 3 away and at 1e3), on the curve, at and beyond its ends, and at its controls.
+std::vector<Vec3> batch_queries(Rng& rng, const BezierCurve& c, int count) {
+  std::vector<Vec3> points;
+  const Vec3 a = c.controls.front(), b = c.controls.back();
+  const Vec3 ta = bezier_derivative(c, 0).normalized(), tb = bezier_derivative(c, 1).normalized();
+  for (int k = 0; points.size() < static_cast<std::size_t>(count); ++k) {
+    switch (k % 10) {
+      case 0:
+        points.push_back(bezier_point(c, rng.uniform()));
+        break;
+      case 1:  // near an end, beyond it or just inside
+        points.push_back((k % 20 == 1 ? a : b) +
+                         rng.uniform(-1e-3, 1e-3) * (k % 20 == 1 ? ta : tb) +
+                         1e-6 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)));
+        break;
+      case 2:
+        points.push_back(1e3 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)));
+        break;
+      case 5:
+        points.push_back(c.controls[static_cast<std::size_t>(k / 10) % c.controls.size()]);
+        break;
+      default:
+        points.push_back(query_point(rng, c, k));  // k % 5 == 3: a centre of curvature
+    }
+  }
+  return points;
+}
+
+TEST(BezierProject, BatchedPathEqualsOneByOneBitForBit) {
+  // The batched path (SIMD across points, field/bezier_curve_simd.cpp) against project(p):
+  // 10,400 queries (200 per curve) of degrees 1-7 (the arc path) and 9 (whole-curve isolation),
+  // both tie rules, batches of odd sizes; plus curves with ties (a closed loop, a symmetric M
+  // and arch). Every field must be identical.
+  Rng rng(2718);
+  std::vector<BezierCurve> curves;
+  for (const int degree : {1, 2, 3, 4, 5, 6, 7, 9}) {
+    for (int k = 0; k < 6; ++k) curves.push_back(random_curve(rng, degree));
+  }
+  curves.push_back(planar({{0, 0}, {2, 2}, {-2, 2}, {0, 0}}));            // closed loop
+  curves.push_back(planar({{-2, 0}, {-1, 4}, {0, -4}, {1, 4}, {2, 0}}));  // symmetric M
+  curves.push_back(planar({{-2, 0}, {-2, 1}, {2, 1}, {2, 0}}));           // symmetric arch
+  curves.push_back(planar({{0, 0}, {2, 2}, {0, 2}, {2, 0}}));             // cusp
+  const std::vector<int> sizes = {1, 7, 9, 255, 257};
+  int compared = 0, different = 0;
+  for (std::size_t ci = 0; ci < curves.size(); ++ci) {
+    const BezierProjector proj(curves[ci]);
+    std::vector<Vec3> points = batch_queries(rng, proj.curve(), 200);
+    if (ci >= curves.size() - 4) {
+      // On the symmetry axes: exact ties between the ends or the lobes.
+      points.emplace_back(0, 5, 0);
+      points.emplace_back(0, -3, 0);
+      points.emplace_back(0, 1, 0);
+      points.emplace_back(0, 0, 0);
+    }
+    for (const TieRule rule : {TieRule::kFirst, TieRule::kLast}) {
+      // One batch of everything, then batches of several sizes over the same points.
+      std::vector<BezierProjection> all(points.size());
+      proj.project(points, all, rule);
+      std::size_t begin = 0;
+      for (std::size_t s = 0; begin < points.size(); ++s) {
+        const std::size_t n =
+            std::min(points.size() - begin, static_cast<std::size_t>(sizes[s % sizes.size()]));
+        std::vector<BezierProjection> part(n);
+        proj.project(std::span<const Vec3>(points).subspan(begin, n), part, rule);
+        for (std::size_t k = 0; k < n; ++k) {
+          if (!same_bits(part[k], all[begin + k])) ++different;
+        }
+        begin += n;
+      }
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        const BezierProjection one = proj.project(points[k], rule);
+        ++compared;
+        if (!same_bits(all[k], one)) {
+          ++different;
+          ADD_FAILURE() << "curve " << ci << " point " << k << ": batched t " << all[k].t
+                        << " distance " << all[k].distance << " candidates " << all[k].candidates
+                        << " tie " << all[k].tie << "; one by one t " << one.t << " distance "
+                        << one.distance << " candidates " << one.candidates << " tie " << one.tie;
+          if (different > 10) return;
+        }
+      }
+    }
+  }
+  EXPECT_GE(compared, 2 * 10000);
+  EXPECT_EQ(different, 0);
 }
 
 TEST(BezierProject, NeverFartherThanNewtonAndCountsNewtonMisses) {

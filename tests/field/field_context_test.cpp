@@ -11,6 +11,7 @@
 #include "ramiform/core/context.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/random.h"
+#include "ramiform/field/anisotropic.h"
 #include "ramiform/field/operators.h"
 #include "ramiform/field/skeleton_field.h"
 #include "support/fixtures.h"
@@ -53,6 +54,31 @@ TEST(FieldContext, ValuesAndGradientsIdenticalForAnyThreadCount) {
     EXPECT_EQ(
         std::memcmp(gradients[0].data(), gradients[r].data(), gradients[0].size() * sizeof(Vec3)),
         0);
+  }
+}
+
+// Bezier curve fields (batched projection, SIMD across points) under a sum: the same bits on 1
+// and 2 threads.
+TEST(FieldContext, BezierCurveFieldIdenticalForAnyThreadCount) {
+  BezierCurve c;
+  c.controls = {Vec3(0, 0, 0), Vec3(1, 2, 0), Vec3(2, -1, 1), Vec3(3, 0, 0)};
+  BezierCurve q;
+  q.controls = {Vec3(0, 1, 0),  Vec3(1, 0, 2), Vec3(2, 2, 1),
+                Vec3(3, 1, -1), Vec3(2, 0, 0), Vec3(4, 1, 0)};
+  const FieldPtr f = make_sum(
+      {make_bezier_field(c, 0.4, Deformation{}), make_bezier_field(q, 0.3, Deformation{})});
+  const std::vector<Vec3> p = cloud(20000, f->bounds());
+  std::vector<double> v1(p.size()), v2(p.size());
+  std::vector<Vec3> g1(p.size()), g2(p.size());
+  const Context one(1), two(2);
+  f->evaluate(p, v1, g1, &one);
+  f->evaluate(p, v2, g2, &two);
+  EXPECT_EQ(std::memcmp(v1.data(), v2.data(), v1.size() * sizeof(double)), 0);
+  EXPECT_EQ(std::memcmp(g1.data(), g2.data(), g1.size() * sizeof(Vec3)), 0);
+  // And the same as one point at a time.
+  for (std::size_t k = 0; k < p.size(); k += 97) {
+    const double v = f->value(p[k]);
+    EXPECT_EQ(std::memcmp(&v, &v1[k], sizeof(double)), 0) << k;
   }
 }
 
