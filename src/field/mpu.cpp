@@ -795,8 +795,8 @@ class MpuField final : public detail::PointwiseField {
                            std::vector<std::uint32_t>& open) const {
     open.clear();
     if (ray.count == 0) return -1;
-    // Boxes are widened by a hair for the slab tests (the samples' rounding), and a node's run
-    // of samples by one on each side: a sample may so be given to a neighbouring cell too, where
+    // Boxes are widened by a hair (the samples' rounding), and a node's run of samples by a
+    // millionth of a step on each side: a sample may so be given to a neighbouring cell too, where
     // a bound proves nothing about it, but it is always given to the cell that holds it. A proof
     // of outside only drops a sample from one cell's run (the union of the runs left open is what
     // counts); a proof of inside only names a candidate, which the caller checks.
@@ -823,10 +823,12 @@ class MpuField final : public detail::PointwiseField {
     const auto [ta, tb] = slab(widen(clip_), ray.first, last);
     if (!(ta <= tb)) return -1;
     const auto top = static_cast<double>(ray.count - 1);
-    // The samples of a parameter range [a, b], widened by one on each side.
+    // The samples of a parameter range [a, b], widened by a millionth of a step on each side
+    // (rounding in a, b and the samples' positions is some 1e-16 of the segment; a step is at
+    // least 1e-6 of it, visibility.cpp).
     auto run = [&](double a, double b) {
-      const double k0 = std::max(std::floor((a - ray.first) / ray.step) - 1, 0.0);
-      const double k1 = std::min(std::ceil((b - ray.first) / ray.step) + 1, top);
+      const double k0 = std::max(std::ceil((a - ray.first) / ray.step - 1e-6), 0.0);
+      const double k1 = std::min(std::floor((b - ray.first) / ray.step + 1e-6), top);
       return std::pair<std::int64_t, std::int64_t>{static_cast<std::int64_t>(k0),
                                                    static_cast<std::int64_t>(k1)};
     };
