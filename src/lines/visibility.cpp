@@ -41,8 +41,9 @@
 //   3. The candidates and the open samples are evaluated in one batch; any f > iso hides the
 //      point. (A candidate not confirmed — rounding at the edge of a bound, never seen — sends
 //      its segment through round 2 again without stopping at proofs of inside.)
-// Measured on the bunny (10,000 particles, docs/benchmarks.md): the MPU walk costs a third of
-// the old bounds of boxes around groups of rays (they visited every leaf a box meets).
+// Measured on the bunny (10,000 particles, docs/benchmarks.md): 2.3 times less time than the
+// bounds of boxes around groups of rays this replaced (an MPU field's bound(box) visits every
+// leaf whose support meets the box), with three times the evaluations.
 //
 // kSurfels. The depth buffer covers the camera's frame (camera.h). Its value for a line point
 // is the least depth, over the disks, of the point where the view ray through the line point
