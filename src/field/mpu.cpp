@@ -800,7 +800,8 @@ class MpuField final : public detail::PointwiseField {
     // a bound proves nothing about it, but it is always given to the cell that holds it. A proof
     // of outside only drops a sample from one cell's run (the union of the runs left open is what
     // counts); a proof of inside only names a candidate, which the caller checks.
-    const double hair = 1e-9 * root_.sizes().maxCoeff();
+    const double hair = 1e-9 * (root_.sizes().maxCoeff() + ray.origin.cwiseAbs().maxCoeff() +
+                                ray.dir.cwiseAbs().maxCoeff());
     auto widen = [&](const Aabb& b) {
       return Aabb(b.min() - Vec3::Constant(hair), b.max() + Vec3::Constant(hair));
     };

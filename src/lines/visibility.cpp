@@ -220,8 +220,10 @@ Segments segments(const Field& field, const Camera& camera, const Points& pts, d
 /// halved until proven outside, proven inside (then, with stop_inside, its middle sample is the
 /// candidate returned) or at most kDirectRun samples long (then left open).
 std::int64_t bound_samples(const Field& field, const detail::RaySamples& ray, bool stop_inside,
-                           double hair, std::vector<std::uint32_t>& open) {
+                           std::vector<std::uint32_t>& open) {
   open.clear();
+  // Boxes are widened by a hair over the samples' rounding (some 1e-16 of the coordinates).
+  const double hair = 1e-9 * (ray.origin.cwiseAbs().maxCoeff() + ray.dir.cwiseAbs().maxCoeff());
   const double iso = field.iso();
   std::vector<std::pair<std::int64_t, std::int64_t>> runs;
   const auto last = static_cast<std::int64_t>(ray.count) - 1;
@@ -256,10 +258,10 @@ std::int64_t bound_samples(const Field& field, const detail::RaySamples& ray, bo
 /// The samples of a ray left to evaluate: the MPU's walk through its cells
 /// (detail::mpu_ray_samples), else bound_samples.
 std::int64_t open_samples(const Field& field, const detail::RaySamples& ray, bool stop_inside,
-                          double hair, std::vector<std::uint32_t>& open) {
+                          std::vector<std::uint32_t>& open) {
   std::int64_t candidate = -1;
   if (detail::mpu_ray_samples(field, ray, stop_inside, candidate, open)) return candidate;
-  return bound_samples(field, ray, stop_inside, hair, open);
+  return bound_samples(field, ray, stop_inside, open);
 }
 
 std::uint64_t classify_rays(const Field& field, const Camera& camera, const Points& pts,
@@ -270,7 +272,6 @@ std::uint64_t classify_rays(const Field& field, const Camera& camera, const Poin
   const std::size_t m = seg.ray.size();
   if (m == 0) return evals;
   const double iso = field.iso();
-  const double hair = 1e-9 * std::max(field.bounds().diagonal().norm(), 1e-300);
   // Round 3: the samples each ray leaves open, or a candidate proven inside.
   std::vector<std::vector<std::uint32_t>> open(m);
   std::vector<std::int64_t> candidate(m, -1);
@@ -278,7 +279,7 @@ std::uint64_t classify_rays(const Field& field, const Camera& camera, const Poin
       m, 8,
       [&](std::size_t b, std::size_t e) {
         for (std::size_t r = b; r < e; ++r)
-          candidate[r] = open_samples(field, seg.ray[r], true, hair, open[r]);
+          candidate[r] = open_samples(field, seg.ray[r], true, open[r]);
       },
       ctx);
   // Round 4: evaluate them, in ray order; any sample inside hides the point.
@@ -319,7 +320,7 @@ std::uint64_t classify_rays(const Field& field, const Camera& camera, const Poin
   }
   if (!again.empty()) {
     for (const std::uint32_t r : again)
-      candidate[r] = open_samples(field, seg.ray[r], false, hair, open[r]);
+      candidate[r] = open_samples(field, seg.ray[r], false, open[r]);
     const std::vector<std::uint8_t> second = evaluate(again);
     for (const std::uint32_t r : again)
       if (second[r] != 0) visible[seg.point[r]] = 0;
