@@ -13,6 +13,7 @@
 #include <string>
 #include <utility>
 
+#include "field/mpu_rays.h"
 #include "field/point_kdtree.h"
 #include "field/pointwise_field.h"
 #include "ramiform/core/errors.h"
@@ -539,7 +540,10 @@ class MpuField final : public detail::PointwiseField {
         background_reach_(kBackgroundReach * root.sizes().maxCoeff()),
         point_count_(point_count),
         stats_(stats) {
+    support_.reserve(leaves_.size());
+    for (const Leaf& leaf : leaves_) support_.push_back({leaf.centre, leaf.radius * leaf.radius});
     build_near_lists(ctx);
+    build_status(ctx);
     bounds_ = inside_box();
   }
 
@@ -602,7 +606,12 @@ class MpuField final : public detail::PointwiseField {
                                       2 * (p.y() >= mid.y()) + 4 * (p.z() >= mid.z()));
       }
       const auto l = static_cast<std::size_t>(nodes_[id].leaf);
-      for (std::size_t k = near_begin_[l]; k < near_begin_[l + 1]; ++k) add(leaves_[near_[k]]);
+      for (std::size_t k = near_begin_[l]; k < near_begin_[l + 1]; ++k) {
+        // The support test on the compact copy first (most of the list misses p).
+        const Support& s = support_[near_[k]];
+        if (!((p - s.centre).squaredNorm() < s.radius2)) continue;
+        add(leaves_[near_[k]]);
+      }
     } else {
       std::array<std::int32_t, 8 * 24> stack;  // 7 per level on the path + 8
       int top = 0;
@@ -718,6 +727,12 @@ class MpuField final : public detail::PointwiseField {
       magnitude = std::max(magnitude, s_hi);
     }
     if (lo > hi) return {0, 0};  // cannot happen: the root cube is covered by the leaves
+    return finish_bound(box, lo, hi, magnitude);
+  }
+
+  // The bound [lo, hi] of the leaves' local functions over `box` (magnitude: their largest
+  // |value|), completed with the clip and the rounding slack.
+  Interval finish_bound(const Aabb& box, double lo, double hi, double magnitude) const {
     // The clip max(f, signed distance to the clip box); the signed distance is 1-Lipschitz.
     const Vec3 c = box.center();
     const double half = 0.5 * box.diagonal().norm();
@@ -731,6 +746,185 @@ class MpuField final : public detail::PointwiseField {
     return {lo - slack, hi + slack};
   }
 
+  // The bound of f_mpu (native, with the clip) over the points of `box` that lie in the cell of
+  // leaf `l`: only the leaves of its near list contribute there (those of native_bound, without
+  // the walk down the tree). The cell lies in the root cube: no background.
+  Interval cell_bound(const Aabb& box, std::size_t l) const {
+    double lo = kInf, hi = -kInf, magnitude = 0;
+    for (std::size_t k = near_begin_[l]; k < near_begin_[l + 1]; ++k) {
+      if (!(squared_distance(box, support_[near_[k]].centre) < support_[near_[k]].radius2))
+        continue;
+      const Leaf& leaf = leaves_[near_[k]];
+      const Aabb clipped = box.intersection(Aabb(leaf.centre - Vec3::Constant(leaf.radius),
+                                                 leaf.centre + Vec3::Constant(leaf.radius)));
+      const Interval iv = leaf.fit.bound(clipped.center() - leaf.centre, 0.5 * clipped.sizes());
+      lo = std::min(lo, iv.lo);
+      hi = std::max(hi, iv.hi);
+      magnitude = std::max({magnitude, std::abs(iv.lo), std::abs(iv.hi)});
+    }
+    if (lo > hi) return {-kInf, kInf};  // no support meets the box: prove nothing
+    return finish_bound(box, lo, hi, magnitude);
+  }
+
+  // status_ of every node: a leaf's from cell_bound over its cell, a parent's the common status
+  // of its children (children come after their parent).
+  void build_status(const Context* ctx) {
+    status_.assign(nodes_.size(), kUnknown);
+    parallel::for_each(
+        nodes_.size(), 256,
+        [&](std::size_t id) {
+          const Node& node = nodes_[id];
+          if (node.leaf < 0) return;
+          const Interval iv = cell_bound(node.box, static_cast<std::size_t>(node.leaf));
+          status_[id] = iv.lo >= 0 ? kOutside : iv.hi < 0 ? kInside : kUnknown;
+        },
+        ctx);
+    for (std::size_t id = nodes_.size(); id-- > 0;) {
+      const Node& node = nodes_[id];
+      if (node.leaf >= 0) continue;
+      std::int8_t s = status_[static_cast<std::size_t>(node.first_child)];
+      for (int c = 1; c < 8; ++c)
+        if (status_[static_cast<std::size_t>(node.first_child + c)] != s) s = kUnknown;
+      status_[id] = s;
+    }
+  }
+
+ public:
+  // detail::mpu_ray_samples (src/field/mpu_rays.h).
+  std::int64_t ray_samples(const detail::RaySamples& ray, bool stop_inside,
+                           std::vector<std::uint32_t>& open) const {
+    open.clear();
+    if (ray.count == 0) return -1;
+    // Boxes are widened by a hair (the samples' rounding), and a node's run of samples by a
+    // millionth of a step on each side: a sample may so be given to a neighbouring cell too, where
+    // a bound proves nothing about it, but it is always given to the cell that holds it. A proof
+    // of outside only drops a sample from one cell's run (the union of the runs left open is what
+    // counts); a proof of inside only names a candidate, which the caller checks.
+    const double hair = 1e-9 * (root_.sizes().maxCoeff() + ray.origin.cwiseAbs().maxCoeff() +
+                                ray.dir.cwiseAbs().maxCoeff());
+    auto widen = [&](const Aabb& b) {
+      return Aabb(b.min() - Vec3::Constant(hair), b.max() + Vec3::Constant(hair));
+    };
+    auto slab = [&](const Aabb& b, double lo, double hi) {
+      for (int k = 0; k < 3; ++k) {
+        const double d = ray.dir[k], o = ray.origin[k];
+        if (d == 0) {
+          if (o < b.min()[k] || o > b.max()[k]) return std::pair<double, double>{1, 0};
+          continue;
+        }
+        double t0 = (b.min()[k] - o) / d, t1 = (b.max()[k] - o) / d;
+        if (t0 > t1) std::swap(t0, t1);
+        lo = std::max(lo, t0);
+        hi = std::min(hi, t1);
+      }
+      return std::pair<double, double>{lo, hi};
+    };
+    const double last = ray.first + static_cast<double>(ray.count - 1) * ray.step;
+    // Outside the clip box the clip alone makes f_mpu ≥ 0: only the run inside it counts.
+    const auto [ta, tb] = slab(widen(clip_), ray.first, last);
+    if (!(ta <= tb)) return -1;
+    const auto top = static_cast<double>(ray.count - 1);
+    // The samples of a parameter range [a, b], widened by a millionth of a step on each side
+    // (rounding in a, b and the samples' positions is some 1e-16 of the segment; a step is at
+    // least 1e-6 of it, visibility.cpp).
+    auto run = [&](double a, double b) {
+      const double k0 = std::max(std::ceil((a - ray.first) / ray.step - 1e-6), 0.0);
+      const double k1 = std::min(std::floor((b - ray.first) / ray.step + 1e-6), top);
+      return std::pair<std::int64_t, std::int64_t>{static_cast<std::int64_t>(k0),
+                                                   static_cast<std::int64_t>(k1)};
+    };
+    auto add = [&](std::int64_t k0, std::int64_t k1) {
+      for (std::int64_t k = k0; k <= k1; ++k) open.push_back(static_cast<std::uint32_t>(k));
+    };
+    // The nodes the ray crosses, each with its parameter range: a node's range is cut at the
+    // ray's crossings of its three mid planes into the ranges of the (at most 4) children met.
+    struct Visit {
+      std::int32_t node;
+      double a, b;
+    };
+    std::array<Visit, 4 * 24> stack;  // at most 3 left per level on the path + 4
+    int height = 0;
+    stack[static_cast<std::size_t>(height++)] = {0, ta, tb};
+    std::vector<std::pair<std::int64_t, std::int64_t>> runs;
+    // A candidate must lie in the box the proof is about.
+    auto inside_at = [&](const Aabb& where, std::int64_t k0, std::int64_t k1) -> std::int64_t {
+      const std::int64_t k = k0 + (k1 - k0) / 2;
+      return where.contains(detail::ray_sample(ray, static_cast<std::uint32_t>(k))) ? k : -1;
+    };
+    while (height > 0) {
+      const Visit visit = stack[static_cast<std::size_t>(--height)];
+      const auto id = static_cast<std::size_t>(visit.node);
+      const std::int8_t status = status_[id];
+      if (status == kOutside) continue;
+      const Node& node = nodes_[id];
+      const double a = visit.a, b = visit.b;
+      const auto [k0, k1] = run(a, b);
+      if (k0 > k1) continue;
+      const Aabb box = widen(node.box);
+      if (status == kInside && stop_inside) {
+        const std::int64_t k = inside_at(box, k0, k1);
+        if (k >= 0) return k;
+      }
+      if (node.leaf < 0) {
+        const Vec3 mid = node.box.center();
+        std::array<double, 5> cut{a, b, b, b, b};
+        int cuts = 1;
+        for (int k = 0; k < 3; ++k) {
+          if (ray.dir[k] == 0) continue;
+          const double t = (mid[k] - ray.origin[k]) / ray.dir[k];
+          if (t > a && t < b) cut[static_cast<std::size_t>(cuts++)] = t;
+        }
+        for (int i = 2; i < cuts; ++i) {  // sort the (at most 3) crossings
+          for (int j = i;
+               j > 1 && cut[static_cast<std::size_t>(j)] < cut[static_cast<std::size_t>(j - 1)];
+               --j)
+            std::swap(cut[static_cast<std::size_t>(j)], cut[static_cast<std::size_t>(j - 1)]);
+        }
+        cut[static_cast<std::size_t>(cuts)] = b;
+        for (int i = cuts - 1; i >= 0; --i) {
+          const double u = cut[static_cast<std::size_t>(i)],
+                       v = cut[static_cast<std::size_t>(i + 1)];
+          const Vec3 p = ray.origin + (0.5 * (u + v)) * ray.dir;
+          const std::int32_t child = node.first_child + (p.x() >= mid.x()) +
+                                     2 * (p.y() >= mid.y()) + 4 * (p.z() >= mid.z());
+          stack[static_cast<std::size_t>(height++)] = {child, u, v};
+        }
+        continue;
+      }
+      // A cell the surface may cross: its run of samples, halved until proven or short.
+      const auto l = static_cast<std::size_t>(node.leaf);
+      runs.assign(1, {k0, k1});
+      while (!runs.empty()) {
+        const auto [r0, r1] = runs.back();
+        runs.pop_back();
+        if (r1 - r0 < kDirectRun) {
+          add(r0, r1);
+          continue;
+        }
+        // The run's samples in the cell lie between the parameters pa and pb.
+        const double pa = std::max(ray.first + static_cast<double>(r0) * ray.step, a);
+        const double pb = std::min(ray.first + static_cast<double>(r1) * ray.step, b);
+        if (!(pa <= pb)) continue;  // no sample of the run in this cell
+        Aabb piece;
+        piece.extend(ray.origin + pa * ray.dir);
+        piece.extend(ray.origin + pb * ray.dir);
+        const Interval iv = cell_bound(widen(piece), l);
+        if (iv.lo >= 0) continue;
+        if (iv.hi < 0 && stop_inside) {
+          const std::int64_t k = inside_at(box, r0, r1);
+          if (k >= 0) return k;
+        }
+        const std::int64_t mid = r0 + (r1 - r0) / 2;
+        runs.emplace_back(mid + 1, r1);
+        runs.emplace_back(r0, mid);
+      }
+    }
+    std::sort(open.begin(), open.end());
+    open.erase(std::unique(open.begin(), open.end()), open.end());
+    return -1;
+  }
+
+ private:
   // For each leaf, the leaves whose support meets its cell, ascending.
   void build_near_lists(const Context* ctx) {
     std::vector<std::size_t> leaf_node(leaves_.size());
@@ -792,8 +986,24 @@ class MpuField final : public detail::PointwiseField {
     return result;
   }
 
+  // Node status: f_mpu ≥ 0 on the whole box (outside, f ≤ iso), < 0 on the whole box (inside),
+  // or neither proven.
+  static constexpr std::int8_t kUnknown = 0, kOutside = 1, kInside = -1;
+  // ray_samples: runs of at most this many samples are left open without a bound (a bound
+  // over a cell's near list costs about as much as one or two evaluations; measured on the
+  // bunny, docs/benchmarks.md: 5 against 3 or 7).
+  static constexpr std::int64_t kDirectRun = 5;
+
+  // Each leaf's support ball, compact (the near lists' loops test these first).
+  struct Support {
+    Vec3 centre;
+    double radius2;
+  };
+
   std::vector<Node> nodes_;
   std::vector<Leaf> leaves_;
+  std::vector<Support> support_;
+  std::vector<std::int8_t> status_;
   std::vector<MpuCell> cells_;
   std::vector<std::size_t> near_begin_;  // leaf l's list: near_[near_begin_[l], near_begin_[l + 1])
   std::vector<std::uint32_t> near_;
@@ -953,6 +1163,14 @@ FieldPtr make_mpu_field(const PointSet& points, const MpuOptions& options, MpuSt
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats != nullptr) *stats = st;
   return field;
+}
+
+bool detail::mpu_ray_samples(const Field& field, const RaySamples& ray, bool stop_inside,
+                             std::int64_t& candidate, std::vector<std::uint32_t>& open) {
+  const auto* mpu = dynamic_cast<const MpuField*>(&field);
+  if (mpu == nullptr) return false;
+  candidate = mpu->ray_samples(ray, stop_inside, open);
+  return true;
 }
 
 std::vector<MpuCell> mpu_leaf_cells(const Field& field) {

@@ -8,7 +8,10 @@
 #include <numbers>
 #include <vector>
 
+#include "field/point_cloud_fixtures.h"
+#include "lines/visibility_reference.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/field/mpu.h"
 #include "ramiform/field/operators.h"
 #include "ramiform/field/primitives.h"
 #include "ramiform/lines/lines.h"
@@ -283,6 +286,77 @@ TEST(LineVisibility, EyeInsideHidesEverything) {
   LineStats st;
   classify_visibility(*s.field, s.particles, cam, lines, o, &st);
   EXPECT_EQ(st.hidden_fraction, 1);
+}
+
+// kRays's bounds only skip samples: the flags equal those of evaluating every sample of every
+// segment (detail::rays_visibility_exhaustive), on an MPU surface (its walk through the cells)
+// and on a CSG one (field.bound of boxes).
+void expect_exhaustive_flags(const Field& field, const ParticleSystem& particles,
+                             const Camera& camera, std::vector<Polyline> lines, std::size_t& hidden,
+                             std::size_t& visible) {
+  const Context two(2);
+  const std::vector<std::uint8_t> reference = detail::rays_visibility_exhaustive(
+      field, particles, camera, lines, LineOptions{}.occlusion_tolerance, &two);
+  LineOptions o;
+  o.visibility = Visibility::kRays;
+  LineStats st;
+  classify_visibility(field, particles, camera, lines, o, &st, &two);
+  std::size_t k = 0, differ = 0;
+  for (const Polyline& line : lines) {
+    for (const std::uint8_t v : line.visible) {
+      ASSERT_LT(k, reference.size());
+      differ += v != reference[k] ? 1 : 0;
+      (v != 0 ? visible : hidden) += 1;
+      ++k;
+    }
+  }
+  EXPECT_EQ(k, reference.size());
+  EXPECT_EQ(differ, 0u) << "of " << k << " points";
+}
+
+std::vector<Polyline> particles_as_points(const ParticleSystem& particles) {
+  Polyline all;
+  all.kind = LineKind::kFeature;
+  for (const SurfaceParticle& p : particles.particles) all.points.push_back(p.position);
+  return {all};
+}
+
+TEST(LineVisibility, RaysEqualEverySampleEvaluatedOnAnMpuSurface) {
+  // A torus and a ball partly in front of it, fitted together by the MPU.
+  PointSet cloud = test::torus_cloud(4000, 7);
+  const PointSet ball = test::sphere_cloud(1500, 0.4, Vec3(0.3, -0.9, 0.7));
+  cloud.positions.insert(cloud.positions.end(), ball.positions.begin(), ball.positions.end());
+  cloud.normals.insert(cloud.normals.end(), ball.normals.begin(), ball.normals.end());
+  const Context two(2);
+  const FieldPtr field = make_mpu_field(cloud, {}, nullptr, &two);
+  ParticleOptions po;
+  po.count = 2000;
+  const ParticleSystem particles = spread_particles(*field, po, {}, {}, nullptr, &two);
+  Aabb box;
+  for (const SurfaceParticle& p : particles.particles) box.extend(p.position);
+  std::size_t hidden = 0, visible = 0;
+  for (int v = 0; v < 3; ++v) {
+    const Camera camera = frame_box(box, 20.0 + 120.0 * v, 25.0 + 10.0 * v);
+    LineOptions none;
+    none.visibility = Visibility::kNone;
+    const LineDrawing drawing = draw_lines(*field, particles, camera, none, nullptr, nullptr, &two);
+    expect_exhaustive_flags(*field, particles, camera, drawing.lines, hidden, visible);
+    expect_exhaustive_flags(*field, particles, camera, particles_as_points(particles), hidden,
+                            visible);
+  }
+  // Both answers are common (the back of the torus, the torus behind the ball).
+  EXPECT_GT(hidden, 1000u);
+  EXPECT_GT(visible, 500u);
+}
+
+TEST(LineVisibility, RaysEqualEverySampleEvaluatedOnACsgSurface) {
+  const TwoSpheres& s = scene();
+  std::size_t hidden = 0, visible = 0;
+  expect_exhaustive_flags(*s.field, s.particles, s.camera, test_lines(), hidden, visible);
+  expect_exhaustive_flags(*s.field, s.particles, s.camera, particles_as_points(s.particles), hidden,
+                          visible);
+  EXPECT_GT(hidden, 1000u);
+  EXPECT_GT(visible, 1000u);
 }
 
 TEST(LineVisibility, RejectsBadInput) {
