@@ -587,7 +587,7 @@ void bind_points(py::module_& m) {
          std::size_t count, std::uint64_t seed, const std::string& visibility,
          const std::string& fit, double k_c, double k_e, double k_d, double theta_sc, double k_a,
          int k_trim, int width, int height, bool hidden, std::optional<std::string> polylines,
-         int threads) {
+         int threads, const std::string& straddle) {
         LineOptions o;
         try {
           select_line_kinds(o, kinds);
@@ -599,6 +599,7 @@ void bind_points(py::module_& m) {
         }
         o.visibility = visibility_from_name(visibility);
         o.fit = fit_from_name(fit);
+        o.straddle = straddle_from_name(straddle);
         o.k_c = k_c;
         o.k_e = k_e;
         o.k_d = k_d;
@@ -663,6 +664,8 @@ void bind_points(py::module_& m) {
         stats["silhouette_seeds"] = ls.silhouette_seeds;
         stats["suggestive_particles"] = ls.suggestive_particles;
         stats["straddle_pairs"] = ls.straddle_pairs;
+        stats["straddle_pairs_movement"] = ls.straddle_pairs_movement;
+        stats["straddle_pairs_search"] = ls.straddle_pairs_search;
         stats["hidden_fraction"] = ls.hidden_fraction;
         for (int k = 0; k < 3; ++k) {
           stats[py::str(std::string("lines_") +
@@ -683,10 +686,12 @@ void bind_points(py::module_& m) {
       py::arg("k_d") = lo.k_d, py::arg("theta_sc") = lo.theta_sc_deg, py::arg("k_a") = lo.k_a_deg,
       py::arg("k_trim") = lo.k_trim, py::arg("width") = ds.width, py::arg("height") = 0,
       py::arg("hidden") = false, py::arg("polylines") = py::none(), py::arg("threads") = 0,
+      py::arg("straddle") = "auto",
       "`ramiform draw` on a field (docs/drawing.md): silhouettes, suggestive contours and "
       "feature lines from `count` particles, hidden lines classified. `camera` is the command's "
       "text (\"eye=x,y,z;target=...;up=...;fov=deg\", any subset), else the surface is framed from "
       "`azimuth` and `elevation` about the `vertical` axis (\"y\" or \"z\"). Writes `out` (.svg or .png) and `polylines` (.json) when given. "
+      "`straddle` (\"auto\", \"movement\" or \"search\") chooses where feature lines start. "
       "Returns {'camera', 'lines': [{'kind', 'closed', 'points' (K, 3), 'visible' (K,)}], "
       "'stats'}.");
 }
