@@ -212,6 +212,22 @@ TEST(FeatureLines, AutoFallsBackWhenTheMovementTestFails) {
   EXPECT_EQ(sa.straddle_pairs_search, ss.straddle_pairs_search);
 }
 
+TEST(FeatureLines, StraddleNames) {
+  EXPECT_EQ(straddle_from_name("auto"), StraddleSource::kAuto);
+  EXPECT_EQ(straddle_from_name("movement"), StraddleSource::kMovement);
+  EXPECT_EQ(straddle_from_name("search"), StraddleSource::kSearch);
+  try {
+    (void)straddle_from_name("both");
+    ADD_FAILURE() << "no throw";
+  } catch (const InvalidArgument& e) {
+    EXPECT_NE(std::string(e.what()).find("straddle"), std::string::npos) << e.what();
+  }
+  LineOptions o;
+  EXPECT_EQ(o.straddle, StraddleSource::kAuto);
+  o.straddle = static_cast<StraddleSource>(7);
+  EXPECT_THROW(validate(o), InvalidArgument);
+}
+
 // A cylinder cut by two planes: the two rims are closed feature loops; the crease between a
 // curved and a flat face.
 TEST(FeatureLines, CylinderRimsAreClosedLoops) {
