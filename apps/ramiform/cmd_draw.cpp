@@ -239,9 +239,9 @@ void register_draw(CLI::App& root, Action& action) {
                              l.k_a_deg, 0, 180))
       ->check(CLI::Range(0.001, 179.999));
   c->add_option("--straddle", a->straddle,
-                "feature lines: straddle pairs from each particle's normal before and after the "
-                "simulation (movement), from nearby particles (search), or movement then search "
-                "when it draws nothing (auto); default auto")
+                "feature lines' straddle pairs: movement (each particle's normal before and "
+                "after the simulation), search (nearby particles) or auto (movement, then search "
+                "when it draws nothing) (default auto)")
       ->check(CLI::IsMember({"auto", "movement", "search"}));
   c->add_option("--visibility", a->visibility,
                 "hidden lines: rays (exact, the default), surfels (the paper's disks behind the "

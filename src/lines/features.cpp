@@ -3,11 +3,12 @@
 //
 // Feature lines (creases) traced from straddle particle pairs, after Proença, Jorge & Costa
 // Sousa 2008, "Suggestive Contours over Point-Set Implicits" (GRAPP), §6: straddle points by
-// eq. 11 found by the neighbourhood search (their improvement 3: the before/after-movement test
-// of Foster, Jepp, Wyvill, Costa Sousa, Galbraith & Jorge 2005, "Drawing surfaces" (Computers &
-// Graphics) needs the running simulation), then moved along the two faces parallel to the
-// feature with steps scaled by δ_i (improvement 4), the crease points estimated between them,
-// until eq. 11 fails or another feature line is near.
+// eq. 11, from the before/after-movement test of Foster, Jepp, Wyvill, Costa Sousa, Galbraith &
+// Jorge 2005, "Drawing surfaces" (Computers & Graphics) on the particles' seeding state, and by
+// the neighbourhood search (their improvement 3) when that fails, then moved along the two
+// faces parallel to the feature with steps scaled by δ_i (improvement 4), the crease points
+// estimated between them, until eq. 11 fails or another feature line is near; then the pieces
+// of one crease are chained (as §6 chains silhouettes, here in 3-D).
 //
 // Choices the paper leaves open:
 // - The crease point between two side points a, b (normals n_a, n_b) is the point of the line
@@ -20,7 +21,11 @@
 //   with 10,000 particles has 30,000 of them: particles 1.5 δ apart often differ by more than
 //   k_a); they give no line. Pairs with a particle between them whose normal lies between
 //   theirs are dropped before any field evaluation for the same reason.
-// - Each particle contributes its best partner (largest normal angle) as a candidate; the
+// - Movement pairs (seeding and final position of one particle) can lie farther apart than the
+//   search radius; the crease point may then be found anywhere between them.
+// - A trace stops at a corner (the crease turns by more than kCornerTurn in one step), so that
+//   a line is one crease; pieces are joined only end to end in the same direction.
+// - Search: each particle contributes its best partner (largest normal angle) as a candidate; the
 //   candidates, strongest first, are verified in batches (one field evaluation per Newton
 //   round for the whole batch) and traced one at a time, skipping those already on a line.
 
