@@ -35,6 +35,7 @@ struct DrawArgs {
   std::string state_path;  // --particle-state: particles saved by `ramiform particles`
   std::string visibility = "rays";
   std::string fit = "longest";
+  std::string straddle = "auto";
   LineOptions lines;
   DrawingStyle style;
   CommonOptions common;
@@ -69,6 +70,7 @@ int run_draw(DrawArgs& args) {
   }
   lo.visibility = visibility_from_name(args.visibility);
   lo.fit = fit_from_name(args.fit);
+  lo.straddle = straddle_from_name(args.straddle);
   if (args.style.height == 0) args.style.height = args.style.width;
   args.style.suggestive.width = 0.5 * args.style.silhouette.width;
   args.style.feature.width = 0.625 * args.style.silhouette.width;
@@ -161,6 +163,8 @@ int run_draw(DrawArgs& args) {
     stats["particles"] = system.particles.size();
   }
   stats["straddle_pairs"] = feature_stats.straddle_pairs;
+  stats["straddle_pairs_movement"] = feature_stats.straddle_pairs_movement;
+  stats["straddle_pairs_search"] = feature_stats.straddle_pairs_search;
   stats["views"] = std::move(views);
   stats["field_evals"] = in.field->evaluations();
   stats["seconds"] = timer.seconds();
@@ -241,6 +245,11 @@ void register_draw(CLI::App& root, Action& action) {
                              "(eq. 11)",
                              l.k_a_deg, 0, 180))
       ->check(CLI::Range(0.001, 179.999));
+  c->add_option("--straddle", a->straddle,
+                "feature lines' straddle pairs: movement (each particle's normal before and "
+                "after the simulation), search (nearby particles) or auto (movement, then search "
+                "when it draws nothing) (default auto)")
+      ->check(CLI::IsMember({"auto", "movement", "search"}));
   c->add_option("--visibility", a->visibility,
                 "hidden lines: rays (exact, the default), surfels (the paper's disks behind the "
                 "particles: faster on scans, but they hide bits of silhouettes) or none")

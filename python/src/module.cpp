@@ -618,7 +618,8 @@ void bind_points(py::module_& m) {
          const std::string& visibility, const std::string& fit, double k_c, double k_e, double k_d,
          double theta_sc, double k_a, int k_trim, int width, int height, bool hidden,
          std::optional<std::string> polylines, std::optional<std::string> particle_state,
-         std::size_t per_cell, int iterations, int cell_depth, double flatness, int threads) {
+         std::size_t per_cell, int iterations, int cell_depth, double flatness, int threads,
+         const std::string& straddle) {
         LineOptions o;
         try {
           select_line_kinds(o, kinds);
@@ -630,6 +631,7 @@ void bind_points(py::module_& m) {
         }
         o.visibility = visibility_from_name(visibility);
         o.fit = fit_from_name(fit);
+        o.straddle = straddle_from_name(straddle);
         o.k_c = k_c;
         o.k_e = k_e;
         o.k_d = k_d;
@@ -709,6 +711,8 @@ void bind_points(py::module_& m) {
         stats["silhouette_seeds"] = ls.silhouette_seeds;
         stats["suggestive_particles"] = ls.suggestive_particles;
         stats["straddle_pairs"] = ls.straddle_pairs;
+        stats["straddle_pairs_movement"] = ls.straddle_pairs_movement;
+        stats["straddle_pairs_search"] = ls.straddle_pairs_search;
         stats["hidden_fraction"] = ls.hidden_fraction;
         for (int k = 0; k < 3; ++k) {
           stats[py::str(std::string("lines_") +
@@ -731,7 +735,7 @@ void bind_points(py::module_& m) {
       py::arg("hidden") = false, py::arg("polylines") = py::none(),
       py::arg("particle_state") = py::none(), py::arg("per_cell") = po.per_cell,
       py::arg("iterations") = po.iterations, py::arg("cell_depth") = po.max_depth,
-      py::arg("flatness") = po.flatness_deg, py::arg("threads") = 0,
+      py::arg("flatness") = po.flatness_deg, py::arg("threads") = 0, py::arg("straddle") = "auto",
       "`ramiform draw` on a field (docs/drawing.md): silhouettes, suggestive contours and "
       "feature lines from `count` particles (spread with per_cell, iterations, cell_depth, "
       "flatness as particles() does) or from the saved `particle_state`, hidden lines "
@@ -739,6 +743,7 @@ void bind_points(py::module_& m) {
       "text (\"eye=x,y,z;target=...;up=...;fov=deg\", any subset), else the surface is framed from "
       "`azimuth` and `elevation` about the `vertical` axis (\"y\" or \"z\"). Writes `out` (.svg or "
       ".png) and `polylines` (.json) when given. "
+      "`straddle` (\"auto\", \"movement\" or \"search\") chooses where feature lines start. "
       "Returns {'camera', 'lines': [{'kind', 'closed', 'points' (K, 3), 'visible' (K,)}], "
       "'stats'}.");
 }

@@ -81,6 +81,8 @@ def test_bad_options_raise():
         rf.draw(f, camera="eye=1,2", count=300)
     with pytest.raises(ValueError, match="k_c"):
         rf.draw(f, k_c=2.0, count=300)
+    with pytest.raises(ValueError, match="straddle must be auto, movement or search"):
+        rf.draw(f, straddle="both", count=300)
 
 
 def test_shipped_drawings_parse_as_svg_with_their_groups():

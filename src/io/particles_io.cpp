@@ -15,14 +15,25 @@ namespace {
 using namespace io_detail;
 
 constexpr std::string_view kVertex[] = {"x", "y", "z", "nx", "ny", "nz", "delta", "cell"};
+constexpr std::string_view kSeed[] = {"sx", "sy", "sz", "snx", "sny", "snz"};
 constexpr std::string_view kCell[] = {"xmin", "ymin", "zmin", "xmax", "ymax", "zmax", "depth"};
 
 void check_writable(const ParticleSystem& s) {
   if (!std::isfinite(s.iso)) throw InvalidArgument("write_particles: iso is not finite");
+  if ((!s.seed_positions.empty() || !s.seed_normals.empty()) && !has_seed_state(s)) {
+    throw InvalidArgument("write_particles: " + std::to_string(s.seed_positions.size()) +
+                          " seed positions and " + std::to_string(s.seed_normals.size()) +
+                          " seed normals for " + std::to_string(s.particles.size()) +
+                          " particles (none, or one of each per particle)");
+  }
   for (std::size_t i = 0; i < s.particles.size(); ++i) {
     const SurfaceParticle& p = s.particles[i];
     if (!is_finite(p.position) || !is_finite(p.normal) || !std::isfinite(p.delta)) {
       throw InvalidArgument("write_particles: particle " + std::to_string(i) + " is not finite");
+    }
+    if (has_seed_state(s) && (!is_finite(s.seed_positions[i]) || !is_finite(s.seed_normals[i]))) {
+      throw InvalidArgument("write_particles: particle " + std::to_string(i) +
+                            "'s seeding state is not finite");
     }
     if (p.cell >= s.cells.size()) {
       throw InvalidArgument("write_particles: particle " + std::to_string(i) + " refers to cell " +
@@ -103,6 +114,7 @@ PlyRequest request_for(const PlyHeader& header, std::string_view element,
 
 void write_particles(const ParticleSystem& s, const std::string& path) {
   check_writable(s);
+  const bool seeded = has_seed_state(s);
   std::string iso_text;
   append_double(iso_text, s.iso);
   std::string root_text;
@@ -122,6 +134,10 @@ void write_particles(const ParticleSystem& s, const std::string& path) {
         vertex.reserve(8);
         for (int k = 0; k < 7; ++k) vertex.push_back({std::string(kVertex[k]), PlyType::kFloat64});
         vertex.push_back({"cell", PlyType::kUInt32});
+        if (seeded) {
+          for (std::string_view name : kSeed)
+            vertex.push_back({std::string(name), PlyType::kFloat64});
+        }
         ply.element("vertex", s.particles.size(), vertex);
         std::vector<PlyColumn> cell;
         cell.reserve(7);
@@ -134,6 +150,11 @@ void write_particles(const ParticleSystem& s, const std::string& path) {
           for (int c = 0; c < 3; ++c) ply.put(PlyType::kFloat64, p.normal[c]);
           ply.put(PlyType::kFloat64, p.delta);
           ply.put_index(PlyType::kUInt32, p.cell);
+          if (seeded) {
+            const auto i = static_cast<std::size_t>(&p - s.particles.data());
+            for (int c = 0; c < 3; ++c) ply.put(PlyType::kFloat64, s.seed_positions[i][c]);
+            for (int c = 0; c < 3; ++c) ply.put(PlyType::kFloat64, s.seed_normals[i][c]);
+          }
           ply.flush();
         }
         for (const ParticleCell& c : s.cells) {
@@ -160,7 +181,24 @@ ParticleSystem parse_particles(std::string_view bytes, const std::string& source
   constexpr PlyType kC[] = {PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64,
                             PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64,
                             PlyType::kInt32};
-  const PlyRequest rv = request_for(header, "vertex", kVertex, kV, source);
+  PlyRequest rv = request_for(header, "vertex", kVertex, kV, source);
+  // The seeding state (sx sy sz snx sny snz): all six or none.
+  const PlyElement& vertex = header.elements[rv.element];
+  std::size_t seed_props = 0;
+  for (std::string_view name : kSeed) seed_props += optional_scalar(vertex, name, source) ? 1 : 0;
+  const bool seeded = seed_props == std::size(kSeed);
+  if (seed_props != 0 && !seeded) {
+    throw InputError(source, vertex.header_line,
+                     "element 'vertex': the seeding state needs all of sx sy sz snx sny snz, got " +
+                         std::to_string(seed_props) + " of them");
+  }
+  if (seeded) {
+    constexpr PlyType kS[] = {PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64,
+                              PlyType::kFloat64, PlyType::kFloat64, PlyType::kFloat64};
+    const PlyRequest more = request_for(header, "vertex", kSeed, kS, source);
+    rv.scalars.insert(rv.scalars.end(), more.scalars.begin(), more.scalars.end());
+  }
+  const std::size_t row_size = rv.scalars.size();
   const PlyRequest rc = request_for(header, "cell", kCell, kC, source);
   const std::vector<PlyElementData> data = read_ply_body(bytes, header, {rv, rc}, source);
   s.cells.resize(data[1].count);
@@ -177,8 +215,12 @@ ParticleSystem parse_particles(std::string_view bytes, const std::string& source
     s.cells[c].depth = static_cast<int>(row[6]);
   }
   s.particles.resize(data[0].count);
+  if (seeded) {
+    s.seed_positions.resize(data[0].count);
+    s.seed_normals.resize(data[0].count);
+  }
   for (std::size_t i = 0; i < data[0].count; ++i) {
-    const double* row = &data[0].scalars[i * 8];
+    const double* row = &data[0].scalars[i * row_size];
     SurfaceParticle& p = s.particles[i];
     p.position = Vec3(row[0], row[1], row[2]);
     p.normal = Vec3(row[3], row[4], row[5]);
@@ -193,6 +235,10 @@ ParticleSystem parse_particles(std::string_view bytes, const std::string& source
                            std::to_string(s.cells.size()) + " cells)");
     }
     p.cell = static_cast<std::uint32_t>(row[7]);
+    if (seeded) {
+      s.seed_positions[i] = Vec3(row[8], row[9], row[10]);
+      s.seed_normals[i] = Vec3(row[11], row[12], row[13]);
+    }
   }
   return s;
 }

@@ -55,6 +55,14 @@ Visibility visibility_from_name(std::string_view name) {
                         "'");
 }
 
+StraddleSource straddle_from_name(std::string_view name) {
+  if (name == "auto") return StraddleSource::kAuto;
+  if (name == "movement") return StraddleSource::kMovement;
+  if (name == "search") return StraddleSource::kSearch;
+  throw InvalidArgument("straddle must be auto, movement or search, got '" + std::string(name) +
+                        "'");
+}
+
 SuggestiveFit fit_from_name(std::string_view name) {
   if (name == "longest") return SuggestiveFit::kLongestPath;
   if (name == "trim") return SuggestiveFit::kTrim;
@@ -79,6 +87,9 @@ void validate(const LineOptions& o) {
   require(o.min_cluster >= 2, "min_cluster", o.min_cluster, ">= 2");
   require(o.k_a_deg > 0 && o.k_a_deg < 180, "k_a", o.k_a_deg, "in (0, 180) degrees");
   require(finite_positive(o.straddle_radius), "straddle_radius", o.straddle_radius, "> 0");
+  require(o.straddle == StraddleSource::kAuto || o.straddle == StraddleSource::kMovement ||
+              o.straddle == StraddleSource::kSearch,
+          "straddle", static_cast<double>(o.straddle), "auto, movement or search (0..2)");
   require(std::isfinite(o.occlusion_tolerance) && o.occlusion_tolerance >= 0, "occlusion_tolerance",
           o.occlusion_tolerance, ">= 0");
   require(o.surfel_resolution >= 16 && o.surfel_resolution <= 16384, "surfel_resolution",

@@ -374,9 +374,12 @@ SimulationResult simulate(const Field& field, std::vector<Vec3>& positions,
   std::vector<Vec3> next(n_free);
   constexpr std::size_t kChunk = 128;  // occupied grid cells per task
   std::vector<std::vector<Reverse>> reverse;
+  SimulationResult out;
   for (int it = 0; it < iterations; ++it) {
     check_cancel(ctx);
     field.evaluate(std::span<const Vec3>(positions.data(), n_free), val, grad, ctx);
+    // The first step's gradients are the ones at the seeding positions: kept for eq. 11.
+    if (it == 0) out.initial_gradient = grad;
     const NeighbourGrid grid(positions, delta, ctx);
     std::fill(push.begin(), push.end(), Vec3::Zero());
     const std::size_t chunks = (grid.cells() + kChunk - 1) / kChunk;
@@ -442,8 +445,10 @@ SimulationResult simulate(const Field& field, std::vector<Vec3>& positions,
                              positions.begin() + static_cast<std::ptrdiff_t>(n_free));
   std::vector<double> tol(n_free);
   for (std::size_t i = 0; i < n_free; ++i) tol[i] = 0.1 * kSurfaceTolerance * delta[i];
-  SimulationResult out;
   out.residual = project(field, free_pts, delta.first(n_free), tol, 30, out.gradient, nullptr, ctx);
+  // Without steps the seeds only get the final projection (they start on the surface already,
+  // to 1e-6 of their cell): its gradients stand for the initial ones, at no extra evaluation.
+  if (iterations == 0) out.initial_gradient = out.gradient;
   std::copy(free_pts.begin(), free_pts.end(), positions.begin());
   return out;
 }

@@ -67,10 +67,12 @@ Aabb root_cube(const Field& field);
 
 /// Runs `iterations` Jacobi steps on positions[0, n_free) (positions[n_free, n) are fixed
 /// neighbours), then projects the free particles onto the surface. Returns the free
-/// particles' residuals |f − iso| / |∇f| (infinity: not on the surface) and their gradients.
+/// particles' residuals |f − iso| / |∇f| (infinity: not on the surface), their gradients, and
+/// the gradients at their starting positions (the seeding normals of eq. 11).
 struct SimulationResult {
   std::vector<double> residual;
   std::vector<Vec3> gradient;
+  std::vector<Vec3> initial_gradient;
 };
 SimulationResult simulate(const Field& field, std::vector<Vec3>& positions,
                           std::span<const double> delta, std::size_t n_free, int iterations,

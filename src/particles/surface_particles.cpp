@@ -252,6 +252,13 @@ void run(const Field& field, const ParticleOptions& options, Seeded& s,
     st.residual_max = std::max(st.residual_max, sim.residual[i] / delta[i]);
     result.particles.push_back(
         {pos[i], -sim.gradient[i].normalized(), delta[i], s.cell[i] + cell_offset});
+    // The seeding state (eq. 11's "before"): where the particle started and its normal there;
+    // a seed whose gradient cannot give a normal takes its final one (no turn measured).
+    const Vec3 g0 = i < sim.initial_gradient.size() ? sim.initial_gradient[i] : Vec3::Zero();
+    const double g0n = g0.norm();
+    result.seed_positions.push_back(s.positions[i]);
+    result.seed_normals.push_back(g0n > 0 && std::isfinite(g0n) ? Vec3(-g0 / g0n)
+                                                                : result.particles.back().normal);
     kept_pos.push_back(pos[i]);
     kept_delta.push_back(delta[i]);
   }
@@ -302,6 +309,11 @@ Plan plan(std::span<const ParticleCell> cells, std::span<const CellProbe> probes
 }
 
 }  // namespace
+
+bool has_seed_state(const ParticleSystem& system) {
+  return !system.particles.empty() && system.seed_positions.size() == system.particles.size() &&
+         system.seed_normals.size() == system.particles.size();
+}
 
 ParticleSystem spread_particles(const Field& field, const ParticleOptions& options,
                                 std::span<const ParticleCell> cells, std::span<const Vec3> seeds,
@@ -472,9 +484,15 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
   // particle of a replaced cell moves to the new cell that holds it (or the nearest one).
   std::vector<std::size_t> kept_in(fresh.size(), 0);
   std::map<std::uint32_t, std::uint32_t> readded;
-  for (const SurfaceParticle& p : previous.particles) {
+  const bool previous_seeds = has_seed_state(previous);
+  for (std::size_t pi = 0; pi < previous.particles.size(); ++pi) {
+    const SurfaceParticle& p = previous.particles[pi];
     if (grown(edit_box, p.delta).contains(p.position)) continue;
     out.particles.push_back(p);
+    if (previous_seeds) {
+      out.seed_positions.push_back(previous.seed_positions[pi]);
+      out.seed_normals.push_back(previous.seed_normals[pi]);
+    }
     if (!affected[p.cell]) {
       out.particles.back().cell = renumber[p.cell];
       continue;
@@ -528,6 +546,12 @@ ParticleSystem regenerate_particles(const Field& edited, const ParticleSystem& p
     }
   }
   run(edited, options, s, fixed, offset, out, st, ctx);
+  // Kept particles without a seeding state leave the whole system without one (a partial one
+  // would make the movement test see only the re-simulated region).
+  if (!previous_seeds && st.kept > 0) {
+    out.seed_positions.clear();
+    out.seed_normals.clear();
+  }
   st.cells = fresh.size();
   st.field_evals = edited.evaluations() - evals0;
   if (stats) *stats = st;

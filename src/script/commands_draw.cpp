@@ -37,6 +37,8 @@ LineOptions line_options(const Call& c) {
   o.k_a_deg = c.option_positive("k_a", o.k_a_deg);
   o.k_trim = c.option_integer("k_trim", o.k_trim, 1, 1000);
   o.fit = fit_from_name(c.option_word("fit", "longest", {"longest", "trim"}));
+  o.straddle =
+      straddle_from_name(c.option_word("straddle", "auto", {"auto", "movement", "search"}));
   o.visibility =
       visibility_from_name(c.option_word("visibility", "rays", {"rays", "surfels", "none"}));
   try {
@@ -120,7 +122,8 @@ void add_draw_commands(std::vector<CommandSpec>& out) {
        "[vertical=y|z] "
        "[eye=X,Y,Z] [target=X,Y,Z] [up=X,Y,Z] [count=N] [per_cell=K] [iterations=I] "
        "[cell_depth=D] [flatness=DEG] [state=STATE.ply] [visibility=rays|surfels|none] "
-       "[fit=longest|trim] [k_c=K] [k_e=K] [k_d=K] [theta_sc=DEG] [k_a=DEG] [k_trim=N] "
+       "[fit=longest|trim] [straddle=auto|movement|search] [k_c=K] [k_e=K] [k_d=K] "
+       "[theta_sc=DEG] [k_a=DEG] [k_trim=N] "
        "[width=PX] [height=PX] [hidden=yes|no] [polylines=FILE.json] [seed=S]",
        "A pen-and-ink line drawing of SHAPE written to FILE (.svg or .png): silhouettes, "
        "suggestive contours and feature lines found from particles spread over the surface "
@@ -133,7 +136,7 @@ void add_draw_commands(std::vector<CommandSpec>& out) {
        {"lines",      "azimuth", "elevation", "vertical",   "fov",        "eye",      "target",
         "up",         "count",   "per_cell",  "iterations", "cell_depth", "flatness", "state",
         "visibility", "fit",     "k_c",       "k_e",        "k_d",        "theta_sc", "k_a",
-        "k_trim",     "width",   "height",    "hidden",     "polylines",  "seed"},
+        "k_trim",     "width",   "height",    "hidden",     "polylines",  "seed",     "straddle"},
        run_draw,
        {}});
 }

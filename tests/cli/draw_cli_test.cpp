@@ -147,6 +147,29 @@ TEST_F(DrawCliTest, TurntableWritesOneFilePerViewAndTheSceneCommandDraws) {
   EXPECT_EQ(read_file(path("t.png")).substr(1, 3), "PNG");
 }
 
+// A dome (a sphere cut by a plane) has one crease, its rim: one closed feature line from
+// either straddle test, the stats saying which found the pairs.
+TEST_F(DrawCliTest, StraddleChoosesTheFeatureTest) {
+  const std::string scene =
+      write("scene.rf", "sphere ball 1\nplane cut 0 0 1 point=0,0,0.3\nintersect ball cut dome\n");
+  for (const std::string test : {"auto", "movement", "search"}) {
+    const std::string stats = path(test + ".json");
+    const CliRun r = run_cli("draw " + scene + ":dome -o " + path(test + ".svg") +
+                             " --count 3000 --lines feature --visibility none --straddle " + test +
+                             " --stats " + stats);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const nlohmann::json s = read_json(stats);
+    const std::size_t movement = s["straddle_pairs_movement"], search = s["straddle_pairs_search"];
+    EXPECT_EQ(s["straddle_pairs"].get<std::size_t>(), movement + search) << test;
+    EXPECT_EQ(movement > 0, test != "search") << test;
+    EXPECT_EQ(search > 0, test == "search") << test;
+    EXPECT_EQ(s["views"][0]["lines"]["feature"].get<std::size_t>(), 1u) << test;
+  }
+  const CliRun r = run_cli("draw " + scene + ":dome -o " + path("x.svg") + " --straddle best");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("--straddle"), std::string::npos) << r.out;
+}
+
 TEST_F(DrawCliTest, BadInputsExitTwoNamingTheProblemAndWriteNothing) {
   const std::string scene = write("scene.rf", "sphere ball 1\n");
   // Bad values of the data exit 2; option values out of range are usage errors (exit 1, as

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -87,6 +88,93 @@ TEST(ParticlesIo, RoundTripIsExact) {
   // Writing again gives the same bytes.
   write_particles(r, dir.file("again.ply"));
   EXPECT_EQ(read_all(path), read_all(dir.file("again.ply")));
+}
+
+ParticleSystem seeded_system() {
+  ParticleSystem s = sample_system();
+  s.seed_positions = {Vec3(0.1, 1.0 / 3.0, -0.0), Vec3(1e-310, -2e10, 7), Vec3(M_PI, 0, -1)};
+  s.seed_normals = {Vec3(0, 0, 1), Vec3(0.6, 0, -0.8), Vec3(-1, 1, 1).normalized()};
+  return s;
+}
+
+TEST(ParticlesIo, SeedingStateRoundTripsExactly) {
+  const TempDir dir;
+  const ParticleSystem s = seeded_system();
+  const std::string path = dir.file("seeded.ply");
+  write_particles(s, path);
+  EXPECT_NE(read_all(path).find("property double sx\nproperty double sy\nproperty double "
+                                "sz\nproperty double snx\nproperty double sny\nproperty "
+                                "double snz\n"),
+            std::string::npos);
+  const ParticleSystem r = read_particles(path);
+  ASSERT_TRUE(has_seed_state(r));
+  for (std::size_t i = 0; i < s.particles.size(); ++i) {
+    EXPECT_TRUE(same_bits(r.seed_positions[i].data(), s.seed_positions[i].data(), 24)) << i;
+    EXPECT_TRUE(same_bits(r.seed_normals[i].data(), s.seed_normals[i].data(), 24)) << i;
+    EXPECT_TRUE(same_bits(r.particles[i].position.data(), s.particles[i].position.data(), 24));
+    EXPECT_EQ(r.particles[i].cell, s.particles[i].cell);
+  }
+  write_particles(r, dir.file("again.ply"));
+  EXPECT_EQ(read_all(path), read_all(dir.file("again.ply")));
+  // A spread system's state, as `ramiform particles` saves it.
+  const FieldPtr ball = make_box_field(Vec3::Zero(), Vec3::Constant(1), 1);
+  const ParticleSystem spread = spread_particles(*ball);
+  write_particles(spread, dir.file("spread.ply"));
+  const ParticleSystem back = read_particles(dir.file("spread.ply"));
+  ASSERT_EQ(back.seed_positions.size(), spread.particles.size());
+  EXPECT_TRUE(same_bits(back.seed_positions.data(), spread.seed_positions.data(),
+                        24 * spread.particles.size()));
+  EXPECT_TRUE(same_bits(back.seed_normals.data(), spread.seed_normals.data(),
+                        24 * spread.particles.size()));
+  // Without the state: valid, empty vectors.
+  const ParticleSystem plain = read_particles([&] {
+    write_particles(sample_system(), dir.file("plain.ply"));
+    return dir.file("plain.ply");
+  }());
+  EXPECT_TRUE(plain.seed_positions.empty());
+  EXPECT_TRUE(plain.seed_normals.empty());
+}
+
+TEST(ParticlesIo, MalformedSeedingStateIsRefused) {
+  const TempDir dir;
+  const std::string good = dir.file("good.ply");
+  write_particles(seeded_system(), good);
+  const std::string bytes = read_all(good);
+  const std::size_t body = bytes.find("end_header\n") + 11;
+  constexpr std::size_t kRow = 60 + 48;  // 7 doubles, a uint, 6 doubles
+
+  std::string bad = bytes;
+  bad.replace(bad.find("property double snz"), 19, "property double snq");
+  const std::string some = dir.file("some.ply");
+  write_all(some, bad);
+  std::string m = message_of(some);
+  EXPECT_NE(m.find("sx sy sz snx sny snz"), std::string::npos) << m;
+  EXPECT_NE(m.find("5 of them"), std::string::npos) << m;
+
+  bad = bytes;
+  bad.replace(bad.find("property double sy"), 18, "property float  sy");
+  const std::string typed = dir.file("typed.ply");
+  write_all(typed, bad);
+  m = message_of(typed);
+  EXPECT_NE(m.find("'sy' has the wrong type"), std::string::npos) << m;
+
+  bad = bytes;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::memcpy(&bad[body + kRow + 60 + 24 + 8], &nan, 8);  // particle 1's sny
+  const std::string nonfinite = dir.file("nan.ply");
+  write_all(nonfinite, bad);
+  m = message_of(nonfinite);
+  EXPECT_NE(m.find("vertex 1"), std::string::npos) << m;
+
+  // Writing refuses a seeding state of the wrong length or not finite, without output.
+  ParticleSystem s = seeded_system();
+  s.seed_normals.pop_back();
+  EXPECT_THROW(write_particles(s, dir.file("short.ply")), InvalidArgument);
+  s = seeded_system();
+  s.seed_positions[2].x() = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(write_particles(s, dir.file("inf.ply")), InvalidArgument);
+  EXPECT_FALSE(std::filesystem::exists(dir.file("short.ply")));
+  EXPECT_FALSE(std::filesystem::exists(dir.file("inf.ply")));
 }
 
 TEST(ParticlesIo, AReloadedSystemRegeneratesAsTheOriginal) {

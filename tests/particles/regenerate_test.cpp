@@ -81,6 +81,45 @@ TEST(RegenerateParticles, KeepsParticlesAwayFromTheEditAndSpreadsNewOnes) {
               0.05 * static_cast<double>(prev.particles.size()));
 }
 
+// Kept particles keep their seeding state; new ones get theirs; a previous system without one
+// gives a result without one.
+TEST(RegenerateParticles, SeedingStateFollowsTheParticles) {
+  const FieldPtr before = sphere(Vec3::Zero(), 1.0);
+  const FieldPtr after = make_union({before, sphere(Vec3(0, 0, 1.1), 0.3)});
+  const Aabb edit_box(Vec3(-0.45, -0.45, 0.6), Vec3(0.45, 0.45, 1.45));
+  const ParticleSystem prev = spread_particles(*before);
+  ASSERT_TRUE(has_seed_state(prev));
+  ParticleStats st;
+  const ParticleSystem next = regenerate_particles(*after, prev, edit_box, {}, &st);
+  ASSERT_TRUE(has_seed_state(next));
+  ASSERT_GT(st.kept, 0u);
+  ASSERT_GT(st.particles, 0u);
+  // Kept: the previous particle's seeding state, byte for byte (matched in order).
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < prev.particles.size() && k < st.kept; ++i) {
+    if (!same_particle(prev.particles[i], next.particles[k])) continue;
+    ASSERT_EQ(std::memcmp(prev.seed_positions[i].data(), next.seed_positions[k].data(), 24), 0);
+    ASSERT_EQ(std::memcmp(prev.seed_normals[i].data(), next.seed_normals[k].data(), 24), 0);
+    ++k;
+  }
+  EXPECT_EQ(k, st.kept);
+  // New: seeded on the edited surface, the normal −∇f/|∇f| there.
+  for (std::size_t i = st.kept; i < next.particles.size(); ++i) {
+    const Vec3& s = next.seed_positions[i];
+    ASSERT_LE(std::abs(after->value(s) - after->iso()) / after->gradient(s).norm(),
+              1e-3 * next.particles[i].delta);
+    ASSERT_LE((next.seed_normals[i] + after->gradient(s).normalized()).norm(), 1e-12);
+  }
+  ParticleSystem bare = prev;
+  bare.seed_positions.clear();
+  bare.seed_normals.clear();
+  const ParticleSystem none = regenerate_particles(*after, bare, edit_box);
+  EXPECT_FALSE(has_seed_state(none));
+  EXPECT_TRUE(none.seed_positions.empty());
+  EXPECT_TRUE(none.seed_normals.empty());
+  EXPECT_EQ(none.particles.size(), next.particles.size());
+}
+
 TEST(RegenerateParticles, IdenticalOnOneAndTwoThreads) {
   const FieldPtr before = make_circle_field(Vec3::Zero(), Vec3::UnitZ(), 1.0, 0.3);
   const FieldPtr after = make_union({before, sphere(Vec3(1, 0, 0.3), 0.15)});

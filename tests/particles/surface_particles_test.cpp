@@ -122,6 +122,48 @@ TEST(SurfaceParticles, IdenticalOnOneAndTwoThreads) {
   const ParticleSystem b = spread_particles(*f, o, {}, {}, nullptr, &two);
   EXPECT_TRUE(same_bytes(a.particles, b.particles));
   ASSERT_EQ(a.cells.size(), b.cells.size());
+  ASSERT_TRUE(has_seed_state(a));
+  ASSERT_TRUE(has_seed_state(b));
+  EXPECT_EQ(std::memcmp(a.seed_positions.data(), b.seed_positions.data(),
+                        a.seed_positions.size() * sizeof(Vec3)),
+            0);
+  EXPECT_EQ(std::memcmp(a.seed_normals.data(), b.seed_normals.data(),
+                        a.seed_normals.size() * sizeof(Vec3)),
+            0);
+}
+
+// The seeding state: where each particle started (on the surface, before the simulation) and
+// the normal there, −∇f/|∇f| at that point; the simulation then moved the particles.
+TEST(SurfaceParticles, KeepTheirSeedingState) {
+  const Vec3 c(0.3, -0.2, 0.1);
+  const double r = 1.0;
+  const FieldPtr f = sphere(c, r);
+  ParticleOptions o;
+  o.count = 1500;
+  const ParticleSystem ps = spread_particles(*f, o);
+  ASSERT_TRUE(has_seed_state(ps));
+  double moved = 0;
+  for (std::size_t i = 0; i < ps.particles.size(); ++i) {
+    const Vec3& s = ps.seed_positions[i];
+    const Vec3& n = ps.seed_normals[i];
+    ASSERT_LE(sphere_distance(s, c, r), 1e-3 * ps.particles[i].delta) << i;
+    ASSERT_NEAR(n.norm(), 1.0, 1e-12);
+    const Vec3 expected = -f->gradient(s).normalized();
+    ASSERT_LE((n - expected).norm(), 1e-12) << i;
+    // On a sphere the normal is the radial direction.
+    ASSERT_LE((n - (s - c).normalized()).norm(), 1e-3) << i;
+    moved = std::max(moved, (ps.particles[i].position - s).norm() / ps.particles[i].delta);
+  }
+  EXPECT_GT(moved, 0.01);  // the simulation moved them
+  // Without steps the seeds are only projected: position within the projection, same normal.
+  o.iterations = 0;
+  const ParticleSystem still = spread_particles(*f, o);
+  ASSERT_TRUE(has_seed_state(still));
+  for (std::size_t i = 0; i < still.particles.size(); ++i) {
+    ASSERT_EQ(still.seed_normals[i], still.particles[i].normal);
+    ASSERT_LE((still.seed_positions[i] - still.particles[i].position).norm(),
+              1e-3 * still.particles[i].delta);
+  }
 }
 
 TEST(SurfaceParticles, SeedsAreUsedAndCallerCellsKept) {

@@ -7,7 +7,8 @@
 /// particles need not be simulated again (Proença, Jorge & Costa Sousa 2008, "Suggestive
 /// Contours over Point-Set Implicits", §3). The format is a binary little-endian PLY file
 /// (docs/formats.md, "Particle state (PLY)"): element `vertex` (double x y z nx ny nz delta,
-/// uint cell), element `cell` (double xmin ymin zmin xmax ymax zmax, int depth), a header
+/// uint cell, and when the system has a seeding state double sx sy sz snx sny snz), element
+/// `cell` (double xmin ymin zmin xmax ymax zmax, int depth), a header
 /// line `comment iso <value>` and, when the cells came from adaptive_cells, `comment root ...`.
 /// Other PLY tools see the particles as vertices with normals.
 
@@ -20,15 +21,17 @@ namespace ramiform {
 
 /// Writes `system` atomically (io/atomic_file.h). Every number round-trips exactly
 /// (the root cube, when not empty, as a header line
-/// `comment root xmin ymin zmin xmax ymax zmax`). Throws InvalidArgument when a value is not finite
-/// or a particle's cell index is out of range; Failure when the file cannot be written.
+/// `comment root xmin ymin zmin xmax ymax zmax`; the seeding state when has_seed_state(system)).
+/// Throws InvalidArgument when a value is not finite or a particle's cell index is out of range;
+/// Failure when the file cannot be written.
 void write_particles(const ParticleSystem& system, const std::string& path);
 
-/// Reads a file written by write_particles. Throws InputError naming the file and the element
+/// Reads a file written by write_particles; a file without the seeding-state properties gives
+/// empty seed_positions and seed_normals. Throws InputError naming the file and the element
 /// (and its index) or header line for a missing or malformed `comment iso` line, missing or
-/// wrongly typed properties, a missing `cell` element, truncated data, non-finite numbers,
-/// empty cell boxes, depths outside [0, ParticleOptions::kMaxDepth] or a cell index out of
-/// range.
+/// wrongly typed properties (among them some but not all of sx sy sz snx sny snz), a missing `cell`
+/// element, truncated data, non-finite numbers, empty cell boxes, depths outside [0,
+/// ParticleOptions::kMaxDepth] or a cell index out of range.
 [[nodiscard]] ParticleSystem read_particles(const std::string& path);
 
 /// Parses the bytes of a particle file as read_particles does; `source_name` names it in

@@ -68,29 +68,41 @@ enum class Visibility : std::uint8_t {
              ///< line point's own image position, not at a pixel centre)
 };
 
+/// Where feature_lines() finds its straddle pairs (§6, eq. 11).
+enum class StraddleSource : std::uint8_t {
+  kAuto,      ///< kMovement, then kSearch when it gives no line or the system has no seeding state
+  kMovement,  ///< Foster et al.'s test: a particle's normal before and after the simulation
+  kSearch,    ///< the paper's improvement 3: particles within straddle_radius of each other
+};
+
 /// Options of the line extraction. Lengths are multiples of each particle's δ_i.
 struct LineOptions {
   // Silhouettes (§6).
-  double k_c = 0.05;  ///< seed particles: |v·n| < k_c (eq. 9), in (0, 1)
-  double k_e = 2.0;   ///< tracing continues while |v·n| < k_c·k_e (eq. 10), ≥ 1
+  double k_c = 0.05;             ///< seed particles: |v·n| < k_c (eq. 9), in (0, 1)
+  double k_e = 2.0;              ///< tracing continues while |v·n| < k_c·k_e (eq. 10), ≥ 1
   double silhouette_step = 0.5;  ///< predictor step, × δ_i, > 0
   /// Polylines whose ends come within this distance (× δ_i) with similar directions in the
-  /// image are chained into one (§6's 2-D analysis), ≥ 0.
+  /// image are chained into one (§6's 2-D analysis), ≥ 0. Feature lines whose ends come this
+  /// near in 3-D, running on in the same direction, are joined the same way.
   double chain_distance = 3.0;
 
   // Suggestive contours (§5).
-  double k_d = 0.5;            ///< x± = x ± k_d·δ_i·w (eqs. 4–5), > 0
-  double theta_sc_deg = 10.0;  ///< stability: the angle between n and −v exceeds θ_sc (eq. 8)
+  double k_d = 0.5;             ///< x± = x ± k_d·δ_i·w (eqs. 4–5), > 0
+  double theta_sc_deg = 10.0;   ///< stability: the angle between n and −v exceeds θ_sc (eq. 8)
   double cluster_radius = 2.0;  ///< neighbour search radius, × δ_i (§5.2), > 0
   int cluster_k = 3;            ///< neighbours per particle in the cluster graph (§5.2), ≥ 1
   SuggestiveFit fit = SuggestiveFit::kLongestPath;  ///< §5.3
-  int k_trim = 3;           ///< kTrim: leaf branches with fewer particles are removed, ≥ 1
-  int smoothing = 2;        ///< Laplacian smoothing passes of each line, re-projected, ≥ 0
-  int min_cluster = 3;      ///< clusters with fewer particles give no line, ≥ 2
+  int k_trim = 3;       ///< kTrim: leaf branches with fewer particles are removed, ≥ 1
+  int smoothing = 2;    ///< Laplacian smoothing passes of each line, re-projected, ≥ 0
+  int min_cluster = 3;  ///< clusters with fewer particles give no line, ≥ 2
 
   // Feature lines (§6).
-  double k_a_deg = 8.6;         ///< straddle points: angle(n_i, n_j) > k_a (eq. 11; 0.15 rad)
+  double k_a_deg = 8.6;          ///< straddle points: angle(n_i, n_j) > k_a (eq. 11; 0.15 rad)
   double straddle_radius = 1.5;  ///< neighbourhood search radius for straddle pairs, × δ_i
+  /// Which test gives the straddle pairs. kAuto is the paper's order: Foster et al.'s
+  /// before/after-movement test first, the neighbourhood search "when the Foster et al. method
+  /// fails" (no line from it) or the particles carry no seeding state.
+  StraddleSource straddle = StraddleSource::kAuto;
 
   // Hidden lines.
   /// kRays by default, for correctness. Surfels are faster on MPU fields (on 2,495 line points
@@ -124,6 +136,9 @@ void select_line_kinds(LineOptions& options, const std::vector<std::string>& kin
 /// "rays", "surfels" or "none"; throws InvalidArgument for another name.
 [[nodiscard]] Visibility visibility_from_name(std::string_view name);
 
+/// "auto", "movement" or "search" (StraddleSource); throws InvalidArgument for another name.
+[[nodiscard]] StraddleSource straddle_from_name(std::string_view name);
+
 /// "longest" (kLongestPath) or "trim" (kTrim); throws InvalidArgument for another name.
 [[nodiscard]] SuggestiveFit fit_from_name(std::string_view name);
 
@@ -133,19 +148,28 @@ struct LineStats {
   std::size_t silhouette_seeds = 0;      ///< particles with |v·n| < k_c
   std::size_t suggestive_particles = 0;  ///< particles passing eqs. 6–8
   std::size_t suggestive_clusters = 0;   ///< clusters (after merging)
-  std::size_t straddle_pairs = 0;        ///< straddle point pairs found
-  std::size_t lines[3] = {0, 0, 0};      ///< polylines per LineKind
-  double length[3] = {0, 0, 0};          ///< total 3-D length per LineKind, model units
-  double hidden_fraction = 0;            ///< hidden length / total length (after visibility)
+  std::size_t straddle_pairs = 0;        ///< straddle point pairs found (both tests)
+  /// Of them: particles whose normal turned by more than k_a between seeding and the end of
+  /// the simulation (the movement test), and particle pairs of the neighbourhood search.
+  std::size_t straddle_pairs_movement = 0, straddle_pairs_search = 0;
+  std::size_t lines[3] = {0, 0, 0};  ///< polylines per LineKind
+  double length[3] = {0, 0, 0};      ///< total 3-D length per LineKind, model units
+  double hidden_fraction = 0;        ///< hidden length / total length (after visibility)
   double seconds_features = 0, seconds_silhouettes = 0, seconds_suggestive = 0,
-         seconds_visibility = 0;         ///< wall-clock seconds
-  std::uint64_t field_evals = 0;         ///< point evaluations of the field
+         seconds_visibility = 0;  ///< wall-clock seconds
+  std::uint64_t field_evals = 0;  ///< point evaluations of the field
 };
 
-/// Feature lines (§6): straddle particle pairs within straddle_radius·δ whose normals differ by
-/// more than k_a, traced along the crease (direction n_i × n_j, the two sides re-projected each
-/// step of ~δ_i) until the normals no longer differ by k_a or another feature line is near.
-/// View-independent: compute once, reuse for every view.
+/// Feature lines (§6): straddle pairs whose normals differ by more than k_a (eq. 11) — by
+/// options.straddle, a particle's seeding and final states (Foster et al.'s test; needs
+/// has_seed_state(particles)) and/or particle pairs within straddle_radius·δ — traced along the
+/// crease (direction n_i × n_j, the two sides re-projected each step of ~δ_i) until the normals
+/// no longer differ by k_a or another feature line is near. Then lines whose ends meet within
+/// chain_distance·δ, running on in the same direction (within 30°, the gap along it), are joined,
+/// and a line whose own ends so meet is closed; lines never turn a corner (three creases meet
+/// there, none continues another). View-independent: compute once, reuse for every view.
+/// Throws InvalidArgument for bad options, and for StraddleSource::kMovement on particles
+/// without a seeding state.
 [[nodiscard]] std::vector<Polyline> feature_lines(const Field& field,
                                                   const ParticleSystem& particles,
                                                   const LineOptions& options = {},
@@ -178,12 +202,9 @@ struct LineStats {
 /// |f − iso| / |∇f| ≤ 1e-7 δ; the ends are particles). Lines are open, `visible` left empty, in
 /// the order of their clusters' first particles. stats->suggestive_clusters counts every
 /// cluster, single particles included.
-[[nodiscard]] std::vector<Polyline> suggestive_contours(const Field& field,
-                                                        const ParticleSystem& particles,
-                                                        const Camera& camera,
-                                                        const LineOptions& options = {},
-                                                        LineStats* stats = nullptr,
-                                                        const Context* ctx = nullptr);
+[[nodiscard]] std::vector<Polyline> suggestive_contours(
+    const Field& field, const ParticleSystem& particles, const Camera& camera,
+    const LineOptions& options = {}, LineStats* stats = nullptr, const Context* ctx = nullptr);
 
 /// Sets every line's `visible` flags for `camera` by options.visibility (kRays: the segment
 /// from the eye to the point, shortened by occlusion_tolerance·δ at the point's end, is tested
@@ -195,10 +216,9 @@ struct LineStats {
 /// length / total length, each segment's length split half to each end) and adds to
 /// seconds_visibility and field_evals. Throws InvalidArgument for bad options or camera, a line
 /// point that is not finite, and lines with points but no particles (unless kNone).
-void classify_visibility(const Field& field, const ParticleSystem& particles,
-                         const Camera& camera, std::span<Polyline> lines,
-                         const LineOptions& options = {}, LineStats* stats = nullptr,
-                         const Context* ctx = nullptr);
+void classify_visibility(const Field& field, const ParticleSystem& particles, const Camera& camera,
+                         std::span<Polyline> lines, const LineOptions& options = {},
+                         LineStats* stats = nullptr, const Context* ctx = nullptr);
 
 /// A drawing: the lines of one view.
 struct LineDrawing {

@@ -86,6 +86,20 @@ struct ParticleSystem {
   double iso = 0;                          ///< the field's iso value
   std::vector<ParticleCell> cells;         ///< leaf cells; particles refer to them by index
   std::vector<SurfaceParticle> particles;  ///< the particles
+  /// The seeding state, for the feature-line test of eq. 11 (paper §6; Foster et al.'s normal
+  /// "before and after the movement"): per particle, the position it was seeded at (on the
+  /// surface, after its initial projection, before the simulation moved it) and the unit
+  /// outward normal there. Both parallel to `particles`, or both empty when unknown (e.g. a
+  /// system loaded from a file without them, or regenerated from one).
+  ///
+  /// "Before" is the seeding, "after" the end of the simulation, not the largest turn over
+  /// single steps: a particle crosses a rounded crease (MPU surfaces round every crease over a
+  /// few δ) in several damped steps that each turn its normal by less than k_a, while the
+  /// turn from start to end is the whole dihedral angle; and the two ends are what straddles
+  /// the crease, so the pair needs no state from the middle of the run. A particle that
+  /// crosses a crease and comes back is missed (the damped Jacobi steps seldom do that).
+  std::vector<Vec3> seed_positions;
+  std::vector<Vec3> seed_normals;  ///< unit, one per particle (see seed_positions)
   /// The octree's root cube when the cells came from adaptive_cells (regeneration builds the
   /// edited region's cells under it); empty when the caller passed the cells.
   Aabb root;
@@ -112,6 +126,10 @@ struct ParticleStats {
 /// adaptive_cells()).
 [[nodiscard]] std::vector<ParticleCell> field_cells(const Field& field);
 
+/// True when `system` has particles and a seeding state for each (seed_positions and
+/// seed_normals as long as particles).
+[[nodiscard]] bool has_seed_state(const ParticleSystem& system);
+
 /// The particles' positions and normals as a point set, in particle order.
 [[nodiscard]] PointSet particle_points(const ParticleSystem& system);
 
@@ -132,9 +150,10 @@ struct ParticleStats {
 /// on or near the surface to start from (e.g. an MPU field's input points); each cell takes its
 /// particles from the seeds inside it (chosen deterministically from `options.seed`) and the rest
 /// from projected random cell points. Every particle of the result satisfies |f − iso| / |∇f| ≤
-/// 1e-4 δ_i; particles that cannot reach it are dropped and counted in stats->dropped.
-/// Byte-identical results on any thread count. Throws InvalidArgument for bad options or cells,
-/// Cancelled through `ctx`.
+/// 1e-4 δ_i; particles that cannot reach it are dropped and counted in stats->dropped. The
+/// result has a seeding state (seed_positions, seed_normals; with 0 iterations the normals are
+/// those after the final projection). Byte-identical results on any thread count. Throws
+/// InvalidArgument for bad options or cells, Cancelled through `ctx`.
 [[nodiscard]] ParticleSystem spread_particles(const Field& field,
                                               const ParticleOptions& options = {},
                                               std::span<const ParticleCell> cells = {},
@@ -150,8 +169,10 @@ struct ParticleStats {
 /// gets no particles). The new cells are seeded at the previous system's depth → δ law, less
 /// the kept particles already in them, and simulated against `edited` with the kept particles
 /// nearby as fixed neighbours. Every other particle is kept with byte-identical position,
-/// normal and δ, in the same order, first in the result (its `cell` is renumbered: kept cells
-/// keep their order, then the new cells follow); the new particles follow them. Stats count
+/// normal and δ (and seeding state), in the same order, first in the result (its `cell` is
+/// renumbered: kept cells keep their order, then the new cells follow); the new particles follow
+/// them, with their own seeding state (when `previous` has none and particles are kept, the
+/// result has none either). Stats count
 /// the new particles and cells. Throws InvalidArgument for bad options, an empty or non-finite
 /// edit_box, a particle whose cell index is out of range, or an iso value different from
 /// previous.iso.
