@@ -587,7 +587,7 @@ void bind_points(py::module_& m) {
          std::size_t count, std::uint64_t seed, const std::string& visibility,
          const std::string& fit, double k_c, double k_e, double k_d, double theta_sc, double k_a,
          int k_trim, int width, int height, bool hidden, std::optional<std::string> polylines,
-         int threads) {
+         int threads, double t_d) {
         LineOptions o;
         try {
           select_line_kinds(o, kinds);
@@ -603,6 +603,7 @@ void bind_points(py::module_& m) {
         o.k_e = k_e;
         o.k_d = k_d;
         o.theta_sc_deg = theta_sc;
+        o.t_d = t_d;
         o.k_a_deg = k_a;
         o.k_trim = k_trim;
         validate(o);
@@ -683,6 +684,7 @@ void bind_points(py::module_& m) {
       py::arg("k_d") = lo.k_d, py::arg("theta_sc") = lo.theta_sc_deg, py::arg("k_a") = lo.k_a_deg,
       py::arg("k_trim") = lo.k_trim, py::arg("width") = ds.width, py::arg("height") = 0,
       py::arg("hidden") = false, py::arg("polylines") = py::none(), py::arg("threads") = 0,
+      py::arg("t_d") = lo.t_d,
       "`ramiform draw` on a field (docs/drawing.md): silhouettes, suggestive contours and "
       "feature lines from `count` particles, hidden lines classified. `camera` is the command's "
       "text (\"eye=x,y,z;target=...;up=...;fov=deg\", any subset), else the surface is framed from "

@@ -71,25 +71,31 @@ enum class Visibility : std::uint8_t {
 /// Options of the line extraction. Lengths are multiples of each particle's δ_i.
 struct LineOptions {
   // Silhouettes (§6).
-  double k_c = 0.05;  ///< seed particles: |v·n| < k_c (eq. 9), in (0, 1)
-  double k_e = 2.0;   ///< tracing continues while |v·n| < k_c·k_e (eq. 10), ≥ 1
+  double k_c = 0.05;             ///< seed particles: |v·n| < k_c (eq. 9), in (0, 1)
+  double k_e = 2.0;              ///< tracing continues while |v·n| < k_c·k_e (eq. 10), ≥ 1
   double silhouette_step = 0.5;  ///< predictor step, × δ_i, > 0
   /// Polylines whose ends come within this distance (× δ_i) with similar directions in the
   /// image are chained into one (§6's 2-D analysis), ≥ 0.
   double chain_distance = 3.0;
 
   // Suggestive contours (§5).
-  double k_d = 0.5;            ///< x± = x ± k_d·δ_i·w (eqs. 4–5), > 0
-  double theta_sc_deg = 10.0;  ///< stability: the angle between n and −v exceeds θ_sc (eq. 8)
+  double k_d = 0.5;             ///< x± = x ± k_d·δ_i·w (eqs. 4–5), > 0
+  double theta_sc_deg = 10.0;   ///< stability: the angle between n and −v exceeds θ_sc (eq. 8)
   double cluster_radius = 2.0;  ///< neighbour search radius, × δ_i (§5.2), > 0
   int cluster_k = 3;            ///< neighbours per particle in the cluster graph (§5.2), ≥ 1
   SuggestiveFit fit = SuggestiveFit::kLongestPath;  ///< §5.3
-  int k_trim = 3;           ///< kTrim: leaf branches with fewer particles are removed, ≥ 1
-  int smoothing = 2;        ///< Laplacian smoothing passes of each line, re-projected, ≥ 0
-  int min_cluster = 3;      ///< clusters with fewer particles give no line, ≥ 2
+  int k_trim = 3;       ///< kTrim: leaf branches with fewer particles are removed, ≥ 1
+  int smoothing = 2;    ///< Laplacian smoothing passes of each line, re-projected, ≥ 0
+  int min_cluster = 3;  ///< clusters with fewer particles give no line, ≥ 2
+  /// DeCarlo et al. 2003's threshold on the derivative of the radial curvature, made
+  /// scale-free: a particle is kept only where δ_i²·D_ŵ κ_r > t_d (ŵ the unit w), estimated from
+  /// the same probes x± as eqs. 6–7 (see suggestive_contours()). ≥ 0; 0 keeps every minimum.
+  double t_d = 0.0;
+  /// Suggestive lines shorter than this (× the mean δ_i of their particles) are dropped, ≥ 0.
+  double min_line_length = 0.0;
 
   // Feature lines (§6).
-  double k_a_deg = 8.6;         ///< straddle points: angle(n_i, n_j) > k_a (eq. 11; 0.15 rad)
+  double k_a_deg = 8.6;          ///< straddle points: angle(n_i, n_j) > k_a (eq. 11; 0.15 rad)
   double straddle_radius = 1.5;  ///< neighbourhood search radius for straddle pairs, × δ_i
 
   // Hidden lines.
@@ -138,8 +144,8 @@ struct LineStats {
   double length[3] = {0, 0, 0};          ///< total 3-D length per LineKind, model units
   double hidden_fraction = 0;            ///< hidden length / total length (after visibility)
   double seconds_features = 0, seconds_silhouettes = 0, seconds_suggestive = 0,
-         seconds_visibility = 0;         ///< wall-clock seconds
-  std::uint64_t field_evals = 0;         ///< point evaluations of the field
+         seconds_visibility = 0;  ///< wall-clock seconds
+  std::uint64_t field_evals = 0;  ///< point evaluations of the field
 };
 
 /// Feature lines (§6): straddle particle pairs within straddle_radius·δ whose normals differ by
@@ -178,12 +184,9 @@ struct LineStats {
 /// |f − iso| / |∇f| ≤ 1e-7 δ; the ends are particles). Lines are open, `visible` left empty, in
 /// the order of their clusters' first particles. stats->suggestive_clusters counts every
 /// cluster, single particles included.
-[[nodiscard]] std::vector<Polyline> suggestive_contours(const Field& field,
-                                                        const ParticleSystem& particles,
-                                                        const Camera& camera,
-                                                        const LineOptions& options = {},
-                                                        LineStats* stats = nullptr,
-                                                        const Context* ctx = nullptr);
+[[nodiscard]] std::vector<Polyline> suggestive_contours(
+    const Field& field, const ParticleSystem& particles, const Camera& camera,
+    const LineOptions& options = {}, LineStats* stats = nullptr, const Context* ctx = nullptr);
 
 /// Sets every line's `visible` flags for `camera` by options.visibility (kRays: the segment
 /// from the eye to the point, shortened by occlusion_tolerance·δ at the point's end, is tested
@@ -195,10 +198,9 @@ struct LineStats {
 /// length / total length, each segment's length split half to each end) and adds to
 /// seconds_visibility and field_evals. Throws InvalidArgument for bad options or camera, a line
 /// point that is not finite, and lines with points but no particles (unless kNone).
-void classify_visibility(const Field& field, const ParticleSystem& particles,
-                         const Camera& camera, std::span<Polyline> lines,
-                         const LineOptions& options = {}, LineStats* stats = nullptr,
-                         const Context* ctx = nullptr);
+void classify_visibility(const Field& field, const ParticleSystem& particles, const Camera& camera,
+                         std::span<Polyline> lines, const LineOptions& options = {},
+                         LineStats* stats = nullptr, const Context* ctx = nullptr);
 
 /// A drawing: the lines of one view.
 struct LineDrawing {
