@@ -18,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <numeric>
@@ -149,8 +150,8 @@ int main(int argc, char** argv) {
   }
   if (argc > first) models.assign(argv + first, argv + argc);
   const Context ctx(2);
-  std::printf("%-11s %4s %6s %9s %5s %8s %8s %7s %5s %9s\n", "model", "az", "probes", "uncovered",
-              "gaps", "total_d", "longest", "sil_ms", "sug", "sug_len_d");
+  std::printf("%-11s %4s %6s %9s %5s %8s %8s %7s %7s %5s %9s\n", "model", "az", "probes",
+              "uncovered", "gaps", "total_d", "longest", "sil_ms", "evals", "sug", "sug_len_d");
   for (const std::string& file : models) {
     const SurfacePoints read = read_surface_points(models_dir() + "/" + file);
     const PointSet points = orient_normals(read.points, {}, nullptr, &ctx);
@@ -184,31 +185,35 @@ int main(int argc, char** argv) {
       }
       // The least time of 5 runs (the machine is shared).
       double best = 1e300;
+      std::uint64_t evals = 0;
       std::vector<Polyline> sil;
       for (int rep = 0; rep < 5; ++rep) {
         LineStats st;
         sil = silhouettes(*field, system, cam, o, &st, &ctx);
         best = std::min(best, st.seconds_silhouettes);
+        evals = st.field_evals;
       }
 #ifdef RAMIFORM_LINE_GAPS_OLD
       double best_old = 1e300;
+      std::uint64_t evals_old = 0;
       std::vector<Polyline> sil_old;
       for (int rep = 0; rep < 5; ++rep) {
         LineStats st;
         sil_old = silhouettes_old(*field, system, cam, o, &st, &ctx);
         best_old = std::min(best_old, st.seconds_silhouettes);
+        evals_old = st.field_evals;
       }
       const Gaps g_old = measure_gaps(*field, system, cam, sil_old, o, mean_delta);
-      std::printf("%-11s %4.0f %6zu %9zu %5zu %8.1f %8.1f %7.2f   (old seeding)\n", file.c_str(),
-                  az, g_old.probes, g_old.uncovered, g_old.gaps, g_old.total, g_old.longest,
-                  1e3 * best_old);
+      std::printf("%-11s %4.0f %6zu %9zu %5zu %8.1f %8.1f %7.2f %7llu  (old seeding)\n",
+                  file.c_str(), az, g_old.probes, g_old.uncovered, g_old.gaps, g_old.total,
+                  g_old.longest, 1e3 * best_old, static_cast<unsigned long long>(evals_old));
 #endif
       LineStats sst;
       (void)suggestive_contours(*field, system, cam, o, &sst, &ctx);
       const Gaps g = measure_gaps(*field, system, cam, sil, o, mean_delta);
-      std::printf("%-11s %4.0f %6zu %9zu %5zu %8.1f %8.1f %7.2f %5zu %9.0f\n", file.c_str(), az,
-                  g.probes, g.uncovered, g.gaps, g.total, g.longest, 1e3 * best, sst.lines[1],
-                  sst.length[1] / mean_delta);
+      std::printf("%-11s %4.0f %6zu %9zu %5zu %8.1f %8.1f %7.2f %7llu %5zu %9.0f\n", file.c_str(),
+                  az, g.probes, g.uncovered, g.gaps, g.total, g.longest, 1e3 * best,
+                  static_cast<unsigned long long>(evals), sst.lines[1], sst.length[1] / mean_delta);
     }
   }
   return 0;

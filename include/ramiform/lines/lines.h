@@ -162,6 +162,8 @@ struct LineStats {
 /// contour generator's 3-D tangent ∇f × ∇(n·v), whose projection is the image tangent except at
 /// cusps; step silhouette_step·δ) and corrector (back onto f == iso and
 /// n·v == 0) until the line closes a loop, reaches another silhouette, or |v·n| ≥ k_c·k_e;
+/// then a second pass seeds from particles with k_c ≤ |v·n| < k_c·k_e farther than 1.5 δ from
+/// every line, corrected onto the contour (the gaps where traces stopped on a bumpy rim);
 /// nearby ends chained. Points satisfy |f − iso| / |∇f| ≤ 1e-3 δ and |n·v| ≤ 1e-3.
 [[nodiscard]] std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& particles,
                                                 const Camera& camera,
