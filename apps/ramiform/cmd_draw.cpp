@@ -232,6 +232,11 @@ void register_draw(CLI::App& root, Action& action) {
                              "(eq. 8)",
                              l.theta_sc_deg, 0, 90))
       ->check(CLI::Range(0.0, 89.999));
+  c->add_option("--t-d", l.t_d,
+                with_default("suggestive contours: least delta^2 D_w kappa_r, DeCarlo et al.'s "
+                             "derivative threshold (0 keeps every minimum of n.v)",
+                             l.t_d))
+      ->check(CLI::Range(0.0, 1000.0));
   c->add_option("--fit", a->fit,
                 "suggestive contours from each cluster's MST: longest (its "
                 "longest path) or trim (short branches removed); default longest")

@@ -619,7 +619,7 @@ void bind_points(py::module_& m) {
          double theta_sc, double k_a, int k_trim, int width, int height, bool hidden,
          std::optional<std::string> polylines, std::optional<std::string> particle_state,
          std::size_t per_cell, int iterations, int cell_depth, double flatness, int threads,
-         const std::string& straddle) {
+         const std::string& straddle, double t_d) {
         LineOptions o;
         try {
           select_line_kinds(o, kinds);
@@ -636,6 +636,7 @@ void bind_points(py::module_& m) {
         o.k_e = k_e;
         o.k_d = k_d;
         o.theta_sc_deg = theta_sc;
+        o.t_d = t_d;
         o.k_a_deg = k_a;
         o.k_trim = k_trim;
         validate(o);
@@ -736,6 +737,7 @@ void bind_points(py::module_& m) {
       py::arg("particle_state") = py::none(), py::arg("per_cell") = po.per_cell,
       py::arg("iterations") = po.iterations, py::arg("cell_depth") = po.max_depth,
       py::arg("flatness") = po.flatness_deg, py::arg("threads") = 0, py::arg("straddle") = "auto",
+      py::arg("t_d") = lo.t_d,
       "`ramiform draw` on a field (docs/drawing.md): silhouettes, suggestive contours and "
       "feature lines from `count` particles (spread with per_cell, iterations, cell_depth, "
       "flatness as particles() does) or from the saved `particle_state`, hidden lines "

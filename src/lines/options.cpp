@@ -85,6 +85,9 @@ void validate(const LineOptions& o) {
   require(o.k_trim >= 1, "k_trim", o.k_trim, ">= 1");
   require(o.smoothing >= 0 && o.smoothing <= 100, "smoothing", o.smoothing, "in 0..100");
   require(o.min_cluster >= 2, "min_cluster", o.min_cluster, ">= 2");
+  require(std::isfinite(o.t_d) && o.t_d >= 0, "t_d", o.t_d, ">= 0");
+  require(std::isfinite(o.min_line_length) && o.min_line_length >= 0, "min_line_length",
+          o.min_line_length, ">= 0");
   require(o.k_a_deg > 0 && o.k_a_deg < 180, "k_a", o.k_a_deg, "in (0, 180) degrees");
   require(finite_positive(o.straddle_radius), "straddle_radius", o.straddle_radius, "> 0");
   require(o.straddle == StraddleSource::kAuto || o.straddle == StraddleSource::kMovement ||

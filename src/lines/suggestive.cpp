@@ -140,8 +140,9 @@ std::vector<std::uint32_t> suggestive_particles(const Field& field, const Partic
   // Candidates: front-facing (n·e > 0), eq. 8 (acos(n·e) > θ_sc, i.e. n·e < cos θ_sc), and a
   // tangent direction w. Cheap, serial, in index order.
   std::vector<std::uint32_t> candidate;
-  std::vector<Vec3> offset;  // k_d·δ_i·ŵ per candidate
-  std::vector<double> dp;    // n·(eye − x) at the particle per candidate
+  std::vector<Vec3> offset;   // k_d·δ_i·ŵ per candidate
+  std::vector<double> dp;     // n·(eye − x) at the particle per candidate
+  std::vector<double> w_len;  // |w| = |eye − x|·sin(angle(n, e)) per candidate (t_d's scale)
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const SurfaceParticle& p = particles[i];
     if (!is_finite(p.position) || !is_finite(p.normal) || !(p.delta > 0)) continue;
@@ -156,6 +157,7 @@ std::vector<std::uint32_t> suggestive_particles(const Field& field, const Partic
     candidate.push_back(static_cast<std::uint32_t>(i));
     offset.push_back((options.k_d * p.delta / w_norm) * w);
     dp.push_back(p.normal.dot(to_eye));
+    w_len.push_back(dist * w_norm);
   }
 
   // Eqs. 4–7 in two batched evaluations with gradients: x− = x − k_d·δ_i·ŵ for every candidate,
@@ -206,7 +208,12 @@ std::vector<std::uint32_t> suggestive_particles(const Field& field, const Partic
     const double h2 = offset[j].squaredNorm();
     const double twist = p.normal.cross(offset[j]).dot(normal_plus - normal_minus[j]);
     const double tighten = dp[j] * twist * twist / (8 * h2);
-    if (dp[j] + tighten < dp_plus && dp[j] + tighten < dp_minus[j]) result.push_back(candidate[j]);
+    if (!(dp[j] + tighten < dp_plus && dp[j] + tighten < dp_minus[j])) continue;
+    // DeCarlo et al.'s t_d (see the file comment): δ²·D_ŵ κ_r from the second difference.
+    const double h_over_delta2 = options.k_d * options.k_d;
+    const double dkr = (dp_plus + dp_minus[j] - 2 * (dp[j] + tighten)) / (h_over_delta2 * w_len[j]);
+    if (options.t_d > 0 && !(dkr > options.t_d)) continue;
+    result.push_back(candidate[j]);
   }
   return result;
 }
@@ -558,14 +565,22 @@ std::vector<Polyline> suggestive_contours(const Field& field, const ParticleSyst
     }
   }
 
-  std::vector<Polyline> lines(paths.size());
+  std::vector<Polyline> lines;
+  lines.reserve(paths.size());
   double total = 0;
   for (std::size_t l = 0; l < paths.size(); ++l) {
-    lines[l].kind = LineKind::kSuggestive;
-    lines[l].points.assign(points.begin() + static_cast<std::ptrdiff_t>(first[l]),
-                           points.begin() + static_cast<std::ptrdiff_t>(first[l + 1]));
-    for (std::size_t j = 1; j < lines[l].points.size(); ++j)
-      total += (lines[l].points[j] - lines[l].points[j - 1]).norm();
+    Polyline line;
+    line.kind = LineKind::kSuggestive;
+    line.points.assign(points.begin() + static_cast<std::ptrdiff_t>(first[l]),
+                       points.begin() + static_cast<std::ptrdiff_t>(first[l + 1]));
+    double length = 0, mean_delta = 0;
+    for (std::size_t j = 1; j < line.points.size(); ++j)
+      length += (line.points[j] - line.points[j - 1]).norm();
+    for (std::size_t i = first[l]; i < first[l + 1]; ++i) mean_delta += point_delta[i];
+    mean_delta /= static_cast<double>(paths[l].size());
+    if (length < options.min_line_length * mean_delta) continue;
+    total += length;
+    lines.push_back(std::move(line));
   }
 
   if (stats != nullptr) {

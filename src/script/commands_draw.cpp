@@ -34,6 +34,7 @@ LineOptions line_options(const Call& c) {
   o.k_e = c.option_positive("k_e", o.k_e);
   o.k_d = c.option_positive("k_d", o.k_d);
   o.theta_sc_deg = c.option_number("theta_sc", o.theta_sc_deg);
+  o.t_d = c.option_number("t_d", o.t_d);
   o.k_a_deg = c.option_positive("k_a", o.k_a_deg);
   o.k_trim = c.option_integer("k_trim", o.k_trim, 1, 1000);
   o.fit = fit_from_name(c.option_word("fit", "longest", {"longest", "trim"}));
@@ -123,7 +124,7 @@ void add_draw_commands(std::vector<CommandSpec>& out) {
        "[eye=X,Y,Z] [target=X,Y,Z] [up=X,Y,Z] [count=N] [per_cell=K] [iterations=I] "
        "[cell_depth=D] [flatness=DEG] [state=STATE.ply] [visibility=rays|surfels|none] "
        "[fit=longest|trim] [straddle=auto|movement|search] [k_c=K] [k_e=K] [k_d=K] "
-       "[theta_sc=DEG] [k_a=DEG] [k_trim=N] "
+       "[theta_sc=DEG] [t_d=T] [k_a=DEG] [k_trim=N] "
        "[width=PX] [height=PX] [hidden=yes|no] [polylines=FILE.json] [seed=S]",
        "A pen-and-ink line drawing of SHAPE written to FILE (.svg or .png): silhouettes, "
        "suggestive contours and feature lines found from particles spread over the surface "
@@ -133,10 +134,11 @@ void add_draw_commands(std::vector<CommandSpec>& out) {
        "the shape from `azimuth` and `elevation` (about the `vertical` axis) unless "
        "eye/target/up are given.",
        "sphere a 1\nsphere b 0.7 center=1.1,0,0\nblend a b ab\ndraw ab ab.svg count=3000",
-       {"lines",      "azimuth", "elevation", "vertical",   "fov",        "eye",      "target",
-        "up",         "count",   "per_cell",  "iterations", "cell_depth", "flatness", "state",
-        "visibility", "fit",     "k_c",       "k_e",        "k_d",        "theta_sc", "k_a",
-        "k_trim",     "width",   "height",    "hidden",     "polylines",  "seed",     "straddle"},
+       {"lines",    "azimuth",  "elevation",  "vertical", "fov",        "eye",
+        "target",   "up",       "count",      "per_cell", "iterations", "cell_depth",
+        "flatness", "state",    "visibility", "fit",      "k_c",        "k_e",
+        "k_d",      "theta_sc", "t_d",        "k_a",      "k_trim",     "width",
+        "height",   "hidden",   "polylines",  "seed",     "straddle"},
        run_draw,
        {}});
 }

@@ -109,6 +109,7 @@ std::vector<OptionCase> cases() {
       {"draw", "--chain-distance", "", "", def(lines.chain_distance)},
       {"draw", "--k-d", "", "", def(lines.k_d)},
       {"draw", "--theta-sc", "", "", def(lines.theta_sc_deg, 0, 90)},
+      {"draw", "--t-d", "", "", def(lines.t_d)},
       {"draw", "--k-trim", "", "", def(lines.k_trim, 1, 1000)},
       {"draw", "--k-a", "", "", def(lines.k_a_deg, 0, 180)},
       {"mesh", "--levels", "save_mesh", "levels", levels},

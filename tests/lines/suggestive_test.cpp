@@ -427,6 +427,74 @@ TEST(SuggestiveContours, SameBytesOnOneAndTwoThreads) {
   }
 }
 
+// DeCarlo et al.'s t_d, scale-free: particles are kept where δ²·D_ŵ κ_r > t_d. Against the
+// analytic D_ŵ κ_r of the torus: a threshold below what the stable contour has keeps it covered,
+// and one well above the largest value it has removes every line (the estimate has the right
+// scale).
+TEST(SuggestiveContours, DerivativeThresholdAgainstTheAnalyticDerivative) {
+  const FieldPtr f = torus_field();
+  const ParticleSystem& ps = torus_particles();
+  const Camera cam = oblique_camera(35, 6, 0);
+  const std::vector<Radial> contour = suggestive_zeros(radial_zeros(cam.eye));
+  const double cos_theta = std::cos((LineOptions{}.theta_sc_deg + 5) * kPi / 180);
+  std::vector<const Radial*> stable;
+  std::vector<double> scaled;  // δ²·D_ŵ κ_r at the stable analytic samples
+  for (const Radial& z : contour) {
+    if (z.facing < 0.15 || z.facing > cos_theta || z.dkr < 1.0) continue;
+    stable.push_back(&z);
+    const double delta = local_delta(ps, z.p);
+    scaled.push_back(delta * delta * z.dkr);
+  }
+  ASSERT_GT(stable.size(), 100u);
+  std::vector<double> sorted = scaled;
+  std::sort(sorted.begin(), sorted.end());
+  LineOptions o;
+  o.t_d = 0.5 * sorted[sorted.size() / 10];
+  LineStats all, kept;
+  (void)suggestive_contours(*f, ps, cam, {}, &all);
+  const std::vector<Polyline> lines = suggestive_contours(*f, ps, cam, o, &kept);
+  EXPECT_LE(kept.suggestive_particles, all.suggestive_particles);
+  std::size_t tested = 0, covered = 0;
+  for (std::size_t k = 0; k < stable.size(); ++k) {
+    if (scaled[k] < 2 * o.t_d) continue;
+    ++tested;
+    covered += distance_to_lines(stable[k]->p, lines) <= 2.0 * local_delta(ps, stable[k]->p);
+  }
+  EXPECT_GE(static_cast<double>(covered), 0.9 * static_cast<double>(tested))
+      << covered << " of " << tested << " (t_d " << o.t_d << ")";
+  o.t_d = 4 * sorted.back();
+  LineStats none;
+  EXPECT_TRUE(suggestive_contours(*f, ps, cam, o, &none).empty());
+  EXPECT_EQ(none.suggestive_particles, 0u);
+}
+
+// min_line_length drops exactly the lines shorter than that many δ (their particles' mean δ).
+TEST(SuggestiveContours, MinLineLengthDropsShortLines) {
+  const FieldPtr f = torus_field();
+  const ParticleSystem& ps = torus_particles();
+  const Camera cam = oblique_camera(30, 3.5, 70);
+  LineOptions o;
+  o.smoothing = 0;  // line points are then particles: their δ is exact
+  const std::vector<Polyline> all = suggestive_contours(*f, ps, cam, o);
+  o.min_line_length = 6;
+  LineStats st;
+  const std::vector<Polyline> kept = suggestive_contours(*f, ps, cam, o, &st);
+  std::vector<const Polyline*> expected;
+  for (const Polyline& l : all) {
+    double length = 0, delta = 0;
+    for (std::size_t j = 0; j < l.points.size(); ++j) {
+      if (j > 0) length += (l.points[j] - l.points[j - 1]).norm();
+      delta += local_delta(ps, l.points[j]);
+    }
+    delta /= static_cast<double>(l.points.size());
+    if (length >= o.min_line_length * delta) expected.push_back(&l);
+  }
+  ASSERT_LT(expected.size(), all.size());
+  ASSERT_EQ(kept.size(), expected.size());
+  EXPECT_EQ(st.lines[1], kept.size());
+  for (std::size_t k = 0; k < kept.size(); ++k) EXPECT_EQ(kept[k].points, expected[k]->points);
+}
+
 TEST(SuggestiveContours, RejectsBadOptionsAndCameras) {
   const FieldPtr f = torus_field();
   ParticleSystem empty;
@@ -440,6 +508,14 @@ TEST(SuggestiveContours, RejectsBadOptionsAndCameras) {
   o = {};
   o.min_cluster = 1;
   EXPECT_THROW((void)suggestive_contours(*f, empty, cam, o), InvalidArgument);
+  for (const double bad : {-0.1, std::nan("")}) {
+    o = {};
+    o.t_d = bad;
+    EXPECT_THROW((void)suggestive_contours(*f, empty, cam, o), InvalidArgument);
+    o = {};
+    o.min_line_length = bad;
+    EXPECT_THROW((void)suggestive_contours(*f, empty, cam, o), InvalidArgument);
+  }
   Camera bad = cam;
   bad.target = bad.eye;
   EXPECT_THROW((void)suggestive_contours(*f, empty, bad, {}), InvalidArgument);

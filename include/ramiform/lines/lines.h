@@ -95,6 +95,12 @@ struct LineOptions {
   int k_trim = 3;       ///< kTrim: leaf branches with fewer particles are removed, ≥ 1
   int smoothing = 2;    ///< Laplacian smoothing passes of each line, re-projected, ≥ 0
   int min_cluster = 3;  ///< clusters with fewer particles give no line, ≥ 2
+  /// DeCarlo et al. 2003's threshold on the derivative of the radial curvature, made
+  /// scale-free: a particle is kept only where δ_i²·D_ŵ κ_r > t_d (ŵ the unit w), estimated from
+  /// the same probes x± as eqs. 6–7 (see suggestive_contours()). ≥ 0; 0 keeps every minimum.
+  double t_d = 0.0;
+  /// Suggestive lines shorter than this (× the mean δ_i of their particles) are dropped, ≥ 0.
+  double min_line_length = 0.0;
 
   // Feature lines (§6).
   double k_a_deg = 8.6;          ///< straddle points: angle(n_i, n_j) > k_a (eq. 11; 0.15 rad)
@@ -180,6 +186,8 @@ struct LineStats {
 /// contour generator's 3-D tangent ∇f × ∇(n·v), whose projection is the image tangent except at
 /// cusps; step silhouette_step·δ) and corrector (back onto f == iso and
 /// n·v == 0) until the line closes a loop, reaches another silhouette, or |v·n| ≥ k_c·k_e;
+/// then a second pass seeds from particles with k_c ≤ |v·n| < k_c·k_e farther than 1.5 δ from
+/// every line, corrected onto the contour (the gaps where traces stopped on a bumpy rim);
 /// nearby ends chained. Points satisfy |f − iso| / |∇f| ≤ 1e-3 δ and |n·v| ≤ 1e-3.
 [[nodiscard]] std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& particles,
                                                 const Camera& camera,
