@@ -100,8 +100,8 @@ void label_by_node_types(std::span<TriMesh> meshes, const Skeleton& skeleton, Co
 /// The figures of `check` for `mesh` (check_mesh), and with `skeleton` which of its nodes lie
 /// inside (generalized winding number): skeleton_nodes, skeleton_nodes_inside_count and the
 /// share skeleton_nodes_inside. `report`, when given, receives check_mesh's report.
-[[nodiscard]] nlohmann::json check_json(const TriMesh& mesh, const Skeleton* skeleton, Context& ctx,
-                                        MeshReport* report = nullptr);
+[[nodiscard]] nlohmann::json check_json(const TriMesh& mesh, const Skeleton* skeleton,
+                                        Context& ctx, MeshReport* report = nullptr);
 
 /// The deviation figures of `check --json` under `prefix` ("deviation_" for the samples,
 /// "vertex_deviation_" for the vertices): points, unresolved, p50, p99, max, abs_*, worst.

@@ -228,8 +228,7 @@ void check_straightened(const Skeleton& s, double tol) {
         const double f = i / 50.0;
         const double t = (static_cast<double>(j) + f) / static_cast<double>(pieces);
         worst = std::max(worst, segment_distance(casteljau(controls, t), pa, pb));
-        worst_radius =
-            std::max(worst_radius, std::abs(casteljau(radii, t) - ((1 - f) * ra + f * rb)));
+        worst_radius = std::max(worst_radius, std::abs(casteljau(radii, t) - ((1 - f) * ra + f * rb)));
       }
     }
     EXPECT_LE(worst, tol * r_min * (1 + 1e-9)) << "edge " << e << ", " << pieces << " pieces";

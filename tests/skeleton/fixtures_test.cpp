@@ -54,8 +54,8 @@ TEST(Fixtures, RandomTreeIsValidDeterministicAndGrowsUp) {
       EXPECT_EQ(c, e + 1);
       EXPECT_LT(p, c);
       const Vec3 d = t.nodes[c].position - t.nodes[p].position;
-      EXPECT_GT(d.z(), 0.0);                                     // grows upward
-      EXPECT_LE(t.nodes[c].radius, t.nodes[p].radius);           // tapers
+      EXPECT_GT(d.z(), 0.0);                                  // grows upward
+      EXPECT_LE(t.nodes[c].radius, t.nodes[p].radius);        // tapers
       EXPECT_GE(d.norm(), 3 * t.nodes[p].radius * (1 - 1e-12));  // several radii long
       EXPECT_LE(d.norm(), 6 * t.nodes[p].radius * (1 + 1e-12));
     }
@@ -91,8 +91,7 @@ TEST(Fixtures, TempDirIsUniqueAndEmpty) {
 
 TEST(Fixtures, SharedDataDir) {
   EXPECT_EQ(test::shared_data_dir().filename(), "data");
-  if (!test::shared_data_available())
-    GTEST_SKIP() << "no shared data at " << test::shared_data_dir();
+  if (!test::shared_data_available()) GTEST_SKIP() << "no shared data at " << test::shared_data_dir();
   EXPECT_TRUE(std::filesystem::is_directory(test::shared_data_dir() / "trees"));
 }
 

@@ -21,8 +21,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // A valid 4-node chain 0-1-2-3 to break in one place per test.
 Skeleton chain() {
   Skeleton s;
-  s.nodes = {
-      {Vec3(0, 0, 0), 1.0}, {Vec3(0, 0, 5), 0.9}, {Vec3(1, 0, 9), 0.8}, {Vec3(2, 1, 12), 0.5}};
+  s.nodes = {{Vec3(0, 0, 0), 1.0}, {Vec3(0, 0, 5), 0.9}, {Vec3(1, 0, 9), 0.8}, {Vec3(2, 1, 12), 0.5}};
   s.edges = {{0, 1}, {1, 2}, {2, 3}};
   return s;
 }
@@ -36,8 +35,7 @@ void expect_rejected(const Skeleton& s, const std::vector<std::string>& needles)
     const std::string what = e.what();
     EXPECT_EQ(e.file(), "tree.swc");
     EXPECT_EQ(what.rfind("tree.swc", 0), 0U) << what;
-    for (const auto& n : needles)
-      EXPECT_NE(what.find(n), std::string::npos) << what << " lacks " << n;
+    for (const auto& n : needles) EXPECT_NE(what.find(n), std::string::npos) << what << " lacks " << n;
   }
 }
 
