@@ -297,55 +297,51 @@ void register_reconstruct(CLI::App& root, Action& action) {
       "2007) and mesh the skeleton's surface as `ramiform mesh` does, instead of an MPU fit; "
       "the MPU and marching-cubes options do not apply"));
   tree_only.push_back(c->add_option("--skeleton-out", a->skeleton_out,
-                                    "--tree: also write the skeleton (.json, .ply, .obj); "
+                                    "tree: also write the skeleton (.json, .ply, .obj); "
                                     "without -o only the skeleton is written"));
-  tree_only.push_back(
-      c->add_option("--bin", a->tree_options.bin_width,
-                    with_default("--tree: width of the geodesic level sets, model units; 0: "
-                                 "--bin-spacings median point spacings",
-                                 tree_defaults.bin_width))
-          ->check(CLI::NonNegativeNumber));
+  tree_only.push_back(c->add_option("--bin", a->tree_options.bin_width,
+                                    with_default("tree: level-set width", tree_defaults.bin_width) +
+                                        "; model units, 0: --bin-spacings median point spacings")
+                          ->check(CLI::NonNegativeNumber));
   tree_only.push_back(
       c->add_option("--bin-spacings", a->tree_options.bin_spacings,
-                    with_default("--tree: the automatic --bin in median point spacings",
-                                 tree_defaults.bin_spacings))
+                    with_default("tree: automatic --bin, spacings", tree_defaults.bin_spacings))
           ->check(CLI::Range(0.01, 1000.0)));
-  tree_only.push_back(c->add_option("--up", a->up, "--tree: the up axis, z or y (default z)")
+  tree_only.push_back(c->add_option("--up", a->up, "tree: the up axis, z or y (default z)")
                           ->check(CLI::IsMember({"z", "y"})));
   tree_only.push_back(
       c->add_option("--min-radius", a->tree_options.min_radius,
-                    with_default("--tree: smallest branch radius, model units; 0: half the "
-                                 "median point spacing",
-                                 tree_defaults.min_radius))
+                    with_default("tree: smallest radius", tree_defaults.min_radius) +
+                        "; model units, 0: half the median point spacing")
           ->check(CLI::NonNegativeNumber));
-  tree_only.push_back(
-      c->add_option("--pipe-exponent", a->tree_options.pipe_exponent,
-                    with_default("--tree: exponent e of the pipe model bound at forks "
-                                 "(r_parent^e >= sum r_child^e)",
-                                 tree_defaults.pipe_exponent, 1.0, 4.0))
-          ->check(CLI::Range(1.0, 4.0)));
+  tree_only.push_back(c->add_option("--pipe-exponent", a->tree_options.pipe_exponent,
+                                    with_default("tree: pipe model exponent e",
+                                                 tree_defaults.pipe_exponent, 1.0, 4.0) +
+                                        "; forks keep r_parent^e >= sum r_child^e")
+                          ->check(CLI::Range(1.0, 4.0)));
   tree_only.push_back(
       c->add_option("--min-branch-points", a->tree_options.min_branch_points,
-                    with_default("--tree: side branches with fewer points are dropped",
+                    with_default("tree: drop smaller side branches",
                                  static_cast<double>(tree_defaults.min_branch_points))));
   tree_only.push_back(
       c->add_option("--min-branch-bins", a->tree_options.min_branch_bins,
-                    with_default("--tree: side branches spanning fewer bins are dropped",
+                    with_default("tree: drop shorter side branches",
                                  static_cast<double>(tree_defaults.min_branch_bins))));
   tree_only.push_back(
-      c->add_option("--straight-tolerance", a->tree_options.straight_tolerance,
-                    with_default("--tree: nodes of a branch within this many radii of the line "
-                                 "between their neighbours are merged away (0 keeps all)",
-                                 tree_defaults.straight_tolerance, 0.0, 1.0))
+      c->add_option(
+           "--straight-tolerance", a->tree_options.straight_tolerance,
+           with_default("tree: chain thinning, radii", tree_defaults.straight_tolerance, 0.0, 1.0) +
+               "; nodes this close to the line between their neighbours go, 0 keeps "
+               "all")
           ->check(CLI::Range(0.0, 1.0)));
   tree_only.push_back(
       c->add_option("--levels", a->levels,
-                    "--tree: mesh with plain skeleton-bounded tetrahedra at this many 1:8 "
+                    "tree: mesh with plain skeleton-bounded tetrahedra at this many 1:8 "
                     "subdivision levels (as `mesh --levels`; fewer triangles, faster) instead "
                     "of the tolerance mesher `mesh` uses (default 0: the tolerance mesher)")
           ->check(CLI::Range(0, TetrahedralOptions::kMaxLevels)));
   tree_only.push_back(c->add_option("--reference", a->reference_path,
-                                    "--tree: a skeleton or cylinder model (e.g. a QSM) of the "
+                                    "tree: a skeleton or cylinder model (e.g. a QSM) of the "
                                     "same tree; --stats adds the cloud's deviation from its "
                                     "surface (reference_deviation)"));
   const std::size_t before_common = c->get_options().size();

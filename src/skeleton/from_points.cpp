@@ -542,6 +542,9 @@ Skeleton tree_from_points(std::span<const Vec3> points, const TreeFromPointsOpti
     }
   }
   for (std::uint32_t a = 0; a < q; ++a) pos[a] = centre[a];
+  // The tree stands on its lowest points: the root node goes down to their height (the bin's
+  // centroid is half a bin above it, and the surface closes over its end node).
+  if (q > 1) pos[0][up] = std::min(pos[0][up], h0);
   // Median filter along branches (up to two nodes each way, not across forks).
   std::vector<double> smooth(q);
   {

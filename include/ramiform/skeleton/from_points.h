@@ -19,7 +19,8 @@
 ///     point its distance along the graph and its predecessor (ties by point index).
 ///  3. **Level sets.** The distances are cut into bins of `bin_width`; within a bin, the
 ///     connected parts of the graph restricted to the bin's points are the cross-sections of the
-///     branches there. Each becomes one node at its points' centroid.
+///     branches there. Each becomes one node at its points' centroid (the root's is moved
+///     down to the lowest point's height).
 ///  4. **Edges.** A part's parent is the part where most of the predecessors of its points that
 ///     lie outside it lie (ties to the part found first); a part without one (a second root)
 ///     hangs from the root part.
