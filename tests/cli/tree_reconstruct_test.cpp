@@ -141,6 +141,15 @@ TEST_F(TreeReconstructTest, SkeletonAloneAndMisplacedOptions) {
   for (const auto& n : sk.nodes) EXPECT_GE(n.radius, 0.01);
   EXPECT_EQ(connected_components(sk).count, 1u);
   EXPECT_FALSE(std::filesystem::exists(path("only.ply")));
+  // The same skeleton, byte for byte, on one thread and on four.
+  for (const char* threads : {"1", "4"}) {
+    r = run_cli("reconstruct " + path("tree.xyz") + " --tree --skeleton-out " +
+                path(std::string("t") + threads + ".json") +
+                " --bin 0.1 --up z --min-radius 0.01 --threads " + threads);
+    ASSERT_EQ(r.code, 0) << r.out;
+  }
+  EXPECT_EQ(test::read_file(path("t1.json")), test::read_file(path("only.json")));
+  EXPECT_EQ(test::read_file(path("t4.json")), test::read_file(path("only.json")));
   // MPU options with --tree, tree options without it, and no output at all are usage errors.
   r = run_cli("reconstruct " + path("tree.xyz") + " -o " + path("a.ply") + " --tree --support 2");
   EXPECT_NE(r.code, 0);
