@@ -24,9 +24,14 @@
 ///  4. **Edges.** A part's parent is the part where most of the predecessors of its points that
 ///     lie outside it lie (ties to the part found first); a part without one (a second root)
 ///     hangs from the root part.
-///  5. **Radii.** Each node's raw radius is the median distance of its points to the local
+///  5. **Radii** (after the small side branches of step 6 are dropped, so that they do not tilt
+///     the axes). Each node's raw radius is the median distance of its points to the local
 ///     branch axis: the line through the node along the direction from its parent to its
-///     children's mean (parent to node at a tip, node to children at the root). Along each
+///     children's mean (parent to node at a tip, node to children at the root); where at
+///     least 8 points lie on an arc that a circle fits well (Kåsa's algebraic fit across the
+///     axis: RMS residual < 20 % of its radius, radius 1 to 2.5 times the median distance,
+///     centre within its radius of the centroid — a branch seen from one side), the circle's
+///     radius, and the node moves to its centre. Along each
 ///     branch (a chain between forks) the raw radii are median-filtered (5 nodes). Then, from the
 ///     root out, a child never gets a larger radius than its parent, and at a fork the children
 ///     obey the pipe model (Shinozaki, Yoda, Hozumi & Kira 1964, "A quantitative analysis of
