@@ -6,18 +6,25 @@
 // `ramiform particles INPUT -o PARTICLES`: particles spread evenly over any surface
 // (docs/particles.md). Their INPUT and options: surface_input.h.
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "commands.h"
 #include "common.h"
 #include "mesh_job.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/parallel.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/particles_io.h"
 #include "ramiform/io/points_io.h"
+#include "ramiform/io/skeleton_io.h"
+#include "ramiform/mesh/deviation.h"
 #include "ramiform/particles/surface_particles.h"
 #include "ramiform/script/script.h"
+#include "ramiform/skeleton/from_points.h"
 #include "reconstruct_job.h"
 #include "surface_input.h"
 
@@ -31,9 +38,126 @@ struct ReconstructArgs {
   ReconstructOptions options;
   std::uint64_t seed = 1;
   CommonOptions common;
+  // --tree: the skeleton route (docs/reconstruction.md, "Scanned trees").
+  bool tree = false;
+  std::string skeleton_out;    // --skeleton-out
+  std::string reference_path;  // --reference: a skeleton (QSM) to measure the cloud against
+  std::string up = "z";
+  TreeFromPointsOptions tree_options;
+  int levels = 0;  // --levels: 0 the tolerance mesher, else plain tets at these levels
 };
 
+// The distance of every point to the surface f == iso of `field` (the surface the mesh
+// approximates), searching up to 4 local radii of `skeleton` (at least `min_search`) away:
+// count, unresolved, p50, p90, p99, max (nearest rank, model units).
+nlohmann::json cloud_deviation(const std::vector<Vec3>& points, const Field& field,
+                               const Skeleton& skeleton, double min_search, Context& ctx) {
+  const std::vector<double> radii = local_radii(skeleton, points, &ctx);
+  std::vector<double> d(points.size());
+  std::vector<std::uint8_t> resolved(points.size(), 0);
+  parallel::for_each(
+      points.size(), 64,
+      [&](std::size_t i) {
+        const SurfaceDistance s =
+            distance_to_surface(field, points[i], std::max(4.0 * radii[i], min_search));
+        d[i] = s.distance;
+        resolved[i] = s.resolved ? 1 : 0;
+      },
+      &ctx);
+  std::size_t unresolved = 0;
+  for (std::uint8_t r : resolved) unresolved += r == 0 ? 1 : 0;
+  std::vector<double> sorted = d;
+  std::sort(sorted.begin(), sorted.end());
+  auto rank = [&](double q) {
+    const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(sorted.size())));
+    return sorted[std::min(sorted.size() - 1, k > 0 ? k - 1 : 0)];
+  };
+  return {{"points", points.size()}, {"unresolved", unresolved}, {"p50", rank(0.5)},
+          {"p90", rank(0.9)},        {"p99", rank(0.99)},        {"max", sorted.back()}};
+}
+
+// `reconstruct --tree`: the cloud's skeleton by geodesic level sets, meshed as `mesh` meshes a
+// skeleton (the default field and mesher), and the cloud's deviation from it.
+int run_reconstruct_tree(ReconstructArgs& args) {
+  check_output_path(args.out_path, kMeshFormats);
+  check_output_path(args.skeleton_out, kSkeletonFormats);
+  check_output_path(args.common.stats_path);
+  RunScope scope(args.common);
+  Context& ctx = scope.context();
+  StageTimer timer;
+  const PointSet cloud = read_points(args.input);
+  timer.lap("read");
+  TreeFromPointsOptions to = args.tree_options;
+  to.up_axis = args.up == "y" ? 1 : 2;
+  TreeFromPointsReport rep;
+  const Skeleton skeleton = tree_from_points(cloud.positions, to, &rep);
+  timer.lap("skeleton");
+  if (!args.skeleton_out.empty()) write_skeleton(skeleton, args.skeleton_out);
+  nlohmann::json stats;
+  stats["skeleton"] = {{"points", rep.points},
+                       {"median_spacing", rep.median_spacing},
+                       {"bin_width", rep.bin_width},
+                       {"min_radius", rep.min_radius},
+                       {"graph_edges", rep.graph_edges},
+                       {"graph_parts", rep.graph_parts},
+                       {"bridges", rep.bridges},
+                       {"bins", rep.bins},
+                       {"raw_nodes", rep.raw_nodes},
+                       {"dropped_branches", rep.dropped_branches},
+                       {"dropped_nodes", rep.dropped_nodes},
+                       {"thinned_nodes", rep.thinned_nodes},
+                       {"nodes", rep.nodes},
+                       {"edges", skeleton.edges.size()},
+                       {"tips", rep.tips},
+                       {"forks", rep.forks},
+                       {"max_geodesic", rep.max_geodesic},
+                       {"root_radius", skeleton.nodes[0].radius},
+                       {"seconds_graph", rep.seconds_graph},
+                       {"seconds_levels", rep.seconds_levels},
+                       {"seconds_radii", rep.seconds_radii}};
+  if (args.out_path.empty()) {  // the skeleton alone
+    stats["seconds"] = timer.seconds();
+    write_stats(args.common.stats_path, stats);
+    std::cout << "wrote " << args.skeleton_out << " (" << rep.nodes << " nodes, " << rep.tips
+              << " tips)\n";
+    return 0;
+  }
+  MeshJobOptions job;
+  if (args.levels > 0) {
+    job.to_tolerance = false;
+    job.tets.levels = args.levels;
+  }
+  const MeshJobResult result =
+      mesh_skeleton(skeleton, field_options(FieldFlags{}), job, args.out_path, timer, ctx, nullptr);
+  stats["mesh"] = result.stats;
+  stats["cloud_deviation"] =
+      cloud_deviation(cloud.positions, *result.field, result.skeleton, rep.bin_width, ctx);
+  timer.lap("cloud_deviation");
+  if (!args.reference_path.empty()) {
+    const Skeleton reference = read_skeleton(args.reference_path);
+    StageTimer ignored;
+    const SkeletonSurface surface =
+        build_surface(reference, field_options(FieldFlags{}), false, ignored, ctx);
+    stats["reference_deviation"] =
+        cloud_deviation(cloud.positions, *surface.field, surface.skeleton, rep.bin_width, ctx);
+    timer.lap("reference_deviation");
+  }
+  stats["seconds"] = timer.seconds();
+  write_stats(args.common.stats_path, stats);
+  const MeshReport& report = result.report;
+  if (!report.watertight || report.components != 1) {
+    std::cerr << "ramiform: warning: the mesh has " << report.components << " pieces"
+              << (report.watertight ? "" : " and is not closed") << '\n';
+  }
+  std::cout << "wrote " << args.out_path << " (" << result.mesh.triangles.size() << " triangles, "
+            << report.components << (report.components == 1 ? " piece" : " pieces")
+            << (report.watertight && report.oriented && report.manifold ? ", closed" : "")
+            << "; skeleton " << rep.nodes << " nodes, " << rep.tips << " tips)\n";
+  return 0;
+}
+
 int run_reconstruct(ReconstructArgs& args) {
+  if (args.tree) return run_reconstruct_tree(args);
   check_output_path(args.out_path, kMeshFormats);
   check_output_path(args.points_path);
   check_output_path(args.common.stats_path);
@@ -142,7 +266,9 @@ void register_reconstruct(CLI::App& root, Action& action) {
                 "points ('x y z [nx ny nz]' text, .xyz, .pwn, PLY) or a mesh (.ply with faces, "
                 ".off, .obj)")
       ->required();
-  c->add_option("-o,--out", a->out_path, "output mesh (.ply, .obj, .off, .glb)")->required();
+  c->add_option("-o,--out", a->out_path,
+                "output mesh (.ply, .obj, .off, .glb); with --tree it may be left out when "
+                "--skeleton-out is given");
   add_mpu_options(*c, a->options);
   c->add_option("--cell-size", a->options.cell_size,
                 "marching cubes cell size (default: --spacing-cells point spacings)")
@@ -163,8 +289,89 @@ void register_reconstruct(CLI::App& root, Action& action) {
   c->add_option("--save-points", a->points_path,
                 "also write the oriented points the surface was fitted to ('x y z nx ny nz' "
                 "text, or .ply): estimated and flipped normals included");
+  const TreeFromPointsOptions tree_defaults;
+  std::vector<CLI::Option*> tree_only;
+  tree_only.push_back(c->add_flag(
+      "--tree", a->tree,
+      "a laser-scanned tree: build its branching skeleton by geodesic level sets (Xu et al. "
+      "2007) and mesh the skeleton's surface as `ramiform mesh` does, instead of an MPU fit; "
+      "the MPU and marching-cubes options do not apply"));
+  tree_only.push_back(c->add_option("--skeleton-out", a->skeleton_out,
+                                    "tree: also write the skeleton (.json, .ply, .obj); "
+                                    "without -o only the skeleton is written"));
+  tree_only.push_back(c->add_option("--bin", a->tree_options.bin_width,
+                                    with_default("tree: level-set width", tree_defaults.bin_width) +
+                                        "; model units, 0: --bin-spacings median point spacings")
+                          ->check(CLI::NonNegativeNumber));
+  tree_only.push_back(
+      c->add_option("--bin-spacings", a->tree_options.bin_spacings,
+                    with_default("tree: automatic --bin, spacings", tree_defaults.bin_spacings))
+          ->check(CLI::Range(0.01, 1000.0)));
+  tree_only.push_back(c->add_option("--up", a->up, "tree: the up axis, z or y (default z)")
+                          ->check(CLI::IsMember({"z", "y"})));
+  tree_only.push_back(
+      c->add_option("--min-radius", a->tree_options.min_radius,
+                    with_default("tree: smallest radius", tree_defaults.min_radius) +
+                        "; model units, 0: half the median point spacing")
+          ->check(CLI::NonNegativeNumber));
+  tree_only.push_back(c->add_option("--pipe-exponent", a->tree_options.pipe_exponent,
+                                    with_default("tree: pipe model exponent e",
+                                                 tree_defaults.pipe_exponent, 1.0, 4.0) +
+                                        "; forks keep r_parent^e >= sum r_child^e")
+                          ->check(CLI::Range(1.0, 4.0)));
+  tree_only.push_back(
+      c->add_option("--min-branch-points", a->tree_options.min_branch_points,
+                    with_default("tree: drop smaller side branches",
+                                 static_cast<double>(tree_defaults.min_branch_points))));
+  tree_only.push_back(
+      c->add_option("--min-branch-bins", a->tree_options.min_branch_bins,
+                    with_default("tree: drop shorter side branches",
+                                 static_cast<double>(tree_defaults.min_branch_bins))));
+  tree_only.push_back(
+      c->add_option(
+           "--straight-tolerance", a->tree_options.straight_tolerance,
+           with_default("tree: chain thinning, radii", tree_defaults.straight_tolerance, 0.0, 1.0) +
+               "; nodes this close to the line between their neighbours go, 0 keeps "
+               "all")
+          ->check(CLI::Range(0.0, 1.0)));
+  tree_only.push_back(
+      c->add_option("--levels", a->levels,
+                    "tree: mesh with plain skeleton-bounded tetrahedra at this many 1:8 "
+                    "subdivision levels (as `mesh --levels`; fewer triangles, faster) instead "
+                    "of the tolerance mesher `mesh` uses (default 0: the tolerance mesher)")
+          ->check(CLI::Range(0, TetrahedralOptions::kMaxLevels)));
+  tree_only.push_back(c->add_option("--reference", a->reference_path,
+                                    "tree: a skeleton or cylinder model (e.g. a QSM) of the "
+                                    "same tree; --stats adds the cloud's deviation from its "
+                                    "surface (reference_deviation)"));
+  const std::size_t before_common = c->get_options().size();
   add_common_options(*c, a->common);
-  c->callback([a, &action] { action = [a] { return run_reconstruct(*a); }; });
+  std::vector<const CLI::Option*> common_opts;
+  for (std::size_t i = before_common; i < c->get_options().size(); ++i) {
+    common_opts.push_back(c->get_options()[i]);
+  }
+  c->callback([a, c, tree_only, common_opts, &action] {
+    if (a->tree) {
+      for (const CLI::Option* o : c->get_options()) {
+        if (o->count() == 0 || o->get_name() == "POINTS" || o->get_name() == "--out" ||
+            o->get_name() == "--help") {
+          continue;
+        }
+        if (std::find(tree_only.begin(), tree_only.end(), o) != tree_only.end()) continue;
+        if (std::find(common_opts.begin(), common_opts.end(), o) != common_opts.end()) continue;
+        throw CLI::ValidationError(o->get_name(), "does not apply with --tree");
+      }
+      if (a->out_path.empty() && a->skeleton_out.empty()) {
+        throw CLI::ValidationError("--out", "is required (or --skeleton-out with --tree)");
+      }
+    } else {
+      for (const CLI::Option* o : tree_only) {
+        if (o->count() > 0) throw CLI::ValidationError(o->get_name(), "applies with --tree only");
+      }
+      if (a->out_path.empty()) throw CLI::ValidationError("--out", "is required");
+    }
+    action = [a] { return run_reconstruct(*a); };
+  });
 }
 
 void register_particles(CLI::App& root, Action& action) {

@@ -516,6 +516,8 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
   r.stats["median_angle_deg"] = r.report.median_angle_deg;
   r.stats["triangles_below_10_deg"] = share(r.report.triangles_below_10_deg, r.report.triangles);
   r.stats["triangles_below_1_deg"] = share(r.report.triangles_below_1_deg, r.report.triangles);
+  r.field = field;
+  r.skeleton = meshed;
   return r;
 }
 

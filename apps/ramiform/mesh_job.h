@@ -62,6 +62,10 @@ struct MeshJobResult {
   std::vector<std::string> written;        ///< the files written
   MeshReport report;
   nlohmann::json stats;  ///< vertices, triangles, field_evals, checks (no seconds)
+  /// The field meshed (by mesh_skeleton; polygonize_field leaves it null) and the skeleton its
+  /// polygonizer followed, e.g. for measuring other points against the surface.
+  FieldPtr field;
+  Skeleton skeleton;
 };
 
 /// The surface of a skeleton as `mesh` builds it: the field, and the skeleton the polygonizer

@@ -33,6 +33,7 @@ try:
         skeleton_distances,
         skeleton_field,
         superquadric_field,
+        tree_from_points,
         write_mesh,
         write_skeleton,
     )
@@ -74,5 +75,6 @@ __all__ = [
     "marching_cubes", "mesh_file", "mesh_skeleton", "mpu_field", "orient_normals", "particles",
     "patch_field", "polygonize_tets", "read_mesh", "read_points", "read_skeleton",
     "read_surface_points", "reconstruct", "run_script", "segment_field",
-    "skeleton_distances", "skeleton_field", "superquadric_field", "write_mesh", "write_skeleton",
+    "skeleton_distances", "skeleton_field", "superquadric_field", "tree_from_points", "write_mesh",
+    "write_skeleton",
 ]

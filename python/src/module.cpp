@@ -51,6 +51,7 @@
 #include "ramiform/particles/surface_particles.h"
 #include "ramiform/polygonize/particles.h"
 #include "ramiform/script/script.h"
+#include "ramiform/skeleton/from_points.h"
 #include "ramiform/skeleton/generate.h"
 #include "reconstruct_job.h"
 
@@ -873,6 +874,31 @@ void bind_skeleton(py::module_& m) {
       ".csv, SWC .swc (soma_regions: somata as closed regions, docs/formats.md). Curved JSON "
       "edges are straightened into short segments unless keep_curves (for "
       "skeleton_distances).");
+  const TreeFromPointsOptions tf;
+  m.def(
+      "tree_from_points",
+      [](const Doubles& points, const std::string& up, double bin, double min_radius,
+         double pipe_exponent, std::size_t min_branch_points, double straight_tolerance) {
+        TreeFromPointsOptions o;
+        if (up != "z" && up != "y")
+          throw InvalidArgument("up must be 'z' or 'y', got '" + up + "'");
+        o.up_axis = up == "y" ? 1 : 2;
+        o.bin_width = bin;
+        o.min_radius = min_radius;
+        o.pipe_exponent = pipe_exponent;
+        o.min_branch_points = min_branch_points;
+        o.straight_tolerance = straight_tolerance;
+        const std::vector<Vec3> p = to_points(points, "points");
+        py::gil_scoped_release release;
+        return tree_from_points(p, o);
+      },
+      py::arg("points"), py::kw_only(), py::arg("up") = "z", py::arg("bin") = tf.bin_width,
+      py::arg("min_radius") = tf.min_radius, py::arg("pipe_exponent") = tf.pipe_exponent,
+      py::arg("min_branch_points") = tf.min_branch_points,
+      py::arg("straight_tolerance") = tf.straight_tolerance,
+      "The branching skeleton of a laser-scanned tree's point cloud (N, 3) by geodesic level "
+      "sets (`ramiform reconstruct --tree`, docs/reconstruction.md): bin 0 means 6 median point "
+      "spacings, min_radius 0 half the median spacing. Node 0 is the root.");
   m.def(
       "write_skeleton",
       [](const std::string& path, const Skeleton& s) {

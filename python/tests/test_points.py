@@ -99,3 +99,27 @@ def test_bad_points_are_refused_with_the_library_message():
         rf.mpu_field(points, normals)
     with pytest.raises(ValueError, match="shape"):
         rf.mpu_field(points[:, :2])
+
+
+def test_tree_from_points_stem_and_bad_input():
+    rng = np.random.default_rng(5)
+    h = rng.uniform(0, 2, 3000)
+    phi = rng.uniform(0, 2 * np.pi, 3000)
+    stem = np.c_[0.1 * np.cos(phi), 0.1 * np.sin(phi), h]
+    tree = rf.tree_from_points(stem)
+    assert tree.components() == 1
+    # the root at the base, on the axis; the top near z = 2; the radius from the points
+    assert abs(tree.positions[0][2]) < 0.05 and np.linalg.norm(tree.positions[0][:2]) < 0.02
+    assert abs(tree.positions[:, 2].max() - 2.0) < 0.2
+    assert np.all(np.abs(tree.radii - 0.1) < 0.02)
+    # y up: the same skeleton, rotated
+    turned = rf.tree_from_points(stem[:, [0, 2, 1]] * [1, 1, -1], up="y")
+    assert np.allclose(turned.positions, tree.positions[:, [0, 2, 1]] * [1, 1, -1], atol=1e-9)
+    with pytest.raises(ValueError, match="at least 10 points"):
+        rf.tree_from_points(stem[:5])
+    with pytest.raises(ValueError, match="up"):
+        rf.tree_from_points(stem, up="x")
+    bad = stem.copy()
+    bad[7, 1] = np.nan
+    with pytest.raises(ValueError, match=r"points\[7\] is not finite"):
+        rf.tree_from_points(bad)

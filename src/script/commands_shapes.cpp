@@ -18,8 +18,10 @@
 #include "ramiform/field/skeleton_field.h"
 #include "ramiform/field/warps.h"
 #include "ramiform/io/mesh_io.h"
+#include "ramiform/io/points_io.h"
 #include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/mesh_field.h"
+#include "ramiform/skeleton/from_points.h"
 #include "session.h"
 
 namespace ramiform::script {
@@ -183,10 +185,10 @@ CommandResult run_plane(Call& c) {
   return defined(c, name);
 }
 
-CommandResult run_skeleton(Call& c) {
-  c.expect_count(2, 2, "NAME FILE");
+// Defines NAME (argument 0) as the surface of `skeleton` with the surface= options of the
+// `skeleton` command; `summary` starts the object's summary.
+CommandResult define_skeleton_shape(Call& c, Skeleton skeleton, std::string summary) {
   const std::string name = c.new_name(0);
-  const std::string path = c.input_path(1);
   const std::string surface =
       c.option_word("surface", "distance", {"distance", "convolution", "equipotential"});
   const std::optional<EquipotentialRequest> equipotential =
@@ -205,10 +207,8 @@ CommandResult run_skeleton(Call& c) {
   } else {
     o = distance_options(c);
   }
-  Skeleton skeleton = read_skeleton(path);
-  std::string summary = "skeleton from " + c.arg(1).text + ", " +
-                        std::to_string(skeleton.nodes.size()) + " nodes, " +
-                        std::to_string(skeleton.edges.size()) + " edges";
+  summary += ", " + std::to_string(skeleton.nodes.size()) + " nodes, " +
+             std::to_string(skeleton.edges.size()) + " edges";
   Object obj;
   if (equipotential) {
     obj = shape(nullptr, "");
@@ -222,6 +222,31 @@ CommandResult run_skeleton(Call& c) {
   obj.skeleton = std::move(skeleton);
   c.define(name, std::move(obj));
   return defined(c, name);
+}
+
+CommandResult run_skeleton(Call& c) {
+  c.expect_count(2, 2, "NAME FILE");
+  (void)c.new_name(0);
+  const std::string path = c.input_path(1);
+  return define_skeleton_shape(c, read_skeleton(path), "skeleton from " + c.arg(1).text);
+}
+
+// tree_from_points NAME FILE [bin=W] [up=z|y] [min_radius=R] [surface options of `skeleton`]
+CommandResult run_tree_from_points(Call& c) {
+  c.expect_count(2, 2, "NAME FILE");
+  (void)c.new_name(0);
+  const std::string path = c.input_path(1);
+  TreeFromPointsOptions o;
+  o.up_axis = c.option_word("up", "z", {"z", "y"}) == "y" ? 1 : 2;
+  o.bin_width = c.option_positive("bin", 0.0);
+  o.min_radius = c.option_positive("min_radius", 0.0);
+  const PointSet cloud = read_points(path);
+  TreeFromPointsReport report;
+  Skeleton skeleton = tree_from_points(cloud.positions, o, &report);
+  return define_skeleton_shape(
+      c, std::move(skeleton),
+      "tree skeleton from " + std::to_string(report.points) + " points of " + c.arg(1).text + " (" +
+          std::to_string(report.tips) + " tips, " + std::to_string(report.bridges) + " bridges)");
 }
 
 CommandResult run_mesh_shape(Call& c) {
@@ -540,6 +565,21 @@ void add_shape_commands(std::vector<CommandSpec>& out) {
        "skeleton tree fork.json surface=convolution",
        skeleton_options,
        run_skeleton,
+       {}});
+  std::vector<std::string> tree_options = {"bin", "up", "min_radius"};
+  tree_options.insert(tree_options.end(), skeleton_options.begin(), skeleton_options.end());
+  out.push_back(
+      {"tree_from_points",
+       "tree_from_points NAME FILE [bin=W] [up=z|y] [min_radius=R] [surface=...] (and the "
+       "surface options of `skeleton`)",
+       "The branching skeleton of a laser-scanned tree's point cloud (.xyz/.txt 'x y z' lines "
+       "or .ply) by geodesic level sets (Xu, Gossett & Chen 2007; docs/reconstruction.md), as a "
+       "skeleton shape: `bin` is the level-set width (default 6 median point spacings), `up` "
+       "the up axis (default z), `min_radius` the smallest radius (default half the median "
+       "spacing).",
+       "tree_from_points tree data/tree_cloud.xyz bin=0.08 surface=convolution",
+       tree_options,
+       run_tree_from_points,
        {}});
   out.push_back(
       {"mesh_shape",

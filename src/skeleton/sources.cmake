@@ -1,3 +1,4 @@
 set(RAMIFORM_SKELETON_SOURCES
+  src/skeleton/from_points.cpp
   src/skeleton/generate.cpp
   src/skeleton/skeleton.cpp)

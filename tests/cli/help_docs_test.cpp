@@ -38,6 +38,7 @@
 #include "ramiform/polygonize/refine.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/script/script.h"
+#include "ramiform/skeleton/from_points.h"
 #include "ramiform/skeleton/generate.h"
 
 namespace ramiform::test {
@@ -89,6 +90,7 @@ std::vector<OptionCase> cases() {
   const Value grow_exponent =
       def(grow.pipe_exponent, Grow::kMinPipeExponent, Grow::kMaxPipeExponent);
   const MpuOptions mpu;
+  const TreeFromPointsOptions tfp;
   const NormalOptions normals;
   const ParticleOptions particles;
   const LineOptions lines;
@@ -99,6 +101,14 @@ std::vector<OptionCase> cases() {
       {"reconstruct", "--min-points", "", "", def(mpu.min_points, 6, 100000)},
       {"reconstruct", "--max-depth", "", "", def(mpu.max_depth, 0, 20)},
       {"reconstruct", "--neighbours", "", "", def(normals.neighbours, 3, 256)},
+      {"reconstruct", "--bin", "", "", def(tfp.bin_width)},
+      {"reconstruct", "--bin-spacings", "", "", def(tfp.bin_spacings)},
+      {"reconstruct", "--min-radius", "", "", def(tfp.min_radius)},
+      {"reconstruct", "--pipe-exponent", "", "", def(tfp.pipe_exponent, 1, 4)},
+      {"reconstruct", "--straight-tolerance", "", "", def(tfp.straight_tolerance, 0, 1)},
+      {"reconstruct", "--min-branch-points", "", "",
+       def(static_cast<double>(tfp.min_branch_points))},
+      {"reconstruct", "--min-branch-bins", "", "", def(static_cast<double>(tfp.min_branch_bins))},
       {"particles", "--per-cell", "", "", def(static_cast<double>(particles.per_cell), 1, 1000)},
       {"particles", "--iterations", "", "",
        def(particles.iterations, 0, Particles::kMaxIterations)},

@@ -14,8 +14,11 @@
 #include "ramiform/core/errors.h"
 #include "ramiform/field/anisotropic.h"
 #include "ramiform/io/mesh_io.h"
+#include "ramiform/io/points_io.h"
+#include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/script/script.h"
+#include "ramiform/skeleton/from_points.h"
 #include "script/script_fixture.h"
 
 namespace ramiform::test {
@@ -230,6 +233,44 @@ TEST_F(SkeletalCommandsTest, MeshesAreWatertight) {
   const MeshReport b = check_mesh(read_mesh((dir_ / "b.ply").string()));
   EXPECT_EQ(b.components, 1u);
   EXPECT_EQ(b.euler, 2);
+}
+
+}  // namespace
+}  // namespace ramiform::test
+
+namespace ramiform::test {
+namespace {
+
+// tree_from_points: the scene's skeleton is the library's for the same cloud and options, it is
+// a shape (inside on the trunk's axis, outside beside it) and saves and meshes like a skeleton.
+TEST_F(ScriptDirTest, TreeFromPointsIsTheLibrarysSkeletonAsAShape) {
+  const std::filesystem::path cloud =
+      std::filesystem::path(RAMIFORM_SOURCE_DIR) / "examples" / "data" / "tree_cloud.xyz";
+  std::filesystem::copy_file(cloud, dir_ / "tree.xyz");
+  ScriptSession s(options_);
+  s.run_text(
+      "tree_from_points t tree.xyz bin=0.08 up=z surface=convolution\n"
+      "save_skeleton t t.json\n",
+      "t.rf");
+  (void)s.commit();
+  TreeFromPointsOptions o;
+  o.bin_width = 0.08;
+  const Skeleton expected =
+      tree_from_points(read_points((dir_ / "tree.xyz").string()).positions, o);
+  const Skeleton saved = read_skeleton((dir_ / "t.json").string());
+  ASSERT_EQ(saved.nodes.size(), expected.nodes.size());
+  EXPECT_EQ(saved.edges, expected.edges);
+  for (std::size_t i = 0; i < saved.nodes.size(); ++i) {
+    EXPECT_NEAR((saved.nodes[i].position - expected.nodes[i].position).norm(), 0.0, 1e-12);
+    EXPECT_NEAR(saved.nodes[i].radius, expected.nodes[i].radius, 1e-12);
+  }
+  // The example tree has three tips (two limbs and a side branch).
+  std::size_t tips = 0;
+  const auto deg = degrees(saved);
+  for (std::size_t i = 1; i < deg.size(); ++i) tips += deg[i] == 1 ? 1 : 0;
+  EXPECT_EQ(tips, 3u);
+  EXPECT_THROW(s.run_text("tree_from_points u tree.xyz up=x\n", "u.rf"), InputError);
+  EXPECT_THROW(s.run_text("tree_from_points u tree.xyz bin=-1\n", "u.rf"), InputError);
 }
 
 }  // namespace
