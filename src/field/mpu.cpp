@@ -708,12 +708,7 @@ class MpuField final : public detail::PointwiseField {
       }
       const Leaf& leaf = leaves_[static_cast<std::size_t>(node.leaf)];
       if (!(squared_distance(box, leaf.centre) < leaf.radius * leaf.radius)) continue;
-      const Aabb clipped = box.intersection(Aabb(leaf.centre - Vec3::Constant(leaf.radius),
-                                                 leaf.centre + Vec3::Constant(leaf.radius)));
-      const Interval iv = leaf.fit.bound(clipped.center() - leaf.centre, 0.5 * clipped.sizes());
-      lo = std::min(lo, iv.lo);
-      hi = std::max(hi, iv.hi);
-      magnitude = std::max({magnitude, std::abs(iv.lo), std::abs(iv.hi)});
+      add_leaf_bound(box, leaf, lo, hi, magnitude);
     }
     if (!root_.contains(box)) {
       const double s_lo = std::sqrt(squared_distance(box, root_));
@@ -728,6 +723,18 @@ class MpuField final : public detail::PointwiseField {
     }
     if (lo > hi) return {0, 0};  // cannot happen: the root cube is covered by the leaves
     return finish_bound(box, lo, hi, magnitude);
+  }
+
+  // Widens [lo, hi] (and magnitude, the largest |value|) by the bound of `leaf`'s local function
+  // over the part of `box` in its support's cube.
+  static void add_leaf_bound(const Aabb& box, const Leaf& leaf, double& lo, double& hi,
+                             double& magnitude) {
+    const Aabb clipped = box.intersection(Aabb(leaf.centre - Vec3::Constant(leaf.radius),
+                                               leaf.centre + Vec3::Constant(leaf.radius)));
+    const Interval iv = leaf.fit.bound(clipped.center() - leaf.centre, 0.5 * clipped.sizes());
+    lo = std::min(lo, iv.lo);
+    hi = std::max(hi, iv.hi);
+    magnitude = std::max({magnitude, std::abs(iv.lo), std::abs(iv.hi)});
   }
 
   // The bound [lo, hi] of the leaves' local functions over `box` (magnitude: their largest
@@ -754,13 +761,7 @@ class MpuField final : public detail::PointwiseField {
     for (std::size_t k = near_begin_[l]; k < near_begin_[l + 1]; ++k) {
       if (!(squared_distance(box, support_[near_[k]].centre) < support_[near_[k]].radius2))
         continue;
-      const Leaf& leaf = leaves_[near_[k]];
-      const Aabb clipped = box.intersection(Aabb(leaf.centre - Vec3::Constant(leaf.radius),
-                                                 leaf.centre + Vec3::Constant(leaf.radius)));
-      const Interval iv = leaf.fit.bound(clipped.center() - leaf.centre, 0.5 * clipped.sizes());
-      lo = std::min(lo, iv.lo);
-      hi = std::max(hi, iv.hi);
-      magnitude = std::max({magnitude, std::abs(iv.lo), std::abs(iv.hi)});
+      add_leaf_bound(box, leaves_[near_[k]], lo, hi, magnitude);
     }
     if (lo > hi) return {-kInf, kInf};  // no support meets the box: prove nothing
     return finish_bound(box, lo, hi, magnitude);
