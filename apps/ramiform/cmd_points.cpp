@@ -194,8 +194,12 @@ int run_reconstruct(ReconstructArgs& args) {
               << " cells (details below the grid's resolution; --speck-cells 0 keeps them)\n";
   }
   if (!report.watertight || report.components != 1) {
+    // Several pieces from a cloud usually mean parts thinner than the sampling: the branches of
+    // a scanned tree, which the skeleton route meshes whole (docs/reconstruction.md).
     std::cerr << "ramiform: warning: the mesh has " << report.components << " pieces"
-              << (report.watertight ? "" : " and is not closed") << '\n';
+              << (report.watertight ? "" : " and is not closed")
+              << "; parts thinner than about two point spacings break up (for a scanned tree, "
+                 "--tree builds its skeleton and meshes that)\n";
   }
   std::cout << "wrote " << args.out_path << " (" << mesh.triangles.size() << " triangles, "
             << report.components << (report.components == 1 ? " piece" : " pieces")
