@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
 // `ramiform studio [SCRIPT] [--port N] [--out DIR] [--listen ADDR] [--run-timeout S]
-// [--memory-budget SIZE] [--threads N]`: the modeler and viewer in the browser (docs/studio_api.md).
-// The script editor beside the 3-D view is the thesis's modeler (Kochhar 2010, "Application of
-// implicit methods to the interactive modeling of trees" (M.Sc. thesis), §4.1).
+// [--memory-budget SIZE] [--threads N]`: the modeler and viewer in the browser
+// (docs/studio_api.md). The script editor beside the 3-D view is the thesis's modeler (Kochhar
+// 2010, "Application of implicit methods to the interactive modeling of trees" (M.Sc. thesis),
+// §4.1).
 
 #include <signal.h>
 
@@ -50,8 +51,7 @@ void register_studio(CLI::App& root, Action& action) {
       "Runs until SIGINT or SIGTERM.");
   c->add_option("SCRIPT", options->script_path,
                 "the script shown first (default: the demo crown, examples/demo.rf)");
-  c->add_option("--port", options->port,
-                with_default("TCP port; 0 = any free port", options->port))
+  c->add_option("--port", options->port, with_default("TCP port; 0 = any free port", options->port))
       ->check(CLI::Range(0, 65535));
   c->add_option("--out", options->out_dir,
                 "directory of the runs' outputs, OUT/runs/rN/, created if missing (default "
@@ -63,17 +63,19 @@ void register_studio(CLI::App& root, Action& action) {
                 with_default("seconds a run may take before it is stopped", options->run_timeout))
       ->check(CLI::PositiveNumber);
   c->add_option_function<std::string>(
-         "--memory-budget",
-         [options](const std::string& text) {
-           const std::optional<std::uint64_t> bytes = parse_memory_size(text);
-           if (!bytes) {
-             throw CLI::ValidationError("--memory-budget", "expected a size such as 512M, 8G or "
-                                                           "2GiB, got '" + text + "'");
-           }
-           options->max_memory = *bytes;
-         },
-         "memory budget of each run: a step whose estimated peak exceeds it fails the run; e.g. "
-         "512M, 8G, 2GiB (default: the memory available when the step starts)")
+       "--memory-budget",
+       [options](const std::string& text) {
+         const std::optional<std::uint64_t> bytes = parse_memory_size(text);
+         if (!bytes) {
+           throw CLI::ValidationError("--memory-budget",
+                                      "expected a size such as 512M, 8G or "
+                                      "2GiB, got '" +
+                                          text + "'");
+         }
+         options->max_memory = *bytes;
+       },
+       "memory budget of each run: a step whose estimated peak exceeds it fails the run; e.g. "
+       "512M, 8G, 2GiB (default: the memory available when the step starts)")
       ->type_name("SIZE");
   c->add_option("--threads", options->threads,
                 with_default("worker threads of each run (0 = all cores)", options->threads))

@@ -127,7 +127,8 @@ class StudioTest : public ::testing::Test {
   }
 
   std::string run(const std::string& script, const json& params = json::object()) const {
-    const Reply r = request("POST", "/api/run", json{{"script", script}, {"params", params}}.dump());
+    const Reply r =
+        request("POST", "/api/run", json{{"script", script}, {"params", params}}.dump());
     EXPECT_EQ(r.status, 200) << r.body;
     return json::parse(r.body, nullptr, false).value("run", "");
   }
@@ -165,9 +166,9 @@ class StudioTest : public ::testing::Test {
 
 TEST_F(StudioTest, TokenHostAndOriginAreChecked) {
   EXPECT_EQ(request("GET", "/api/info", "", "").status, 403);
-  EXPECT_EQ(request("GET", "/api/info", "", "X-Ramiform-Token: " + std::string(32, 'b') + "\r\n")
-                .status,
-            403);
+  EXPECT_EQ(
+      request("GET", "/api/info", "", "X-Ramiform-Token: " + std::string(32, 'b') + "\r\n").status,
+      403);
   const Reply info = request("GET", "/api/info");
   ASSERT_EQ(info.status, 200);
   const json j = json::parse(info.body);
@@ -197,8 +198,8 @@ TEST_F(StudioTest, TokenHostAndOriginAreChecked) {
             "ramiform_studio=" + std::string(32, 'a') + "; HttpOnly; SameSite=Strict; Path=/");
   EXPECT_NE(page.body.find("<html"), std::string::npos);
   EXPECT_EQ(request("GET", "/?token=" + std::string(32, 'c'), "", "").status, 403);
-  EXPECT_EQ(request("GET", "/index.html", "", "Cookie: x=1; ramiform_studio=" +
-                                                  std::string(32, 'a') + "\r\n")
+  EXPECT_EQ(request("GET", "/index.html", "",
+                    "Cookie: x=1; ramiform_studio=" + std::string(32, 'a') + "\r\n")
                 .status,
             200);
   EXPECT_EQ(request("GET", "/index.html", "", "").status, 403);
@@ -312,11 +313,11 @@ TEST_F(StudioTest, CancelStopsALongRunAndTheLatestRunWins) {
 
 TEST_F(StudioTest, ParamsReportTheirRanges) {
   const std::string script =
-      "param n 3 min=1 max=10 step=1\nparam r 0.5\nsphere s $r\nsave_mesh s s.ply resolution=$n\n";
-  const json st = wait(run(script, {{"r", "0.7"}, {"n", 12}}));
+      "param n 16 min=8 max=64 step=8\nparam r 0.5\nsphere s $r\nsave_mesh s s.ply resolution=$n\n";
+  const json st = wait(run(script, {{"r", "0.7"}, {"n", 24}}));
   ASSERT_EQ(st["state"], "done") << st.dump();
   const json expected = json::parse(
-      R"([{"name":"n","value":"12","min":1,"max":10,"step":1},{"name":"r","value":"0.7"}])");
+      R"([{"name":"n","value":"24","min":8,"max":64,"step":8},{"name":"r","value":"0.7"}])");
   EXPECT_EQ(st["params"], expected);
   EXPECT_EQ(wait(run(script, {{"nope", "1"}}))["state"], "failed");
   const json bad = wait(run("param n 3 min=5 max=1\n"));
@@ -398,35 +399,60 @@ TEST_F(StudioTest, HostileRequestsLeaveTheServerAnsweringAndNothingOutsideOut) {
   // One finished run that requests can name.
   const std::string id = run("sphere s 1\nsave_mesh s s.ply resolution=16\n");
   ASSERT_EQ(wait(id)["state"], "done");
-  const std::vector<std::string> methods = {"GET", "POST", "PUT", "DELETE", "HEAD", "OPTIONS",
-                                            "PATCH", "GE T", "", "\x01\x02"};
-  const std::vector<std::string> paths = {
-      "/", "/?token=" + std::string(32, 'a'), "/index.html", "/assets/x.js", "/api/info",
-      "/api/run", "/api/run/" + id, "/api/run/" + id + "/cancel", "/api/run/" + id + "/view/o0",
-      "/api/run/" + id + "/view/o9", "/files/" + id + "/s.ply", "/files/" + id + "/../../x",
-      "/files/" + id + "/%2e%2e/%2e%2e/%2e%2e/x", "/api/lines", "/api/run/r0", "//", "*",
-      "/api/run/" + std::string(3000, '9'), "/files/" + id + "/" + std::string(5000, 'a')};
+  const std::vector<std::string> methods = {"GET",     "POST",  "PUT",  "DELETE", "HEAD",
+                                            "OPTIONS", "PATCH", "GE T", "",       "\x01\x02"};
+  const std::vector<std::string> paths = {"/",
+                                          "/?token=" + std::string(32, 'a'),
+                                          "/index.html",
+                                          "/assets/x.js",
+                                          "/api/info",
+                                          "/api/run",
+                                          "/api/run/" + id,
+                                          "/api/run/" + id + "/cancel",
+                                          "/api/run/" + id + "/view/o0",
+                                          "/api/run/" + id + "/view/o9",
+                                          "/files/" + id + "/s.ply",
+                                          "/files/" + id + "/../../x",
+                                          "/files/" + id + "/%2e%2e/%2e%2e/%2e%2e/x",
+                                          "/api/lines",
+                                          "/api/run/r0",
+                                          "//",
+                                          "*",
+                                          "/api/run/" + std::string(3000, '9'),
+                                          "/files/" + id + "/" + std::string(5000, 'a')};
   const std::vector<std::string> scripts = {
       "sphere s 1\nsave_mesh s ../escape.ply resolution=8\n",
       "sphere s 1\nsave_mesh s " + (root_ / "abs.ply").string() + " resolution=8\n",
-      "sphere s 1\nsave_skeleton s ../../x.json\n", "param\n", "sphere s $nope\n",
-      "sphere s 1e308\n", "\"unterminated\n", std::string("\xef\xbb\xbfsphere s 1\n"),
+      "sphere s 1\nsave_skeleton s ../../x.json\n",
+      "param\n",
+      "sphere s $nope\n",
+      "sphere s 1e308\n",
+      "\"unterminated\n",
+      std::string("\xef\xbb\xbfsphere s 1\n"),
       "sphere s 1\nsave_mesh s s.ply resolution=8\n"};
   const std::vector<std::string> bodies = {
-      "{", "[]", "null", "{\"script\": 5}", "{\"script\": \"sphere s 1\", \"params\": [1]}",
+      "{",
+      "[]",
+      "null",
+      "{\"script\": 5}",
+      "{\"script\": \"sphere s 1\", \"params\": [1]}",
       "{\"run\": \"" + id + "\", \"shape\": \"s\", \"camera\": {\"eye\": [1e308, 0, 0]}}",
       "{\"run\": \"" + id + "\", \"shape\": \"s\", \"camera\": {}, \"count\": -1}",
       "{\"run\": \"" + id + "\", \"shape\": \"s\", \"camera\": {\"fov\": 0}, \"lines\": [\"x\"]}",
       "{\"run\": \"" + id + "\", \"shape\": \"s\", \"camera\": {\"width\": 1e9}}",
-      "{\"params\": {\"a\": {\"b\": 1}}, \"script\": \"\"}", "\"\\ud800\"", "{\"a\":" + std::string(2000, '[')};
+      "{\"params\": {\"a\": {\"b\": 1}}, \"script\": \"\"}",
+      "\"\\ud800\"",
+      "{\"a\":" + std::string(2000, '[')};
   const int rounds = kSanitized ? 300 : 1500;
   for (int i = 0; i < rounds; ++i) {
     std::string method = pick(methods);
     std::string path = pick(paths);
     if (chance(0.1)) path += garbage(20);
     std::string raw = method + " " + path + " HTTP/1.1\r\n";
-    if (!chance(0.1)) raw += "Host: " + (chance(0.9) ? host_ : std::string("evil.example")) + "\r\n";
-    if (chance(0.85)) raw += "X-Ramiform-Token: " + std::string(32, chance(0.9) ? 'a' : 'b') + "\r\n";
+    if (!chance(0.1))
+      raw += "Host: " + (chance(0.9) ? host_ : std::string("evil.example")) + "\r\n";
+    if (chance(0.85))
+      raw += "X-Ramiform-Token: " + std::string(32, chance(0.9) ? 'a' : 'b') + "\r\n";
     if (chance(0.1)) raw += "Origin: http://" + (chance(0.5) ? host_ : "evil.example") + "\r\n";
     if (chance(0.1)) raw += "Cookie: ramiform_studio=" + garbage(40) + "\r\n";
     if (chance(0.1)) raw += garbage(60) + "\r\n";
@@ -453,7 +479,8 @@ TEST_F(StudioTest, HostileRequestsLeaveTheServerAnsweringAndNothingOutsideOut) {
     if (chance(0.15)) raw.resize(std::uniform_int_distribution<std::size_t>(0, raw.size())(rng));
     const Reply r = send_raw(port_, raw);
     if (r.status != 0) {
-      EXPECT_TRUE(r.status < 500 || r.status == 501 || r.status == 505) << r.status << " " << r.body;
+      EXPECT_TRUE(r.status < 500 || r.status == 501 || r.status == 505)
+          << r.status << " " << r.body;
     }
   }
   const Reply info = request("GET", "/api/info");

@@ -26,7 +26,8 @@ struct LineViews::Entry {
 
 Vec3 from_page(const std::array<double, 3>& p) { return {p[0], -p[2], p[1]}; }
 
-LineViews::LineViews(fs::path scratch, int threads) : scratch_(std::move(scratch)), threads_(threads) {}
+LineViews::LineViews(fs::path scratch, int threads)
+    : scratch_(std::move(scratch)), threads_(threads) {}
 
 std::shared_ptr<LineViews::Entry> LineViews::entry(const std::string& key) {
   std::lock_guard lock(mutex_);
@@ -41,9 +42,9 @@ std::shared_ptr<LineViews::Entry> LineViews::entry(const std::string& key) {
   return cache_.front().second;
 }
 
-std::string LineViews::draw(const std::string& run, const std::string& shape,
-                            const FieldPtr& field, const PageCamera& page,
-                            const std::vector<std::string>& kinds, std::size_t count) {
+std::string LineViews::draw(const std::string& run, const std::string& shape, const FieldPtr& field,
+                            const PageCamera& page, const std::vector<std::string>& kinds,
+                            std::size_t count) {
   if (count < 1 || count > kMaxCount) {
     throw InvalidArgument("count must be in 1.." + std::to_string(kMaxCount));
   }
@@ -63,8 +64,7 @@ std::string LineViews::draw(const std::string& run, const std::string& shape,
   validate(camera);
 
   Context ctx(threads_);
-  const std::shared_ptr<Entry> e =
-      entry(run + "\n" + shape + "\n" + std::to_string(count));
+  const std::shared_ptr<Entry> e = entry(run + "\n" + shape + "\n" + std::to_string(count));
   std::lock_guard lock(e->m);
   if (!e->ready) {
     ParticleOptions po;  // as `draw SHAPE FILE count=N`

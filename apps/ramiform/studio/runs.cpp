@@ -115,7 +115,9 @@ void add_objects(RunManager::Run& run, const std::vector<std::string>& written,
                    {"name", stem_of(files.front())},
                    {"view", "/api/run/" + run.id + "/view/" + view.id},
                    {"preview", writer.line == 0}};
-    const auto rel = [&](const std::string& p) { return fs::path(p).lexically_relative(run.dir).string(); };
+    const auto rel = [&](const std::string& p) {
+      return fs::path(p).lexically_relative(run.dir).string();
+    };
     try {
       if (writer.command == "save_mesh") {
         std::string glb, other;
@@ -175,10 +177,11 @@ void add_objects(RunManager::Run& run, const std::vector<std::string>& written,
           positions.push_back(y_up(points.positions[i]));
           if (points.has_normals()) normals.push_back(y_up(points.normals[i]));
         }
-        view.view_body = json{{"points", positions},
-                              {"normals", points.has_normals() ? normals : json(nullptr)},
-                              {"total", points.size()}}
-                             .dump();
+        view.view_body = json{
+            {"points", positions},
+            {"normals", points.has_normals() ? normals : json(nullptr)},
+            {"total",
+             points.size()}}.dump();
         view.mime = "application/json";
         object["kind"] = "points";
         object["file"] = rel(files.front());
@@ -336,10 +339,12 @@ void RunManager::execute(Run& run) {
     options.params = run.params;
     ScriptSession session(options, &run.ctx);
     const auto note_outputs = [&](const std::string& command, std::size_t line) {
-      for (const std::string& p : session.staged_outputs()) writers.emplace(p, Writer{command, line});
+      for (const std::string& p : session.staged_outputs())
+        writers.emplace(p, Writer{command, line});
     };
     const std::string_view text = run.script;
-    const std::size_t lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+    const std::size_t lines =
+        static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
     std::size_t line = 1;
     for (std::size_t at = 0; at <= text.size(); ++line) {
       std::size_t end = text.find('\n', at);
@@ -370,8 +375,9 @@ void RunManager::execute(Run& run) {
     }
     // No mesh saved: a preview of the shape defined last, meshed as save_mesh does (to the
     // tolerance when the shape has a skeleton, else marching cubes).
-    const bool has_mesh = std::any_of(writers.begin(), writers.end(),
-                                      [](const auto& w) { return w.second.command == "save_mesh"; });
+    const bool has_mesh = std::any_of(writers.begin(), writers.end(), [](const auto& w) {
+      return w.second.command == "save_mesh";
+    });
     const std::vector<std::string> shapes = session.shape_names();
     if (!has_mesh && !shapes.empty()) {
       const std::string name = shapes.back();
@@ -387,8 +393,8 @@ void RunManager::execute(Run& run) {
           session.execute_line("save_mesh " + name + files, "<preview>", 1);
         } catch (const InputError& e) {
           std::lock_guard lock(run.m);
-          run.log.push_back({{"line", nullptr}, {"command", "preview"}, {"message", e.what()},
-                             {"seconds", 0}});
+          run.log.push_back(
+              {{"line", nullptr}, {"command", "preview"}, {"message", e.what()}, {"seconds", 0}});
         }
       }
       note_outputs("save_mesh", 0);

@@ -40,7 +40,8 @@ constexpr std::size_t kMaxParams = 1000;
 
 void send_json(httplib::Response& res, const json& body, int status = 200) {
   res.status = status;
-  res.set_content(body.dump(), kJson);
+  // Replacing invalid UTF-8 (a script's raw bytes in a message) instead of throwing.
+  res.set_content(body.dump(-1, ' ', false, json::error_handler_t::replace), kJson);
 }
 
 void send_error(httplib::Response& res, int status, const std::string& message) {
@@ -164,7 +165,8 @@ struct StudioServer::Impl {
     const bool entry = req.method == "GET" && req.path == "/" && req.has_param("token") &&
                        same_token(req.get_param_value("token"), options.token);
     if (!entry && !authorized(req)) {
-      send_error(res, 403, "missing or wrong access token (open the URL that ramiform studio printed)");
+      send_error(res, 403,
+                 "missing or wrong access token (open the URL that ramiform studio printed)");
       return httplib::Server::HandlerResponse::Handled;
     }
     return httplib::Server::HandlerResponse::Unhandled;
@@ -227,18 +229,19 @@ struct StudioServer::Impl {
                if (!view) return send_error(res, 404, "no such run or object");
                res.set_content(std::move(view->body), view->mime.c_str());
              });
-    http.Get(R"(/files/(r\d{1,9})/(.+))", [this](const httplib::Request& req, httplib::Response& res) {
-      const auto path = runs->file(req.matches[1], req.matches[2]);
-      if (!path) return send_error(res, 404, "no such output");
-      std::ifstream in(*path, std::ios::binary);
-      std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-      std::string name = path->filename().string();
-      for (char& c : name) {
-        if (c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20) c = '_';
-      }
-      res.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
-      res.set_content(std::move(bytes), "application/octet-stream");
-    });
+    http.Get(
+        R"(/files/(r\d{1,9})/(.+))", [this](const httplib::Request& req, httplib::Response& res) {
+          const auto path = runs->file(req.matches[1], req.matches[2]);
+          if (!path) return send_error(res, 404, "no such output");
+          std::ifstream in(*path, std::ios::binary);
+          std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+          std::string name = path->filename().string();
+          for (char& c : name) {
+            if (c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20) c = '_';
+          }
+          res.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
+          res.set_content(std::move(bytes), "application/octet-stream");
+        });
     http.Post("/api/lines", [this](const httplib::Request& req, httplib::Response& res) {
       lines_request(req, res);
     });
@@ -250,9 +253,10 @@ struct StudioServer::Impl {
     });
     http.set_error_handler([](const httplib::Request&, httplib::Response& res) {
       if (!res.body.empty()) return;
-      const std::string message = res.status == 413   ? "the request body is larger than 4 MiB"
-                                  : res.status == 404 ? "not found"
-                                                      : "bad request (HTTP " + std::to_string(res.status) + ")";
+      const std::string message = res.status == 413 ? "the request body is larger than 4 MiB"
+                                  : res.status == 404
+                                      ? "not found"
+                                      : "bad request (HTTP " + std::to_string(res.status) + ")";
       send_error(res, res.status, message);
     });
     http.set_exception_handler(
@@ -275,12 +279,14 @@ struct StudioServer::Impl {
     const json& b = *body;
     if (!b.contains("run") || !b["run"].is_string() || !b.contains("shape") ||
         !b["shape"].is_string() || !b.contains("camera") || !b["camera"].is_object()) {
-      return send_error(res, 400, "\"run\" and \"shape\" (strings) and \"camera\" (an object) are needed");
+      return send_error(res, 400,
+                        "\"run\" and \"shape\" (strings) and \"camera\" (an object) are needed");
     }
     const json& c = b["camera"];
     PageCamera camera;
-    for (const auto& [key, slot] : {std::pair{"eye", &camera.eye}, std::pair{"target", &camera.target},
-                                    std::pair{"up", &camera.up}}) {
+    for (const auto& [key, slot] :
+         {std::pair{"eye", &camera.eye}, std::pair{"target", &camera.target},
+          std::pair{"up", &camera.up}}) {
       if (!c.contains(key)) continue;
       const auto v = vec3(c[key]);
       if (!v) return send_error(res, 400, std::string("camera.") + key + " must be [x, y, z]");
@@ -295,7 +301,8 @@ struct StudioServer::Impl {
     double fov = 0, width = 0, height = 0;
     if (!number("fov", 30, fov) || !number("width", 800, width) || !number("height", 600, height) ||
         !(width >= 16 && width <= 8192 && height >= 16 && height <= 8192)) {
-      return send_error(res, 400, "camera.fov, .width and .height must be numbers (16..8192 pixels)");
+      return send_error(res, 400,
+                        "camera.fov, .width and .height must be numbers (16..8192 pixels)");
     }
     camera.fov_deg = fov;
     camera.width = static_cast<int>(width);
@@ -316,18 +323,21 @@ struct StudioServer::Impl {
       if (!b["count"].is_number()) return send_error(res, 400, "\"count\" must be a number");
       count = b["count"].get<double>();
       if (!(count >= 1 && count <= static_cast<double>(LineViews::kMaxCount))) {
-        return send_error(res, 400, "\"count\" must be in 1.." + std::to_string(LineViews::kMaxCount));
+        return send_error(res, 400,
+                          "\"count\" must be in 1.." + std::to_string(LineViews::kMaxCount));
       }
     }
     const std::string run = b["run"].get<std::string>();
     const std::string shape = b["shape"].get<std::string>();
     const FieldPtr field = runs->shape(run, shape);
     if (!field) {
-      return send_error(res, 404, "no shape '" + shape + "' in run '" + run +
-                                      "' (only the newest finished runs keep their shapes)");
+      return send_error(res, 404,
+                        "no shape '" + shape + "' in run '" + run +
+                            "' (only the newest finished runs keep their shapes)");
     }
     try {
-      std::string svg = lines->draw(run, shape, field, camera, kinds, static_cast<std::size_t>(count));
+      std::string svg =
+          lines->draw(run, shape, field, camera, kinds, static_cast<std::size_t>(count));
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       res.set_header("X-Ramiform-Seconds", format_number(seconds));
@@ -348,7 +358,8 @@ StudioServer::StudioServer(StudioOptions options) : impl_(std::make_unique<Impl>
   fs::create_directories(s.options.out_dir / "runs", ec);
   fs::create_directories(s.options.out_dir / "cache", ec);
   if (ec || !fs::is_directory(s.options.out_dir, ec)) {
-    throw InvalidArgument("cannot create the output directory '" + s.options.out_dir.string() + "'");
+    throw InvalidArgument("cannot create the output directory '" + s.options.out_dir.string() +
+                          "'");
   }
   RunSettings settings;
   settings.out_dir = fs::canonical(s.options.out_dir);
@@ -393,10 +404,10 @@ StudioServer::~StudioServer() { stop(); }
 
 int StudioServer::start() {
   Impl& s = *impl_;
-  const int port = s.options.port == 0 ? s.http.bind_to_any_port(s.options.listen)
-                                       : (s.http.bind_to_port(s.options.listen, s.options.port)
-                                              ? s.options.port
-                                              : -1);
+  const int port =
+      s.options.port == 0
+          ? s.http.bind_to_any_port(s.options.listen)
+          : (s.http.bind_to_port(s.options.listen, s.options.port) ? s.options.port : -1);
   if (port <= 0) {
     throw Failure("cannot listen on " + s.options.listen + ":" + std::to_string(s.options.port));
   }
@@ -419,8 +430,10 @@ const std::string& StudioServer::token() const { return impl_->options.token; }
 std::string StudioServer::url() const {
   const std::string& l = impl_->options.listen;
   const bool any = l == "127.0.0.1" || l == "0.0.0.0" || l == "::" || l == "localhost";
-  const std::string host = any ? "127.0.0.1" : (l.find(':') != std::string::npos ? "[" + l + "]" : l);
-  return "http://" + host + ":" + std::to_string(impl_->port.load()) + "/?token=" + impl_->options.token;
+  const std::string host =
+      any ? "127.0.0.1" : (l.find(':') != std::string::npos ? "[" + l + "]" : l);
+  return "http://" + host + ":" + std::to_string(impl_->port.load()) +
+         "/?token=" + impl_->options.token;
 }
 
 }  // namespace ramiform::studio
