@@ -466,14 +466,15 @@ void RunManager::execute(Run& run) {
   run.ctx.set_progress(nullptr);
 }
 
+std::shared_ptr<RunManager::Run> RunManager::find(const std::string& id) const {
+  std::lock_guard lock(mutex_);
+  const auto it = runs_.find(id);
+  return it == runs_.end() ? nullptr : it->second;
+}
+
 std::optional<json> RunManager::status(const std::string& id) const {
-  std::shared_ptr<Run> run;
-  {
-    std::lock_guard lock(mutex_);
-    const auto it = runs_.find(id);
-    if (it == runs_.end()) return std::nullopt;
-    run = it->second;
-  }
+  const std::shared_ptr<Run> run = find(id);
+  if (!run) return std::nullopt;
   std::lock_guard lock(run->m);
   const bool running = run->state == "running";
   return json{{"run", run->id},
@@ -489,13 +490,8 @@ std::optional<json> RunManager::status(const std::string& id) const {
 }
 
 std::optional<std::string> RunManager::cancel(const std::string& id) {
-  std::shared_ptr<Run> run;
-  {
-    std::lock_guard lock(mutex_);
-    const auto it = runs_.find(id);
-    if (it == runs_.end()) return std::nullopt;
-    run = it->second;
-  }
+  const std::shared_ptr<Run> run = find(id);
+  if (!run) return std::nullopt;
   std::lock_guard lock(run->m);
   if (run->state != "running") return run->state;
   if (run->committed) return std::string("done");  // past the last point it could stop
@@ -504,13 +500,8 @@ std::optional<std::string> RunManager::cancel(const std::string& id) {
 }
 
 std::optional<ViewData> RunManager::view(const std::string& id, const std::string& object) const {
-  std::shared_ptr<Run> run;
-  {
-    std::lock_guard lock(mutex_);
-    const auto it = runs_.find(id);
-    if (it == runs_.end()) return std::nullopt;
-    run = it->second;
-  }
+  const std::shared_ptr<Run> run = find(id);
+  if (!run) return std::nullopt;
   Run::Object found;
   {
     std::lock_guard lock(run->m);
@@ -526,13 +517,9 @@ std::optional<ViewData> RunManager::view(const std::string& id, const std::strin
 }
 
 std::optional<fs::path> RunManager::file(const std::string& id, const std::string& path) const {
-  fs::path dir;
-  {
-    std::lock_guard lock(mutex_);
-    const auto it = runs_.find(id);
-    if (it == runs_.end()) return std::nullopt;
-    dir = it->second->dir;
-  }
+  const std::shared_ptr<Run> run = find(id);
+  if (!run) return std::nullopt;
+  const fs::path& dir = run->dir;
   std::error_code ec;
   const fs::path base = fs::canonical(dir, ec);
   if (ec) return std::nullopt;
@@ -542,13 +529,8 @@ std::optional<fs::path> RunManager::file(const std::string& id, const std::strin
 }
 
 FieldPtr RunManager::shape(const std::string& id, const std::string& name) const {
-  std::shared_ptr<Run> run;
-  {
-    std::lock_guard lock(mutex_);
-    const auto it = runs_.find(id);
-    if (it == runs_.end()) return nullptr;
-    run = it->second;
-  }
+  const std::shared_ptr<Run> run = find(id);
+  if (!run) return nullptr;
   std::lock_guard lock(run->m);
   const auto it = run->fields.find(name);
   return it == run->fields.end() ? nullptr : it->second;

@@ -79,6 +79,7 @@ class RunManager {
   struct Run;
 
  private:
+  [[nodiscard]] std::shared_ptr<Run> find(const std::string& id) const;
   void work();
   void watch();
   void execute(Run& run);
