@@ -3,7 +3,8 @@
 # Copyright (c) 2026 the ramiform authors
 # Installs the Debian packages ramiform needs, if any are missing (`--bench`: also those of the
 # optional OpenVDB comparison benchmark; `--fuzz`: also clang and libFuzzer for `make fuzz`),
-# then the web tools of tools/web (the glTF validator and three.js, `npm ci`) when npm exists.
+# then the web tools of tools/web (the glTF validator and three.js, `npm ci`) and the studio page's
+# packages in web/studio (Vite, CodeMirror, three.js) when npm exists.
 # Safe to run repeatedly; quick when everything is there.
 set -euo pipefail
 
@@ -72,5 +73,22 @@ elif ! cmp -s "$web/package-lock.json" "$stamp"; then
     cp "$web/package-lock.json" "$stamp"
   else
     echo "ramiform: warning: npm ci in tools/web failed: the .glb tests will skip" >&2
+  fi
+fi
+
+# web/studio/node_modules likewise: Vite, CodeMirror 6, three.js and playwright-core for the page
+# of `ramiform studio` (docs/studio.md). The build runs `npm run build` there when node_modules
+# exists and embeds web/studio/dist in the binary; without it the studio serves no page and
+# the studio_e2e test skips.
+studio="$(cd "$(dirname "$0")/.." && pwd)/web/studio"
+stamp="$studio/node_modules/.ramiform-package-lock.json"
+if ! command -v npm >/dev/null 2>&1; then
+  echo "ramiform: npm not found: skipping web/studio (ramiform studio will have no page; its browser test will skip)"
+elif ! cmp -s "$studio/package-lock.json" "$stamp"; then
+  echo "ramiform: npm ci in web/studio (Vite, CodeMirror, three.js, playwright-core)"
+  if (cd "$studio" && npm ci --no-audit --no-fund --loglevel=error); then
+    cp "$studio/package-lock.json" "$stamp"
+  else
+    echo "ramiform: warning: npm ci in web/studio failed: ramiform studio will have no page" >&2
   fi
 fi

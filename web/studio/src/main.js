@@ -467,6 +467,7 @@ function setSketch(on) {
   $('sketch').classList.toggle('active', on);
   $('sketch-hint').hidden = !on;
   document.body.dataset.sketch = on ? 'on' : 'off';
+  if (on) view.facePlane($('sketch-plane').value);
   view.showSketch(on ? $('sketch-plane').value : null, []);
 }
 
@@ -530,7 +531,7 @@ window.studio = {
   setState('idle');
   setLinesState('idle');
   // Keep the token out of sight; a reload of index.html is let in by the cookie.
-  if (token) history.replaceState(null, '', 'index.html');
+  if (token) window.history.replaceState(null, '', 'index.html');
   try {
     const info = await api('api/info');
     commands = info.commands || [];

@@ -216,6 +216,18 @@ export function createView(container) {
     return hit;
   }
 
+  // Turns the camera to face a plane through the target ('xy': from the front, +Z; 'xz': from
+  // above, +Y), at the same distance, so that clicks land where the user means them.
+  function facePlane(planeName) {
+    const distance = camera.position.distanceTo(controls.target);
+    const direction = planeName === 'xy' ? new THREE.Vector3(0, 0, 1) : new THREE.Vector3(0, 1, 1e-4).normalize();
+    controls.target.z = planeName === 'xy' ? 0 : controls.target.z;
+    controls.target.y = planeName === 'xz' ? 0 : controls.target.y;
+    camera.position.copy(controls.target).addScaledVector(direction, distance);
+    controls.update();
+    render();
+  }
+
   // The sketch's helpers: a grid on the plane and the polyline so far.
   function showSketch(planeName, points) {
     helpers.clear();
@@ -244,6 +256,7 @@ export function createView(container) {
     cameraState,
     pick,
     showSketch,
+    facePlane,
     render,
     onCameraChange: (f) => cameraListeners.push(f),
     setFlat(v) { settings.flat = v; restyle(); },
