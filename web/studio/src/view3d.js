@@ -239,8 +239,11 @@ export function createView(container) {
     helpers.add(grid);
     if (points.length > 0) {
       const geometry = new THREE.BufferGeometry().setFromPoints(points);
-      helpers.add(new THREE.Line(geometry, new THREE.LineBasicMaterial({ color: 0xd0367a })));
-      helpers.add(new THREE.Points(geometry, new THREE.PointsMaterial({ color: 0xd0367a, size: 7, sizeAttenuation: false })));
+      // Drawn over the models (a profile through a solid would hide inside it).
+      const line = new THREE.Line(geometry, new THREE.LineBasicMaterial({ color: 0xd0367a, depthTest: false }));
+      const dots = new THREE.Points(geometry, new THREE.PointsMaterial({ color: 0xd0367a, size: 7, sizeAttenuation: false, depthTest: false }));
+      line.renderOrder = dots.renderOrder = 1;
+      helpers.add(line, dots);
     }
     render();
   }
