@@ -10,6 +10,8 @@ set -euo pipefail
 
 packages=(build-essential cmake pkg-config libeigen3-dev libtbb-dev libnanoflann-dev
           libcli11-dev nlohmann-json3-dev libcairo2-dev libgtest-dev libgmock-dev libbenchmark-dev libhwy-dev
+          # `ramiform studio`'s HTTP server (apps/ramiform/studio, docs/studio_api.md; MIT)
+          libcpp-httplib-dev
           python3 python3-pytest python3-distributed
           # the Python module (python/, docs/python.md) and what its tests and examples use
           pybind11-dev python3-dev python3-numpy python3-scipy python3-matplotlib)

@@ -31,6 +31,7 @@ void register_lsystem(CLI::App& root, Action& action);
 void register_reconstruct(CLI::App& root, Action& action);
 void register_particles(CLI::App& root, Action& action);
 void register_draw(CLI::App& root, Action& action);
+void register_studio(CLI::App& root, Action& action);
 
 /// `ramiform mesh ARGS...` in this process (the Python module's mesh_file): the arguments are
 /// parsed and checked exactly as on the command line (CLI::ParseError for a bad option), the

@@ -88,6 +88,7 @@ int main(int argc, char** argv) {
   cli::register_reconstruct(app, action);
   cli::register_particles(app, action);
   cli::register_draw(app, action);
+  cli::register_studio(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

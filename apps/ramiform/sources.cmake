@@ -16,4 +16,11 @@ set(RAMIFORM_APP_SOURCES
   cmd_grow.cpp
   cmd_draw.cpp
   cmd_points.cpp
+  cmd_studio.cpp
   surface_input.cpp)
+# `ramiform studio`'s server (also linked by tests/studio).
+set(RAMIFORM_STUDIO_SOURCES
+  studio/line_views.cpp
+  studio/runs.cpp
+  studio/server.cpp
+  studio/util.cpp)

@@ -120,6 +120,22 @@ CommandResult run_param(Call& c) {
   // The message shows a long value's start only: results are kept for the whole run.
   const std::string head =
       value.size() > kMaxSummary ? value.substr(0, kMaxSummary) + "..." : value;
+  ScriptParam info{name, value, std::nullopt, std::nullopt, std::nullopt};
+  const auto range_option = [&c](const std::string& key) -> std::optional<double> {
+    if (!c.has_option(key)) return std::nullopt;
+    return c.option_number(key, 0);  // finite, or an error at the token
+  };
+  info.min = range_option("min");
+  info.max = range_option("max");
+  info.step = range_option("step");
+  if (info.step && !(*info.step > 0)) {
+    c.fail(*c.option_token("step"), "step must be > 0, got " + c.option_token("step")->text);
+  }
+  if (info.min && info.max && *info.min > *info.max) {
+    c.fail(*c.option_token("max"), "max must be >= min (" + format_number(*info.min) + "), got " +
+                                       c.option_token("max")->text);
+  }
+  s.param_list.push_back(std::move(info));
   return {c.spec().name,
           name + " = " + head + (set != s.options.params.end() ? " (from --set)" : ""), false};
 }
@@ -457,11 +473,13 @@ void add_output_commands(std::vector<CommandSpec>& out) {
   const ParticleMeshOptions pm;
   out.push_back(
       {"param",
-       "param NAME VALUE",
+       "param NAME VALUE [min=A] [max=B] [step=S]",
        "Declares a parameter with a default VALUE; `ramiform run --set NAME=V` overrides it. "
-       "Later arguments use it as $NAME or ${NAME}.",
-       "param r 2\nsphere s $r",
-       {},
+       "Later arguments use it as $NAME or ${NAME}. `min`, `max` and `step` (numbers, step > 0, "
+       "min <= max) give the range of the slider `ramiform studio` shows for it; they change "
+       "nothing else.",
+       "param r 2 min=0.5 max=4 step=0.1\nsphere s $r",
+       {"min", "max", "step"},
        run_param,
        {}});
   out.push_back(

@@ -444,6 +444,11 @@ void Call::define(const std::string& name, Object object) {
     object.summary.resize(kMaxSummary - 3);
     object.summary += "...";
   }
+  if (object.kind == ObjectKind::kShape || session_.objects.count(name) != 0) {
+    auto& order = session_.shape_order;
+    order.erase(std::remove(order.begin(), order.end(), name), order.end());
+    if (object.kind == ObjectKind::kShape) order.push_back(name);
+  }
   session_.objects[name] = std::move(object);
 }
 
@@ -689,6 +694,24 @@ FieldPtr ScriptSession::shape(const std::string& name) const {
                           ", not a shape");
   }
   return it->second.field;
+}
+
+std::vector<std::string> ScriptSession::shape_names() const { return impl_->shape_order; }
+
+const std::vector<ScriptParam>& ScriptSession::params() const { return impl_->param_list; }
+
+std::vector<std::string> ScriptSession::staged_outputs() const {
+  std::vector<std::string> paths;
+  for (const script::Staged& s : impl_->staged) paths.push_back(s.final_path);
+  return paths;
+}
+
+std::vector<CommandInfo> ScriptSession::commands() {
+  std::vector<CommandInfo> out;
+  for (const auto& [name, spec] : script::command_table()) {
+    if (spec->name == name) out.push_back({name, spec->synopsis, spec->description, spec->options});
+  }
+  return out;
 }
 
 std::vector<std::string> ScriptSession::command_names() {

@@ -95,7 +95,9 @@ struct ScriptSession::Impl {
   ScriptOptions options;
   Context* ctx = nullptr;
   std::map<std::string, script::Object> objects;
+  std::vector<std::string> shape_order;  // shape names, each where it was last defined
   std::map<std::string, std::string> params;  // declared parameters and their values
+  std::vector<ScriptParam> param_list;         // the `param` lines in order, with their ranges
   std::size_t param_bytes = 0;                // their values' sizes added up
   std::set<std::string> declared;
   std::vector<script::Staged> staged;

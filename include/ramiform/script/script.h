@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -56,6 +57,21 @@ struct CommandResult {
   bool is_report = false;
 };
 
+/// A `param NAME VALUE [min=A] [max=B] [step=S]` line as the session ran it (for sliders).
+struct ScriptParam {
+  std::string name;
+  std::string value;  ///< the value in effect (from `--set` when given there)
+  std::optional<double> min, max, step;  ///< only where the line gave them
+};
+
+/// A command of the language as `help` documents it.
+struct CommandInfo {
+  std::string name;
+  std::string synopsis;
+  std::string description;
+  std::vector<std::string> options;  ///< the option keys it accepts
+};
+
 /// An interpreter session: the named objects and staged outputs of one script or shell.
 class ScriptSession {
  public:
@@ -85,6 +101,16 @@ class ScriptSession {
   /// not a shape.
   [[nodiscard]] FieldPtr shape(const std::string& name) const;
 
+  /// The names of the shapes defined so far, in the order of their (last) definition: the last
+  /// one is the shape the script defined last.
+  [[nodiscard]] std::vector<std::string> shape_names() const;
+  /// The `param` lines run so far, in order.
+  [[nodiscard]] const std::vector<ScriptParam>& params() const;
+  /// The final paths of the outputs staged so far (not yet committed), in the order written.
+  [[nodiscard]] std::vector<std::string> staged_outputs() const;
+
+  /// Every command (aliases not repeated), sorted by name.
+  [[nodiscard]] static std::vector<CommandInfo> commands();
   /// Names of all commands, sorted.
   [[nodiscard]] static std::vector<std::string> command_names();
   /// The documentation of one command (synopsis, description, example); throws InvalidArgument

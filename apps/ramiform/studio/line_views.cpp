@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "studio/line_views.h"
+
+#include <fstream>
+#include <iterator>
+#include <system_error>
+
+#include "ramiform/core/context.h"
+#include "ramiform/core/errors.h"
+#include "ramiform/io/drawing_io.h"
+#include "ramiform/lines/lines.h"
+#include "ramiform/particles/surface_particles.h"
+
+namespace ramiform::studio {
+
+namespace fs = std::filesystem;
+
+struct LineViews::Entry {
+  std::mutex m;  // held while the particles are spread, so that they are spread once
+  bool ready = false;
+  FieldPtr field;
+  ParticleSystem particles;
+  std::vector<Polyline> features;  // view-independent: found once
+};
+
+Vec3 from_page(const std::array<double, 3>& p) { return {p[0], -p[2], p[1]}; }
+
+LineViews::LineViews(fs::path scratch, int threads)
+    : scratch_(std::move(scratch)), threads_(threads) {}
+
+std::shared_ptr<LineViews::Entry> LineViews::entry(const std::string& key) {
+  std::lock_guard lock(mutex_);
+  for (auto it = cache_.begin(); it != cache_.end(); ++it) {
+    if (it->first == key) {
+      cache_.splice(cache_.begin(), cache_, it);
+      return cache_.front().second;
+    }
+  }
+  cache_.emplace_front(key, std::make_shared<Entry>());
+  if (cache_.size() > kMaxCached) cache_.pop_back();
+  return cache_.front().second;
+}
+
+std::string LineViews::draw(const std::string& run, const std::string& shape, const FieldPtr& field,
+                            const PageCamera& page, const std::vector<std::string>& kinds,
+                            std::size_t count) {
+  if (count < 1 || count > kMaxCount) {
+    throw InvalidArgument("count must be in 1.." + std::to_string(kMaxCount));
+  }
+  if (page.width < 16 || page.width > 8192 || page.height < 16 || page.height > 8192) {
+    throw InvalidArgument("camera width and height must be in 16..8192");
+  }
+  LineOptions options;  // `ramiform draw`'s defaults, hidden lines by rays
+  options.visibility = Visibility::kRays;
+  select_line_kinds(options, kinds);
+  validate(options);
+  Camera camera;
+  camera.eye = from_page(page.eye);
+  camera.target = from_page(page.target);
+  camera.up = from_page(page.up);
+  camera.fov_deg = page.fov_deg;
+  camera.aspect = static_cast<double>(page.width) / page.height;
+  validate(camera);
+
+  Context ctx(threads_);
+  const std::shared_ptr<Entry> e = entry(run + "\n" + shape + "\n" + std::to_string(count));
+  std::lock_guard lock(e->m);
+  if (!e->ready) {
+    ParticleOptions po;  // as `draw SHAPE FILE count=N`
+    po.count = count;
+    e->field = field;
+    e->particles = spread_particles(*field, po, field_cells(*field), {}, nullptr, &ctx);
+    if (e->particles.particles.empty()) {
+      throw InvalidArgument("no particles reached the surface of '" + shape + "'");
+    }
+    LineOptions all = options;
+    all.features = true;
+    e->features = feature_lines(*field, e->particles, all, nullptr, &ctx);
+    e->ready = true;
+  }
+  const LineDrawing drawing =
+      draw_lines(*e->field, e->particles, camera, options, &e->features, nullptr, &ctx);
+  DrawingStyle style;
+  style.width = page.width;
+  style.height = page.height;
+  fs::path path;
+  {
+    std::lock_guard cache_lock(mutex_);
+    path = scratch_ / ("lines-" + std::to_string(next_file_++) + ".svg");
+  }
+  write_drawing_svg(path.string(), drawing, style);
+  std::ifstream in(path, std::ios::binary);
+  std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::error_code ec;
+  fs::remove(path, ec);
+  return svg;
+}
+
+}  // namespace ramiform::studio
