@@ -190,9 +190,10 @@ async function checkSphere(page, R, what) {
   return { cam, centre: c, radiusPixels: rp, width };
 }
 
-// The points of the drawing's paths (and polylines), in the SVG's user units.
+// The points of the drawing's paths (and polylines) in the canvas's pixels: the SVG's user units
+// (its viewBox) mapped onto its width × height.
 async function svgPoints(page) {
-  return page.evaluate(() => {
+  const svg = await page.evaluate(() => {
     const svg = document.querySelector('#lines-svg svg');
     const points = [];
     for (const p of svg.querySelectorAll('path')) {
@@ -212,6 +213,11 @@ async function svgPoints(page) {
       eye: svg.dataset.eye,
     };
   });
+  const box = (svg.viewBox || '').split(/[\s,]+/).map(Number);
+  check(box.length === 4 && box.every(Number.isFinite) && box[2] > 0 && box[3] > 0, `the SVG has a viewBox (${svg.viewBox})`);
+  svg.box = box;
+  svg.points = svg.points.map(([x, y]) => [((x - box[0]) * svg.width) / box[2], ((y - box[1]) * svg.height) / box[3]]);
+  return svg;
 }
 
 async function step(name, body) {
@@ -321,7 +327,7 @@ async function main() {
     let svg = await svgPoints(page);
     check(svg.paths > 0 && svg.points.length > 10, `the drawing has paths (${svg.paths} paths, ${svg.points.length} points)`);
     check(svg.width === cam.width && svg.height === cam.height, `the SVG is sized like the canvas (${svg.width}x${svg.height} vs ${cam.width}x${cam.height})`);
-    check(svg.viewBox && svg.viewBox.split(/[\s,]+/).map(Number).join() === `0,0,${cam.width},${cam.height}`, `the SVG's viewBox is the canvas (${svg.viewBox})`);
+    near(svg.box[2] / svg.box[3], cam.width / cam.height, 0.01, `the SVG's viewBox (${svg.viewBox}) has the canvas's aspect`);
     const c = project(cam, [0, 0, 0]);
     const rp = projectedRadius(cam, [0, 0, 0], r);
     const distances = svg.points.map(([x, y]) => Math.hypot(x - c.x, y - c.y));
