@@ -191,6 +191,7 @@ function paramValues() {
 // ---- runs ------------------------------------------------------------------------------------
 const view = createView($('view'));
 let currentRun = null; // id of the latest run
+let runTicket = 0; // counts Run presses: an older loop that sees a newer ticket stops
 let lastResult = null;
 const timings = { runs: [], lines: [] };
 
@@ -201,6 +202,7 @@ function setState(state) {
 
 async function run({ frame = true } = {}) {
   clearTimeout(rerunTimer);
+  const ticket = ++runTicket;
   const started = performance.now();
   showError(null);
   setState('running');
@@ -210,22 +212,24 @@ async function run({ frame = true } = {}) {
   try {
     ({ run: id } = await api('api/run', { script: script(), params: paramValues() }));
   } catch (e) {
+    if (ticket !== runTicket) return;
     setState('failed');
     showError({ message: e.message });
     return;
   }
+  if (ticket !== runTicket) return;
   currentRun = id;
   for (;;) {
     let status;
     try {
       status = await api(`api/run/${id}`);
     } catch (e) {
-      if (id !== currentRun) return;
+      if (ticket !== runTicket) return;
       setState('failed');
       showError({ message: e.message });
       return;
     }
-    if (id !== currentRun) return; // a newer run took over
+    if (ticket !== runTicket) return; // a newer run took over
     const progress = status.progress || {};
     $('progress').value = Number.isFinite(progress.fraction) ? progress.fraction : 0;
     $('stage').textContent = `${progress.stage || status.state} ${(status.seconds ?? 0).toFixed(1)} s`;
@@ -234,7 +238,7 @@ async function run({ frame = true } = {}) {
       continue;
     }
     await finish(status, frame);
-    if (id !== currentRun) return;
+    if (ticket !== runTicket) return;
     timings.runs.push({ run: id, state: status.state, server: status.seconds, wall: (performance.now() - started) / 1000 });
     setState(status.state);
     return;
@@ -252,7 +256,7 @@ async function finish(status, frame) {
   renderDownloads(status.outputs || []);
   renderShapes(status.shapes || []);
   try {
-    await view.setObjects(status.objects || [], { frame });
+    if (!(await view.setObjects(status.objects || [], { frame }))) return; // a newer run's came first
   } catch (e) {
     showError({ message: `could not show the results: ${e.message}` });
   }
@@ -395,7 +399,7 @@ function requestLines() {
 
 async function fetchLines() {
   if (!linesOn() || !lastResult || !linesShape.value) {
-    setLinesState(linesOn() ? 'loading' : 'idle');
+    setLinesState('idle'); // nothing to draw yet: the next run's results ask again
     return;
   }
   linesAbort?.abort();
