@@ -23,3 +23,8 @@ if(NOT RAMIFORM_SANITIZE AND NOT RAMIFORM_TSAN)
                    ${PROJECT_SOURCE_DIR} ${CMAKE_BINARY_DIR}/test-tmp/studio_e2e)
   set_tests_properties(studio_e2e PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300)
 endif()
+# The page's browser-free logic (slider ranges, sketch → script text): node --test, no packages.
+add_test(NAME studio_page_logic
+         COMMAND bash -c "command -v node >/dev/null 2>&1 || { echo 'SKIP: node is not installed (Debian: nodejs)'; exit 77; }; exec node --test \"$1\"" studio_page_logic
+                 ${PROJECT_SOURCE_DIR}/web/studio/test/page_logic.test.mjs)
+set_tests_properties(studio_page_logic PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 60)
