@@ -315,6 +315,8 @@ async function main() {
     near(size, 2 * value, 0.04 * 2 * value, `the mesh's bounding box is the new sphere's diameter`);
     const after = await checkSphere(page, value, 'after the drag');
     check(after.width > first.width * 1.2, `the sphere is wider on screen (${first.width} → ${after.width} px)`);
+    const again = await page.locator('#params input[data-param="r"]').evaluate((e) => [+e.min, +e.max, +e.value]);
+    check(again[0] === 0 && again[1] === 2 && Math.abs(again[2] - value) < 1e-9, `after the re-run the slider is still 0..2 at ${value}, got ${again}`);
     const sent = await page.evaluate(() => window.studio.result.params);
     check(sent.some((p) => p.name === 'r'), 'the run reports the param r');
   });
@@ -355,7 +357,6 @@ async function main() {
     check(svg.paths > 0, 'the new drawing has paths');
     measured.lines_wall_ms = walls.map((w) => Math.round(w.wall * 1000));
     measured.lines_server_ms = walls.map((w) => Math.round(w.server * 1000));
-    if (shots) await page.screenshot({ path: join(shots, 'studio_lines_sphere.png') });
     await page.locator('#line-mode').uncheck();
     check((await page.evaluate(() => document.body.dataset.linesState)) === 'idle', 'line mode off: lines state idle');
   });
@@ -396,7 +397,6 @@ async function main() {
     }
     const picked = await page.evaluate(() => window.studio.sketchPoints());
     check(picked.length === 4, `four sketched points, got ${picked.length}`);
-    if (shots) await page.screenshot({ path: join(shots, 'studio_sketch.png') });
     await page.click('#sketch');
     const text = await page.evaluate(() => window.studio.script());
     const m = /^curve (\S+) polyline ((?:\S+ ?)+)\nrevolve (\S+) \1 radius=\S+$/m.exec(text);
@@ -438,12 +438,41 @@ async function docScreenshots(page, demo) {
   const before = await runCount(page);
   await page.click('#run');
   await waitForRun(page, before, 'done', 120000);
+  // The crown envelope and its attraction points hide the tree: show the tree and its skeleton.
+  for (const name of ['crown', 'points']) {
+    await page.locator('#objects label', { hasText: new RegExp(`^\\s*${name}\\s`) }).locator('input').uncheck();
+  }
+  await page.click('#frame');
   await page.waitForTimeout(300);
   await page.screenshot({ path: join(shots, 'studio_mesh.png') });
   await page.locator('#line-mode').check();
   await page.waitForFunction(() => document.body.dataset.linesState === 'ready', null, { timeout: 60000 });
   await page.screenshot({ path: join(shots, 'studio_lines.png') });
   await page.locator('#line-mode').uncheck();
+  // A vase profile sketched on the XY plane (closed: a filled region), then revolved.
+  await typeScript(page, '# a vase from a sketched profile\n');
+  await page.locator('#sketch-plane').selectOption('xy');
+  await page.locator('#sketch-closed').check();
+  await page.click('#sketch');
+  const cam = await camera(page);
+  const canvas = await page.locator('#view canvas').boundingBox();
+  for (const [x, y] of [[0, -1.2], [0.9, -1.1], [1.3, -0.3], [0.9, 0.6], [0.55, 1.1], [0.8, 1.6], [0, 1.5]]) {
+    const p = project(cam, [x, y, 0]);
+    await page.mouse.click(canvas.x + p.x, canvas.y + p.y);
+  }
+  await page.screenshot({ path: join(shots, 'studio_sketch.png') });
+  await page.click('#sketch');
+  const n = await runCount(page);
+  await page.click('#run');
+  await waitForRun(page, n, 'done', 60000);
+  // Orbit up and around a little, to see the solid in depth.
+  await page.mouse.move(canvas.x + canvas.width / 2, canvas.y + canvas.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(canvas.x + canvas.width / 2 - 80, canvas.y + canvas.height / 2 + 70, { steps: 5 });
+  await page.mouse.up();
+  await page.waitForTimeout(300);
+  await page.screenshot({ path: join(shots, 'studio_sketch_run.png') });
+  await page.locator('#sketch-closed').uncheck();
   log('doc screenshots written');
 }
 

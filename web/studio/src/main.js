@@ -79,6 +79,7 @@ const editor = new EditorView({
       drawSelection(),
       highlightActiveLine(),
       highlightSelectionMatches(),
+      EditorView.lineWrapping,
       sceneSupport(),
       autocompletion({ override: [completionSource(() => commands)], icons: false }),
       lintGutter(),
@@ -113,7 +114,9 @@ function showError(error) {
   const doc = editor.state.doc;
   const lineNo = Number.isInteger(error.line) && error.line >= 1 && error.line <= doc.lines ? error.line : null;
   box.hidden = false;
-  box.textContent = lineNo ? `line ${lineNo}, column ${error.column ?? 1}: ${error.message}` : error.message;
+  // The server's message may start with its own `FILE:LINE:COLUMN: `; the box says the place once.
+  const message = lineNo ? String(error.message).replace(/^[^\s:]*:\d+:\d+:\s*/, '') : error.message;
+  box.textContent = lineNo ? `line ${lineNo}, column ${error.column ?? 1}: ${message}` : message;
   if (lineNo) {
     box.dataset.line = lineNo;
     box.dataset.column = error.column ?? 1;
@@ -154,7 +157,9 @@ function renderParams(params) {
     const label = document.createElement('label');
     label.textContent = p.name;
     const output = document.createElement('output');
-    const range = sliderRange(p);
+    // The range comes from the script's own value (the run reports the value it used, which
+    // after a drag is the slider's), so dragging does not move the slider's ends.
+    const range = sliderRange({ ...p, value: declared.get(p.name)?.value ?? p.value });
     const current = overrides.has(p.name) ? overrides.get(p.name).value : String(p.value);
     output.textContent = current;
     row.append(label);
@@ -314,6 +319,8 @@ function renderLog(status) {
   $('log').replaceChildren(table, stats);
 }
 
+const hiddenDrawings = new Set(); // names of `draw` pictures the user hid
+
 function renderObjects(objects) {
   const box = $('objects');
   box.replaceChildren();
@@ -323,7 +330,7 @@ function renderObjects(objects) {
     const label = document.createElement('label');
     const check = document.createElement('input');
     check.type = 'checkbox';
-    check.checked = true;
+    check.checked = o.kind === 'drawing' ? !hiddenDrawings.has(o.name) : view.isVisible(o.id);
     check.dataset.object = o.id;
     label.append(check, ` ${o.name} `);
     const kind = document.createElement('span');
@@ -336,8 +343,13 @@ function renderObjects(objects) {
       img.src = o.view.replace(/^\//, '');
       img.alt = o.name;
       img.dataset.object = o.id;
+      img.hidden = !check.checked;
       drawings.append(img);
-      check.addEventListener('change', () => (img.hidden = !check.checked));
+      check.addEventListener('change', () => {
+        img.hidden = !check.checked;
+        if (check.checked) hiddenDrawings.delete(o.name);
+        else hiddenDrawings.add(o.name);
+      });
     } else {
       check.addEventListener('change', () => view.setVisible(o.id, check.checked));
     }

@@ -140,13 +140,15 @@ export function createView(container) {
         o.material?.dispose?.();
       });
     }
-    const previous = new Map([...entries].map(([id, e]) => [id, e.visible]));
+    // Visibility carries over by name and kind (ids are per run): a re-run keeps what was hidden.
+    const previous = new Map([...entries.values()].map((e) => [`${e.kind}:${e.name}`, e.visible]));
     entries.clear();
     for (const { info, object } of built) {
       if (!object) continue;
-      const visible = previous.has(info.id) ? previous.get(info.id) : true;
+      const key = `${info.kind}:${info.name}`;
+      const visible = previous.has(key) ? previous.get(key) : true;
       object.name = info.name;
-      entries.set(info.id, { object, kind: info.kind, visible });
+      entries.set(info.id, { object, kind: info.kind, name: info.name, visible });
       root.add(object);
     }
     restyle();
@@ -154,6 +156,8 @@ export function createView(container) {
     render();
     return true;
   }
+
+  const isVisible = (id) => entries.get(id)?.visible ?? true;
 
   function setVisible(id, visible) {
     const e = entries.get(id);
@@ -255,6 +259,7 @@ export function createView(container) {
     canvas: renderer.domElement,
     setObjects,
     setVisible,
+    isVisible,
     frameAll,
     cameraState,
     pick,
