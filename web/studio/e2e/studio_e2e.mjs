@@ -50,6 +50,16 @@ function near(a, b, tolerance, message) {
   check(Math.abs(a - b) <= tolerance, `${message}: ${a.toFixed(3)} vs ${b.toFixed(3)} (tolerance ${tolerance.toFixed(3)})`);
 }
 
+// A small grown tree (about 500 skeleton nodes), meshed to a tolerance that a slider changes.
+const kTreeScript = `param tolerance 0.05
+sphere crown 1
+scale crown 2 2 1.5
+translate crown 0 0 3.5
+point_set_gen crown poisson count=1500
+grow tree from crown step=0.15 influence=1.2 kill=0.35 root=0,0,0 direction=0,0,1 tip_radius=0.02 smooth=8 prune=2
+save_mesh tree tree.ply tree.glb method=tets levels=1 tolerance=$tolerance
+`;
+
 // ---- the server ------------------------------------------------------------------------------
 function startServer() {
   rmSync(work, { recursive: true, force: true });
@@ -320,6 +330,38 @@ async function main() {
     const sent = await page.evaluate(() => window.studio.result.params);
     check(sent.some((p) => p.name === 'r'), 'the run reports the param r');
   });
+
+  await step('a grown tree: dragging its tolerance re-meshes it, the view shows the new mesh', async () => {
+    await typeScript(page, kTreeScript);
+    let before = await runCount(page);
+    await page.click('#run');
+    await waitForRun(page, before);
+    const stats0 = await page.evaluate(() => window.studio.result.objects.find((o) => o.name === 'tree').stats);
+    const shown0 = await page.evaluate(() => window.studio.view.triangles());
+    check(shown0 === stats0.triangles, `the view shows the run's mesh (${shown0} vs ${stats0.triangles} triangles)`);
+    // Drag the slider (0..0.1, step 0.01) from 0.05 to its right end.
+    const slider = page.locator('#params input[data-param="tolerance"]');
+    const box = await slider.boundingBox();
+    before = await runCount(page);
+    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+    await page.mouse.down();
+    await page.mouse.move(box.x + box.width + 20, box.y + box.height / 2, { steps: 4 });
+    await page.mouse.up();
+    const dragged = Date.now();
+    await waitForRun(page, before);
+    measured.tree_param_rerun_seconds = (Date.now() - dragged) / 1000;
+    const tolerance = await page.locator('#params output').first().textContent();
+    check(tolerance === '0.10', `the slider reads 0.10, got ${tolerance}`);
+    const stats1 = await page.evaluate(() => window.studio.result.objects.find((o) => o.name === 'tree').stats);
+    const shown1 = await page.evaluate(() => window.studio.view.triangles());
+    check(shown1 === stats1.triangles, `the view shows the new mesh (${shown1} vs ${stats1.triangles} triangles)`);
+    check(stats1.triangles < 0.8 * stats0.triangles, `a coarser tolerance makes fewer triangles (${stats0.triangles} → ${stats1.triangles})`);
+    check(stats1.watertight === true, 'the new mesh is watertight');
+  });
+
+  await typeScript(page, script);
+  await page.click('#run');
+  await page.waitForFunction(() => document.body.dataset.state === 'done' && window.studio.result.objects.some((o) => o.name === 'ball'));
 
   await step('line mode: an SVG for the current camera, again after an orbit', async () => {
     const r = Number(await page.locator('#params output').first().textContent());

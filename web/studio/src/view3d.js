@@ -270,6 +270,17 @@ export function createView(container) {
     setFlat(v) { settings.flat = v; restyle(); },
     setWireframe(v) { settings.wireframe = v; restyle(); },
     setMeshMode(v) { settings.meshMode = v; restyle(); },
+    // The triangles of the shown meshes (for tests).
+    triangles() {
+      let n = 0;
+      for (const e of entries.values()) {
+        if (e.kind !== 'mesh') continue;
+        e.object.traverse((o) => {
+          if (o.isMesh) n += (o.geometry.index ? o.geometry.index.count : o.geometry.getAttribute('position').count) / 3;
+        });
+      }
+      return n;
+    },
     // The visible objects' bounding box (for tests and the status line).
     bounds() {
       const b = visibleBox();
