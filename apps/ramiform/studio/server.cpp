@@ -162,6 +162,17 @@ struct StudioServer::Impl {
       send_error(res, 403, "cross-origin requests are refused");
       return httplib::Server::HandlerResponse::Handled;
     }
+    // A body over the limit is refused from its Content-Length at once (httplib would first
+    // read and discard it, waiting out the read timeout when the client never sends it).
+    if (req.has_header("Content-Length")) {
+      const std::string length = req.get_header_value("Content-Length");
+      if (length.size() > 9 || length.find_first_not_of("0123456789") != std::string::npos ||
+          std::stoul("0" + length) > kMaxBody) {
+        send_error(res, 413, "the request body is larger than 4 MiB");
+        res.set_header("Connection", "close");
+        return httplib::Server::HandlerResponse::Handled;
+      }
+    }
     const bool entry = req.method == "GET" && req.path == "/" && req.has_param("token") &&
                        same_token(req.get_param_value("token"), options.token);
     if (!entry && !authorized(req)) {
