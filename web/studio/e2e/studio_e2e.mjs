@@ -230,6 +230,22 @@ async function svgPoints(page) {
   return svg;
 }
 
+// Starts a sketch on the XY plane under a script of one comment line and clicks the points
+// (page frame, z = 0) where the camera shows them. Returns the canvas's box.
+async function sketchProfile(page, comment, closed, points) {
+  await typeScript(page, comment);
+  await page.locator('#sketch-plane').selectOption('xy');
+  await page.locator('#sketch-closed').setChecked(closed);
+  await page.click('#sketch');
+  const cam = await camera(page);
+  const canvas = await page.locator('#view canvas').boundingBox();
+  for (const [x, y] of points) {
+    const p = project(cam, [x, y, 0]);
+    await page.mouse.click(canvas.x + p.x, canvas.y + p.y);
+  }
+  return canvas;
+}
+
 async function step(name, body) {
   const started = Date.now();
   try {
@@ -425,18 +441,8 @@ async function main() {
   });
 
   await step('sketch a profile on the XY plane: curve + revolve inserted, and it runs', async () => {
-    await typeScript(page, '# sketch\n');
-    await page.locator('#sketch-plane').selectOption('xy');
-    await page.locator('#sketch-closed').uncheck();
-    await page.click('#sketch');
-    const cam = await camera(page);
-    const canvas = await page.locator('#view canvas').boundingBox();
-    // Points on the XY plane (page frame, z = 0), clicked where the camera shows them.
     const wanted = [[0.2, -0.8], [0.8, -0.4], [0.6, 0.5], [0.2, 0.9]];
-    for (const [x, y] of wanted) {
-      const p = project(cam, [x, y, 0]);
-      await page.mouse.click(canvas.x + p.x, canvas.y + p.y);
-    }
+    await sketchProfile(page, '# sketch\n', false, wanted);
     const picked = await page.evaluate(() => window.studio.sketchPoints());
     check(picked.length === 4, `four sketched points, got ${picked.length}`);
     await page.click('#sketch');
@@ -492,16 +498,8 @@ async function docScreenshots(page, demo) {
   await page.screenshot({ path: join(shots, 'studio_lines.png') });
   await page.locator('#line-mode').uncheck();
   // A vase profile sketched on the XY plane (closed: a filled region), then revolved.
-  await typeScript(page, '# a vase from a sketched profile\n');
-  await page.locator('#sketch-plane').selectOption('xy');
-  await page.locator('#sketch-closed').check();
-  await page.click('#sketch');
-  const cam = await camera(page);
-  const canvas = await page.locator('#view canvas').boundingBox();
-  for (const [x, y] of [[0, -1.2], [0.9, -1.1], [1.3, -0.3], [0.9, 0.6], [0.55, 1.1], [0.8, 1.6], [0, 1.5]]) {
-    const p = project(cam, [x, y, 0]);
-    await page.mouse.click(canvas.x + p.x, canvas.y + p.y);
-  }
+  const vase = [[0, -1.2], [0.9, -1.1], [1.3, -0.3], [0.9, 0.6], [0.55, 1.1], [0.8, 1.6], [0, 1.5]];
+  const canvas = await sketchProfile(page, '# a vase from a sketched profile\n', true, vase);
   await page.screenshot({ path: join(shots, 'studio_sketch.png') });
   await page.click('#sketch');
   const n = await runCount(page);

@@ -397,6 +397,7 @@ const linesOn = () => $('line-mode').checked;
 let linesTimer = null;
 let linesAbort = null;
 let linesSeq = 0;
+let linesAsked = 0; // counts requestLines calls: a drawing asked for before the last one is stale
 
 function setLinesState(s) {
   document.body.dataset.linesState = s;
@@ -405,6 +406,7 @@ function setLinesState(s) {
 function requestLines() {
   clearTimeout(linesTimer);
   if (!linesOn()) return;
+  ++linesAsked;
   setLinesState('loading');
   linesTimer = setTimeout(fetchLines, 120);
 }
@@ -417,6 +419,7 @@ async function fetchLines() {
   linesAbort?.abort();
   const abort = (linesAbort = new AbortController());
   const seq = ++linesSeq;
+  const asked = linesAsked;
   const camera = view.cameraState();
   const started = performance.now();
   try {
@@ -426,7 +429,8 @@ async function fetchLines() {
       { signal: abort.signal, raw: true },
     );
     const text = await response.text();
-    if (seq !== linesSeq) return;
+    // The camera moved (or the shape changed) while this was drawn: the next one is on its way.
+    if (seq !== linesSeq || asked !== linesAsked) return;
     if (!response.ok) {
       let message = text;
       try {
