@@ -3,7 +3,8 @@
 # Copyright (c) 2026 the ramiform authors
 # Installs the Debian packages ramiform needs, if any are missing (`--bench`: also those of the
 # optional OpenVDB comparison benchmark; `--fuzz`: also clang and libFuzzer for `make fuzz`),
-# then the web tools of tools/web (the glTF validator and three.js, `npm ci`) when npm exists.
+# then the web tools of tools/web (the glTF validator and three.js, `npm ci`) and the studio page's
+# packages in web/studio (Vite, CodeMirror, three.js) when npm exists.
 # Safe to run repeatedly; quick when everything is there.
 set -euo pipefail
 
@@ -61,18 +62,30 @@ if [ ${#missing[@]} -gt 0 ]; then
   "${SUDO[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-# tools/web/node_modules, exactly as package-lock.json pins it. A copy of the lock file inside
-# node_modules marks a finished `npm ci`, so a second run does nothing. A failed `npm ci` (no
-# registry) is a warning: the build does not need it, and the .glb tests then skip.
-web="$(cd "$(dirname "$0")/.." && pwd)/tools/web"
-stamp="$web/node_modules/.ramiform-package-lock.json"
-if ! command -v npm >/dev/null 2>&1; then
-  echo "ramiform: npm not found: skipping tools/web (the .glb validator and render tests will skip)"
-elif ! cmp -s "$web/package-lock.json" "$stamp"; then
-  echo "ramiform: npm ci in tools/web (glTF validator, three.js, playwright-core)"
-  if (cd "$web" && npm ci --no-audit --no-fund --loglevel=error); then
-    cp "$web/package-lock.json" "$stamp"
-  else
-    echo "ramiform: warning: npm ci in tools/web failed: the .glb tests will skip" >&2
+# `npm ci` in DIR (tools/web, web/studio), exactly as its package-lock.json pins it. A copy of the
+# lock file inside node_modules marks a finished `npm ci`, so a second run does nothing. Without
+# npm, or when `npm ci` fails (no registry), it warns and goes on: the C++ build does not need
+# these packages, and the browser tests that do then skip.
+#   npm_ci DIR WHAT WITHOUT   (WHAT: what it installs; WITHOUT: what happens without it)
+npm_ci() {
+  local dir="$root/$1" stamp="$root/$1/node_modules/.ramiform-package-lock.json"
+  if ! command -v npm >/dev/null 2>&1; then
+    echo "ramiform: npm not found: skipping $1 ($3)"
+  elif ! cmp -s "$dir/package-lock.json" "$stamp"; then
+    echo "ramiform: npm ci in $1 ($2)"
+    if (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error); then
+      cp "$dir/package-lock.json" "$stamp"
+    else
+      echo "ramiform: warning: npm ci in $1 failed: $3" >&2
+    fi
   fi
-fi
+}
+root="$(cd "$(dirname "$0")/.." && pwd)"
+# The glTF validator, three.js and playwright-core of the .glb tests (docs/viewing.md).
+npm_ci tools/web "glTF validator, three.js, playwright-core" \
+  "the .glb validator and render tests will skip"
+# Vite, CodeMirror 6, three.js and playwright-core for the page of `ramiform studio`
+# (docs/studio.md): the build runs `npm run build` there when node_modules exists and embeds
+# web/studio/dist in the binary.
+npm_ci web/studio "Vite, CodeMirror, three.js, playwright-core" \
+  "ramiform studio will serve no page, and its browser test will skip"

@@ -13,3 +13,18 @@ if(NOT RAMIFORM_SANITIZE AND NOT RAMIFORM_TSAN)
     set_tests_properties(${test} PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600)
   endforeach()
 endif()
+
+# The studio page (web/studio, docs/studio.md) driven in headless Chromium against the real
+# `ramiform studio`: run, param slider, line mode, error marker, sketch, cancel. Skips (exit 77)
+# without node, web/studio/node_modules, Chromium or the built page.
+if(NOT RAMIFORM_SANITIZE AND NOT RAMIFORM_TSAN)
+  add_test(NAME studio_e2e
+           COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/studio_e2e.sh $<TARGET_FILE:ramiform>
+                   ${PROJECT_SOURCE_DIR} ${CMAKE_BINARY_DIR}/test-tmp/studio_e2e)
+  set_tests_properties(studio_e2e PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 300)
+endif()
+# The page's browser-free logic (slider ranges, sketch → script text): node --test, no packages.
+add_test(NAME studio_page_logic
+         COMMAND bash -c "command -v node >/dev/null 2>&1 || { echo 'SKIP: node is not installed (Debian: nodejs)'; exit 77; }; exec node --test \"$1\"" studio_page_logic
+                 ${PROJECT_SOURCE_DIR}/web/studio/test/page_logic.test.mjs)
+set_tests_properties(studio_page_logic PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 60)

@@ -1,0 +1,565 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+//
+// The page of `ramiform studio` (docs/studio.md): the script editor beside the 3-D view, as in
+// the modeler of Kochhar 2010 (§4.1), talking to the server's API (the contract in issue 22)
+// with relative URLs. Test hooks: element ids, document.body.dataset.state (idle, running,
+// done, failed, cancelled) and dataset.linesState (idle, loading, ready), and window.studio.
+import './style.css';
+import { EditorState, Prec, StateEffect, StateField, RangeSetBuilder } from '@codemirror/state';
+import {
+  EditorView, keymap, lineNumbers, highlightActiveLine, highlightActiveLineGutter, drawSelection,
+  Decoration,
+} from '@codemirror/view';
+import { defaultKeymap, history, historyKeymap, indentWithTab } from '@codemirror/commands';
+import { autocompletion, completionKeymap } from '@codemirror/autocomplete';
+import { lintGutter, setDiagnostics } from '@codemirror/lint';
+import { searchKeymap, highlightSelectionMatches } from '@codemirror/search';
+import { sceneSupport, completionSource, scriptParams } from './language.js';
+import { sliderRange, formatValue } from './params.js';
+import { createView } from './view3d.js';
+import { freshName, sketchText } from './sketch.js';
+import * as THREE from 'three';
+
+const $ = (id) => document.getElementById(id);
+const token = new URLSearchParams(location.search).get('token');
+
+// ---- the API ---------------------------------------------------------------------------------
+async function api(path, body, { signal, raw = false } = {}) {
+  const headers = {};
+  if (token) headers['X-Ramiform-Token'] = token;
+  if (body !== undefined) headers['Content-Type'] = 'application/json';
+  const response = await fetch(path.replace(/^\//, ''), {
+    method: body === undefined ? 'GET' : 'POST',
+    headers,
+    body: body === undefined ? undefined : JSON.stringify(body),
+    signal,
+  });
+  if (raw) return response;
+  const text = await response.text();
+  let data;
+  try {
+    data = JSON.parse(text);
+  } catch {
+    data = { error: text };
+  }
+  if (!response.ok) throw new Error(data.error || `${response.status} ${response.statusText}`);
+  return data;
+}
+
+// ---- the editor ------------------------------------------------------------------------------
+let commands = [];
+const setErrorLine = StateEffect.define();
+const errorLineField = StateField.define({
+  create: () => Decoration.none,
+  update(decorations, tr) {
+    decorations = decorations.map(tr.changes);
+    for (const e of tr.effects) {
+      if (!e.is(setErrorLine)) continue;
+      const builder = new RangeSetBuilder();
+      if (e.value !== null && e.value >= 1 && e.value <= tr.state.doc.lines) {
+        const line = tr.state.doc.line(e.value);
+        builder.add(line.from, line.from, Decoration.line({ class: 'cm-error-line' }));
+      }
+      decorations = builder.finish();
+    }
+    return decorations;
+  },
+  provide: (f) => EditorView.decorations.from(f),
+});
+
+const editor = new EditorView({
+  parent: $('editor'),
+  state: EditorState.create({
+    doc: '',
+    extensions: [
+      lineNumbers(),
+      highlightActiveLineGutter(),
+      history(),
+      drawSelection(),
+      highlightActiveLine(),
+      highlightSelectionMatches(),
+      EditorView.lineWrapping,
+      sceneSupport(),
+      autocompletion({ override: [completionSource(() => commands)], icons: false }),
+      lintGutter(),
+      errorLineField,
+      Prec.highest(keymap.of([{ key: 'Mod-Enter', run: () => (run({ frame: true }), true) }])),
+      keymap.of([...completionKeymap, ...defaultKeymap, ...historyKeymap, ...searchKeymap, indentWithTab]),
+      EditorView.updateListener.of((u) => {
+        if (u.docChanged) forgetEditedOverrides();
+      }),
+    ],
+  }),
+});
+
+function script() {
+  return editor.state.doc.toString();
+}
+
+function setScript(text) {
+  editor.dispatch({ changes: { from: 0, to: editor.state.doc.length, insert: text } });
+}
+
+function showError(error) {
+  const box = $('error');
+  if (!error) {
+    box.hidden = true;
+    box.textContent = '';
+    delete box.dataset.line;
+    delete box.dataset.column;
+    editor.dispatch(setDiagnostics(editor.state, []), { effects: setErrorLine.of(null) });
+    return;
+  }
+  const doc = editor.state.doc;
+  const lineNo = Number.isInteger(error.line) && error.line >= 1 && error.line <= doc.lines ? error.line : null;
+  box.hidden = false;
+  // The server's message may start with its own `FILE:LINE:COLUMN: `; the box says the place once.
+  const message = lineNo ? String(error.message).replace(/^[^\s:]*:\d+:\d+:\s*/, '') : error.message;
+  box.textContent = lineNo ? `line ${lineNo}, column ${error.column ?? 1}: ${message}` : message;
+  if (lineNo) {
+    box.dataset.line = lineNo;
+    box.dataset.column = error.column ?? 1;
+    const line = doc.line(lineNo);
+    const from = Math.min(line.to, line.from + Math.max(0, (error.column ?? 1) - 1));
+    const word = /^\S*/.exec(line.text.slice(from - line.from))[0].length;
+    const to = Math.min(line.to, from + Math.max(1, word));
+    editor.dispatch(setDiagnostics(editor.state, [{ from, to: Math.max(to, from), severity: 'error', message: error.message }]), {
+      effects: setErrorLine.of(lineNo),
+    });
+  } else {
+    editor.dispatch(setDiagnostics(editor.state, []), { effects: setErrorLine.of(null) });
+  }
+}
+
+// ---- params ----------------------------------------------------------------------------------
+// Slider values the user chose (name → {value, scriptValue}); sent with every run until the
+// script's own `param` line for that name is edited.
+const overrides = new Map();
+
+function forgetEditedOverrides() {
+  const declared = scriptParams(script());
+  for (const [name, o] of overrides) {
+    const d = declared.get(name);
+    if (!d || d.value !== o.scriptValue) overrides.delete(name);
+  }
+}
+
+let rerunTimer = null;
+function renderParams(params) {
+  const box = $('params');
+  box.replaceChildren();
+  if (!params || params.length === 0) return;
+  const declared = scriptParams(script());
+  for (const p of params) {
+    const row = document.createElement('div');
+    row.className = 'param';
+    const label = document.createElement('label');
+    label.textContent = p.name;
+    const output = document.createElement('output');
+    // The range comes from the script's own value (the run reports the value it used, which
+    // after a drag is the slider's), so dragging does not move the slider's ends.
+    const range = sliderRange({ ...p, value: declared.get(p.name)?.value ?? p.value });
+    const current = overrides.has(p.name) ? overrides.get(p.name).value : String(p.value);
+    output.textContent = current;
+    row.append(label);
+    if (range) {
+      const slider = document.createElement('input');
+      slider.type = 'range';
+      slider.min = range.min;
+      slider.max = range.max;
+      slider.step = range.step;
+      slider.value = current;
+      slider.dataset.param = p.name;
+      label.htmlFor = slider.id = `param-${p.name}`;
+      slider.addEventListener('input', () => {
+        const value = formatValue(slider.value, range.step);
+        output.textContent = value;
+        overrides.set(p.name, { value, scriptValue: declared.get(p.name)?.value ?? String(p.value) });
+        clearTimeout(rerunTimer);
+        rerunTimer = setTimeout(() => run({ frame: false }), 150);
+      });
+      row.append(slider);
+    }
+    row.append(output);
+    box.append(row);
+  }
+}
+
+function paramValues() {
+  const declared = scriptParams(script());
+  const values = {};
+  for (const [name, o] of overrides) if (declared.has(name)) values[name] = o.value;
+  return values;
+}
+
+// ---- runs ------------------------------------------------------------------------------------
+const view = createView($('view'));
+let currentRun = null; // id of the latest run
+let runTicket = 0; // counts Run presses: an older loop that sees a newer ticket stops
+let lastResult = null;
+const timings = { runs: [], lines: [] };
+
+function setState(state) {
+  document.body.dataset.state = state;
+  $('cancel').disabled = state !== 'running';
+}
+
+async function run({ frame = true } = {}) {
+  clearTimeout(rerunTimer);
+  const ticket = ++runTicket;
+  const started = performance.now();
+  showError(null);
+  setState('running');
+  $('progress').value = 0;
+  $('stage').textContent = 'starting';
+  let id;
+  try {
+    ({ run: id } = await api('api/run', { script: script(), params: paramValues() }));
+  } catch (e) {
+    if (ticket !== runTicket) return;
+    setState('failed');
+    showError({ message: e.message });
+    return;
+  }
+  if (ticket !== runTicket) return;
+  currentRun = id;
+  for (;;) {
+    let status;
+    try {
+      status = await api(`api/run/${id}`);
+    } catch (e) {
+      if (ticket !== runTicket) return;
+      setState('failed');
+      showError({ message: e.message });
+      return;
+    }
+    if (ticket !== runTicket) return; // a newer run took over
+    const progress = status.progress || {};
+    $('progress').value = Number.isFinite(progress.fraction) ? progress.fraction : 0;
+    $('stage').textContent = `${progress.stage || status.state} ${(status.seconds ?? 0).toFixed(1)} s`;
+    if (status.state === 'running') {
+      await new Promise((r) => setTimeout(r, 100));
+      continue;
+    }
+    await finish(status, frame);
+    if (ticket !== runTicket) return;
+    timings.runs.push({ run: id, state: status.state, server: status.seconds, wall: (performance.now() - started) / 1000 });
+    setState(status.state);
+    return;
+  }
+}
+
+async function finish(status, frame) {
+  lastResult = status;
+  $('progress').value = status.state === 'done' ? 1 : $('progress').value;
+  $('stage').textContent = `${status.state} ${(status.seconds ?? 0).toFixed(2)} s`;
+  renderLog(status);
+  if (status.state === 'failed') showError(status.error || { message: 'the run failed' });
+  if (status.state !== 'done') return;
+  renderParams(status.params);
+  renderDownloads(status.outputs || []);
+  renderShapes(status.shapes || []);
+  try {
+    if (!(await view.setObjects(status.objects || [], { frame }))) return; // a newer run's came first
+  } catch (e) {
+    showError({ message: `could not show the results: ${e.message}` });
+  }
+  renderObjects(status.objects || []);
+  if (linesOn()) requestLines();
+}
+
+async function cancel() {
+  if (!currentRun) return;
+  try {
+    await api(`api/run/${currentRun}/cancel`, {});
+  } catch (e) {
+    showError({ message: e.message });
+  }
+}
+
+// ---- panels ----------------------------------------------------------------------------------
+function cell(row, text, className) {
+  const td = document.createElement('td');
+  td.textContent = text;
+  if (className) td.className = className;
+  row.append(td);
+}
+
+function statsText(stats) {
+  return Object.entries(stats || {})
+    .map(([k, v]) => `${k.replace(/_/g, ' ')} ${typeof v === 'boolean' ? (v ? 'yes' : 'no') : typeof v === 'number' ? v.toLocaleString('en-US', { maximumFractionDigits: 4 }) : v}`)
+    .join(', ');
+}
+
+function renderLog(status) {
+  const table = document.createElement('table');
+  const head = table.insertRow();
+  ['line', 'command', 'message', 's'].forEach((h) => cell(head, h, 'head'));
+  for (const entry of status.log || []) {
+    const row = table.insertRow();
+    cell(row, entry.line ?? '', 'num');
+    cell(row, entry.command ?? '');
+    cell(row, entry.message ?? '', 'message');
+    cell(row, Number.isFinite(entry.seconds) ? entry.seconds.toFixed(3) : '', 'num');
+  }
+  const total = table.insertRow();
+  total.className = 'total';
+  cell(total, '');
+  cell(total, 'total');
+  cell(total, status.state);
+  cell(total, Number.isFinite(status.seconds) ? status.seconds.toFixed(3) : '', 'num');
+  const stats = document.createElement('ul');
+  stats.className = 'stats';
+  for (const o of status.objects || []) {
+    const li = document.createElement('li');
+    li.textContent = `${o.name} (${o.kind}${o.preview ? ', preview' : ''}): ${statsText(o.stats)}`;
+    stats.append(li);
+  }
+  $('log').replaceChildren(table, stats);
+}
+
+const hiddenDrawings = new Set(); // names of `draw` pictures the user hid
+
+function renderObjects(objects) {
+  const box = $('objects');
+  box.replaceChildren();
+  const drawings = $('drawings');
+  drawings.replaceChildren();
+  for (const o of objects) {
+    const label = document.createElement('label');
+    const check = document.createElement('input');
+    check.type = 'checkbox';
+    check.checked = o.kind === 'drawing' ? !hiddenDrawings.has(o.name) : view.isVisible(o.id);
+    check.dataset.object = o.id;
+    label.append(check, ` ${o.name} `);
+    const kind = document.createElement('span');
+    kind.className = 'kind';
+    kind.textContent = o.kind + (o.preview ? ' (preview)' : '');
+    label.append(kind);
+    box.append(label);
+    if (o.kind === 'drawing') {
+      const img = document.createElement('img');
+      img.src = o.view.replace(/^\//, '');
+      img.alt = o.name;
+      img.dataset.object = o.id;
+      img.hidden = !check.checked;
+      drawings.append(img);
+      check.addEventListener('change', () => {
+        img.hidden = !check.checked;
+        if (check.checked) hiddenDrawings.delete(o.name);
+        else hiddenDrawings.add(o.name);
+      });
+    } else {
+      check.addEventListener('change', () => view.setVisible(o.id, check.checked));
+    }
+  }
+}
+
+function renderDownloads(outputs) {
+  const list = $('downloads');
+  list.replaceChildren();
+  for (const o of outputs) {
+    const li = document.createElement('li');
+    const a = document.createElement('a');
+    a.href = o.url.replace(/^\//, '');
+    a.download = o.path.split('/').pop();
+    a.textContent = o.path;
+    const size = document.createElement('span');
+    size.className = 'bytes';
+    size.textContent = ` ${formatBytes(o.bytes)}`;
+    li.append(a, size);
+    list.append(li);
+  }
+}
+
+function formatBytes(n) {
+  if (!Number.isFinite(n)) return '';
+  if (n < 1024) return `${n} B`;
+  if (n < 1024 * 1024) return `${(n / 1024).toFixed(1)} KiB`;
+  return `${(n / 1024 / 1024).toFixed(1)} MiB`;
+}
+
+// ---- line mode -------------------------------------------------------------------------------
+const linesShape = document.createElement('select');
+linesShape.id = 'lines-shape';
+linesShape.title = 'The shape drawn in line mode';
+$('lines-mesh').after(linesShape);
+
+function renderShapes(shapes) {
+  const keep = linesShape.value;
+  linesShape.replaceChildren(...shapes.map((s) => new Option(s, s)));
+  if (shapes.includes(keep)) linesShape.value = keep;
+  else if (shapes.length > 0) linesShape.value = shapes[shapes.length - 1];
+}
+
+const linesOn = () => $('line-mode').checked;
+let linesTimer = null;
+let linesAbort = null;
+let linesSeq = 0;
+let linesAsked = 0; // counts requestLines calls: a drawing asked for before the last one is stale
+
+function setLinesState(s) {
+  document.body.dataset.linesState = s;
+}
+
+function requestLines() {
+  clearTimeout(linesTimer);
+  if (!linesOn()) return;
+  ++linesAsked;
+  setLinesState('loading');
+  linesTimer = setTimeout(fetchLines, 120);
+}
+
+async function fetchLines() {
+  if (!linesOn() || !lastResult || !linesShape.value) {
+    setLinesState('idle'); // nothing to draw yet: the next run's results ask again
+    return;
+  }
+  linesAbort?.abort();
+  const abort = (linesAbort = new AbortController());
+  const seq = ++linesSeq;
+  const asked = linesAsked;
+  const camera = view.cameraState();
+  const started = performance.now();
+  try {
+    const response = await api(
+      'api/lines',
+      { run: lastResult.run, shape: linesShape.value, camera, lines: ['silhouette', 'suggestive', 'feature'], count: 10000 },
+      { signal: abort.signal, raw: true },
+    );
+    const text = await response.text();
+    // The camera moved (or the shape changed) while this was drawn: the next one is on its way.
+    if (seq !== linesSeq || asked !== linesAsked) return;
+    if (!response.ok) {
+      let message = text;
+      try {
+        message = JSON.parse(text).error;
+      } catch {}
+      throw new Error(message);
+    }
+    const svg = new DOMParser().parseFromString(text, 'image/svg+xml').documentElement;
+    if (svg.nodeName !== 'svg') throw new Error('the server sent no SVG');
+    svg.querySelectorAll('script, foreignObject').forEach((n) => n.remove());
+    svg.setAttribute('width', camera.width);
+    svg.setAttribute('height', camera.height);
+    svg.dataset.eye = camera.eye.join(',');
+    $('lines-svg').replaceChildren(document.importNode(svg, true));
+    $('lines-svg').hidden = false;
+    const server = Number(response.headers.get('X-Ramiform-Seconds'));
+    const wall = (performance.now() - started) / 1000;
+    timings.lines.push({ server, wall });
+    $('stage').textContent = `lines ${Number.isFinite(server) ? `${(server * 1000).toFixed(0)} ms server, ` : ''}${(wall * 1000).toFixed(0)} ms`;
+    setLinesState('ready');
+  } catch (e) {
+    if (e.name === 'AbortError' || seq !== linesSeq) return;
+    showError({ message: `line mode: ${e.message}` });
+    setLinesState('idle');
+  }
+}
+
+function updateLineMode() {
+  const on = linesOn();
+  view.setMeshMode(on ? $('lines-mesh').value : 'shown');
+  if (on) requestLines();
+  else {
+    linesAbort?.abort();
+    clearTimeout(linesTimer);
+    $('lines-svg').replaceChildren();
+    setLinesState('idle');
+  }
+}
+
+view.onCameraChange(() => {
+  if (!linesOn()) return;
+  $('lines-svg').hidden = true; // the old drawing no longer fits the camera
+  requestLines();
+});
+
+// ---- sketching -------------------------------------------------------------------------------
+const sketch = { on: false, points: [], down: null };
+const planeNormal = () => ($('sketch-plane').value === 'xy' ? new THREE.Vector3(0, 0, 1) : new THREE.Vector3(0, 1, 0));
+
+function setSketch(on) {
+  sketch.on = on;
+  sketch.points = [];
+  $('sketch').textContent = on ? 'Finish sketch' : 'Sketch';
+  $('sketch').classList.toggle('active', on);
+  $('sketch-hint').hidden = !on;
+  document.body.dataset.sketch = on ? 'on' : 'off';
+  if (on) view.facePlane($('sketch-plane').value);
+  view.showSketch(on ? $('sketch-plane').value : null, []);
+}
+
+function finishSketch() {
+  const plane = $('sketch-plane').value;
+  const text = sketchText(sketch.points, plane, $('sketch-closed').checked, freshName(script()));
+  setSketch(false);
+  if (!text) return;
+  const { from, to } = editor.state.selection.main;
+  const line = editor.state.doc.lineAt(from);
+  // Whole lines: start on a fresh line and end with a newline.
+  const prefix = from === line.from ? '' : '\n';
+  const insert = `${prefix}${text}\n`;
+  editor.dispatch({ changes: { from, to, insert }, selection: { anchor: from + insert.length } });
+  editor.focus();
+}
+
+view.canvas.addEventListener('pointerdown', (e) => {
+  sketch.down = { x: e.clientX, y: e.clientY };
+});
+view.canvas.addEventListener('pointerup', (e) => {
+  if (!sketch.on || !sketch.down) return;
+  const moved = Math.hypot(e.clientX - sketch.down.x, e.clientY - sketch.down.y);
+  sketch.down = null;
+  if (moved > 4) return; // a drag orbits the camera
+  const hit = view.pick(e.clientX, e.clientY, planeNormal());
+  if (!hit) return;
+  sketch.points.push(hit);
+  view.showSketch($('sketch-plane').value, sketch.points);
+});
+$('sketch').addEventListener('click', () => (sketch.on ? finishSketch() : setSketch(true)));
+$('sketch-plane').addEventListener('change', () => sketch.on && setSketch(true));
+window.addEventListener('keydown', (e) => {
+  if (e.key === 'Escape' && sketch.on) setSketch(false);
+});
+
+// ---- wiring ----------------------------------------------------------------------------------
+$('run').addEventListener('click', () => run({ frame: true }));
+$('cancel').addEventListener('click', cancel);
+$('frame').addEventListener('click', () => view.frameAll());
+$('flat').addEventListener('change', (e) => view.setFlat(e.target.checked));
+$('wireframe').addEventListener('change', (e) => view.setWireframe(e.target.checked));
+$('line-mode').addEventListener('change', updateLineMode);
+$('lines-mesh').addEventListener('change', updateLineMode);
+linesShape.addEventListener('change', requestLines);
+
+window.studio = {
+  view,
+  editor,
+  timings,
+  script,
+  setScript,
+  run,
+  get result() {
+    return lastResult;
+  },
+  sketchPoints: () => sketch.points.map((p) => p.toArray()),
+};
+
+(async () => {
+  setState('idle');
+  setLinesState('idle');
+  // Keep the token out of sight; a reload of index.html is let in by the cookie.
+  if (token) window.history.replaceState(null, '', 'index.html');
+  try {
+    const info = await api('api/info');
+    commands = info.commands || [];
+    $('script-name').textContent = info.script_name || '';
+    document.title = `${info.script_name ? `${info.script_name} — ` : ''}ramiform studio ${info.version || ''}`;
+    setScript(info.script || '');
+    document.body.dataset.ready = 'yes';
+  } catch (e) {
+    showError({ message: `cannot reach the server: ${e.message}` });
+  }
+})();

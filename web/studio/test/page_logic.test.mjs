@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+//
+// The page's logic that needs no browser (node --test): slider ranges from `param` lines, the
+// `param` lines of a script, and the script text that a sketch becomes, checked against values
+// worked out by hand from docs/studio.md and docs/formats.md (page (X, Y, Z) = library
+// (X, −Z, Y)).
+import test from 'node:test';
+import assert from 'node:assert/strict';
+import { decimals, sliderRange, formatValue } from '../src/params.js';
+import { freshName, sketchText } from '../src/sketch.js';
+
+test('decimals of a written number', () => {
+  assert.equal(decimals('200'), 0);
+  assert.equal(decimals('0.250'), 3);
+  assert.equal(decimals('1.0'), 1);
+  assert.equal(decimals('1e-3'), 3);
+  assert.equal(decimals('2.5e1'), 0);
+});
+
+test('slider ranges: the script\'s own, else 0..2×value in steps of the last decimal', () => {
+  assert.deepEqual(sliderRange({ name: 'n', value: '200', min: 10, max: 1000, step: 10 }), { min: 10, max: 1000, step: 10 });
+  assert.deepEqual(sliderRange({ name: 'n', value: '200' }), { min: 0, max: 400, step: 1 });
+  assert.deepEqual(sliderRange({ name: 'r', value: '0.25' }), { min: 0, max: 0.5, step: 0.01 });
+  assert.deepEqual(sliderRange({ name: 'd', value: '-1.5' }), { min: -3, max: 0, step: 0.1 });
+  // Zero gets a range of ten steps; a word gets no slider.
+  assert.deepEqual(sliderRange({ name: 'z', value: '0' }), { min: 0, max: 10, step: 1 });
+  assert.equal(sliderRange({ name: 'kind', value: 'poisson' }), null);
+  assert.equal(formatValue('1.5000000001', 0.1), '1.5');
+  assert.equal(formatValue('7', 1), '7');
+  assert.equal(formatValue('0.123456', 0.001), '0.123');
+});
+
+test('a sketched profile on the XY plane becomes curve + revolve in page X, Y', () => {
+  const points = [{ x: 0.2, y: -0.8, z: 0 }, { x: 0.8, y: -0.4, z: 0 }, { x: 0.6, y: 0.5, z: 0 }];
+  const text = sketchText(points, 'xy', false, 'p');
+  const lines = text.split('\n');
+  assert.equal(lines[1], 'curve p polyline 0.2 -0.8 0.8 -0.4 0.6 0.5');
+  assert.equal(lines[2], 'revolve p_solid p radius=0.02');
+  assert.equal(lines.length, 3);
+});
+
+test('a sketched cross-section on the ground becomes a closed curve in (X, −Z), swept up', () => {
+  const points = [{ x: -1, y: 0, z: 1 }, { x: 1, y: 0, z: 1 }, { x: 0, y: 0, z: -2 }];
+  const lines = sketchText(points, 'xz', true, 's').split('\n');
+  assert.equal(lines[1], 'curve s polyline closed -1 -1 1 -1 0 2');
+  assert.equal(lines[2], 'path s_path polyline 0 0 0 0 0 2');
+  assert.equal(lines[3], 'sweep s_solid s s_path radius=0.05');
+});
+
+test('too few points make no text; names do not clash', () => {
+  assert.equal(sketchText([{ x: 0, y: 0, z: 0 }], 'xy', false, 'a'), null);
+  assert.equal(sketchText([{ x: 0, y: 0, z: 0 }, { x: 1, y: 0, z: 0 }], 'xy', true, 'a'), null);
+  assert.equal(freshName('sphere s 1\n'), 'sketch');
+  assert.equal(freshName('curve sketch polyline 0 0 1 1\nrevolve sketch_solid sketch\n'), 'sketch2');
+  assert.equal(freshName('path sketch2_path polyline 0 0 0 0 0 1\ncurve sketch polyline 0 0 1 1\n'), 'sketch3');
+});
