@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -115,11 +116,10 @@ struct Lineage {
 /// the vertices made by the previous round (all in the first): an edge between two older
 /// vertices was measured then and not split, so only edges with a fresh end are evaluated, and
 /// of those not the halves of an edge that sagged little (kHalfSag).
-std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vector<char>& fresh,
-                         Lineage& lineage, const Field& field, const Skeleton& skeleton,
-                         const detail::BoxBvh& nodes, const RefineOptions& o, Context* ctx,
-                         RefineStats& st) {
-  const Edges edges = mesh_edges(mesh);
+std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradius,
+                         std::vector<char>& fresh, Lineage& lineage, const Field& field,
+                         const Skeleton& skeleton, const detail::BoxBvh& nodes,
+                         const RefineOptions& o, Context* ctx, RefineStats& st) {
   const std::size_t ne = edges.ends.size();
   // Whether edge (child, other) is a half of the edge that made `child`, and sags little.
   auto small_half = [&](std::uint32_t child, std::uint32_t other) {
@@ -151,8 +151,13 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
         const auto& [a, b] = edges.ends[candidates[c]];
         probe_points[c] = 0.5 * (mesh.positions[a] + mesh.positions[b]);
         radius[c] = std::min(vradius[a], vradius[b]);
+        static const char* mode = std::getenv("RF_T_RADIUS");  // EXPERIMENT
+        if (mode != nullptr && mode[0] == 'a') radius[c] = 0.5 * (vradius[a] + vradius[b]);
       },
       ctx);
+  if (const char* mode = std::getenv("RF_T_RADIUS"); mode != nullptr && mode[0] == 'm') {
+    radius = local_radii(skeleton, probe_points, ctx);
+  }
   std::vector<double> value(nc);
   std::vector<Vec3> grad(nc);
   field.evaluate(probe_points, value, grad, ctx);
@@ -198,6 +203,8 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
     }
   }
   const std::size_t ns = split_edges.size();
+  std::vector<std::array<std::uint32_t, 2>> split_ends(ns);  // `edges` is replaced below
+  for (std::size_t i = 0; i < ns; ++i) split_ends[i] = edges.ends[split_edges[i]];
   std::vector<Vec3> z(ns), zmid(ns);
   std::vector<double> zr(ns);
   for (std::size_t i = 0; i < ns; ++i) {
@@ -258,50 +265,96 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
       ++st.unprojected;
     }
   }
-  // The new triangles, each remembering its parent.
+  // The new triangles, each remembering its parent, and the new mesh's edges, built alongside
+  // instead of sorted afresh: an unsplit edge stays one edge, a split edge becomes its two
+  // halves (numbered in the old edges' order), and the edges inside a split triangle (from a new
+  // vertex to the opposite corner, between new vertices, a quadrilateral's diagonal) follow in
+  // triangle order; each lies inside one old triangle, so no two triangles make the same one.
+  std::vector<std::uint32_t> first_edge(ne);
+  std::uint32_t next_edge = 0;
+  for (std::size_t e = 0; e < ne; ++e) {
+    first_edge[e] = next_edge;
+    next_edge += new_id[e] != kNone ? 2 : 1;
+  }
+  Edges out;
+  out.ends.resize(next_edge);
+  out.of_slot.resize(3 * (nt + added));
+  for (std::size_t e = 0; e < ne; ++e) {
+    const auto [a, b] = edges.ends[e];
+    if (new_id[e] == kNone) {
+      out.ends[first_edge[e]] = {a, b};
+    } else {
+      out.ends[first_edge[e]] = {a, new_id[e]};  // new vertices come after all old ones
+      out.ends[first_edge[e] + 1] = {b, new_id[e]};
+    }
+  }
   std::vector<std::array<std::uint32_t, 3>> tris;
   std::vector<std::uint32_t> parent;
   tris.reserve(nt + added);
   parent.reserve(nt + added);
-  auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::size_t t) {
+  // Triangle a, b, c with edges ab, bc, ca.
+  auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t ab,
+                  std::uint32_t bc, std::uint32_t ca, std::size_t t) {
+    const std::size_t slot = 3 * tris.size();
+    out.of_slot[slot] = ab;
+    out.of_slot[slot + 1] = bc;
+    out.of_slot[slot + 2] = ca;
     tris.push_back({a, b, c});
     parent.push_back(static_cast<std::uint32_t>(t));
   };
+  // A new inner edge.
+  auto inner = [&](std::uint32_t a, std::uint32_t b) {
+    out.ends.push_back({std::min(a, b), std::max(a, b)});
+    return static_cast<std::uint32_t>(out.ends.size() - 1);
+  };
   for (std::size_t t = 0; t < nt; ++t) {
     const auto& v = mesh.triangles[t];
-    std::array<std::uint32_t, 3> m{};
+    std::array<std::uint32_t, 3> m{}, old{};
     int count = 0;
     for (int k = 0; k < 3; ++k) {
-      m[k] = new_id[edges.of_slot[3 * t + k]];  // on edge v[k] -> v[k + 1]
+      old[k] = edges.of_slot[3 * t + k];  // v[k] -> v[k + 1]
+      m[k] = new_id[old[k]];
       count += m[k] != kNone ? 1 : 0;
     }
+    // The edge of slot k whole, or the half of its split at corner `at`.
+    auto whole = [&](int k) { return first_edge[old[k % 3]]; };
+    auto half = [&](int k, std::uint32_t at) {
+      const std::uint32_t e = old[k % 3];
+      return first_edge[e] + (edges.ends[e][0] == at ? 0 : 1);
+    };
     if (count == 0) {
-      emit(v[0], v[1], v[2], t);
+      emit(v[0], v[1], v[2], whole(0), whole(1), whole(2), t);
     } else if (count == 3) {
-      emit(v[0], m[0], m[2], t);
-      emit(m[0], v[1], m[1], t);
-      emit(m[1], v[2], m[2], t);
-      emit(m[0], m[1], m[2], t);
+      const std::uint32_t i01 = inner(m[0], m[1]), i12 = inner(m[1], m[2]),
+                          i20 = inner(m[2], m[0]);
+      emit(v[0], m[0], m[2], half(0, v[0]), i20, half(2, v[0]), t);
+      emit(m[0], v[1], m[1], half(0, v[1]), half(1, v[1]), i01, t);
+      emit(m[1], v[2], m[2], half(1, v[2]), half(2, v[2]), i12, t);
+      emit(m[0], m[1], m[2], i01, i12, i20, t);
     } else if (count == 1) {
       const int k = m[0] != kNone ? 0 : (m[1] != kNone ? 1 : 2);
       const std::uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
-      emit(a, m[k], c, t);
-      emit(m[k], b, c, t);
+      const std::uint32_t mc = inner(m[k], c);
+      emit(a, m[k], c, half(k, a), mc, whole(k + 2), t);
+      emit(m[k], b, c, half(k, b), whole(k + 1), mc, t);
     } else {
       // The unsplit edge a -> b; m1 on b -> c, m2 on c -> a; cycle a, b, m1, c, m2.
       const int k = m[0] == kNone ? 0 : (m[1] == kNone ? 1 : 2);
       const std::uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
       const std::uint32_t m1 = m[(k + 1) % 3], m2 = m[(k + 2) % 3];
-      emit(m1, c, m2, t);
+      const std::uint32_t i12 = inner(m1, m2);
+      emit(m1, c, m2, half(k + 1, c), half(k + 2, c), i12, t);
       auto pos = [&](std::uint32_t id) {
         return id < mesh.positions.size() ? mesh.positions[id] : z[id - mesh.positions.size()];
       };
       if ((pos(a) - pos(m1)).squaredNorm() <= (pos(b) - pos(m2)).squaredNorm()) {
-        emit(a, b, m1, t);
-        emit(a, m1, m2, t);
+        const std::uint32_t d = inner(a, m1);
+        emit(a, b, m1, whole(k), half(k + 1, b), d, t);
+        emit(a, m1, m2, d, i12, half(k + 2, a), t);
       } else {
-        emit(a, b, m2, t);
-        emit(b, m1, m2, t);
+        const std::uint32_t d = inner(b, m2);
+        emit(a, b, m2, whole(k), d, half(k + 2, a), t);
+        emit(b, m1, m2, half(k + 1, b), i12, d, t);
       }
     }
   }
@@ -316,6 +369,7 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
   fresh.assign(mesh.positions.size(), 0);
   std::fill(fresh.begin() + static_cast<std::ptrdiff_t>(nv_old), fresh.end(), 1);
   mesh.triangles = std::move(tris);
+  edges = std::move(out);
   // The fans of the new vertices (CSR), for the checks.
   std::vector<std::size_t> fan_start(ns + 1, 0);
   for (const auto& t : mesh.triangles)
@@ -331,11 +385,17 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
   }
   const double cos_turn = pm::cos(o.max_turn_deg * std::numbers::pi / 180.0);
   // Revert moves, pass after pass, until no new triangle turns too far and no node is swept.
-  for (;;) {
-    std::vector<char> revert(ns, 0);
+  // A pass checks the vertices whose fan changed in the pass before (at first all that moved):
+  // the check depends only on the fan's positions, so the others would pass again.
+  std::vector<std::uint32_t> check;
+  for (std::size_t i = 0; i < ns; ++i)
+    if (moved[i] != 0) check.push_back(static_cast<std::uint32_t>(i));
+  std::vector<char> revert(ns, 0), queued(ns, 0);
+  while (!check.empty()) {
     parallel::for_each(
-        ns, 256,
-        [&](std::size_t i) {
+        check.size(), 256,
+        [&](std::size_t c) {
+          const std::uint32_t i = check[c];
           if (moved[i] == 0) return;
           const std::uint32_t vid = static_cast<std::uint32_t>(nv_old + i);
           Aabb box(zmid[i]);
@@ -351,7 +411,8 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
             }
             for (const auto v : t) box.extend(mesh.positions[v]);
           }
-          std::vector<std::uint32_t> hits;
+          thread_local std::vector<std::uint32_t> hits;
+          hits.clear();
           nodes.query(box, hits);
           for (const std::uint32_t h : hits) {
             const Vec3& p = skeleton.nodes[h].position;
@@ -369,30 +430,39 @@ std::size_t refine_round(TriMesh& mesh, std::vector<double>& vradius, std::vecto
           }
         },
         ctx);
-    // A vertex sent back goes half way first, then to the midpoint.
-    std::size_t reverted = 0;
-    for (std::size_t i = 0; i < ns; ++i) {
-      if (revert[i] != 0) {
-        ++reverted;
-        Vec3& p = mesh.positions[nv_old + i];
-        if (moved[i] == 1) {
-          moved[i] = 2;
-          p = 0.5 * (p + zmid[i]);
-        } else {
-          moved[i] = 0;
-          p = zmid[i];
-          ++st.reverted;
+    // A vertex sent back goes half way first, then to the midpoint; it and the new vertices of
+    // its fan are checked again.
+    std::vector<std::uint32_t> again;
+    for (const std::uint32_t i : check) {
+      if (revert[i] == 0) continue;
+      revert[i] = 0;
+      Vec3& p = mesh.positions[nv_old + i];
+      if (moved[i] == 1) {
+        moved[i] = 2;
+        p = 0.5 * (p + zmid[i]);
+      } else {
+        moved[i] = 0;
+        p = zmid[i];
+        ++st.reverted;
+      }
+      for (std::size_t f = fan_start[i]; f < fan_start[i + 1]; ++f) {
+        for (const auto v : mesh.triangles[fan[f]]) {
+          if (v < nv_old || queued[v - nv_old] != 0) continue;
+          queued[v - nv_old] = 1;
+          again.push_back(v - static_cast<std::uint32_t>(nv_old));
         }
       }
     }
-    if (reverted == 0) break;
+    std::sort(again.begin(), again.end());
+    for (const std::uint32_t i : again) queued[i] = 0;
+    check = std::move(again);
   }
   lineage.parents.assign(mesh.positions.size(), {kNone, kNone});
   lineage.sag.assign(mesh.positions.size(), std::numeric_limits<double>::infinity());
   for (std::size_t i = 0; i < ns; ++i) {
     st.flat_splits += moved[i] == 0 ? 1 : 0;
     st.halfway += moved[i] == 2 ? 1 : 0;
-    lineage.parents[nv_old + i] = edges.ends[split_edges[i]];
+    lineage.parents[nv_old + i] = split_ends[i];
     if (moved[i] == 1) lineage.sag[nv_old + i] = estimate[split_candidate[i]];
   }
   return ns;
@@ -436,8 +506,10 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
   if (const std::uint64_t budget = memory_budget(ctx); budget > 0) {
     o.max_triangles = std::min<std::size_t>(o.max_triangles, budget / kBytesPerTriangle);
   }
+  Edges edges = mesh_edges(mesh);  // then kept up to date by each round
   for (int round = 0; round < o.max_rounds; ++round) {
-    const std::size_t split = refine_round(mesh, vradius, fresh, lineage, field, skeleton, nodes, o, ctx, st);
+    const std::size_t split =
+        refine_round(mesh, edges, vradius, fresh, lineage, field, skeleton, nodes, o, ctx, st);
     if (split == 0) break;
     ++st.rounds;
     st.split_edges += split;
