@@ -355,15 +355,15 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
     }
   }
   const std::size_t nv_old = mesh.positions.size();
-  std::vector<Vec3> parent_normal(nt);
-  parallel::for_each(
-      nt, kGrain, [&](std::size_t t) { parent_normal[t] = normal_of(mesh, mesh.triangles[t]); },
-      ctx);
   mesh.positions.insert(mesh.positions.end(), z.begin(), z.end());
   const std::vector<double> new_radius = local_radii(skeleton, z, ctx);
   vradius.insert(vradius.end(), new_radius.begin(), new_radius.end());
   fresh.assign(mesh.positions.size(), 0);
   std::fill(fresh.begin() + static_cast<std::ptrdiff_t>(nv_old), fresh.end(), 1);
+  // The old triangles give the parents' normals (their corners do not move); kept rather than
+  // a normal per triangle, which at 24 bytes a triangle exceeded malloc's mmap threshold on the
+  // benchmark tree and was paged in afresh every round.
+  const std::vector<std::array<std::uint32_t, 3>> old_triangles = std::move(mesh.triangles);
   mesh.triangles = std::move(tris);
   // The fans of the new vertices (CSR), for the checks.
   std::vector<std::size_t> fan_start(ns + 1, 0);
@@ -398,7 +398,7 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
           for (std::size_t f = fan_start[i]; f < fan_start[i + 1]; ++f) {
             const auto& t = mesh.triangles[fan[f]];
             const Vec3 n = normal_of(mesh, t);
-            const Vec3& np = parent_normal[parent[fan[f]]];
+            const Vec3 np = normal_of(mesh, old_triangles[parent[fan[f]]]);
             const double nn = n.norm() * np.norm();
             if (!(nn > 0.0) || n.dot(np) < cos_turn * nn) {
               revert[i] = 1;
