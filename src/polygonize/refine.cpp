@@ -320,9 +320,9 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
       emit(v[0], v[1], v[2], whole(0), whole(1), whole(2), t);
     } else if (count == 3) {
       // Each joins the midpoints of two edges, parallel to the third.
-      const std::uint32_t i01 = inner(m[0], m[1], old[2]),
-                          i12 = inner(m[1], m[2], old[0]),
-                          i20 = inner(m[2], m[0], old[1]);
+      const std::uint32_t i01 = inner(m[0], m[1], old[2]);
+      const std::uint32_t i12 = inner(m[1], m[2], old[0]);
+      const std::uint32_t i20 = inner(m[2], m[0], old[1]);
       emit(v[0], m[0], m[2], half(0, v[0]), i20, half(2, v[0]), t);
       emit(m[0], v[1], m[1], half(0, v[1]), half(1, v[1]), i01, t);
       emit(m[1], v[2], m[2], half(1, v[2]), half(2, v[2]), i12, t);
