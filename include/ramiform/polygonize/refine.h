@@ -11,8 +11,12 @@
 ///  1. every edge's midpoint gets the first-order distance |f - iso| / |grad f| to the surface
 ///     (one batch evaluation), relative to the local skeleton radius (mesh/deviation.h; the
 ///     smaller of its end points' radii); after the first round only the edges at the last
-///     round's new vertices, and of those not the halves of a split edge whose distance was at
-///     most twice the tolerance (a half of a chord sags about a quarter as much; `inherited`);
+///     round's new vertices, and of those not the ones whose sag bound is within the tolerance
+///     (`inherited`): the halves of a split edge and the edges joining two edge midpoints inside
+///     a split triangle, parallel to its third edge at half its length, are taken to sag at most
+///     half as much as the edge they halve or parallel (a chord of half the length sags about a
+///     quarter as much); nor the edges at a vertex that step 4 left off the surface (splitting
+///     them meets the same fold);
 ///  2. the edges whose midpoint lies farther than `edge_tolerance` radii (and which are longer
 ///     than `min_edge_radii` radii) are split: the new
 ///     vertex is the midpoint taken onto the surface by Newton steps along the gradient (batched),
@@ -48,6 +52,7 @@ struct RefineOptions {
   double edge_tolerance = 0.05;
   /// Never split an edge shorter than this, in local radii (>= 0): its chord sags by less than
   /// L^2 / 8 r, so a midpoint still far from the surface is not one splitting can bring closer.
+  /// polygonize_to_tolerance() sets it to sqrt(5 edge_tolerance) (0.5 at 0.05).
   double min_edge_radii = 0.25;
   int max_rounds = 6;                  ///< rounds of splitting (>= 0)
   /// No round may take the mesh beyond this; the memory budget (Context::max_memory, else the
