@@ -23,6 +23,7 @@ struct ScriptArgs {
   std::uint64_t seed = ScriptOptions{}.seed;
   std::vector<std::string> sets;
   bool allow_any_path = false;
+  bool draft = false;
   bool quiet = false;
   CommonOptions common;
 };
@@ -32,6 +33,7 @@ ScriptOptions script_options(const ScriptArgs& args) {
   o.out_dir = args.out_dir;
   o.seed = args.seed;
   o.allow_any_path = args.allow_any_path;
+  o.draft = args.draft;
   for (const std::string& s : args.sets) {
     const std::size_t eq = s.find('=');
     if (eq == std::string::npos || eq == 0) {
@@ -119,6 +121,9 @@ void add_session_options(CLI::App& c, ScriptArgs& args) {
   c.add_option("--seed", args.seed,
                with_default("seed of every random choice", static_cast<double>(args.seed)));
   c.add_flag("--allow-any-path", args.allow_any_path, "let outputs be written outside --out");
+  c.add_flag("--draft", args.draft,
+             "a quick preview: save_mesh meshes coarsely (tets at levels 0, mc at resolution 48 at "
+             "most), draw writes nothing");
 }
 
 }  // namespace

@@ -1539,8 +1539,9 @@ void bind_grow_and_script(py::module_& m) {
       "run_script",
       [](const std::string& text, const std::string& out, const std::string& input_dir,
          const std::map<std::string, std::string>& params, std::uint64_t seed, bool allow_any_path,
-         int threads) {
+         int threads, bool draft) {
         ScriptOptions o;
+        o.draft = draft;
         o.out_dir = out;
         o.input_dir = input_dir;
         o.params = params;
@@ -1571,9 +1572,10 @@ void bind_grow_and_script(py::module_& m) {
       py::arg("text"), py::kw_only(), py::arg("out") = ScriptOptions{}.out_dir,
       py::arg("input_dir") = "", py::arg("params") = std::map<std::string, std::string>{},
       py::arg("seed") = ScriptOptions{}.seed, py::arg("allow_any_path") = false,
-      py::arg("threads") = 0,
+      py::arg("threads") = 0, py::arg("draft") = false,
       "Runs a scene-language script (docs/language.md) as `ramiform run` does: outputs under "
-      "`out` (written only when the whole script succeeds), params as --set. Returns "
+      "`out` (written only when the whole script succeeds), params as --set, draft=True as "
+      "`--draft` (coarse meshes, no drawings). Returns "
       "{'outputs': paths written, 'reports': the lines `ramiform run` prints}.");
 }
 

@@ -59,6 +59,9 @@ CommandResult run_draw(Call& c) {
   style.width = c.option_integer("width", style.width, 16, 16384);
   style.height = c.option_integer("height", style.width, 16, 16384);
   style.show_hidden = c.option_word("hidden", "no", {"yes", "no"}) == "yes";
+  if (c.session().options.draft) {
+    return {"draw", c.arg(1).text + ": not drawn (draft run)", true};
+  }
 
   // The particles: saved ones (`particles SHAPE state=FILE` earlier, or an input file), else
   // spread here with the `particles` command's options (count 10,000 unless per_cell is given).

@@ -246,7 +246,7 @@ CommandResult run_save_mesh(Call& c) {
              "tolerance= must be in " + range_text(Tol::kMinTolerance, Tol::kMaxTolerance));
     }
     // levels= alone: the paper's uniform levels, unrefined; otherwise refined to the tolerance.
-    if (!lods.empty()) {
+    if (!lods.empty() && !c.session().options.draft) {
       if (c.has_option("levels") && !c.has_option("tolerance")) {
         c.fail(*c.option_token("levels"),
                "lod= needs the tolerance mesher: give tolerance= with levels=, or no levels=");
@@ -257,9 +257,12 @@ CommandResult run_save_mesh(Call& c) {
         c.fail(*c.option_token(c.has_option("lod") ? "lod" : "lod_budget"), e.what());
       }
       how = "tets, " + std::to_string(levels.size()) + " levels of detail";
-    } else if (c.has_option("levels") && !c.has_option("tolerance")) {
+    } else if (c.session().options.draft ||
+               (c.has_option("levels") && !c.has_option("tolerance"))) {
+      if (c.session().options.draft) o.levels = 0;
       mesh = polygonize_tetrahedral(*obj.field, *obj.skeleton, o, c.session().ctx);
-      how = "tets, " + std::to_string(o.levels) + " levels";
+      how = "tets, " + std::to_string(o.levels) + " levels" +
+            (c.session().options.draft ? " (draft)" : "");
     } else {
       ToleranceStats st;
       mesh = polygonize_to_tolerance(*obj.field, *obj.skeleton, t, c.session().ctx, &st);
@@ -284,9 +287,16 @@ CommandResult run_save_mesh(Call& c) {
     o.cell_size = c.option_positive("cell", o.cell_size);
     o.resolution =
         c.option_integer("resolution", o.resolution, Mc::kMinResolution, Mc::kMaxResolution);
+    if (c.session().options.draft) {
+      // The cell a draft allows: the box's longest side over kDraftResolution.
+      const double coarsest = box.sizes().maxCoeff() / kDraftResolution;
+      if (o.cell_size > 0.0) o.cell_size = std::max(o.cell_size, coarsest);
+      o.resolution = std::min(o.resolution, kDraftResolution);
+    }
     mesh = marching_cubes(*obj.field, o, c.session().ctx);
-    how = o.cell_size > 0 ? "mc, cell " + format_number(o.cell_size)
-                          : "mc, resolution " + std::to_string(o.resolution);
+    how = (o.cell_size > 0 ? "mc, cell " + format_number(o.cell_size)
+                           : "mc, resolution " + std::to_string(o.resolution)) +
+          (c.session().options.draft ? " (draft)" : "");
   }
   if (levels.empty()) levels.push_back(std::move(mesh));
   // Each file gets normals (unless normals=no) and, by its format (uv=auto: .glb and .obj) or

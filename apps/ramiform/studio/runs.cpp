@@ -65,6 +65,7 @@ struct RunManager::Run {
   fs::path dir;
   std::string script;
   std::map<std::string, std::string> params;
+  bool draft = false;  // ScriptOptions::draft
   Context ctx;
 
   mutable std::mutex m;  // guards everything below
@@ -240,10 +241,12 @@ RunManager::~RunManager() {
   watchdog_.join();
 }
 
-std::string RunManager::submit(std::string script, std::map<std::string, std::string> params) {
+std::string RunManager::submit(std::string script, std::map<std::string, std::string> params,
+                               bool draft) {
   auto run = std::make_shared<Run>();
   run->script = std::move(script);
   run->params = std::move(params);
+  run->draft = draft;
   std::string id;
   {
     std::lock_guard lock(mutex_);
@@ -337,6 +340,7 @@ void RunManager::execute(Run& run) {
     options.out_dir = run.dir.string();
     options.input_dir = settings_.input_dir.string();
     options.params = run.params;
+    options.draft = run.draft;
     ScriptSession session(options, &run.ctx);
     const auto note_outputs = [&](const std::string& command, std::size_t line) {
       for (const std::string& p : session.staged_outputs())
@@ -478,6 +482,7 @@ std::optional<json> RunManager::status(const std::string& id) const {
   std::lock_guard lock(run->m);
   const bool running = run->state == "running";
   return json{{"run", run->id},
+              {"draft", run->draft},
               {"state", run->state},
               {"progress", {{"stage", run->stage}, {"fraction", run->fraction}}},
               {"seconds", running && run->started ? seconds_since(run->start) : run->seconds},

@@ -57,7 +57,9 @@ class RunManager {
 
   /// Queues a run of `script` with `params` as `--set`, cancelling the running or queued one;
   /// returns its id ("r7").
-  std::string submit(std::string script, std::map<std::string, std::string> params);
+  /// `draft`: ScriptOptions::draft (a coarse preview while a slider is dragged).
+  std::string submit(std::string script, std::map<std::string, std::string> params,
+                     bool draft = false);
   /// The run's state as GET /api/run/ID answers it; nullopt for an unknown id.
   [[nodiscard]] std::optional<nlohmann::json> status(const std::string& id) const;
   /// Cancels the run; returns its state afterwards ("cancelled" or the final state); nullopt for

@@ -221,7 +221,13 @@ struct StudioServer::Impl {
           }
         }
       }
-      send_json(res, {{"run", runs->submit(script->get<std::string>(), std::move(params))}});
+      bool draft = false;
+      if (const auto d = body->find("draft"); d != body->end() && !d->is_null()) {
+        if (!d->is_boolean()) return send_error(res, 400, "\"draft\" must be true or false");
+        draft = d->get<bool>();
+      }
+      send_json(res,
+                {{"run", runs->submit(script->get<std::string>(), std::move(params), draft)}});
     });
     http.Get(R"(/api/run/(r\d{1,9}))", [this](const httplib::Request& req, httplib::Response& res) {
       const auto status = runs->status(req.matches[1]);

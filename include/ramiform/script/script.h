@@ -46,7 +46,16 @@ struct ScriptOptions {
   /// Values for `param` declarations (`--set name=value`); a name that the script never
   /// declares is an error at the end of run_file.
   std::map<std::string, std::string> params;
+  /// A draft run, for quick previews (the studio while a `param` slider is dragged;
+  /// `ramiform run --draft`): `save_mesh` meshes method=tets at the paper's base lattice
+  /// (levels 0, no refinement to a tolerance, no levels of detail) and method=mc at a
+  /// resolution of at most kDraftResolution; `draw` writes nothing. Every other command runs as
+  /// usual, so a draft shows the same shapes, skeletons and points, coarsely meshed.
+  bool draft = false;
 };
+
+/// The finest marching-cubes resolution of a draft run (ScriptOptions::draft).
+inline constexpr int kDraftResolution = 48;
 
 /// What one command did.
 struct CommandResult {

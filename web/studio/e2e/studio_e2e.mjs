@@ -96,9 +96,13 @@ async function typeScript(page, text) {
   check(typed === text.trimEnd() + '\n', `the editor holds the typed script, got ${JSON.stringify(typed)}`);
 }
 
+// Waits for a full run (not a draft made while a slider moved) that ended in `state`.
 async function waitForRun(page, before, state = 'done', timeout = 60000) {
   await page.waitForFunction(
-    ([n, s]) => window.studio.timings.runs.length > n && document.body.dataset.state === s,
+    ([n, s]) => {
+      const runs = window.studio.timings.runs;
+      return runs.length > n && !runs[runs.length - 1].draft && document.body.dataset.state === s;
+    },
     [before, state],
     { timeout },
   );
@@ -373,6 +377,7 @@ async function main() {
     check(shown1 === stats1.triangles, `the view shows the new mesh (${shown1} vs ${stats1.triangles} triangles)`);
     check(stats1.triangles < 0.8 * stats0.triangles, `a coarser tolerance makes fewer triangles (${stats0.triangles} → ${stats1.triangles})`);
     check(stats1.watertight === true, 'the new mesh is watertight');
+    check(await page.evaluate(() => window.studio.result.draft === false), 'the mesh shown after the release is the full run, not a draft');
   });
 
   await typeScript(page, script);

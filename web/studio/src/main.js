@@ -176,9 +176,12 @@ function renderParams(params) {
         const value = formatValue(slider.value, range.step);
         output.textContent = value;
         overrides.set(p.name, { value, scriptValue: declared.get(p.name)?.value ?? String(p.value) });
+        // While dragging: draft runs (coarse meshes, no drawings: ScriptOptions::draft); on
+        // release the full run. The server cancels whichever run is older.
         clearTimeout(rerunTimer);
-        rerunTimer = setTimeout(() => run({ frame: false }), 150);
+        rerunTimer = setTimeout(() => run({ frame: false, draft: true }), 150);
       });
+      slider.addEventListener('change', () => run({ frame: false }));
       row.append(slider);
     }
     row.append(output);
@@ -205,7 +208,7 @@ function setState(state) {
   $('cancel').disabled = state !== 'running';
 }
 
-async function run({ frame = true } = {}) {
+async function run({ frame = true, draft = false } = {}) {
   clearTimeout(rerunTimer);
   const ticket = ++runTicket;
   const started = performance.now();
@@ -215,7 +218,7 @@ async function run({ frame = true } = {}) {
   $('stage').textContent = 'starting';
   let id;
   try {
-    ({ run: id } = await api('api/run', { script: script(), params: paramValues() }));
+    ({ run: id } = await api('api/run', { script: script(), params: paramValues(), draft }));
   } catch (e) {
     if (ticket !== runTicket) return;
     setState('failed');
@@ -244,7 +247,7 @@ async function run({ frame = true } = {}) {
     }
     await finish(status, frame);
     if (ticket !== runTicket) return;
-    timings.runs.push({ run: id, state: status.state, server: status.seconds, wall: (performance.now() - started) / 1000 });
+    timings.runs.push({ run: id, state: status.state, draft, server: status.seconds, wall: (performance.now() - started) / 1000 });
     setState(status.state);
     return;
   }
