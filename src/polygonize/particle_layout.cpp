@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -44,18 +43,27 @@ constexpr double kReserveAlone = 0.9;
 // Interior rings keep this fraction of the ring spacing clear of an end structure's zone.
 constexpr double kRingMargin = 0.25;
 
-// A degree-two node whose edges bend by at most this angle (degrees, 180 minus the angle between
-// them) lies inside a chain: its rings follow the chain's smoothed course (chain_tube) instead of
-// a junction sphere of its own.
-const double kChainBendDegrees = std::getenv("RF_BEND") ? std::atof(std::getenv("RF_BEND")) : 100;
+// A degree-two node whose edges bend (180 degrees minus the angle between them) by at most
+// kGentleBendDegrees, or by at most kChainBendDegrees with its shorter edge under the junction
+// sphere's radius, lies inside a chain: its rings follow the chain's smoothed course (chain_tube)
+// instead of a junction sphere of its own. A sharper bend keeps the sphere, which covers its
+// corner where rings cannot follow it.
+constexpr double kGentleBendDegrees = 45;
+constexpr double kChainBendDegrees = 100;
 // Along a chain, a ring's plane is normal to the chord from the chain point kSmoothWindow x R
 // behind it to the one as far ahead (R the ring's radius): a zig-zag of edges shorter than the
 // radius (the connectors of scanned cylinder models) averages out instead of tilting the rings.
-const double kSmoothWindow = std::getenv("RF_WIN") ? std::atof(std::getenv("RF_WIN")) : 1.5;
+constexpr double kSmoothWindow = 1.5;
 // Two consecutive rings of a chain must be disjoint and in order even when scaled by this factor
 // about their centres (the surface lies beyond R where tubes blend); a ring that is not is left
 // out and the band spans the gap.
-const double kClearance = std::getenv("RF_CLR") ? std::atof(std::getenv("RF_CLR")) : 1.5;
+constexpr double kClearance = 1.5;
+
+// A junction's ring into a chain moves out along it (to clear a close edge) only as far as the
+// chain's nodes stay within this many R of the straight line from the junction.
+constexpr double kStraightTolerance = 0.25;
+// Bisection steps of the tilt that makes a chain's ring clear the previous one.
+constexpr int kTiltSteps = 12;
 
 enum class NodeKind : std::uint8_t {
   kIsolated,
@@ -282,11 +290,14 @@ class Builder {
     absorb_stubs();
     const double cos_gamma = pm::cos(o_.gamma_degrees * kPi / 180.0);
     const double cos_chain = pm::cos((180.0 - kChainBendDegrees) * kPi / 180.0);
+    const double cos_gentle = pm::cos((180.0 - kGentleBendDegrees) * kPi / 180.0);
     kind_.assign(nodes, NodeKind::kJunction);
     for (std::uint32_t v = 0; v < nodes; ++v) {
       const auto& inc = incident_[v];
-      if (absorbed_node_[v] != 0) {
+      if (absorbed_node_[v] == 1) {
         kind_[v] = NodeKind::kAbsorbed;
+      } else if (absorbed_node_[v] == 2) {
+        kind_[v] = NodeKind::kJunction;
       } else if (inc.empty()) {
         kind_[v] = NodeKind::kIsolated;
       } else if (inc.size() == 1) {
@@ -295,7 +306,10 @@ class Builder {
       } else if (inc.size() == 2) {
         const Vec3 d0 = (pos(other_end(inc[0], v)) - pos(v)).normalized();
         const Vec3 d1 = (pos(other_end(inc[1], v)) - pos(v)).normalized();
-        if (d0.dot(d1) < cos_chain) {
+        const double shorter = std::min((pos(other_end(inc[0], v)) - pos(v)).norm(),
+                                        (pos(other_end(inc[1], v)) - pos(v)).norm());
+        const double r = std::max(in_.edge_radius[inc[0]], in_.edge_radius[inc[1]]);
+        if (d0.dot(d1) < cos_gentle || (d0.dot(d1) < cos_chain && shorter < o_.sphere_factor * r)) {
           kind_[v] = NodeKind::kChain;
         } else if (d0.dot(d1) < cos_gamma) {
           kind_[v] = NodeKind::kStraight;
@@ -340,13 +354,16 @@ class Builder {
   // A closed leaf whose edge is shorter than the sphere of the junction it hangs from, cap
   // included (length + R < sphere_factor x the largest R of the junction's other edges), gets no
   // particles of its own: its ring and cap would lie inside that sphere, whose particles cover
-  // its bulge of the surface instead. The junction keeps at least two edges.
+  // its bulge of the surface instead. The junction keeps at least two edges and its sphere.
   void absorb_stubs() {
     const std::size_t nodes = s_.nodes.size();
     absorbed_node_.assign(nodes, 0);
     absorbed_edge_.assign(s_.edges.size(), 0);
     for (std::uint32_t v = 0; v < nodes; ++v) {
-      if (incident_[v].size() != 1 || (!in_.open_end.empty() && in_.open_end[v] != 0)) continue;
+      if (incident_[v].size() != 1 || absorbed_node_[v] != 0 ||
+          (!in_.open_end.empty() && in_.open_end[v] != 0)) {
+        continue;
+      }
       const std::uint32_t e = incident_[v][0];
       const std::uint32_t w = other_end(e, v);
       auto& at_w = incident_[w];
@@ -360,6 +377,7 @@ class Builder {
       at_w.erase(std::find(at_w.begin(), at_w.end(), e));
       incident_[v].clear();
       absorbed_node_[v] = 1;
+      absorbed_node_[w] = 2;  // stays a junction: its sphere covers the stub
       absorbed_edge_[e] = 1;
     }
   }
@@ -460,8 +478,7 @@ class Builder {
           std::vector<double> arc;
           std::uint32_t far = 0;
           chain_polyline(e, v, point, arc, far);
-          const Vec3 d =
-              along_polyline(point, arc, kSmoothWindow * in_.edge_radius[e]) - pos(v);
+          const Vec3 d = along_polyline(point, arc, kSmoothWindow * in_.edge_radius[e]) - pos(v);
           if (d.norm() > 0) {
             const Vec3 normal = f.a == v ? Vec3(d.normalized()) : Vec3(-d.normalized());
             if (std::abs(u.dot(normal)) > 0.9) u = f.w;
@@ -574,7 +591,20 @@ class Builder {
       Vec3 d = along_polyline(point, arc, reach) - pos(v);
       if (!(d.norm() > 0)) d = direction_from(e, v);
       j.directions.push_back(d.normalized());
-      limit.push_back((along_polyline(point, arc, reserve) - pos(v)).norm());
+      // Beyond `reach`, the ring may move out (to clear a close edge) only as far as the chain
+      // runs straight: its nodes within kStraightTolerance x R of the line from v.
+      double straight = reach;
+      for (std::size_t k = 1; k < point.size() && arc[k] <= reserve; ++k) {
+        const Vec3 axis = (point[k] - pos(v)).normalized();
+        bool within = true;
+        for (std::size_t i = 1; i < k && within; ++i) {
+          const Vec3 off = point[i] - pos(v);
+          within = (off - off.dot(axis) * axis).norm() <= kStraightTolerance * r;
+        }
+        if (!within) break;
+        straight = std::max(straight, arc[k]);
+      }
+      limit.push_back((along_polyline(point, arc, std::min(straight, reserve)) - pos(v)).norm());
     }
     for (std::size_t i = 0; i < inc.size(); ++i) {
       double nearest = kPi;
@@ -705,37 +735,79 @@ class Builder {
       std::uint32_t node;
       std::uint32_t edge;
     };
-    std::vector<Station> kept;
-    Disk last{start.center, start.u.cross(start.w), start.radius};
-    const Vec3 first_normal = last.normal;
-    const auto consider = [&](double s, double radius, std::uint32_t node, std::uint32_t edge) {
+    // Every station, its normal the chord's.
+    std::vector<Station> stations;
+    const auto station = [&](double s, double radius, std::uint32_t node, std::uint32_t edge) {
       if (s <= f0.z_a || s >= total - f1.z_b) return;
-      const double window = kSmoothWindow * radius;
-      const Vec3 chord = at(s + window) - at(s - window);
+      const Vec3 chord = at(s + kSmoothWindow * radius) - at(s - kSmoothWindow * radius);
       const double norm = chord.norm();
-      if (!(norm > 0)) return;
-      const Disk disk{at(s), chord / norm, radius};
-      if (!clear(last, disk)) return;
-      kept.push_back({disk, node, edge});
-      last = disk;
+      if (norm > 0) stations.push_back({{at(s), chord / norm, radius}, node, edge});
     };
     for (std::size_t k = 0; k < chain.size(); ++k) {
       const std::uint32_t e = chain[k];
       const EdgeFrame& f = frames_[e];
       if (k > 0) {
         const std::uint32_t before = chain[k - 1];
-        consider(arc[k], 0.5 * (in_.edge_radius[before] + in_.edge_radius[e]), f.a,
-                 std::min(before, e));
+        station(arc[k], 0.5 * (in_.edge_radius[before] + in_.edge_radius[e]), f.a,
+                std::min(before, e));
       }
       const std::size_t count = edge_charge_count(f.length, in_.edge_spacing[e]);
       const double step = f.length / static_cast<double>(count + 1);
       for (std::size_t i = 1; i <= count; ++i) {
         const double along = step * static_cast<double>(i);
-        consider(arc[k] + along, in_.edge_radius[e], along <= 0.5 * f.length ? f.a : f.b, e);
+        station(arc[k] + along, in_.edge_radius[e], along <= 0.5 * f.length ? f.a : f.b, e);
       }
     }
+    // From each end toward the middle, keep the stations that clear the last ring kept, each
+    // tilted back toward that ring's normal as little as clears it (bisection on the blend of
+    // the normals); a station whose centre is not ahead of that ring is left out. The backward
+    // half runs with reversed normals. Then, where the halves meet, the ring nearer the middle
+    // is dropped until the two clear each other.
+    const auto sweep = [&](Disk last, auto first, auto stop) {
+      std::vector<Station> kept;
+      for (auto it = first; it != stop; ++it) {
+        Station st = *it;
+        if (!clear(last, st.disk)) {
+          const Vec3 wanted = st.disk.normal;
+          st.disk.normal = last.normal;
+          if (!clear(last, st.disk)) continue;
+          double lo = 0;
+          double hi = 1;
+          for (int k = 0; k < kTiltSteps; ++k) {
+            const double mid = 0.5 * (lo + hi);
+            Disk trial = st.disk;
+            trial.normal = (last.normal + mid * (wanted - last.normal)).normalized();
+            (clear(last, trial) ? lo : hi) = mid;
+          }
+          st.disk.normal = (last.normal + lo * (wanted - last.normal)).normalized();
+        }
+        kept.push_back(st);
+        last = st.disk;
+      }
+      return kept;
+    };
+    const Disk begin_disk{start.center, start.u.cross(start.w), start.radius};
+    const Vec3 first_normal = begin_disk.normal;
     const Disk finish{end.center, end.u.cross(end.w), end.radius};
-    while (!kept.empty() && !clear(kept.back().disk, finish)) kept.pop_back();
+    const std::size_t half = stations.size() / 2;
+    std::vector<Station> kept =
+        sweep(begin_disk, stations.begin(), stations.begin() + static_cast<std::ptrdiff_t>(half));
+    for (Station& st : stations) st.disk.normal = -st.disk.normal;
+    std::vector<Station> back =
+        sweep(Disk{finish.center, -finish.normal, finish.radius}, stations.rbegin(),
+              stations.rend() - static_cast<std::ptrdiff_t>(half));
+    for (Station& st : back) st.disk.normal = -st.disk.normal;
+    for (;;) {
+      const Disk& a = kept.empty() ? begin_disk : kept.back().disk;
+      const Disk& b = back.empty() ? finish : back.back().disk;
+      if (clear(a, b) || (kept.empty() && back.empty())) break;
+      if (back.empty() || (!kept.empty() && kept.size() >= back.size())) {
+        kept.pop_back();
+      } else {
+        back.pop_back();
+      }
+    }
+    kept.insert(kept.end(), back.rbegin(), back.rend());
     std::uint32_t previous = f0.ring_a;
     Vec3 normal = first_normal;
     Vec3 u = start.u;
@@ -744,8 +816,7 @@ class Builder {
       normal = st.disk.normal;
       Vec3 w;
       orthonormalize(normal, u, w);
-      const std::uint32_t ring =
-          add_ring(st.disk.center, u, w, st.disk.radius, st.node, st.edge);
+      const std::uint32_t ring = add_ring(st.disk.center, u, w, st.disk.radius, st.node, st.edge);
       band(previous, ring);
       previous = ring;
     }

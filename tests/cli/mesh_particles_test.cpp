@@ -22,8 +22,8 @@
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
-#include <numbers>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <string>
 
 #include "cli/cli_run.h"
