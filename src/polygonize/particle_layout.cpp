@@ -43,12 +43,43 @@ constexpr double kReserveAlone = 0.9;
 // Interior rings keep this fraction of the ring spacing clear of an end structure's zone.
 constexpr double kRingMargin = 0.25;
 
-enum class NodeKind : std::uint8_t { kIsolated, kClosedLeaf, kOpenLeaf, kStraight, kJunction };
+// A degree-two node whose edges bend (180 degrees minus the angle between them) by at most
+// kGentleBendDegrees, or by at most kChainBendDegrees with its shorter edge under the junction
+// sphere's radius, lies inside a chain: its rings follow the chain's smoothed course (chain_tube)
+// instead of a junction sphere of its own. A sharper bend keeps the sphere, which covers its
+// corner where rings cannot follow it.
+constexpr double kGentleBendDegrees = 45;
+constexpr double kChainBendDegrees = 100;
+// Along a chain, a ring's plane is normal to the chord from the chain point kSmoothWindow x R
+// behind it to the one as far ahead (R the ring's radius): a zig-zag of edges shorter than the
+// radius (the connectors of scanned cylinder models) averages out instead of tilting the rings.
+constexpr double kSmoothWindow = 1.5;
+// Two consecutive rings of a chain must be disjoint and in order even when scaled by this factor
+// about their centres (the surface lies beyond R where tubes blend); a ring that is not is left
+// out and the band spans the gap.
+constexpr double kClearance = 1.5;
+
+// A junction's ring into a chain moves out along it (to clear a close edge) only as far as the
+// chain's nodes stay within this many R of the straight line from the junction.
+constexpr double kStraightTolerance = 0.25;
+// Bisection steps of the tilt that makes a chain's ring clear the previous one.
+constexpr int kTiltSteps = 12;
+
+enum class NodeKind : std::uint8_t {
+  kIsolated,
+  kClosedLeaf,
+  kOpenLeaf,
+  kStraight,
+  kJunction,
+  kChain,
+  kAbsorbed  // a closed leaf whose short edge and cap lie inside its junction's sphere
+};
 
 // n_circ particles, numbered consecutively from `first`; point k lies at angle 2 pi k / n_circ
 // in the frame (u, w), counter-clockwise about u x w.
 struct Ring {
   std::uint32_t first = 0;
+  double radius = 0;
   Vec3 center = Vec3::Zero();
   Vec3 u = Vec3::UnitX();
   Vec3 w = Vec3::UnitY();
@@ -203,7 +234,15 @@ class Builder {
     orient_edges();
     const std::size_t node_count = s_.nodes.size();
     for (std::uint32_t v = 0; v < node_count; ++v) node_rings(v);
-    for (std::uint32_t e = 0; e < s_.edges.size(); ++e) edge_tube(e);
+    for (std::uint32_t e = 0; e < s_.edges.size(); ++e) {
+      if (absorbed_edge_[e] != 0) continue;
+      const EdgeFrame& f = frames_[e];
+      if (kind_[f.b] == NodeKind::kChain) {
+        if (kind_[f.a] != NodeKind::kChain) chain_tube(e);
+      } else if (kind_[f.a] != NodeKind::kChain) {
+        edge_tube(e);
+      }
+    }
     for (std::uint32_t v = 0; v < node_count; ++v) {
       switch (kind_[v]) {
         case NodeKind::kClosedLeaf:
@@ -219,6 +258,8 @@ class Builder {
           isolated(v);
           break;
         case NodeKind::kStraight:
+        case NodeKind::kChain:
+        case NodeKind::kAbsorbed:
           break;
       }
     }
@@ -230,6 +271,10 @@ class Builder {
     return s_.edges[e][0] == v ? s_.edges[e][1] : s_.edges[e][0];
   }
   [[nodiscard]] const Vec3& pos(std::uint32_t v) const { return s_.nodes[v].position; }
+  // Degree-two nodes the edge frames are transported through.
+  [[nodiscard]] bool passes_through(std::uint32_t v) const {
+    return kind_[v] == NodeKind::kStraight || kind_[v] == NodeKind::kChain;
+  }
   // Unit direction of edge e from its end v toward the other end.
   [[nodiscard]] Vec3 direction_from(std::uint32_t e, std::uint32_t v) const {
     return frames_[e].a == v ? frames_[e].t : Vec3(-frames_[e].t);
@@ -242,11 +287,18 @@ class Builder {
       incident_[s_.edges[e][0]].push_back(e);
       incident_[s_.edges[e][1]].push_back(e);
     }
+    absorb_stubs();
     const double cos_gamma = pm::cos(o_.gamma_degrees * kPi / 180.0);
+    const double cos_chain = pm::cos((180.0 - kChainBendDegrees) * kPi / 180.0);
+    const double cos_gentle = pm::cos((180.0 - kGentleBendDegrees) * kPi / 180.0);
     kind_.assign(nodes, NodeKind::kJunction);
     for (std::uint32_t v = 0; v < nodes; ++v) {
       const auto& inc = incident_[v];
-      if (inc.empty()) {
+      if (absorbed_node_[v] == 1) {
+        kind_[v] = NodeKind::kAbsorbed;
+      } else if (absorbed_node_[v] == 2) {
+        kind_[v] = NodeKind::kJunction;
+      } else if (inc.empty()) {
         kind_[v] = NodeKind::kIsolated;
       } else if (inc.size() == 1) {
         const bool open = !in_.open_end.empty() && in_.open_end[v] != 0;
@@ -254,8 +306,79 @@ class Builder {
       } else if (inc.size() == 2) {
         const Vec3 d0 = (pos(other_end(inc[0], v)) - pos(v)).normalized();
         const Vec3 d1 = (pos(other_end(inc[1], v)) - pos(v)).normalized();
-        if (d0.dot(d1) < cos_gamma) kind_[v] = NodeKind::kStraight;
+        const double shorter = std::min((pos(other_end(inc[0], v)) - pos(v)).norm(),
+                                        (pos(other_end(inc[1], v)) - pos(v)).norm());
+        const double r = std::max(in_.edge_radius[inc[0]], in_.edge_radius[inc[1]]);
+        if (d0.dot(d1) < cos_gentle || (d0.dot(d1) < cos_chain && shorter < o_.sphere_factor * r)) {
+          kind_[v] = NodeKind::kChain;
+        } else if (d0.dot(d1) < cos_gamma) {
+          kind_[v] = NodeKind::kStraight;
+        }
       }
+    }
+    // A cycle of chain nodes has no end structure to start its rings from: its nodes get the
+    // paper's vertex rings (bends up to 180 - gamma) and spheres instead.
+    std::vector<char> seen(nodes, 0);
+    for (std::uint32_t v0 = 0; v0 < nodes; ++v0) {
+      if (kind_[v0] != NodeKind::kChain || seen[v0] != 0) continue;
+      std::vector<std::uint32_t> run{v0};
+      seen[v0] = 1;
+      bool cycle = false;
+      for (const std::uint32_t first : incident_[v0]) {
+        std::uint32_t e = first;
+        std::uint32_t v = other_end(e, v0);
+        while (kind_[v] == NodeKind::kChain) {
+          if (v == v0) {
+            cycle = true;
+            break;
+          }
+          if (seen[v] != 0) break;
+          seen[v] = 1;
+          run.push_back(v);
+          const auto& inc = incident_[v];
+          e = inc[0] == e ? inc[1] : inc[0];
+          v = other_end(e, v);
+        }
+        if (cycle) break;
+      }
+      if (!cycle) continue;
+      for (const std::uint32_t v : run) {
+        const auto& inc = incident_[v];
+        const Vec3 d0 = (pos(other_end(inc[0], v)) - pos(v)).normalized();
+        const Vec3 d1 = (pos(other_end(inc[1], v)) - pos(v)).normalized();
+        kind_[v] = d0.dot(d1) < cos_gamma ? NodeKind::kStraight : NodeKind::kJunction;
+      }
+    }
+  }
+
+  // A closed leaf whose edge is shorter than the sphere of the junction it hangs from, cap
+  // included (length + R < sphere_factor x the largest R of the junction's other edges), gets no
+  // particles of its own: its ring and cap would lie inside that sphere, whose particles cover
+  // its bulge of the surface instead. The junction keeps at least two edges and its sphere.
+  void absorb_stubs() {
+    const std::size_t nodes = s_.nodes.size();
+    absorbed_node_.assign(nodes, 0);
+    absorbed_edge_.assign(s_.edges.size(), 0);
+    for (std::uint32_t v = 0; v < nodes; ++v) {
+      if (incident_[v].size() != 1 || absorbed_node_[v] != 0 ||
+          (!in_.open_end.empty() && in_.open_end[v] != 0)) {
+        continue;
+      }
+      const std::uint32_t e = incident_[v][0];
+      const std::uint32_t w = other_end(e, v);
+      auto& at_w = incident_[w];
+      if (at_w.size() < 3) continue;
+      double r_max = 0;
+      for (const std::uint32_t k : at_w) {
+        if (k != e) r_max = std::max(r_max, in_.edge_radius[k]);
+      }
+      const double length = (pos(w) - pos(v)).norm();
+      if (!(length + in_.edge_radius[e] < o_.sphere_factor * r_max)) continue;
+      at_w.erase(std::find(at_w.begin(), at_w.end(), e));
+      incident_[v].clear();
+      absorbed_node_[v] = 1;
+      absorbed_node_[w] = 2;  // stays a junction: its sphere covers the stub
+      absorbed_edge_[e] = 1;
     }
   }
 
@@ -265,13 +388,13 @@ class Builder {
   void orient_edges() {
     const std::size_t edges = s_.edges.size();
     frames_.assign(edges, {});
-    std::vector<char> done(edges, 0);
+    std::vector<char> done(absorbed_edge_.begin(), absorbed_edge_.end());
     for (std::uint32_t e0 = 0; e0 < edges; ++e0) {
       if (done[e0] != 0) continue;
       // Back to the chain's start: a node that is not straight-through, or e0 again (a cycle).
       std::uint32_t e = e0;
       std::uint32_t start = s_.edges[e0][0];
-      while (kind_[start] == NodeKind::kStraight) {
+      while (passes_through(start)) {
         const auto& inc = incident_[start];
         const std::uint32_t previous = inc[0] == e ? inc[1] : inc[0];
         if (previous == e0) {
@@ -299,7 +422,7 @@ class Builder {
           orthonormalize(f.t, f.u, f.w);
         }
         done[e] = 1;
-        if (kind_[f.b] != NodeKind::kStraight) break;
+        if (!passes_through(f.b)) break;
         const auto& inc = incident_[f.b];
         const std::uint32_t next = inc[0] == e ? inc[1] : inc[0];
         if (done[next] != 0) break;  // the cycle is closed
@@ -321,6 +444,7 @@ class Builder {
                          std::uint32_t node, std::uint32_t edge) {
     Ring ring;
     ring.first = static_cast<std::uint32_t>(out_.positions.size());
+    ring.radius = radius;
     ring.center = center;
     ring.u = u;
     ring.w = w;
@@ -346,7 +470,22 @@ class Builder {
       case NodeKind::kOpenLeaf: {
         const std::uint32_t e = inc[0];
         EdgeFrame& f = frames_[e];
-        const std::uint32_t ring = add_ring(pos(v), f.u, f.w, in_.edge_radius[e], v, e);
+        Vec3 u = f.u;
+        Vec3 w = f.w;
+        if (kind_[other_end(e, v)] == NodeKind::kChain) {
+          // Into a chain: normal to the chord over kSmoothWindow radii, as the chain's rings.
+          std::vector<Vec3> point;
+          std::vector<double> arc;
+          std::uint32_t far = 0;
+          chain_polyline(e, v, point, arc, far);
+          const Vec3 d = along_polyline(point, arc, kSmoothWindow * in_.edge_radius[e]) - pos(v);
+          if (d.norm() > 0) {
+            const Vec3 normal = f.a == v ? Vec3(d.normalized()) : Vec3(-d.normalized());
+            if (std::abs(u.dot(normal)) > 0.9) u = f.w;
+            orthonormalize(normal, u, w);
+          }
+        }
+        const std::uint32_t ring = add_ring(pos(v), u, w, in_.edge_radius[e], v, e);
         (f.a == v ? f.ring_a : f.ring_b) = ring;
         return;
       }
@@ -374,6 +513,9 @@ class Builder {
       case NodeKind::kJunction:
         junction_rings(v);
         return;
+      case NodeKind::kChain:  // chain_tube
+      case NodeKind::kAbsorbed:
+        return;
     }
   }
 
@@ -384,15 +526,86 @@ class Builder {
     bool use_fallback = false;     // incident edges too close for the hull
   };
 
+  // The polyline of the chain that leaves node v by edge e, through chain nodes up to the first
+  // node that is not one (`far`): its points, their arc lengths from v and its edges.
+  void chain_polyline(std::uint32_t e, std::uint32_t v, std::vector<Vec3>& point,
+                      std::vector<double>& arc, std::uint32_t& far,
+                      std::vector<std::uint32_t>* edges = nullptr) const {
+    point.assign(1, pos(v));
+    arc.assign(1, 0.0);
+    for (;;) {
+      if (edges != nullptr) edges->push_back(e);
+      const std::uint32_t w = other_end(e, v);
+      point.push_back(pos(w));
+      arc.push_back(arc.back() + frames_[e].length);
+      if (kind_[w] != NodeKind::kChain) {
+        far = w;
+        return;
+      }
+      const auto& inc = incident_[w];
+      e = inc[0] == e ? inc[1] : inc[0];
+      v = w;
+    }
+  }
+
+  // The point at arc length s along a polyline (clamped to its ends).
+  static Vec3 along_polyline(const std::vector<Vec3>& point, const std::vector<double>& arc,
+                             double s) {
+    s = std::clamp(s, 0.0, arc.back());
+    const std::size_t k = std::min<std::size_t>(
+        static_cast<std::size_t>(std::upper_bound(arc.begin(), arc.end(), s) - arc.begin()),
+        arc.size() - 1);
+    const std::size_t i = k - 1;
+    const double span = arc[k] - arc[i];
+    const double x = span > 0 ? (s - arc[i]) / span : 0.0;
+    return point[i] + x * (point[k] - point[i]);
+  }
+
   void junction_rings(std::uint32_t v) {
     const auto& inc = incident_[v];
     Junction j;
     double r_max = 0;
-    for (const std::uint32_t e : inc) {
-      r_max = std::max(r_max, in_.edge_radius[e]);
-      j.directions.push_back(direction_from(e, v));
-    }
+    for (const std::uint32_t e : inc) r_max = std::max(r_max, in_.edge_radius[e]);
     j.rho = o_.sphere_factor * r_max;
+    // Per incident edge, the farthest its ring may go (model units from v). Into a chain, the
+    // direction is the chord to the chain's point where the ring would sit (not the first edge's,
+    // which may be a short connector at any angle), and the ring may go as far along the chain.
+    std::vector<double> limit;
+    for (const std::uint32_t e : inc) {
+      const std::uint32_t w = other_end(e, v);
+      if (kind_[w] != NodeKind::kChain) {
+        j.directions.push_back(direction_from(e, v));
+        limit.push_back((kind_[w] == NodeKind::kJunction || passes_through(w) ? kReserveShared
+                                                                              : kReserveAlone) *
+                        frames_[e].length);
+        continue;
+      }
+      std::vector<Vec3> point;
+      std::vector<double> arc;
+      std::uint32_t far = 0;
+      chain_polyline(e, v, point, arc, far);
+      const double reserve =
+          (kind_[far] == NodeKind::kJunction ? kReserveShared : kReserveAlone) * arc.back();
+      const double r = in_.edge_radius[e];
+      const double reach = std::min(std::sqrt(std::max(0.0, j.rho * j.rho - r * r)), reserve);
+      Vec3 d = along_polyline(point, arc, reach) - pos(v);
+      if (!(d.norm() > 0)) d = direction_from(e, v);
+      j.directions.push_back(d.normalized());
+      // Beyond `reach`, the ring may move out (to clear a close edge) only as far as the chain
+      // runs straight: its nodes within kStraightTolerance x R of the line from v.
+      double straight = reach;
+      for (std::size_t k = 1; k < point.size() && arc[k] <= reserve; ++k) {
+        const Vec3 axis = (point[k] - pos(v)).normalized();
+        bool within = true;
+        for (std::size_t i = 1; i < k && within; ++i) {
+          const Vec3 off = point[i] - pos(v);
+          within = (off - off.dot(axis) * axis).norm() <= kStraightTolerance * r;
+        }
+        if (!within) break;
+        straight = std::max(straight, arc[k]);
+      }
+      limit.push_back((along_polyline(point, arc, std::min(straight, reserve)) - pos(v)).norm());
+    }
     for (std::size_t i = 0; i < inc.size(); ++i) {
       double nearest = kPi;
       for (std::size_t k = 0; k < inc.size(); ++k) {
@@ -404,15 +617,16 @@ class Builder {
       j.beta.push_back(beta);
       const std::uint32_t e = inc[i];
       EdgeFrame& f = frames_[e];
-      const std::uint32_t w = other_end(e, v);
-      const double reserve =
-          (kind_[w] == NodeKind::kJunction || kind_[w] == NodeKind::kStraight ? kReserveShared
-                                                                              : kReserveAlone) *
-          f.length;
       const double tan_beta = pm::tan(beta);
-      const double along = std::min(in_.edge_radius[e] / tan_beta, reserve);
+      const double along = std::min(in_.edge_radius[e] / tan_beta, limit[i]);
+      // The ring's frame: (u, w, t') right-handed with t' along the edge's orientation.
+      const Vec3 normal = f.a == v ? j.directions[i] : Vec3(-j.directions[i]);
+      Vec3 u = f.u;
+      Vec3 w;
+      if (std::abs(u.dot(normal)) > 0.9) u = f.w;
+      orthonormalize(normal, u, w);
       const std::uint32_t ring =
-          add_ring(pos(v) + along * j.directions[i], f.u, f.w, along * tan_beta, v, e);
+          add_ring(pos(v) + along * j.directions[i], u, w, along * tan_beta, v, e);
       if (f.a == v) {
         f.ring_a = ring;
         f.z_a = along;
@@ -482,20 +696,150 @@ class Builder {
     band(last, f.ring_b);
   }
 
+  // A ring as the chain's clearance test sees it: centre, unit normal (forward), radius.
+  struct Disk {
+    Vec3 center;
+    Vec3 normal;
+    double radius = 0;
+  };
+
+  // True when disk b, ahead of disk a, and a are disjoint and in order even when both radii are
+  // scaled by kClearance: every point of b lies ahead of a's plane, every point of a behind b's.
+  static bool clear(const Disk& a, const Disk& b) {
+    const double c = a.normal.dot(b.normal);
+    if (!(c > 0)) return false;
+    const double sine = std::sqrt(std::max(0.0, 1.0 - c * c));
+    const Vec3 d = b.center - a.center;
+    return d.dot(a.normal) > kClearance * b.radius * sine &&
+           d.dot(b.normal) > kClearance * a.radius * sine;
+  }
+
+  // The rings along a chain of degree-two nodes that starts with edge `first` (from a node that
+  // is not a chain node, to the next one that is not): one at every charge and every chain node,
+  // centred on the polyline and normal to its chord over kSmoothWindow radii on either side, less
+  // those that would cross the previous ring kept or the end structure's ring (kClearance).
+  void chain_tube(std::uint32_t first) {
+    std::vector<Vec3> point;
+    std::vector<double> arc;
+    std::vector<std::uint32_t> chain;
+    std::uint32_t far = 0;
+    chain_polyline(first, frames_[first].a, point, arc, far, &chain);
+    const double total = arc.back();
+    const auto at = [&](double s) { return along_polyline(point, arc, s); };
+    const EdgeFrame& f0 = frames_[first];
+    const EdgeFrame& f1 = frames_[chain.back()];
+    const Ring& start = rings_[f0.ring_a];
+    const Ring& end = rings_[f1.ring_b];
+    struct Station {
+      Disk disk;
+      std::uint32_t node;
+      std::uint32_t edge;
+    };
+    // Every station, its normal the chord's.
+    std::vector<Station> stations;
+    const auto station = [&](double s, double radius, std::uint32_t node, std::uint32_t edge) {
+      if (s <= f0.z_a || s >= total - f1.z_b) return;
+      const Vec3 chord = at(s + kSmoothWindow * radius) - at(s - kSmoothWindow * radius);
+      const double norm = chord.norm();
+      if (norm > 0) stations.push_back({{at(s), chord / norm, radius}, node, edge});
+    };
+    for (std::size_t k = 0; k < chain.size(); ++k) {
+      const std::uint32_t e = chain[k];
+      const EdgeFrame& f = frames_[e];
+      if (k > 0) {
+        const std::uint32_t before = chain[k - 1];
+        station(arc[k], 0.5 * (in_.edge_radius[before] + in_.edge_radius[e]), f.a,
+                std::min(before, e));
+      }
+      const std::size_t count = edge_charge_count(f.length, in_.edge_spacing[e]);
+      const double step = f.length / static_cast<double>(count + 1);
+      for (std::size_t i = 1; i <= count; ++i) {
+        const double along = step * static_cast<double>(i);
+        station(arc[k] + along, in_.edge_radius[e], along <= 0.5 * f.length ? f.a : f.b, e);
+      }
+    }
+    // From each end toward the middle, keep the stations that clear the last ring kept, each
+    // tilted back toward that ring's normal as little as clears it (bisection on the blend of
+    // the normals); a station whose centre is not ahead of that ring is left out. The backward
+    // half runs with reversed normals. Then, where the halves meet, the ring nearer the middle
+    // is dropped until the two clear each other.
+    const auto sweep = [&](Disk last, auto first, auto stop) {
+      std::vector<Station> kept;
+      for (auto it = first; it != stop; ++it) {
+        Station st = *it;
+        if (!clear(last, st.disk)) {
+          const Vec3 wanted = st.disk.normal;
+          st.disk.normal = last.normal;
+          if (!clear(last, st.disk)) continue;
+          double lo = 0;
+          double hi = 1;
+          for (int k = 0; k < kTiltSteps; ++k) {
+            const double mid = 0.5 * (lo + hi);
+            Disk trial = st.disk;
+            trial.normal = (last.normal + mid * (wanted - last.normal)).normalized();
+            (clear(last, trial) ? lo : hi) = mid;
+          }
+          st.disk.normal = (last.normal + lo * (wanted - last.normal)).normalized();
+        }
+        kept.push_back(st);
+        last = st.disk;
+      }
+      return kept;
+    };
+    const Disk begin_disk{start.center, start.u.cross(start.w), start.radius};
+    const Vec3 first_normal = begin_disk.normal;
+    const Disk finish{end.center, end.u.cross(end.w), end.radius};
+    const std::size_t half = stations.size() / 2;
+    std::vector<Station> kept =
+        sweep(begin_disk, stations.begin(), stations.begin() + static_cast<std::ptrdiff_t>(half));
+    for (Station& st : stations) st.disk.normal = -st.disk.normal;
+    std::vector<Station> back =
+        sweep(Disk{finish.center, -finish.normal, finish.radius}, stations.rbegin(),
+              stations.rend() - static_cast<std::ptrdiff_t>(half));
+    for (Station& st : back) st.disk.normal = -st.disk.normal;
+    for (;;) {
+      const Disk& a = kept.empty() ? begin_disk : kept.back().disk;
+      const Disk& b = back.empty() ? finish : back.back().disk;
+      if (clear(a, b) || (kept.empty() && back.empty())) break;
+      if (back.empty() || (!kept.empty() && kept.size() >= back.size())) {
+        kept.pop_back();
+      } else {
+        back.pop_back();
+      }
+    }
+    kept.insert(kept.end(), back.rbegin(), back.rend());
+    std::uint32_t previous = f0.ring_a;
+    Vec3 normal = first_normal;
+    Vec3 u = start.u;
+    for (const Station& st : kept) {
+      u = transport(normal, st.disk.normal, u);
+      normal = st.disk.normal;
+      Vec3 w;
+      orthonormalize(normal, u, w);
+      const std::uint32_t ring = add_ring(st.disk.center, u, w, st.disk.radius, st.node, st.edge);
+      band(previous, ring);
+      previous = ring;
+    }
+    band(previous, f1.ring_b);
+  }
+
   // A half-sphere of radius R beyond the leaf: latitude rings and a pole.
   void cap(std::uint32_t v) {
     const std::uint32_t e = incident_[v][0];
     const EdgeFrame& f = frames_[e];
-    const bool outward_is_t = f.b == v;  // the cap continues along +t
-    const Vec3 out = outward_is_t ? f.t : Vec3(-f.t);
-    const double radius = in_.edge_radius[e];
+    const bool outward_is_t = f.b == v;  // the cap continues along the ring's normal
     const std::uint32_t equator = outward_is_t ? f.ring_b : f.ring_a;
+    const Vec3 u = rings_[equator].u;
+    const Vec3 w = rings_[equator].w;
+    const Vec3 normal = u.cross(w);
+    const Vec3 out = outward_is_t ? normal : Vec3(-normal);
+    const double radius = in_.edge_radius[e];
     const int latitudes = std::max(1, o_.n_circ / 4);
     std::uint32_t last = equator;
     for (int i = 1; i <= latitudes; ++i) {
       const double phi = 0.5 * kPi * i / (latitudes + 1);
       const std::uint32_t ring =
-          add_ring(pos(v) + radius * pm::sin(phi) * out, f.u, f.w, radius * pm::cos(phi), v, e);
+          add_ring(pos(v) + radius * pm::sin(phi) * out, u, w, radius * pm::cos(phi), v, e);
       if (outward_is_t) {
         band(last, ring);
       } else {
@@ -711,6 +1055,8 @@ class Builder {
   double sphere_spacing_ = 0;
   std::vector<std::vector<std::uint32_t>> incident_;
   std::vector<NodeKind> kind_;
+  std::vector<char> absorbed_node_;
+  std::vector<char> absorbed_edge_;
   std::vector<EdgeFrame> frames_;
   std::vector<Ring> rings_;
   std::map<std::uint32_t, Junction> junctions_;

@@ -6,11 +6,14 @@
 // (Gruber & Wallner 2014, "Polygonization of Line Skeletons by Using Equipotential Surfaces – A
 // Practical Description", §3.3 for the placement; §3.6 leaves the triangulation open, this is
 // ours). The triangles are built from the placement's structure, not from the points: rings of
-// particles around each edge joined by bands of quads, half-sphere caps at closed leaves, one
-// ring in the symmetry plane at straight-through vertices, and at every other vertex a sphere
+// particles around each edge joined by bands of quads, half-sphere caps at closed leaves, rings
+// along chains of degree-two nodes bent by at most 45 degrees, or 100 next to a short edge (normal
+// to the chain's smoothed course, none crossing the next; in a cycle of such nodes, the paper's
+// ring in the symmetry plane at vertices straighter than gamma), and at every other vertex a sphere
 // with one hole per incident edge triangulated as the convex hull of its points (via the exact
-// Delaunay tetrahedralization of delaunay.h). So the connectivity is a valid 2-manifold whatever
-// the geometry; moving the particles onto the surface later changes positions only.
+// Delaunay tetrahedralization of delaunay.h); a closed leaf whose edge and cap lie inside its
+// junction's sphere gets no particles of its own. So the connectivity is a valid 2-manifold
+// whatever the geometry; moving the particles onto the surface later changes positions only.
 
 #include <array>
 #include <cstdint>
@@ -26,7 +29,7 @@ struct ParticleLayoutOptions {
   int n_circ = 12;             ///< particles per ring around an edge (>= 3)
   int n_sphere = 48;           ///< particles on a junction sphere before removal (>= 4)
   double sphere_factor = 1.5;  ///< junction sphere radius / the largest incident R (> 1)
-  double gamma_degrees = 160;  ///< degree-2 vertices meeting above this angle get a ring
+  double gamma_degrees = 160;  ///< in cycles: degree-2 vertices meeting above this get a ring
 };
 
 /// What to lay particles around. Sizes are checked (InvalidArgument).

@@ -305,7 +305,8 @@ TEST(ParticleLayout, StraightThroughChains) {
     const ParticleLayout l = build_particle_layout(make_input(s, 0.5), {});
     expect_valid_layout(l, s);
     expect_encloses(l, s);
-    EXPECT_LT(longest_edge(l), 1.0);  // 0.92
+    // 1.05 (0.92 before the chain layout, which leaves out or tilts rings near junctions).
+    EXPECT_LT(longest_edge(l), 1.1);
     EXPECT_EQ(l.fallback_junctions, 0U);
   }
   {

@@ -11,10 +11,17 @@
 /// src/polygonize/particle_layout.h).
 ///
 /// Placement (§3.3): n_circ particles on a ring of radius R around every edge charge and at
-/// every leaf, half-spheres at closed leaves, a ring in the symmetry plane at a vertex whose two
-/// edges meet at more than gamma, and n_sphere particles on a sphere of radius sphere_factor x R
-/// at every other vertex, less those inside the union of the cylinders and spheres. The rings sit
-/// at the charge positions (edge_charge_count() of field/equipotential.h with the edge's d_c).
+/// every leaf, half-spheres at closed leaves, and n_sphere particles on a sphere of radius
+/// sphere_factor x R at every junction, less those inside the union of the cylinders and spheres.
+/// The rings sit at the charge positions (edge_charge_count() of field/equipotential.h with the
+/// edge's d_c). Two departures from §3.3, both against folds (docs/equipotential.md): a degree-two
+/// node whose edges bend by at most 45 degrees, or by at most 100 with its shorter edge under
+/// sphere_factor x R, gets no sphere and no ring in its symmetry plane (the paper's gamma rule);
+/// instead the rings of a whole chain of such nodes sit at its charges
+/// and nodes, each normal to the chain's chord over 1.5 R on either side and left out when it
+/// would cross the previous ring (scaled by 1.5), so zig-zags of short edges and tight bends do
+/// not cross rings. And a closed leaf whose edge plus cap lies inside its junction's sphere gets
+/// no particles: the sphere's cover its bulge. gamma applies only to cycles of degree-two nodes.
 /// The triangles are a 2-manifold by construction: closed where every leaf is closed, with one
 /// boundary loop (the leaf's ring) per open end, one component per connected skeleton component.
 ///
@@ -34,15 +41,15 @@
 /// particle that does not converge again goes back to where it was before the round. Open-end
 /// loops stay where the movement put them.
 ///
-/// Folds: the triangles come from the skeleton's structure, so where the surface's shape
+/// Folds: the triangles come from the skeleton's structure, so where the surface's topology
 /// departs from the skeleton's, the mesh folds over itself: where the surfaces of two branches
 /// that are not joined in the skeleton merge (branches that pass closer than about their radii's
-/// sum plus the blend), the rings of both land on the merged surface; at sharp bends along runs
-/// of edges shorter than their radius (scanned cylinder models, straightened curved edges), the
-/// rings of neighbouring edges cross on the inner side of the bend. The folded triangles face
-/// into the surface; they are counted in the stats
-/// (inverted_triangles), and a node inside the merged part can fall outside the mesh. The
-/// tetrahedral polygonizer meshes the same field without folds.
+/// sum plus the blend), the rings of both land on the merged surface, and no triangulation with
+/// the skeleton's connectivity can lie on it without crossing itself. Junctions closer together
+/// than their spheres (scanned trees) fold a little too. The folded triangles face into the
+/// surface; they are counted in the stats (inverted_triangles), and a node inside the merged
+/// part can fall outside the mesh. The tetrahedral polygonizer meshes the same field without
+/// folds.
 ///
 /// The result is deterministic and byte-identical for any thread count.
 
@@ -65,7 +72,8 @@ struct ParticleMeshOptions {
   int n_circ = 12;    ///< n_circ: particles on each ring around an edge (3..4096)
   int n_sphere = 48;  ///< n_sphere: particles on a junction sphere before removal (4..65536)
   double sphere_factor = 1.5;  ///< junction sphere radius / the largest incident R (> 1)
-  /// gamma: a vertex whose two edges meet at more than this angle (degrees, (0, 180]) gets one
+  /// gamma: in a cycle of degree-two nodes (which has no end for a chain's rings to start
+  /// from), a vertex whose two edges meet at more than this angle (degrees, (0, 180]) gets one
   /// ring in their symmetry plane instead of a sphere.
   double gamma_degrees = 160;
   /// R, the placement radius (model units, > 0), or 0: per edge placement_factor times the mean
