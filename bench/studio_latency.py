@@ -3,14 +3,17 @@
 # Copyright (c) 2026 the ramiform authors
 """Server-side latency of `ramiform studio` (docs/studio_api.md, docs/benchmarks.md).
 
-Starts `ramiform studio --port 0` on the demo crown (examples/demo.rf) and measures, over HTTP
-on loopback:
-  1. editing a `param` of the demo crown until the run is done: POST /api/run with a changed
-     `tolerance` (or `points`), polling GET /api/run/ID every 10 ms; the wall time and the
-     server's own `seconds`, and the seconds of the tree's save_mesh line;
+Starts `ramiform studio --port 0` on its first script (the demo crown made for editing,
+examples/studio.rf) and measures, over HTTP on loopback:
+  1. editing the `points` param (the tree regrows and is meshed again) until the run is done:
+     POST /api/run, polling GET /api/run/ID every 10 ms; as the page does while a slider is
+     dragged (draft runs) and on its release (full runs); wall time and the tree's save_mesh
+     line;
   2. line mode on the grown tree with 10,000 particles: the first camera (which spreads the
      particles and finds the feature lines) and then CAMERAS cameras orbiting the tree (only
-     the view-dependent lines), each timed by the client and by X-Ramiform-Seconds.
+     the view-dependent lines), each timed by the client and by X-Ramiform-Seconds; and the
+     same for the Stanford bunny fitted by `mpu` when ../shared/data/models/bunny.ply exists
+     (--bunny PATH).
 
 usage: bench/studio_latency.py [--binary build/ramiform] [--edits 5] [--cameras 12]
                                [--threads 0]
@@ -34,6 +37,9 @@ def main():
     ap.add_argument("--cameras", type=int, default=12)
     ap.add_argument("--threads", type=int, default=0)
     ap.add_argument("--count", type=int, default=10000)
+    here = os.path.dirname(os.path.abspath(__file__))
+    ap.add_argument("--bunny", default=os.path.join(here, "..", "..", "shared", "data", "models",
+                                                      "bunny.ply"))
     args = ap.parse_args()
 
     out = tempfile.mkdtemp(prefix="studio-bench-")
@@ -54,9 +60,10 @@ def main():
 
         script = json.loads(call("GET", "/api/info")[0])["script"]
 
-        def run(params):
+        def run(params, draft=False, text=None):
             t0 = time.perf_counter()
-            rid = json.loads(call("POST", "/api/run", {"script": script, "params": params})[0])["run"]
+            body = {"script": text or script, "params": params, "draft": draft}
+            rid = json.loads(call("POST", "/api/run", body)[0])["run"]
             while True:
                 st = json.loads(call("GET", "/api/run/" + rid)[0])
                 if st["state"] != "running":
@@ -69,40 +76,55 @@ def main():
             return rid, wall, st["seconds"], st["log"], mesh[-1]["seconds"] if mesh else float("nan")
 
         rid, wall, _, log, _ = run({})
-        print(f"first run of the demo crown: {wall:.2f} s wall")
+        print(f"first run of the studio crown: {wall:.2f} s wall")
         for e in log:
             print(f"  line {e['line']:3d} {e['command']:16s} {e['seconds']:.3f} s")
-        walls, tree_mesh = [], []
-        for k in range(args.edits):
-            tol = 0.05 + 0.01 * (k + 1)  # a changed tolerance slider: the tree is re-meshed
-            rid, wall, _, log, mesh_s = run({"tolerance": f"{tol:.2f}"})
-            walls.append(wall)
-            tree_mesh.append(mesh_s)
-        print(f"param edit (tolerance) -> run done, {args.edits} edits: wall median "
-              f"{statistics.median(walls):.3f} s, max {max(walls):.3f} s; the tree's save_mesh "
-              f"line median {statistics.median(tree_mesh):.3f} s")
+        for draft in (True, False):
+            walls, tree_mesh = [], []
+            for k in range(args.edits):
+                points = 2500 + 100 * (k + 1)  # a moved `points` slider: the tree regrows
+                rid, wall, _, log, mesh_s = run({"points": str(points)}, draft)
+                walls.append(wall)
+                tree_mesh.append(mesh_s)
+            print(f"param edit (points), {'draft' if draft else 'full'} runs -> run done, "
+                  f"{args.edits} edits: wall median {statistics.median(walls):.3f} s, max "
+                  f"{max(walls):.3f} s; the tree's save_mesh line median "
+                  f"{statistics.median(tree_mesh):.3f} s")
 
-        def camera(angle):
-            r = 14.0
-            return {"eye": [r * math.sin(angle), 6.0, r * math.cos(angle)], "target": [0, 4.5, 0],
-                    "up": [0, 1, 0], "fov": 40, "width": 800, "height": 600}
+        # Cameras in the page's +Y-up frame (model z is page y, model y is page -z).
+        def camera(angle, target, r):
+            return {"eye": [target[0] + r * math.sin(angle), target[1] + 1.5,
+                            target[2] + r * math.cos(angle)],
+                    "target": target, "up": [0, 1, 0], "fov": 40, "width": 800, "height": 600}
 
-        def lines(angle):
+        def lines(angle, shape, target, r):
             t0 = time.perf_counter()
-            body, hdr = call("POST", "/api/lines", {"run": rid, "shape": "tree", "camera": camera(angle),
+            body, hdr = call("POST", "/api/lines", {"run": rid, "shape": shape,
+                                                    "camera": camera(angle, target, r),
                                                     "lines": ["silhouette", "suggestive", "feature"],
                                                     "count": args.count})
             return time.perf_counter() - t0, float(hdr.get("X-Ramiform-Seconds", "nan")), len(body)
 
-        first, server_first, _ = lines(0.0)
-        print(f"lines, first camera ({args.count} particles spread, feature lines): {first:.3f} s "
-              f"wall, {server_first:.3f} s server")
-        times = [lines(2 * math.pi * (k + 1) / (args.cameras + 1)) for k in range(args.cameras)]
-        wall = [t[0] for t in times]
-        server = [t[1] for t in times]
-        print(f"lines, {args.cameras} more cameras: wall median {statistics.median(wall):.3f} s "
-              f"(max {max(wall):.3f}), server median {statistics.median(server):.3f} s -> "
-              f"{1 / statistics.median(wall):.1f} frames/s")
+        def orbit(shape, target, r):
+            first, server_first, _ = lines(0.0, shape, target, r)
+            print(f"lines of {shape}, first camera ({args.count} particles spread, feature "
+                  f"lines): {first:.3f} s wall, {server_first:.3f} s server")
+            times = [lines(2 * math.pi * (k + 1) / (args.cameras + 1), shape, target, r)
+                     for k in range(args.cameras)]
+            wall = [t[0] for t in times]
+            server = [t[1] for t in times]
+            print(f"lines of {shape}, {args.cameras} more cameras: wall median "
+                  f"{statistics.median(wall):.3f} s (max {max(wall):.3f}), server median "
+                  f"{statistics.median(server):.3f} s -> {1 / statistics.median(wall):.1f} "
+                  f"frames/s")
+
+        orbit("tree", [0, 4.5, 0], 14.0)
+        if os.path.exists(args.bunny):
+            # The bunny of ../shared/data/models spans x ±5, y 0..9.7, z ±3.8 (model axes).
+            rid = run({}, text=f"mpu bunny {os.path.abspath(args.bunny)}\n")[0]
+            orbit("bunny", [0, 0, -4.8], 24.0)
+        else:
+            print(f"lines of the bunny: skipped ({args.bunny} not found)")
     finally:
         proc.terminate()
         proc.wait(timeout=30)

@@ -50,7 +50,7 @@ void register_studio(CLI::App& root, Action& action) {
       "drawings on 127.0.0.1 and prints the URL with its access token (docs/studio_api.md). "
       "Runs until SIGINT or SIGTERM.");
   c->add_option("SCRIPT", options->script_path,
-                "the script shown first (default: the demo crown, examples/demo.rf)");
+                "the script shown first (default: the demo crown made for editing, examples/studio.rf)");
   c->add_option("--port", options->port, with_default("TCP port; 0 = any free port", options->port))
       ->check(CLI::Range(0, 65535));
   c->add_option("--out", options->out_dir,
@@ -83,7 +83,7 @@ void register_studio(CLI::App& root, Action& action) {
   c->callback([options, &action] {
     action = [options] {
       studio::StudioOptions o = *options;
-      o.demo_script = kDemoScene;
+      o.demo_script = kStudioScene;
       o.version = "ramiform " RAMIFORM_VERSION;
       return run_studio(o);
     };

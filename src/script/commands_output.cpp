@@ -352,10 +352,16 @@ CommandResult run_save_mesh(Call& c) {
     closed = "open at " + std::to_string(open_loops) + " end(s) as asked (" +
              count_text(report.boundary_edges) + " boundary edges), otherwise manifold";
   }
-  return {c.spec().name,
-          files + ": " + counts + " (" + how + "), " + closed + ", " +
-              std::to_string(report.components) + " component(s)",
-          true};
+  CommandResult result{c.spec().name,
+                       files + ": " + counts + " (" + how + "), " + closed + ", " +
+                           std::to_string(report.components) + " component(s)",
+                       true};
+  result.facts = {{"vertices", static_cast<double>(levels[0].vertex_count())},
+                  {"triangles", static_cast<double>(report.triangles)},
+                  {"components", static_cast<double>(report.components)},
+                  {"boundary_edges", static_cast<double>(report.boundary_edges)},
+                  {"watertight", report.watertight && report.oriented && report.manifold ? 1 : 0}};
+  return result;
 }
 
 // deviation NAME MESH: how far a mesh lies from a shape's surface (mesh/deviation.h).

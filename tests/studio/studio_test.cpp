@@ -182,7 +182,7 @@ TEST_F(StudioTest, TokenHostAndOriginAreChecked) {
   ASSERT_EQ(info.status, 200);
   const json j = json::parse(info.body);
   EXPECT_EQ(j["script"], "sphere s 1\n");
-  EXPECT_EQ(j["script_name"], "crown.rf");
+  EXPECT_EQ(j["script_name"], "studio.rf");
   bool has_param = false;
   for (const json& c : j["commands"]) {
     if (c["name"] == "param") {
@@ -282,6 +282,36 @@ TEST_F(StudioTest, NoSavedMeshGivesAPreviewOfTheLastShape) {
   EXPECT_EQ(st["objects"][0]["preview"], true);
   EXPECT_EQ(st["objects"][0]["name"], "b");
   EXPECT_EQ(st["objects"][0]["stats"]["watertight"], true);
+}
+
+// "draft": true runs the script as ScriptOptions::draft (the page's slider previews): the same
+// sphere meshed at resolution 48 instead of 120, and a draw that writes nothing.
+TEST_F(StudioTest, DraftRunsMeshCoarselyAndSayTheyAreDrafts) {
+  const std::string script =
+      "sphere s 1\nsave_mesh s s.glb resolution=120\ndraw s s.svg count=300\n";
+  const auto triangles = [&](bool draft) {
+    const Reply r = request("POST", "/api/run",
+                            json{{"script", script}, {"draft", draft}}.dump());
+    EXPECT_EQ(r.status, 200) << r.body;
+    const json st = wait(json::parse(r.body, nullptr, false).value("run", ""));
+    EXPECT_EQ(st["state"], "done") << st.dump();
+    EXPECT_EQ(st["draft"], draft);
+    std::size_t drawings = 0, mesh_triangles = 0;
+    for (const json& o : st["objects"]) {
+      if (o["kind"] == "drawing") ++drawings;
+      if (o["kind"] == "mesh") {
+        mesh_triangles = static_cast<std::size_t>(o["stats"]["triangles"].get<double>());
+      }
+    }
+    EXPECT_EQ(drawings, draft ? 0u : 1u);
+    return mesh_triangles;
+  };
+  const std::size_t full = triangles(false);
+  const std::size_t draft = triangles(true);
+  EXPECT_GT(draft, 0u);
+  // Marching cubes triangle counts grow with the square of the resolution: (48 / 120)^2 = 0.16.
+  EXPECT_LT(draft, full / 4);
+  EXPECT_EQ(request("POST", "/api/run", R"({"script": "sphere s 1", "draft": "yes"})").status, 400);
 }
 
 TEST_F(StudioTest, ScriptErrorReportsLineAndColumn) {

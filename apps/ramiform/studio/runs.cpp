@@ -93,6 +93,7 @@ namespace {
 struct Writer {
   std::string command;
   std::size_t line = 0;
+  std::map<std::string, double> facts;  // CommandResult::facts
 };
 
 // The objects of the committed outputs, grouped by the command line that wrote them.
@@ -126,7 +127,18 @@ void add_objects(RunManager::Run& run, const std::vector<std::string>& written,
           std::string& slot = lower_ext(f) == ".glb" ? glb : other;
           if (slot.empty()) slot = f;  // the finest level of detail comes first
         }
+        // The mesh's facts as save_mesh reported them; a .ply/.obj/.off beside the glb is read
+        // back and checked instead.
         json stats = {{"watertight", nullptr}};
+        if (writer.facts.count("triangles") != 0) {
+          const auto count = [&](const char* key) {
+            return static_cast<std::size_t>(writer.facts.at(key));
+          };
+          stats = {{"vertices", count("vertices")},
+                   {"triangles", count("triangles")},
+                   {"watertight", writer.facts.at("watertight") != 0},
+                   {"boundary_edges", count("boundary_edges")}};
+        }
         if (!other.empty()) {
           TriMesh mesh = read_mesh(other);
           const MeshReport report = check_mesh(mesh);
@@ -342,9 +354,9 @@ void RunManager::execute(Run& run) {
     options.params = run.params;
     options.draft = run.draft;
     ScriptSession session(options, &run.ctx);
-    const auto note_outputs = [&](const std::string& command, std::size_t line) {
+    const auto note_outputs = [&](const CommandResult& r, std::size_t line) {
       for (const std::string& p : session.staged_outputs())
-        writers.emplace(p, Writer{command, line});
+        writers.emplace(p, Writer{r.command, line, r.facts});
     };
     const std::string_view text = run.script;
     const std::size_t lines =
@@ -362,7 +374,7 @@ void RunManager::execute(Run& run) {
       const auto t0 = Clock::now();
       const CommandResult r = session.execute_line(text.substr(at, end - at), file, line);
       const double seconds = seconds_since(t0);
-      note_outputs(r.command, line);
+      note_outputs(r, line);
       if (!r.command.empty()) {
         std::lock_guard lock(run.m);
         run.log.push_back(
@@ -385,23 +397,25 @@ void RunManager::execute(Run& run) {
     const std::vector<std::string> shapes = session.shape_names();
     if (!has_mesh && !shapes.empty()) {
       const std::string name = shapes.back();
-      const std::string files = " " + name + ".preview.ply " + name + ".preview.glb";
+      const std::string files = " " + name + ".preview.glb";
       {
         std::lock_guard lock(run.m);
         run.stage = "preview mesh";
       }
+      CommandResult preview;
       try {
-        session.execute_line("save_mesh " + name + files + " method=tets", "<preview>", 1);
+        preview = session.execute_line("save_mesh " + name + files + " method=tets", "<preview>", 1);
       } catch (const InputError&) {
         try {
-          session.execute_line("save_mesh " + name + files, "<preview>", 1);
+          preview = session.execute_line("save_mesh " + name + files, "<preview>", 1);
         } catch (const InputError& e) {
           std::lock_guard lock(run.m);
           run.log.push_back(
               {{"line", nullptr}, {"command", "preview"}, {"message", e.what()}, {"seconds", 0}});
         }
       }
-      note_outputs("save_mesh", 0);
+      preview.command = "save_mesh";
+      note_outputs(preview, 0);
     }
     std::vector<std::string> written;
     {

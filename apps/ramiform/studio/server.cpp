@@ -382,7 +382,7 @@ StudioServer::StudioServer(StudioOptions options) : impl_(std::make_unique<Impl>
   settings.out_dir = fs::canonical(s.options.out_dir);
   if (s.options.script_path.empty()) {
     s.script = s.options.demo_script;
-    s.script_name = "crown.rf";
+    s.script_name = "studio.rf";
     settings.input_dir = settings.out_dir;
   } else {
     s.script = read_text(s.options.script_path);

@@ -64,6 +64,10 @@ struct CommandResult {
   /// True for commands whose message is the point of running them (eval, save_*, info, list,
   /// help); `ramiform run` prints only these.
   bool is_report = false;
+  /// Machine-readable facts of the result, for programs that run scripts (the studio):
+  /// save_mesh sets vertices, triangles, components, boundary_edges and watertight (1 when
+  /// closed, oriented and manifold, else 0) of its finest mesh.
+  std::map<std::string, double> facts;
 };
 
 /// A `param NAME VALUE [min=A] [max=B] [step=S]` line as the session ran it (for sliders).
