@@ -49,8 +49,9 @@ void register_studio(CLI::App& root, Action& action) {
       "The modeler and viewer in the browser: serves a script editor, a 3-D view and line "
       "drawings on 127.0.0.1 and prints the URL with its access token (docs/studio_api.md). "
       "Runs until SIGINT or SIGTERM.");
-  c->add_option("SCRIPT", options->script_path,
-                "the script shown first (default: the demo crown made for editing, examples/studio.rf)");
+  c->add_option(
+      "SCRIPT", options->script_path,
+      "the script shown first (default: the demo crown made for editing, examples/studio.rf)");
   c->add_option("--port", options->port, with_default("TCP port; 0 = any free port", options->port))
       ->check(CLI::Range(0, 65535));
   c->add_option("--out", options->out_dir,

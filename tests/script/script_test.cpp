@@ -388,9 +388,10 @@ TEST_F(ScriptTest, DeviationOfATetsMeshIsRelativeToTheLocalRadius) {
       "edges": [[0, 1], [1, 2], [1, 3]]})";
   }
   ScriptSession s(options_);
-  s.run_text("skeleton fork fork.json surface=convolution\n"
-             "save_mesh fork fork.ply method=tets tolerance=0.1\n",
-             "t.rf");
+  s.run_text(
+      "skeleton fork fork.json surface=convolution\n"
+      "save_mesh fork fork.ply method=tets tolerance=0.1\n",
+      "t.rf");
   const CommandResult r = s.execute_line("deviation fork fork.ply");
   EXPECT_NE(r.message.find("of the local radius over 20,000 points"), std::string::npos)
       << r.message;
@@ -438,8 +439,7 @@ TEST_F(ScriptTest, TokenizerKeepsQuotedPathsAndStripsComments) {
 // base lattice exactly as levels=0 does and mc at resolution kDraftResolution at most; draw
 // writes nothing; the shapes and skeletons are those of the full run.
 TEST_F(ScriptTest, DraftRunsMeshCoarselyAndDrawNothing) {
-  const std::string tree =
-      "lsystem t binary iterations=3\n";
+  const std::string tree = "lsystem t binary iterations=3\n";
   const auto mesh_of = [&](const std::string& text, bool draft, const std::string& file) {
     ScriptOptions o = options_;
     o.draft = draft;
@@ -448,12 +448,12 @@ TEST_F(ScriptTest, DraftRunsMeshCoarselyAndDrawNothing) {
     s.commit();
     return read_mesh((dir_ / file).string());
   };
-  const TriMesh full = mesh_of(tree + "save_mesh t full.ply method=tets tolerance=0.05\n", false,
-                               "full.ply");
-  const TriMesh base = mesh_of(tree + "save_mesh t base.ply method=tets levels=0\n", false,
-                               "base.ply");
-  const TriMesh draft = mesh_of(tree + "save_mesh t draft.ply method=tets tolerance=0.05\n", true,
-                                "draft.ply");
+  const TriMesh full =
+      mesh_of(tree + "save_mesh t full.ply method=tets tolerance=0.05\n", false, "full.ply");
+  const TriMesh base =
+      mesh_of(tree + "save_mesh t base.ply method=tets levels=0\n", false, "base.ply");
+  const TriMesh draft =
+      mesh_of(tree + "save_mesh t draft.ply method=tets tolerance=0.05\n", true, "draft.ply");
   EXPECT_EQ(draft.positions, base.positions);
   EXPECT_EQ(draft.triangles, base.triangles);
   EXPECT_LT(draft.triangle_count(), full.triangle_count());
@@ -462,13 +462,11 @@ TEST_F(ScriptTest, DraftRunsMeshCoarselyAndDrawNothing) {
   EXPECT_EQ(r.components, 1u);
 
   // Marching cubes: resolution 200 asked, 48 made (the same mesh as resolution=48).
-  const TriMesh mc_draft =
-      mesh_of("sphere b 1\nsave_mesh b d.ply resolution=200\n", true, "d.ply");
+  const TriMesh mc_draft = mesh_of("sphere b 1\nsave_mesh b d.ply resolution=200\n", true, "d.ply");
   const TriMesh mc48 = mesh_of("sphere b 1\nsave_mesh b m.ply resolution=48\n", false, "m.ply");
   EXPECT_EQ(mc_draft.triangles, mc48.triangles);
   // cell= finer than the draft allows is coarsened to the box over 48.
-  const TriMesh cell_draft =
-      mesh_of("sphere b 1\nsave_mesh b c.ply cell=0.001\n", true, "c.ply");
+  const TriMesh cell_draft = mesh_of("sphere b 1\nsave_mesh b c.ply cell=0.001\n", true, "c.ply");
   EXPECT_LE(cell_draft.triangle_count(), mc48.triangle_count() * 11 / 10);
 
   // draw: nothing written, and the report says why.

@@ -290,8 +290,7 @@ TEST_F(StudioTest, DraftRunsMeshCoarselyAndSayTheyAreDrafts) {
   const std::string script =
       "sphere s 1\nsave_mesh s s.glb resolution=120\ndraw s s.svg count=300\n";
   const auto triangles = [&](bool draft) {
-    const Reply r = request("POST", "/api/run",
-                            json{{"script", script}, {"draft", draft}}.dump());
+    const Reply r = request("POST", "/api/run", json{{"script", script}, {"draft", draft}}.dump());
     EXPECT_EQ(r.status, 200) << r.body;
     const json st = wait(json::parse(r.body, nullptr, false).value("run", ""));
     EXPECT_EQ(st["state"], "done") << st.dump();

@@ -404,7 +404,8 @@ void RunManager::execute(Run& run) {
       }
       CommandResult preview;
       try {
-        preview = session.execute_line("save_mesh " + name + files + " method=tets", "<preview>", 1);
+        preview =
+            session.execute_line("save_mesh " + name + files + " method=tets", "<preview>", 1);
       } catch (const InputError&) {
         try {
           preview = session.execute_line("save_mesh " + name + files, "<preview>", 1);

@@ -226,8 +226,7 @@ struct StudioServer::Impl {
         if (!d->is_boolean()) return send_error(res, 400, "\"draft\" must be true or false");
         draft = d->get<bool>();
       }
-      send_json(res,
-                {{"run", runs->submit(script->get<std::string>(), std::move(params), draft)}});
+      send_json(res, {{"run", runs->submit(script->get<std::string>(), std::move(params), draft)}});
     });
     http.Get(R"(/api/run/(r\d{1,9}))", [this](const httplib::Request& req, httplib::Response& res) {
       const auto status = runs->status(req.matches[1]);

@@ -73,7 +73,7 @@ struct CommandResult {
 /// A `param NAME VALUE [min=A] [max=B] [step=S]` line as the session ran it (for sliders).
 struct ScriptParam {
   std::string name;
-  std::string value;  ///< the value in effect (from `--set` when given there)
+  std::string value;                     ///< the value in effect (from `--set` when given there)
   std::optional<double> min, max, step;  ///< only where the line gave them
 };
 
