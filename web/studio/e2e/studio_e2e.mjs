@@ -280,7 +280,8 @@ async function main() {
   const page = await context.newPage();
   const pageErrors = [];
   page.on('pageerror', (e) => (pageErrors.push(e.message), log(`page error: ${e.message}`)));
-  page.on('console', (m) => m.type() === 'error' && pageErrors.push(m.text()));
+  // Console errors (a refused request of the error step, say) are logged, not failures.
+  page.on('console', (m) => m.type() === 'error' && log(`console error: ${m.text()}`));
   await page.goto(s.url);
   if ((await page.locator('#editor').count()) === 0) {
     console.log('SKIP: the binary serves no built page (web/studio/dist was not built: run `npm ci` in web/studio, then rebuild)');
@@ -480,9 +481,9 @@ async function main() {
     measured.cancel_seconds = (Date.now() - clicked) / 1000;
   });
 
-  check(pageErrors.length === 0 || true, '');
-  if (pageErrors.length) log(`page errors: ${pageErrors.join(' | ')}`);
-  return results.every((r) => r.ok) ? 0 : 1;
+  const uncaught = pageErrors.length === 0;
+  if (!uncaught) log(`FAIL: uncaught page errors: ${pageErrors.join(' | ')}`);
+  return results.every((r) => r.ok) && uncaught ? 0 : 1;
 }
 
 // The pictures of docs/studio.md: the demo crown script run, its mesh, and its line drawing.
@@ -491,8 +492,8 @@ async function docScreenshots(page, demo) {
   const before = await runCount(page);
   await page.click('#run');
   await waitForRun(page, before, 'done', 120000);
-  // The crown envelope and its attraction points hide the tree: show the tree and its skeleton.
-  for (const name of ['crown', 'points']) {
+  // The crown envelope hides the tree: show the tree and its skeleton.
+  for (const name of ['crown']) {
     await page.locator('#objects label', { hasText: new RegExp(`^\\s*${name}\\s`) }).locator('input').uncheck();
   }
   await page.click('#frame');
