@@ -26,6 +26,7 @@
 #include <thread>
 #include <vector>
 
+#include "studio/runs.h"
 #include "studio/server.h"
 #include "support/fixtures.h"
 #include "support/glb_reader.h"
@@ -311,6 +312,22 @@ TEST_F(StudioTest, DraftRunsMeshCoarselyAndSayTheyAreDrafts) {
   // Marching cubes triangle counts grow with the square of the resolution: (48 / 120)^2 = 0.16.
   EXPECT_LT(draft, full / 4);
   EXPECT_EQ(request("POST", "/api/run", R"({"script": "sphere s 1", "draft": "yes"})").status, 400);
+
+  // Runs r1 (full) and r2 (draft) are on disk. Once RunManager::kMaxRuns newer runs came, both
+  // are forgotten: the draft's directory is removed (a dragged slider makes many), the full
+  // run's outputs stay.
+  ASSERT_TRUE(fs::exists(out_ / "runs" / "r1" / "s.glb"));
+  ASSERT_TRUE(fs::exists(out_ / "runs" / "r2" / "s.glb"));
+  std::string last;
+  for (std::size_t k = 0; k < RunManager::kMaxRuns; ++k) {
+    const Reply r = request("POST", "/api/run", R"({"script": "sphere s 1", "draft": true})");
+    ASSERT_EQ(r.status, 200) << r.body;
+    last = json::parse(r.body, nullptr, false).value("run", "");
+  }
+  EXPECT_EQ(wait(last)["state"], "done");
+  EXPECT_FALSE(fs::exists(out_ / "runs" / "r2"));
+  EXPECT_TRUE(fs::exists(out_ / "runs" / "r1" / "s.glb"));
+  EXPECT_EQ(request("GET", "/api/run/r2").status, 404);
 }
 
 TEST_F(StudioTest, ScriptErrorReportsLineAndColumn) {

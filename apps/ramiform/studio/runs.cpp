@@ -260,6 +260,7 @@ std::string RunManager::submit(std::string script, std::map<std::string, std::st
   run->params = std::move(params);
   run->draft = draft;
   std::string id;
+  std::vector<fs::path> forgotten_drafts;
   {
     std::lock_guard lock(mutex_);
     id = "r" + std::to_string(next_number_++);
@@ -275,11 +276,23 @@ std::string RunManager::submit(std::string script, std::map<std::string, std::st
     runs_[id] = run;
     order_.push_back(id);
     while (order_.size() > kMaxRuns) {
-      runs_.erase(order_.front());
+      const auto old = runs_.find(order_.front());
+      if (old != runs_.end()) {
+        // A draft no longer running: its directory goes too.
+        if (old->second->draft && old->second != current_) {
+          forgotten_drafts.push_back(old->second->dir);
+        }
+        runs_.erase(old);
+      }
       order_.pop_front();
     }
   }
   wake_.notify_all();
+  // Forgotten and not running: nothing writes there any more.
+  for (const fs::path& dir : forgotten_drafts) {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
   return id;
 }
 

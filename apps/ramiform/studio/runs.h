@@ -45,7 +45,8 @@ struct ViewData {
 
 class RunManager {
  public:
-  /// Most runs remembered (older ones answer 404; their directories stay).
+  /// Most runs remembered (older ones answer 404; their directories stay, but for drafts', which
+  /// are removed: a dragged slider makes many).
   static constexpr std::size_t kMaxRuns = 64;
   /// Most runs whose shapes are kept for line drawings.
   static constexpr std::size_t kMaxRunsWithShapes = 4;
