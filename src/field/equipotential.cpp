@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "field/equipotential_simd.h"
 #include "field/pointwise_field.h"
 #include "field/radius_fit_detail.h"
 #include "ramiform/core/errors.h"
@@ -30,7 +31,7 @@ constexpr std::size_t kBoundsCells = 20000;  // stop refining bounds() beyond th
 constexpr double kMaxTipFactor = 50.0;       // a closed leaf's charge is raised at most this much
 constexpr double kForkGap = 1.5;    // the fit leaves out stations this many radii from a fork
 constexpr double kHuber = 0.02;     // the fit's Huber threshold, relative to lambda
-constexpr std::size_t kGroup = 32;  // points evaluated together by one shared traversal
+constexpr std::size_t kGroup = detail::kChargeGroup;  // points sharing one traversal
 
 std::string fmt(double v) {
   std::ostringstream o;
@@ -56,27 +57,26 @@ struct PowerKernel {
     mode = (r == a && r >= 2 && r <= 7) ? static_cast<int>(r) : 0;
   }
 
-  [[nodiscard]] double w(double s) const {
-    const double i = 1.0 / s;
+  [[nodiscard]] double w(double s) const { return w_of_u(1.0 / s, s); }
+  // w for u = 1 / s (integer alpha only; mode 0 takes the pow of s).
+  [[nodiscard]] double w_of_u(double u, double s) const {
     switch (mode) {
       case 2:
-        return std::sqrt(i);
+        return std::sqrt(u);
       case 3:
-        return i;
+        return u;
       case 4:
-        return i * std::sqrt(i);
+        return u * std::sqrt(u);
       case 5:
-        return i * i;
+        return u * u;
       case 6:
-        return i * i * std::sqrt(i);
+        return u * u * std::sqrt(u);
       case 7:
-        return i * i * i;
+        return u * u * u;
       default:
         return std::pow(s, -half);
     }
   }
-  // grad of w(|p - c|^2 + h^2) with respect to p is dw * (p - c), dw = -(alpha - 1) w / s.
-  [[nodiscard]] double dw(double w_value, double s) const { return -(alpha - 1.0) * w_value / s; }
 };
 
 // Barnes-Hut treecode over the charges: a binary tree of clusters split at the median of the
@@ -128,7 +128,7 @@ class ChargeTree {
       const Node& c = nodes_[stack[--top]];
       if (!(c.q > 0)) continue;
       const Vec3 d = p - c.centroid;
-      const double d2 = d.squaredNorm();
+      const double d2 = squared_norm(d);
       if (c.rho2 < theta2_ * d2) {
         add_cluster(c, d, d2, f, g, grad != nullptr);
       } else if (c.right == kNone) {
@@ -147,7 +147,9 @@ class ChargeTree {
   // group's box, in eval()'s depth-first order, and each point adds the same terms in the same
   // order as its own traversal would. Where the box does not decide (a cluster far from some
   // points and near others, or within rounding of the criterion), each point decides itself:
-  // a point that takes such a cluster whole skips the actions of its subtree.
+  // a point that takes such a cluster whole skips the actions of its subtree. With an integer
+  // alpha (2 to 7) the points run as SIMD lanes (field/equipotential_simd.h), the same
+  // operations in the same order; otherwise one after another here.
   void eval_group(const Vec3* p, std::size_t n, double* f, Vec3* g) const {
     for (std::size_t k = 0; k < n; ++k) {
       f[k] = 0.0;
@@ -159,6 +161,24 @@ class ChargeTree {
     thread_local std::vector<Action> actions;
     actions.clear();
     collect(0, box, actions);
+    if (kernel_.mode != 0) {
+      thread_local detail::ChargeGroup group;
+      group.count = n;
+      for (std::size_t k = 0; k < detail::kChargeGroup; ++k) {
+        const Vec3& q = p[k < n ? k : 0];
+        group.px[k] = q.x();
+        group.py[k] = q.y();
+        group.pz[k] = q.z();
+      }
+      const detail::ChargeKernel kn{kernel_.mode, kernel_.h2, theta2_};
+      detail::charge_group_evaluate(kn, nodes_.data(), pos_.data(), val_.data(), actions.data(),
+                                    actions.size(), group, g != nullptr);
+      for (std::size_t k = 0; k < n; ++k) {
+        f[k] = group.f[k];
+        if (g != nullptr) g[k] = Vec3(group.gx[k], group.gy[k], group.gz[k]);
+      }
+      return;
+    }
     const bool wg = g != nullptr;
     Vec3 unused = Vec3::Zero();
     std::array<std::uint32_t, kGroup> skip{};
@@ -169,7 +189,7 @@ class ChargeTree {
         if (a < skip[k]) continue;
         Vec3& gk = wg ? g[k] : unused;
         const Vec3 d = p[k] - c.centroid;
-        const double d2 = d.squaredNorm();
+        const double d2 = squared_norm(d);
         const bool far =
             act.kind == Action::kFar || (act.kind != Action::kOpen && c.rho2 < theta2_ * d2);
         if (far) {
@@ -237,26 +257,8 @@ class ChargeTree {
   }
 
  private:
-  struct Node {
-    Vec3 centroid = Vec3::Zero();
-    double q = 0.0;     // total charge
-    double rho2 = 0.0;  // squared radius of the cluster around its centroid
-    // Second moments about the centroid, sum q (x - c)(x - c)^T: xx, xy, xz, yy, yz, zz.
-    std::array<double, 6> m{};
-    Aabb box;
-    std::uint32_t first = 0, count = 0;  // leaf: charges [first, first + count); inner: left
-    std::uint32_t right = kNone;         // inner: right child; leaf: kNone
-  };
-
-  // One step of a group's evaluation (eval_group): a cluster every point takes whole (kFar), a
-  // leaf every point opens (kOpen), or a cluster each point decides on (kSplit; an inner
-  // node's children follow it up to `end`, which the points that take it whole skip).
-  struct Action {
-    enum Kind : std::uint8_t { kFar, kOpen, kSplit };
-    std::uint32_t node = 0;
-    std::uint32_t end = 0;
-    Kind kind = kFar;
-  };
+  using Node = detail::ChargeNode;
+  using Action = detail::ChargeAction;
 
   // The actions of the subtree at `id` for the points in `box`, in eval()'s order (left child
   // first). The box decides only with a margin of 1e-9 over rounding in either direction.
@@ -286,41 +288,57 @@ class ChargeTree {
     return d.squaredNorm();
   }
 
+  // (dx dx + dy dy) + dz dz: the order the SIMD lanes use (field/equipotential_simd.cpp).
+  static double squared_norm(const Vec3& d) {
+    return d.x() * d.x() + d.y() * d.y() + d.z() * d.z();
+  }
+
   // A far cluster: its monopole plus quadrupole (the dipole vanishes about the charge-weighted
   // centroid). With k = alpha - 1, w = s^(-k/2) and u = 1/s, the quadrupole term of
   // sum q w(|d - x|) is k w u ((k + 2) d.M.d u - tr M) / 2 and its gradient
-  // k (k + 2) w u^2 (2 M d - (k + 4) d.M.d u d + tr M d) / 2.
+  // k (k + 2) w u^2 (2 M d - (k + 4) d.M.d u d + tr M d) / 2. Every operation in the order of
+  // field/equipotential_simd.cpp.
   void add_cluster(const Node& c, const Vec3& d, double d2, double& f, Vec3& g,
                    bool with_grad) const {
     const double s = d2 + kernel_.h2;
-    const double w = kernel_.w(s);
     const double u = 1.0 / s;
+    const double w = kernel_.w_of_u(u, s);
     const double k = kernel_.alpha - 1.0;
-    const auto& m = c.m;
-    const Vec3 md(m[0] * d.x() + m[1] * d.y() + m[2] * d.z(),
-                  m[1] * d.x() + m[3] * d.y() + m[4] * d.z(),
-                  m[2] * d.x() + m[4] * d.y() + m[5] * d.z());
-    const double dmd = d.dot(md);
-    const double tr = m[0] + m[3] + m[5];
-    f += c.q * w + 0.5 * k * w * u * ((k + 2.0) * dmd * u - tr);
+    const double* m = c.m;
+    const double mdx = m[0] * d.x() + m[1] * d.y() + m[2] * d.z();
+    const double mdy = m[1] * d.x() + m[3] * d.y() + m[4] * d.z();
+    const double mdz = m[2] * d.x() + m[4] * d.y() + m[5] * d.z();
+    const double dmd = d.x() * mdx + d.y() * mdy + d.z() * mdz;
+    const double tr = c.trace;
+    f = f + (c.q * w + (0.5 * k) * w * u * ((k + 2.0) * dmd * u - tr));
     if (with_grad) {
-      g += (c.q * kernel_.dw(w, s)) * d +
-           (0.5 * k * (k + 2.0) * w * u * u) * (2.0 * md + (tr - (k + 4.0) * dmd * u) * d);
+      const double a = c.q * (-k * w * u);
+      const double b = (0.5 * k * (k + 2.0)) * w * u * u;
+      const double e = tr - (k + 4.0) * dmd * u;
+      g.x() = g.x() + (a * d.x() + b * (2.0 * mdx + e * d.x()));
+      g.y() = g.y() + (a * d.y() + b * (2.0 * mdy + e * d.y()));
+      g.z() = g.z() + (a * d.z() + b * (2.0 * mdz + e * d.z()));
     }
   }
 
   void add(double q, const Vec3& d, double d2, double& f, Vec3& g, bool with_grad) const {
     const double s = d2 + kernel_.h2;
-    const double w = kernel_.w(s);
-    f += q * w;
-    if (with_grad) g += (q * kernel_.dw(w, s)) * d;
+    const double u = 1.0 / s;
+    const double w = kernel_.w_of_u(u, s);
+    f = f + q * w;
+    if (with_grad) {
+      const double t = q * (-(kernel_.alpha - 1.0) * w * u);
+      g.x() = g.x() + t * d.x();
+      g.y() = g.y() + t * d.y();
+      g.z() = g.z() + t * d.z();
+    }
   }
 
   // Every charge of the leaf c, summed exactly.
   void add_leaf(const Node& c, const Vec3& p, double& f, Vec3& g, bool with_grad) const {
     for (std::uint32_t i = c.first; i < c.first + c.count; ++i) {
       const Vec3 di = p - pos_[i];
-      add(val_[i], di, di.squaredNorm(), f, g, with_grad);
+      add(val_[i], di, squared_norm(di), f, g, with_grad);
     }
   }
 
@@ -386,7 +404,8 @@ class ChargeTree {
       mom[5] += q_i * x.z() * x.z();
     }
     c.rho2 = rho2;
-    c.m = mom;
+    std::copy(mom.begin(), mom.end(), c.m);
+    c.trace = mom[0] + mom[3] + mom[5];
   }
   [[nodiscard]] std::uint32_t leaf_begin(std::uint32_t id) const {
     while (nodes_[id].right != kNone) id = nodes_[id].first;
@@ -585,6 +604,12 @@ void compensate_tips(ChargeSet& c, const Skeleton& skeleton, double lambda, doub
 }
 
 }  // namespace
+
+double detail::charge_tree_value(const ChargeSet& charges, double theta, const Vec3& p,
+                                 Vec3* gradient) {
+  check_charges(charges);
+  return ChargeTree(charges.positions, charges.values, charges.alpha, theta).eval(p, gradient);
+}
 
 std::size_t edge_charge_count(double length, double spacing) {
   if (!std::isfinite(spacing) || !(spacing > 0)) {

@@ -11,6 +11,7 @@ set(RAMIFORM_FIELD_SOURCES
   src/field/radius_fit_coverage.cpp
   src/field/edge_split.cpp
   src/field/equipotential.cpp
+  src/field/equipotential_simd.cpp
   src/field/radius_error.cpp
   src/field/primitives.cpp
   src/field/warps.cpp

@@ -16,11 +16,13 @@
 #include <vector>
 
 #include "field/bezier_curve_simd.h"
+#include "field/equipotential_simd.h"
 #include "field/field_test_util.h"
 #include "field/skeleton_field_simd.h"
 #include "ramiform/core/random.h"
 #include "ramiform/field/anisotropic.h"
 #include "ramiform/field/bezier_curve.h"
+#include "ramiform/field/equipotential.h"
 #include "ramiform/field/skeleton_field.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "support/fixtures.h"
@@ -202,6 +204,54 @@ TEST(SimdTargets, BezierCurveFieldBitIdentical) {
 
 // The default tetrahedral mesh of a small fork, convolution and distance surface: positions and
 // triangles identical on every target.
+// The equipotential treecode's group evaluation (src/field/equipotential_simd.cpp) for every
+// integer alpha on every target: points on rings around the edges (groups whose clusters are far
+// from some points and near others) and scattered ones, values and gradients identical on every
+// target, and to the scalar traversal of each point alone.
+TEST(SimdTargets, EquipotentialFieldBitIdentical) {
+  const auto list = targets();
+  const Skeleton s = test::random_tree(5, 40);
+  Rng rng(31);
+  std::vector<Vec3> points;
+  for (const auto& e : s.edges) {
+    const Vec3 a = s.nodes[e[0]].position, b = s.nodes[e[1]].position;
+    const double r = s.nodes[e[0]].radius;
+    for (int k = 0; k < 24; ++k) {
+      points.push_back(a + (k / 24.0) * (b - a) + r * Vec3(std::cos(k), std::sin(k), 0.2));
+    }
+  }
+  for (int k = 0; k < 1500; ++k) points.push_back(test::point_near(s, rng, 4.0));
+  for (int alpha = 2; alpha <= 7; ++alpha) {
+    SCOPED_TRACE("alpha " + std::to_string(alpha));
+    EquipotentialOptions o;
+    o.alpha = alpha;
+    const ChargeSet charges = place_charges(s, o);
+    const FieldPtr f = make_equipotential_field(charges, 1.0, o.theta);
+    Evaluation reference;
+    for (const std::int64_t t : list) {
+      const ForcedTarget forced(t);
+      const Evaluation e = evaluate(*f, points);
+      if (t == list.front()) {
+        reference = e;
+        for (std::size_t k = 0; k < points.size(); k += 11) {
+          Vec3 g;
+          const double v = detail::charge_tree_value(charges, o.theta, points[k], &g);
+          ASSERT_EQ(std::memcmp(&v, &e.values[k], sizeof(double)), 0) << "point " << k;
+          ASSERT_EQ(std::memcmp(g.data(), e.gradients[k].data(), sizeof(Vec3)), 0) << "point " << k;
+          const double lone = f->value(points[k]);
+          ASSERT_EQ(std::memcmp(&lone, &v, sizeof(double)), 0) << "point " << k;
+        }
+        continue;
+      }
+      const std::size_t n = points.size();
+      EXPECT_EQ(first_difference(e.values.data(), reference.values.data(), n), -1)
+          << hwy::TargetName(t) << " vs " << hwy::TargetName(list.front());
+      EXPECT_EQ(first_difference(e.gradients[0].data(), reference.gradients[0].data(), 3 * n), -1)
+          << hwy::TargetName(t) << " vs " << hwy::TargetName(list.front());
+    }
+  }
+}
+
 TEST(SimdTargets, TetrahedralMeshBitIdentical) {
   const auto list = targets();
   const Skeleton s = test::y_fork(0.1);
