@@ -343,6 +343,23 @@ TEST_F(MeshParticlesTest, ZigzagChainsBendsAndStubsDoNotFold) {
   }
 }
 
+// The corner that put archi_Tree_1's nodes outside the mesh: a twig turns 90 degrees into a
+// connector one radius long and leaves it heading back down (130 degrees from its first edge).
+// Its nodes stay inside and nothing folds (before: 2 of 6 nodes outside, 11 folded triangles).
+TEST_F(MeshParticlesTest, ShortConnectorAtARightAngleKeepsItsNodesInside) {
+  const double a = 130.0 * std::numbers::pi / 180.0;
+  const std::string skel = write(
+      "turn.json",
+      R"({"nodes":[{"position":[0,0,-3],"radius":0.5},{"position":[0,0,0],"radius":0.5},)"
+      R"({"position":[-2,0,2],"radius":0.4},{"position":[0,0,3],"radius":0.5},)"
+      R"({"position":[0.5,0,3],"radius":0.5},{"position":[)" +
+          std::to_string(0.5 + 3 * std::sin(a)) + ",0," + std::to_string(3 + 3 * std::cos(a)) +
+          R"(],"radius":0.5}],"edges":[[0,1],[1,2],[1,3],[3,4],[4,5]]})");
+  const ParticleRun run = mesh_and_check(skel, "--fit-radii", "--fit-radii");
+  if (run.stats.is_null()) return;
+  EXPECT_EQ(run.stats.at("inverted_triangles").get<int>(), 0);
+}
+
 TEST_F(MeshParticlesTest, TetsAndParticlesAgreeOnTheSameField) {
   const std::string skel = generated(kSanitized ? 30 : 100, 2);
   const ParticleRun particles = mesh_and_check(skel);

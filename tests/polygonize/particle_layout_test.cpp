@@ -364,6 +364,24 @@ TEST(ParticleLayout, BentDegreeTwoNodeIsAJunction) {
   EXPECT_GT(std::count(l.edge.begin(), l.edge.end(), kNone), 2);  // sphere particles at node 1
 }
 
+TEST(ParticleLayout, ChainTurningBackThroughAShortConnector) {
+  // A twig of a fork runs up, turns 90 degrees into a connector one radius long (a chain node:
+  // shorter edge under 1.5 R) and leaves it heading back down at 130 degrees to its first
+  // edge, as the scanned trees' cylinders do. The halves of the chain's rings cannot clear
+  // each other across the turn; dropping them all joined the fork's ring to the leaf's by one
+  // band that cut both corners off.
+  Skeleton s;
+  const double a = 130.0 * kPi / 180.0;
+  s.nodes = {{Vec3(0, 0, -3), 0.5},  {Vec3(0, 0, 0), 0.5},
+             {Vec3(-2, 0, 2), 0.4},  {Vec3(0, 0, 3), 0.5},
+             {Vec3(0.5, 0, 3), 0.5}, {Vec3(0.5 + 3 * std::sin(a), 0, 3 + 3 * std::cos(a)), 0.5}};
+  s.edges = {{0, 1}, {1, 2}, {1, 3}, {3, 4}, {4, 5}};
+  const ParticleLayout l = build_particle_layout(make_input(s, 0.5), {});
+  expect_valid_layout(l, s);
+  expect_encloses(l, s);
+  EXPECT_EQ(l.fallback_junctions, 0U);
+}
+
 TEST(ParticleLayout, VeryShortEdges) {
   // Short edges (0.05 R) between two junctions, between a junction and a straight-through
   // node, and at a leaf.
