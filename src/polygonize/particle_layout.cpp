@@ -66,6 +66,8 @@ constexpr double kClearance = 1.5;
 constexpr double kStraightTolerance = 0.25;
 // Layouts built at most, each making the chain nodes its chains' rings left outside junctions.
 constexpr int kLayoutPasses = 4;
+// Rings on either side of a chain node whose bands make the tube it is tested against.
+constexpr std::size_t kTubeWindow = 3;
 // Bisection steps of the tilt that makes a chain's ring clear the previous one.
 constexpr int kTiltSteps = 12;
 
@@ -764,6 +766,7 @@ class Builder {
       std::uint32_t node;
       std::uint32_t edge;
       bool at_node;  // centred on a chain node: kept, so that the node stays inside the tube
+      double arc;    // arc length along the chain
     };
     // Every station, its normal the chord's.
     std::vector<Station> stations;
@@ -772,7 +775,7 @@ class Builder {
       if (s <= f0.z_a || s >= total - f1.z_b) return;
       const Vec3 chord = at(s + kSmoothWindow * radius) - at(s - kSmoothWindow * radius);
       const double norm = chord.norm();
-      if (norm > 0) stations.push_back({{at(s), chord / norm, radius}, node, edge, at_node});
+      if (norm > 0) stations.push_back({{at(s), chord / norm, radius}, node, edge, at_node, s});
     };
     for (std::size_t k = 0; k < chain.size(); ++k) {
       const std::uint32_t e = chain[k];
@@ -878,31 +881,42 @@ class Builder {
       }
     }
     all.push_back(end);
-    // The chain's nodes beyond the end structures that lie outside the tube of these rings (its
-    // bands, closed by a fan across each end ring; generalized winding number) are cut off by
-    // a band across their corner: the next layout makes them junctions.
+    // The chain's nodes beyond the end structures that lie outside the tube of these rings are
+    // cut off by a band across their corner: the next layout makes them junctions. The tube
+    // near a node is that of the kTubeWindow rings on either side of it, closed by a fan across
+    // each end ring (generalized winding number).
     {
-      TriMesh tube;
-      for (Ring& ring : all) {
-        ring.first = static_cast<std::uint32_t>(tube.positions.size());
-        for (std::uint32_t k = 0; k < n_; ++k) {
-          tube.positions.push_back(ring.center +
-                                   ring.radius * (cos_[k] * ring.u + sin_[k] * ring.w));
-        }
-      }
-      for (std::size_t k = 0; k + 1 < all.size(); ++k) {
-        band_triangles(all[k], all[k + 1], tube.positions, tube.triangles);
-      }
-      const auto centre = static_cast<std::uint32_t>(tube.positions.size());
-      tube.positions.push_back(all.front().center);
-      tube.positions.push_back(all.back().center);
-      for (std::uint32_t k = 0; k < n_; ++k) {
-        tube.triangles.push_back({centre, all.front().first + (k + 1) % n_, all.front().first + k});
-        tube.triangles.push_back(
-            {all.back().first + k, all.back().first + (k + 1) % n_, centre + 1});
-      }
+      std::vector<double> ring_arc{0.0};
+      for (const Station& st : kept) ring_arc.push_back(st.arc);
+      ring_arc.push_back(total);
       for (std::size_t k = 1; k < chain.size(); ++k) {
         if (arc[k] <= f0.z_a || arc[k] >= total - f1.z_b) continue;
+        const auto next = static_cast<std::size_t>(
+            std::lower_bound(ring_arc.begin(), ring_arc.end(), arc[k]) - ring_arc.begin());
+        const std::size_t lo = next > kTubeWindow ? next - kTubeWindow : 0;
+        const std::size_t hi = std::min(next + kTubeWindow - 1, all.size() - 1);
+        TriMesh tube;
+        std::vector<Ring> piece(all.begin() + static_cast<std::ptrdiff_t>(lo),
+                                all.begin() + static_cast<std::ptrdiff_t>(hi) + 1);
+        for (Ring& ring : piece) {
+          ring.first = static_cast<std::uint32_t>(tube.positions.size());
+          for (std::uint32_t i = 0; i < n_; ++i) {
+            tube.positions.push_back(ring.center +
+                                     ring.radius * (cos_[i] * ring.u + sin_[i] * ring.w));
+          }
+        }
+        for (std::size_t i = 0; i + 1 < piece.size(); ++i) {
+          band_triangles(piece[i], piece[i + 1], tube.positions, tube.triangles);
+        }
+        const auto centre = static_cast<std::uint32_t>(tube.positions.size());
+        tube.positions.push_back(piece.front().center);
+        tube.positions.push_back(piece.back().center);
+        for (std::uint32_t i = 0; i < n_; ++i) {
+          tube.triangles.push_back(
+              {centre, piece.front().first + (i + 1) % n_, piece.front().first + i});
+          tube.triangles.push_back(
+              {piece.back().first + i, piece.back().first + (i + 1) % n_, centre + 1});
+        }
         if (!(std::abs(winding_number(tube, point[k])) > 0.5)) {
           cut_off_.push_back(frames_[chain[k]].a);
         }

@@ -382,6 +382,32 @@ TEST(ParticleLayout, ChainTurningBackThroughAShortConnector) {
   EXPECT_EQ(l.fallback_junctions, 0U);
 }
 
+TEST(ParticleLayout, ChainNodeItsRingsCannotEncloseBecomesAJunction) {
+  // A square wave above a fork: pieces 1.5 R long joined by connectors 1.2 R long at 90 degrees,
+  // every inner node a chain node. The rings cannot follow the corners; one node left outside
+  // its chain's tube gets a junction sphere in a second layout.
+  Skeleton s;
+  s.nodes = {{Vec3(0, 0, -6), 0.5}, {Vec3(0, 0, 0), 0.5}, {Vec3(4, 0, -4), 0.5}};
+  s.edges = {{0, 1}, {1, 2}};
+  std::uint32_t previous = 1;
+  for (int i = 0; i < 9; ++i) {
+    const double x = (i % 4 == 1 || i % 4 == 2) ? 0.6 : 0.0;
+    s.nodes.push_back({Vec3(x, 0, 0.75 * ((i + 2) / 2)), 0.5});
+    s.edges.push_back({previous, static_cast<std::uint32_t>(s.nodes.size() - 1)});
+    previous = static_cast<std::uint32_t>(s.nodes.size() - 1);
+  }
+  const ParticleLayout l = build_particle_layout(make_input(s, 0.5), {});
+  expect_valid_layout(l, s);
+  expect_encloses(l, s);
+  bool sphere_at_chain_node = false;
+  for (std::size_t i = 0; i < l.positions.size(); ++i) {
+    if (l.edge[i] == kNone && l.node[i] >= 3 && l.node[i] + 1 < s.nodes.size()) {
+      sphere_at_chain_node = true;
+    }
+  }
+  EXPECT_TRUE(sphere_at_chain_node);
+}
+
 TEST(ParticleLayout, VeryShortEdges) {
   // Short edges (0.05 R) between two junctions, between a junction and a straight-through
   // node, and at a leaf.
