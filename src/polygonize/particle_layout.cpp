@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -13,6 +14,7 @@
 #include "polygonize/delaunay.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/portable_math.h"
+#include "ramiform/mesh/winding.h"
 
 namespace ramiform::detail {
 
@@ -62,6 +64,10 @@ constexpr double kClearance = 1.5;
 // A junction's ring into a chain moves out along it (to clear a close edge) only as far as the
 // chain's nodes stay within this many R of the straight line from the junction.
 constexpr double kStraightTolerance = 0.25;
+// Layouts built at most, each making the chain nodes its chains' rings left outside junctions.
+constexpr int kLayoutPasses = 4;
+// Rings on either side of a chain node whose bands make the tube it is tested against.
+constexpr std::size_t kTubeWindow = 3;
 // Bisection steps of the tilt that makes a chain's ring clear the previous one.
 constexpr int kTiltSteps = 12;
 
@@ -73,6 +79,13 @@ enum class NodeKind : std::uint8_t {
   kJunction,
   kChain,
   kAbsorbed  // a closed leaf whose short edge and cap lie inside its junction's sphere
+};
+
+// What absorb_stubs() made of a node, before classify() gives it its kind.
+enum class StubRole : std::uint8_t {
+  kNone,
+  kAbsorbed,  // a stub leaf: no particles of its own (NodeKind::kAbsorbed)
+  kHost       // the junction a stub hangs from: stays a junction whatever its remaining degree
 };
 
 // n_circ particles, numbered consecutively from `first`; point k lies at angle 2 pi k / n_circ
@@ -215,11 +228,14 @@ std::vector<Triangle> hull_faces(const std::vector<Vec3>& unit_points) {
 
 class Builder {
  public:
-  Builder(const ParticleLayoutInput& input, const ParticleLayoutOptions& options)
+  // `junctions`: sorted degree-two nodes that get a junction sphere whatever their bend.
+  Builder(const ParticleLayoutInput& input, const ParticleLayoutOptions& options,
+          const std::vector<std::uint32_t>& junctions)
       : s_(*input.skeleton),
         in_(input),
         o_(options),
-        n_(static_cast<std::uint32_t>(options.n_circ)) {
+        n_(static_cast<std::uint32_t>(options.n_circ)),
+        forced_junction_(junctions) {
     for (std::uint32_t k = 0; k < n_; ++k) {
       const double angle = 2.0 * kPi * k / n_;
       cos_.push_back(pm::cos(angle));
@@ -266,6 +282,13 @@ class Builder {
     return std::move(out_);
   }
 
+  // The chain nodes whose chain's rings left them outside its tube (chain_tube), sorted.
+  [[nodiscard]] std::vector<std::uint32_t> cut_off() const {
+    std::vector<std::uint32_t> nodes = cut_off_;
+    std::sort(nodes.begin(), nodes.end());
+    return nodes;
+  }
+
  private:
   [[nodiscard]] std::uint32_t other_end(std::uint32_t e, std::uint32_t v) const {
     return s_.edges[e][0] == v ? s_.edges[e][1] : s_.edges[e][0];
@@ -294,9 +317,9 @@ class Builder {
     kind_.assign(nodes, NodeKind::kJunction);
     for (std::uint32_t v = 0; v < nodes; ++v) {
       const auto& inc = incident_[v];
-      if (absorbed_node_[v] == 1) {
+      if (stub_role_[v] == StubRole::kAbsorbed) {
         kind_[v] = NodeKind::kAbsorbed;
-      } else if (absorbed_node_[v] == 2) {
+      } else if (stub_role_[v] == StubRole::kHost) {
         kind_[v] = NodeKind::kJunction;
       } else if (inc.empty()) {
         kind_[v] = NodeKind::kIsolated;
@@ -314,6 +337,11 @@ class Builder {
         } else if (d0.dot(d1) < cos_gamma) {
           kind_[v] = NodeKind::kStraight;
         }
+      }
+    }
+    for (const std::uint32_t v : forced_junction_) {
+      if (kind_[v] == NodeKind::kChain || kind_[v] == NodeKind::kStraight) {
+        kind_[v] = NodeKind::kJunction;
       }
     }
     // A cycle of chain nodes has no end structure to start its rings from: its nodes get the
@@ -357,10 +385,10 @@ class Builder {
   // its bulge of the surface instead. The junction keeps at least two edges and its sphere.
   void absorb_stubs() {
     const std::size_t nodes = s_.nodes.size();
-    absorbed_node_.assign(nodes, 0);
+    stub_role_.assign(nodes, StubRole::kNone);
     absorbed_edge_.assign(s_.edges.size(), 0);
     for (std::uint32_t v = 0; v < nodes; ++v) {
-      if (incident_[v].size() != 1 || absorbed_node_[v] != 0 ||
+      if (incident_[v].size() != 1 || stub_role_[v] != StubRole::kNone ||
           (!in_.open_end.empty() && in_.open_end[v] != 0)) {
         continue;
       }
@@ -376,8 +404,8 @@ class Builder {
       if (!(length + in_.edge_radius[e] < o_.sphere_factor * r_max)) continue;
       at_w.erase(std::find(at_w.begin(), at_w.end(), e));
       incident_[v].clear();
-      absorbed_node_[v] = 1;
-      absorbed_node_[w] = 2;  // stays a junction: its sphere covers the stub
+      stub_role_[v] = StubRole::kAbsorbed;
+      stub_role_[w] = StubRole::kHost;  // its sphere covers the stub
       absorbed_edge_[e] = 1;
     }
   }
@@ -642,23 +670,26 @@ class Builder {
   // numbering is shifted to A's frame (they agree except where a cycle of straight-through
   // nodes closes with the transported frame turned).
   void band(std::uint32_t ring_a, std::uint32_t ring_b) {
-    const Ring& A = rings_[ring_a];
-    const Ring& B = rings_[ring_b];
+    band_triangles(rings_[ring_a], rings_[ring_b], out_.positions, out_.triangles);
+  }
+
+  // band's triangles between two rings whose points are numbered from their `first` in `p`.
+  void band_triangles(const Ring& A, const Ring& B, const std::vector<Vec3>& p,
+                      std::vector<Triangle>& triangles) const {
     const double phi = pm::atan2(B.u.dot(A.w), B.u.dot(A.u));
     const auto shift = static_cast<long long>(std::llround(phi * n_ / (2.0 * kPi)));
     const auto offset = static_cast<std::uint32_t>(((-shift) % n_ + n_) % n_);
-    const auto& p = out_.positions;
     for (std::uint32_t k = 0; k < n_; ++k) {
-      const std::uint32_t a0 = ring_point(ring_a, k);
-      const std::uint32_t a1 = ring_point(ring_a, k + 1);
-      const std::uint32_t b0 = ring_point(ring_b, k + offset);
-      const std::uint32_t b1 = ring_point(ring_b, k + 1 + offset);
+      const std::uint32_t a0 = A.first + k % n_;
+      const std::uint32_t a1 = A.first + (k + 1) % n_;
+      const std::uint32_t b0 = B.first + (k + offset) % n_;
+      const std::uint32_t b1 = B.first + (k + 1 + offset) % n_;
       if ((p[a0] - p[b1]).squaredNorm() <= (p[a1] - p[b0]).squaredNorm()) {
-        out_.triangles.push_back({a0, a1, b1});
-        out_.triangles.push_back({a0, b1, b0});
+        triangles.push_back({a0, a1, b1});
+        triangles.push_back({a0, b1, b0});
       } else {
-        out_.triangles.push_back({a0, a1, b0});
-        out_.triangles.push_back({a1, b1, b0});
+        triangles.push_back({a0, a1, b0});
+        triangles.push_back({a1, b1, b0});
       }
     }
   }
@@ -734,14 +765,17 @@ class Builder {
       Disk disk;
       std::uint32_t node;
       std::uint32_t edge;
+      bool at_node;  // centred on a chain node: kept, so that the node stays inside the tube
+      double arc;    // arc length along the chain
     };
     // Every station, its normal the chord's.
     std::vector<Station> stations;
-    const auto station = [&](double s, double radius, std::uint32_t node, std::uint32_t edge) {
+    const auto station = [&](double s, double radius, std::uint32_t node, std::uint32_t edge,
+                             bool at_node) {
       if (s <= f0.z_a || s >= total - f1.z_b) return;
       const Vec3 chord = at(s + kSmoothWindow * radius) - at(s - kSmoothWindow * radius);
       const double norm = chord.norm();
-      if (norm > 0) stations.push_back({{at(s), chord / norm, radius}, node, edge});
+      if (norm > 0) stations.push_back({{at(s), chord / norm, radius}, node, edge, at_node, s});
     };
     for (std::size_t k = 0; k < chain.size(); ++k) {
       const std::uint32_t e = chain[k];
@@ -749,74 +783,149 @@ class Builder {
       if (k > 0) {
         const std::uint32_t before = chain[k - 1];
         station(arc[k], 0.5 * (in_.edge_radius[before] + in_.edge_radius[e]), f.a,
-                std::min(before, e));
+                std::min(before, e), true);
       }
       const std::size_t count = edge_charge_count(f.length, in_.edge_spacing[e]);
       const double step = f.length / static_cast<double>(count + 1);
       for (std::size_t i = 1; i <= count; ++i) {
         const double along = step * static_cast<double>(i);
-        station(arc[k] + along, in_.edge_radius[e], along <= 0.5 * f.length ? f.a : f.b, e);
+        station(arc[k] + along, in_.edge_radius[e], along <= 0.5 * f.length ? f.a : f.b, e, false);
       }
     }
+    // Tilts `disk` back toward the normal of `last` as little as makes it clear `last`
+    // (bisection on the blend of the normals); false when not even `last`'s normal clears it.
+    const auto fit = [](const Disk& last, Disk& disk) {
+      if (clear(last, disk)) return true;
+      const Vec3 wanted = disk.normal;
+      disk.normal = last.normal;
+      if (!clear(last, disk)) return false;
+      double lo = 0;
+      double hi = 1;
+      for (int k = 0; k < kTiltSteps; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        Disk trial = disk;
+        trial.normal = (last.normal + mid * (wanted - last.normal)).normalized();
+        (clear(last, trial) ? lo : hi) = mid;
+      }
+      disk.normal = (last.normal + lo * (wanted - last.normal)).normalized();
+      return true;
+    };
     // From each end toward the middle, keep the stations that clear the last ring kept, each
-    // tilted back toward that ring's normal as little as clears it (bisection on the blend of
-    // the normals); a station whose centre is not ahead of that ring is left out. The backward
-    // half runs with reversed normals. Then, where the halves meet, the ring nearer the middle
-    // is dropped until the two clear each other.
-    const auto sweep = [&](Disk last, auto first, auto stop) {
+    // tilted as `fit` does. A station between nodes that does not is left out. A station at a
+    // node is not: the rings kept before it that are between nodes are left out instead, from
+    // the last back, until it clears (a band spanning a node's corner cuts the node off). If it
+    // still does not (the previous ring is at a node too), it is left out. The backward half
+    // runs with reversed normals.
+    const auto sweep = [&](const Disk& begin, auto first, auto stop) {
       std::vector<Station> kept;
       for (auto it = first; it != stop; ++it) {
         Station st = *it;
-        if (!clear(last, st.disk)) {
-          const Vec3 wanted = st.disk.normal;
-          st.disk.normal = last.normal;
-          if (!clear(last, st.disk)) continue;
-          double lo = 0;
-          double hi = 1;
-          for (int k = 0; k < kTiltSteps; ++k) {
-            const double mid = 0.5 * (lo + hi);
-            Disk trial = st.disk;
-            trial.normal = (last.normal + mid * (wanted - last.normal)).normalized();
-            (clear(last, trial) ? lo : hi) = mid;
-          }
-          st.disk.normal = (last.normal + lo * (wanted - last.normal)).normalized();
+        bool fits = fit(kept.empty() ? begin : kept.back().disk, st.disk);
+        while (!fits && st.at_node && !kept.empty() && !kept.back().at_node) {
+          kept.pop_back();
+          st = *it;
+          fits = fit(kept.empty() ? begin : kept.back().disk, st.disk);
         }
-        kept.push_back(st);
-        last = st.disk;
+        if (fits) kept.push_back(st);
       }
       return kept;
     };
     const Disk begin_disk{start.center, start.u.cross(start.w), start.radius};
-    const Vec3 first_normal = begin_disk.normal;
     const Disk finish{end.center, end.u.cross(end.w), end.radius};
+    const Disk finish_back{finish.center, -finish.normal, finish.radius};
     const std::size_t half = stations.size() / 2;
+    // Where the halves meet, rings are left out until the last of each clears the other: the
+    // one nearer the middle unless only the other is between nodes. When no pair clears (the
+    // chain turns back on itself), every ring stays: one band spanning the whole chain would cut
+    // its nodes off.
     std::vector<Station> kept =
         sweep(begin_disk, stations.begin(), stations.begin() + static_cast<std::ptrdiff_t>(half));
     for (Station& st : stations) st.disk.normal = -st.disk.normal;
     std::vector<Station> back =
-        sweep(Disk{finish.center, -finish.normal, finish.radius}, stations.rbegin(),
-              stations.rend() - static_cast<std::ptrdiff_t>(half));
+        sweep(finish_back, stations.rbegin(), stations.rend() - static_cast<std::ptrdiff_t>(half));
     for (Station& st : back) st.disk.normal = -st.disk.normal;
+    std::size_t i = kept.size();
+    std::size_t j = back.size();
     for (;;) {
-      const Disk& a = kept.empty() ? begin_disk : kept.back().disk;
-      const Disk& b = back.empty() ? finish : back.back().disk;
-      if (clear(a, b) || (kept.empty() && back.empty())) break;
-      if (back.empty() || (!kept.empty() && kept.size() >= back.size())) {
-        kept.pop_back();
-      } else {
-        back.pop_back();
+      const Disk& a = i == 0 ? begin_disk : kept[i - 1].disk;
+      const Disk& b = j == 0 ? finish : back[j - 1].disk;
+      if (clear(a, b)) break;
+      if (i == 0 && j == 0) {
+        i = kept.size();
+        j = back.size();
+        break;
+      }
+      const bool node_a = i == 0 || kept[i - 1].at_node;
+      const bool node_b = j == 0 || back[j - 1].at_node;
+      bool drop_a = i >= j;
+      if (node_a != node_b) drop_a = node_b;
+      (drop_a ? i : j) -= 1;
+    }
+    kept.resize(i);
+    kept.insert(kept.end(), back.rend() - static_cast<std::ptrdiff_t>(j), back.rend());
+    // The rings kept, framed as they will be built: u transported from the start ring's along
+    // the normals.
+    std::vector<Ring> all{start};
+    {
+      Vec3 normal = begin_disk.normal;
+      Vec3 u = start.u;
+      for (const Station& st : kept) {
+        u = transport(normal, st.disk.normal, u);
+        normal = st.disk.normal;
+        Ring ring;
+        ring.center = st.disk.center;
+        ring.radius = st.disk.radius;
+        orthonormalize(normal, u, ring.w);
+        ring.u = u;
+        all.push_back(ring);
       }
     }
-    kept.insert(kept.end(), back.rbegin(), back.rend());
+    all.push_back(end);
+    // The chain's nodes beyond the end structures that lie outside the tube of these rings are
+    // cut off by a band across their corner: the next layout makes them junctions. The tube
+    // near a node is that of the kTubeWindow rings on either side of it, closed by a fan across
+    // each end ring (generalized winding number).
+    {
+      std::vector<double> ring_arc{0.0};
+      for (const Station& st : kept) ring_arc.push_back(st.arc);
+      ring_arc.push_back(total);
+      for (std::size_t k = 1; k < chain.size(); ++k) {
+        if (arc[k] <= f0.z_a || arc[k] >= total - f1.z_b) continue;
+        const auto next = static_cast<std::size_t>(
+            std::lower_bound(ring_arc.begin(), ring_arc.end(), arc[k]) - ring_arc.begin());
+        const std::size_t lo = next > kTubeWindow ? next - kTubeWindow : 0;
+        const std::size_t hi = std::min(next + kTubeWindow - 1, all.size() - 1);
+        TriMesh tube;
+        std::vector<Ring> piece(all.begin() + static_cast<std::ptrdiff_t>(lo),
+                                all.begin() + static_cast<std::ptrdiff_t>(hi) + 1);
+        for (Ring& ring : piece) {
+          ring.first = static_cast<std::uint32_t>(tube.positions.size());
+          for (std::uint32_t i = 0; i < n_; ++i) {
+            tube.positions.push_back(ring.center +
+                                     ring.radius * (cos_[i] * ring.u + sin_[i] * ring.w));
+          }
+        }
+        for (std::size_t i = 0; i + 1 < piece.size(); ++i) {
+          band_triangles(piece[i], piece[i + 1], tube.positions, tube.triangles);
+        }
+        const auto centre = static_cast<std::uint32_t>(tube.positions.size());
+        tube.positions.push_back(piece.front().center);
+        tube.positions.push_back(piece.back().center);
+        for (std::uint32_t i = 0; i < n_; ++i) {
+          tube.triangles.push_back(
+              {centre, piece.front().first + (i + 1) % n_, piece.front().first + i});
+          tube.triangles.push_back(
+              {piece.back().first + i, piece.back().first + (i + 1) % n_, centre + 1});
+        }
+        if (!(std::abs(winding_number(tube, point[k])) > 0.5)) {
+          cut_off_.push_back(frames_[chain[k]].a);
+        }
+      }
+    }
     std::uint32_t previous = f0.ring_a;
-    Vec3 normal = first_normal;
-    Vec3 u = start.u;
-    for (const Station& st : kept) {
-      u = transport(normal, st.disk.normal, u);
-      normal = st.disk.normal;
-      Vec3 w;
-      orthonormalize(normal, u, w);
-      const std::uint32_t ring = add_ring(st.disk.center, u, w, st.disk.radius, st.node, st.edge);
+    for (std::size_t k = 0; k < kept.size(); ++k) {
+      const Ring& r = all[k + 1];
+      const std::uint32_t ring = add_ring(r.center, r.u, r.w, r.radius, kept[k].node, kept[k].edge);
       band(previous, ring);
       previous = ring;
     }
@@ -1055,11 +1164,13 @@ class Builder {
   double sphere_spacing_ = 0;
   std::vector<std::vector<std::uint32_t>> incident_;
   std::vector<NodeKind> kind_;
-  std::vector<char> absorbed_node_;
+  std::vector<StubRole> stub_role_;
   std::vector<char> absorbed_edge_;
   std::vector<EdgeFrame> frames_;
   std::vector<Ring> rings_;
   std::map<std::uint32_t, Junction> junctions_;
+  const std::vector<std::uint32_t>& forced_junction_;
+  std::vector<std::uint32_t> cut_off_;
   ParticleLayout out_;
 };
 
@@ -1114,7 +1225,20 @@ void check(const ParticleLayoutInput& in, const ParticleLayoutOptions& o) {
 ParticleLayout build_particle_layout(const ParticleLayoutInput& input,
                                      const ParticleLayoutOptions& options) {
   check(input, options);
-  return Builder(input, options).run();
+  // A chain node that its chain's rings cannot keep inside becomes a junction, whose sphere
+  // surrounds it, and the layout is built again (its neighbours' chains change: repeated while
+  // new ones appear, at most kLayoutPasses times).
+  std::vector<std::uint32_t> junctions;
+  for (int pass = 1;; ++pass) {
+    Builder builder(input, options, junctions);
+    ParticleLayout layout = builder.run();
+    const std::vector<std::uint32_t> cut = builder.cut_off();
+    if (cut.empty() || pass == kLayoutPasses) return layout;
+    std::vector<std::uint32_t> merged;
+    std::set_union(junctions.begin(), junctions.end(), cut.begin(), cut.end(),
+                   std::back_inserter(merged));
+    junctions = std::move(merged);
+  }
 }
 
 }  // namespace ramiform::detail

@@ -8,12 +8,14 @@
 // ours). The triangles are built from the placement's structure, not from the points: rings of
 // particles around each edge joined by bands of quads, half-sphere caps at closed leaves, rings
 // along chains of degree-two nodes bent by at most 45 degrees, or 100 next to a short edge (normal
-// to the chain's smoothed course, none crossing the next; in a cycle of such nodes, the paper's
-// ring in the symmetry plane at vertices straighter than gamma), and at every other vertex a sphere
-// with one hole per incident edge triangulated as the convex hull of its points (via the exact
-// Delaunay tetrahedralization of delaunay.h); a closed leaf whose edge and cap lie inside its
-// junction's sphere gets no particles of its own. So the connectivity is a valid 2-manifold
-// whatever the geometry; moving the particles onto the surface later changes positions only.
+// to the chain's smoothed course, none crossing the next, a ring at a node kept before those
+// between nodes; a chain node they still leave outside their tube gets a junction sphere in a
+// rebuilt layout; in a cycle of such nodes, the paper's ring in the symmetry plane at vertices
+// straighter than gamma), and at every other vertex a sphere with one hole per incident edge
+// triangulated as the convex hull of its points (via the exact Delaunay tetrahedralization of
+// delaunay.h); a closed leaf whose edge and cap lie inside its junction's sphere gets no particles
+// of its own. So the connectivity is a valid 2-manifold whatever the geometry; moving the
+// particles onto the surface later changes positions only.
 
 #include <array>
 #include <cstdint>

@@ -364,6 +364,50 @@ TEST(ParticleLayout, BentDegreeTwoNodeIsAJunction) {
   EXPECT_GT(std::count(l.edge.begin(), l.edge.end(), kNone), 2);  // sphere particles at node 1
 }
 
+TEST(ParticleLayout, ChainTurningBackThroughAShortConnector) {
+  // A twig of a fork runs up, turns 90 degrees into a connector one radius long (a chain node:
+  // shorter edge under 1.5 R) and leaves it heading back down at 130 degrees to its first
+  // edge, as the scanned trees' cylinders do. The halves of the chain's rings cannot clear
+  // each other across the turn; dropping them all joined the fork's ring to the leaf's by one
+  // band that cut both corners off.
+  Skeleton s;
+  const double a = 130.0 * kPi / 180.0;
+  s.nodes = {{Vec3(0, 0, -3), 0.5},  {Vec3(0, 0, 0), 0.5},
+             {Vec3(-2, 0, 2), 0.4},  {Vec3(0, 0, 3), 0.5},
+             {Vec3(0.5, 0, 3), 0.5}, {Vec3(0.5 + 3 * std::sin(a), 0, 3 + 3 * std::cos(a)), 0.5}};
+  s.edges = {{0, 1}, {1, 2}, {1, 3}, {3, 4}, {4, 5}};
+  const ParticleLayout l = build_particle_layout(make_input(s, 0.5), {});
+  expect_valid_layout(l, s);
+  expect_encloses(l, s);
+  EXPECT_EQ(l.fallback_junctions, 0U);
+}
+
+TEST(ParticleLayout, ChainNodeItsRingsCannotEncloseBecomesAJunction) {
+  // A square wave above a fork: pieces 1.5 R long joined by connectors 1.2 R long at 90 degrees,
+  // every inner node a chain node. The rings cannot follow the corners; one node left outside
+  // its chain's tube gets a junction sphere in a second layout.
+  Skeleton s;
+  s.nodes = {{Vec3(0, 0, -6), 0.5}, {Vec3(0, 0, 0), 0.5}, {Vec3(4, 0, -4), 0.5}};
+  s.edges = {{0, 1}, {1, 2}};
+  std::uint32_t previous = 1;
+  for (int i = 0; i < 9; ++i) {
+    const double x = (i % 4 == 1 || i % 4 == 2) ? 0.6 : 0.0;
+    s.nodes.push_back({Vec3(x, 0, 0.75 * ((i + 2) / 2)), 0.5});
+    s.edges.push_back({previous, static_cast<std::uint32_t>(s.nodes.size() - 1)});
+    previous = static_cast<std::uint32_t>(s.nodes.size() - 1);
+  }
+  const ParticleLayout l = build_particle_layout(make_input(s, 0.5), {});
+  expect_valid_layout(l, s);
+  expect_encloses(l, s);
+  bool sphere_at_chain_node = false;
+  for (std::size_t i = 0; i < l.positions.size(); ++i) {
+    if (l.edge[i] == kNone && l.node[i] >= 3 && l.node[i] + 1 < s.nodes.size()) {
+      sphere_at_chain_node = true;
+    }
+  }
+  EXPECT_TRUE(sphere_at_chain_node);
+}
+
 TEST(ParticleLayout, VeryShortEdges) {
   // Short edges (0.05 R) between two junctions, between a junction and a straight-through
   // node, and at a leaf.
