@@ -7,7 +7,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build run test sanitize tsan bench fuzz format tidy clean
+.PHONY: all deps configure build run test sanitize sanitize-build tsan bench fuzz format tidy clean
 
 all: build
 
@@ -31,12 +31,16 @@ test: configure
 	@cd $(BUILD_DIR) && { ctest --output-on-failure -j $(JOBS) --timeout 600 > ctest.log 2>&1; \
 	  rc=$$?; cat ctest.log; grep -E '^[0-9]+% tests passed' ctest.log | tail -1; exit $$rc; }
 
-sanitize: deps
+sanitize: sanitize-build
+	cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  ctest --output-on-failure -j $(JOBS) --timeout 1200
+
+# Only the build of `make sanitize` (CI runs the tests within its time budget:
+# scripts/sanitize_tests.sh).
+sanitize-build: deps
 	@cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRAMIFORM_SANITIZE=ON \
 	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DRAMIFORM_BUILD_BENCH=OFF >/dev/null
 	@cmake --build build-sanitize -j $(JOBS)
-	cd build-sanitize && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-	  ctest --output-on-failure -j $(JOBS) --timeout 1200
 
 # ThreadSanitizer over the test suite (docs/reliability.md). The parallel layer runs on
 # std::thread here, because Debian's oneTBB is not instrumented and TSan cannot see its
