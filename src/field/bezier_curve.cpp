@@ -826,10 +826,26 @@ ArcRoot arc_root(const Vec3* a, const Vec3& q, double s0, double tolerance, doub
   double lo = 0, hi = 1;
   double s = s0 > 0 && s0 < 1 ? s0 : 0.5;
   for (int it = 0; it < kMaxRootIterations; ++it) {
+    // C, C' and C''/2 by Horner; the first two steps, where C' and C''/2 start from 0, are
+    // written out without their products by 0 (the batched path does the same operations).
     double cx = ax[N], cy = ay[N], cz = az[N];
-    double ux = 0, uy = 0, uz = 0;  // C'
-    double vx = 0, vy = 0, vz = 0;  // C'' / 2
-    for (int j = N - 1; j >= 0; --j) {
+    double ux = cx, uy = cy, uz = cz;  // C'
+    double vx = 0, vy = 0, vz = 0;     // C'' / 2
+    cx = cx * s + ax[N - 1];
+    cy = cy * s + ay[N - 1];
+    cz = cz * s + az[N - 1];
+    if constexpr (N >= 2) {
+      vx = ux;
+      vy = uy;
+      vz = uz;
+      ux = ux * s + cx;
+      uy = uy * s + cy;
+      uz = uz * s + cz;
+      cx = cx * s + ax[N - 2];
+      cy = cy * s + ay[N - 2];
+      cz = cz * s + az[N - 2];
+    }
+    for (int j = N - 3; j >= 0; --j) {
       vx = vx * s + ux;
       vy = vy * s + uy;
       vz = vz * s + uz;
@@ -856,11 +872,8 @@ ArcRoot arc_root(const Vec3* a, const Vec3& q, double s0, double tolerance, doub
       if (hi - lo <= tolerance) return {s, power_point(a, N, s)};
       continue;
     }
-    if (g * g <= stop || std::abs(step) <= tolerance) {
-      // C(next) by Taylor from s; the remainder (|C'''| step³ / 6) is below rounding here.
-      const double h = -step, h2 = step * step;
-      return {next, Vec3(cx + h * ux + h2 * vx, cy + h * uy + h2 * vy, cz + h * uz + h2 * vz)};
-    }
+    // C(next) by Horner (the same operations as the batched path's).
+    if (g * g <= stop || std::abs(step) <= tolerance) return {next, power_point(a, N, next)};
     s = next;
   }
   return {s, power_point(a, N, s)};
@@ -979,15 +992,16 @@ BezierProjection BezierProjector::project_arcs(const Vec3& q, TieRule rule) cons
   };
 
   visit(first);
-  // An arc whose sphere is farther than the best point found (inflated for ties and rounding)
-  // cannot hold the nearest point.
+  // An arc whose sphere is farther than the best point found by then (inflated for ties and
+  // rounding) cannot hold the nearest point. The bound is not tightened by the visits that
+  // follow: they are independent of each other, so that the batched path can queue their
+  // Newton runs and run them in full vectors (field/bezier_curve_simd.cpp).
   constexpr double kPruneSlack = detail::kBezierPruneSlack;
-  double prune = std::sqrt(best2) * (1 + kPruneSlack);
+  const double prune = std::sqrt(best2) * (1 + kPruneSlack);
   for (int i = 0; i < count; ++i) {
     const double lim = radius[i] + prune;
     if (i == first || dc2[static_cast<std::size_t>(i)] > lim * lim) continue;
     visit(i);
-    prune = std::sqrt(best2) * (1 + kPruneSlack);
   }
   return choose(c, rule, origin_, interior + skipped + 2);
 }
