@@ -1093,7 +1093,7 @@ void BezierProjector::project(std::span<const Vec3> points, std::span<BezierProj
       }
       BezierProjection& o = out[begin + k];
       o.t = r.t;
-      o.distance = std::sqrt(r.d2);
+      o.distance = r.distance;
       o.point = Vec3(r.x, r.y, r.z) + origin_;
       o.candidates = r.counted + 2;
       o.tie = false;

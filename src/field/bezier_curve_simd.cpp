@@ -34,6 +34,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "field/bezier_curve_simd.h"
 
@@ -126,90 +127,118 @@ HWY_INLINE V g_slope(D d, const BezierArcTable& a, std::size_t k, V qx, V qy, V 
                  hn::Mul(hn::Set(d, a.sz[k]), hn::Sub(hn::Set(d, a.pz[k]), qz)));
 }
 
-// The root of g on the arcs of one vector of queued runs (arc_root<N> in bezier_curve.cpp, in
-// lockstep, a mask per lane): every lane has its own arc, whose power-basis coefficients
-// (ax[j], ...) are given per lane. Returns its parameter s and point.
+// One vector of queued Newton runs: every lane has its own arc, whose power-basis coefficients
+// are given per lane, its query, its start, its stop bounds; then the iteration's state.
 template <int N>
-HWY_INLINE void arc_root(D d, const V* ax, const V* ay, const V* az, V qx, V qy, V qz, V s0,
-                         V tolerance, V stop, V& out_s, V& ox, V& oy, V& oz) {
-  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), half = hn::Set(d, 0.5);
-  V lo = zero, hi = one;
-  V s = hn::IfThenElse(hn::And(hn::Gt(s0, zero), hn::Lt(s0, one)), s0, half);
-  out_s = s;
-  M active = hn::Eq(zero, zero);
-  for (int it = 0; it < kBezierMaxRootIterations && !hn::AllFalse(d, active); ++it) {
-    // C, C' and C''/2 by Horner, the first two steps written out as in the scalar code.
-    V cx = ax[N], cy = ay[N], cz = az[N];
-    V ux = cx, uy = cy, uz = cz;        // C'
-    V vx = zero, vy = zero, vz = zero;  // C'' / 2
-    cx = hn::Add(hn::Mul(cx, s), ax[N - 1]);
-    cy = hn::Add(hn::Mul(cy, s), ay[N - 1]);
-    cz = hn::Add(hn::Mul(cz, s), az[N - 1]);
-    if constexpr (N >= 2) {
-      vx = ux;
-      vy = uy;
-      vz = uz;
-      ux = hn::Add(hn::Mul(ux, s), cx);
-      uy = hn::Add(hn::Mul(uy, s), cy);
-      uz = hn::Add(hn::Mul(uz, s), cz);
-      cx = hn::Add(hn::Mul(cx, s), ax[N - 2]);
-      cy = hn::Add(hn::Mul(cy, s), ay[N - 2]);
-      cz = hn::Add(hn::Mul(cz, s), az[N - 2]);
-    }
-    for (int j = N - 3; j >= 0; --j) {
-      vx = hn::Add(hn::Mul(vx, s), ux);
-      vy = hn::Add(hn::Mul(vy, s), uy);
-      vz = hn::Add(hn::Mul(vz, s), uz);
-      ux = hn::Add(hn::Mul(ux, s), cx);
-      uy = hn::Add(hn::Mul(uy, s), cy);
-      uz = hn::Add(hn::Mul(uz, s), cz);
-      cx = hn::Add(hn::Mul(cx, s), ax[j]);
-      cy = hn::Add(hn::Mul(cy, s), ay[j]);
-      cz = hn::Add(hn::Mul(cz, s), az[j]);
-    }
-    const V rx = hn::Sub(cx, qx), ry = hn::Sub(cy, qy), rz = hn::Sub(cz, qz);
-    const V g = dot3(ux, uy, uz, rx, ry, rz);
-    // g == 0: the root itself.
-    const M exact = hn::And(active, hn::Eq(g, zero));
-    out_s = hn::IfThenElse(exact, s, out_s);
-    active = hn::AndNot(exact, active);
-    const M negative = hn::Lt(g, zero);
-    lo = hn::IfThenElse(hn::And(active, negative), s, lo);
-    hi = hn::IfThenElse(hn::AndNot(negative, active), s, hi);
-    const V gp = hn::Add(dot3(ux, uy, uz, ux, uy, uz), hn::Mul(two, dot3(vx, vy, vz, rx, ry, rz)));
-    const V step = hn::Div(g, gp);
-    const V next = hn::Sub(s, step);
-    const M inside = hn::And(hn::Gt(gp, zero), hn::And(hn::Gt(next, lo), hn::Lt(next, hi)));
-    // Outside the bracket (or g' <= 0): bisection; done once the bracket is below tolerance.
-    const M bisect = hn::AndNot(inside, active);
-    const V mid = hn::Mul(half, hn::Add(lo, hi));
-    const M bisect_done = hn::And(bisect, hn::Le(hn::Sub(hi, lo), tolerance));
-    out_s = hn::IfThenElse(bisect_done, mid, out_s);
-    // Inside: done once g² <= stop or the step is below tolerance.
-    const M newton = hn::And(inside, active);
-    const M newton_done =
-        hn::And(newton, hn::Or(hn::Le(hn::Mul(g, g), stop), hn::Le(hn::Abs(step), tolerance)));
-    out_s = hn::IfThenElse(newton_done, next, out_s);
-    s = hn::IfThenElse(bisect, mid, hn::IfThenElse(newton, next, s));
-    active = hn::AndNot(hn::Or(bisect_done, newton_done), active);
+struct Runs {
+  V ax[N + 1], ay[N + 1], az[N + 1];
+  V qx, qy, qz, s0, tolerance, stop;
+  V s, lo, hi, out_s;  // out_s: the root's parameter where found
+  M active;
+};
+
+// One step of arc_root<N> (bezier_curve.cpp) on every active lane of `r`.
+template <int N>
+HWY_INLINE void newton_step(D d, Runs<N>& r) {
+  const V zero = hn::Zero(d), two = hn::Set(d, 2.0), half = hn::Set(d, 0.5);
+  const V s = r.s;
+  // C, C' and C''/2 by Horner, the first two steps written out as in the scalar code.
+  V cx = r.ax[N], cy = r.ay[N], cz = r.az[N];
+  V ux = cx, uy = cy, uz = cz;        // C'
+  V vx = zero, vy = zero, vz = zero;  // C'' / 2
+  cx = hn::Add(hn::Mul(cx, s), r.ax[N - 1]);
+  cy = hn::Add(hn::Mul(cy, s), r.ay[N - 1]);
+  cz = hn::Add(hn::Mul(cz, s), r.az[N - 1]);
+  if constexpr (N >= 2) {
+    vx = ux;
+    vy = uy;
+    vz = uz;
+    ux = hn::Add(hn::Mul(ux, s), cx);
+    uy = hn::Add(hn::Mul(uy, s), cy);
+    uz = hn::Add(hn::Mul(uz, s), cz);
+    cx = hn::Add(hn::Mul(cx, s), r.ax[N - 2]);
+    cy = hn::Add(hn::Mul(cy, s), r.ay[N - 2]);
+    cz = hn::Add(hn::Mul(cz, s), r.az[N - 2]);
   }
-  // Out of iterations: where it stopped.
-  out_s = hn::IfThenElse(active, s, out_s);
-  // The point: C(out_s) by Horner (power_point in bezier_curve.cpp; where g == 0 these are the
-  // operations that gave the last step's C).
-  ox = ax[N];
-  oy = ay[N];
-  oz = az[N];
-  for (int j = N - 1; j >= 0; --j) {
-    ox = hn::Add(hn::Mul(ox, out_s), ax[j]);
-    oy = hn::Add(hn::Mul(oy, out_s), ay[j]);
-    oz = hn::Add(hn::Mul(oz, out_s), az[j]);
+  for (int j = N - 3; j >= 0; --j) {
+    vx = hn::Add(hn::Mul(vx, s), ux);
+    vy = hn::Add(hn::Mul(vy, s), uy);
+    vz = hn::Add(hn::Mul(vz, s), uz);
+    ux = hn::Add(hn::Mul(ux, s), cx);
+    uy = hn::Add(hn::Mul(uy, s), cy);
+    uz = hn::Add(hn::Mul(uz, s), cz);
+    cx = hn::Add(hn::Mul(cx, s), r.ax[j]);
+    cy = hn::Add(hn::Mul(cy, s), r.ay[j]);
+    cz = hn::Add(hn::Mul(cz, s), r.az[j]);
+  }
+  const V rx = hn::Sub(cx, r.qx), ry = hn::Sub(cy, r.qy), rz = hn::Sub(cz, r.qz);
+  const V g = dot3(ux, uy, uz, rx, ry, rz);
+  // g == 0: the root itself.
+  const M exact = hn::And(r.active, hn::Eq(g, zero));
+  r.out_s = hn::IfThenElse(exact, s, r.out_s);
+  const M active = hn::AndNot(exact, r.active);
+  const M negative = hn::Lt(g, zero);
+  r.lo = hn::IfThenElse(hn::And(active, negative), s, r.lo);
+  r.hi = hn::IfThenElse(hn::AndNot(negative, active), s, r.hi);
+  const V gp = hn::Add(dot3(ux, uy, uz, ux, uy, uz), hn::Mul(two, dot3(vx, vy, vz, rx, ry, rz)));
+  const V step = hn::Div(g, gp);
+  const V next = hn::Sub(s, step);
+  const M inside = hn::And(hn::Gt(gp, zero), hn::And(hn::Gt(next, r.lo), hn::Lt(next, r.hi)));
+  // Outside the bracket (or g' <= 0): bisection; done once the bracket is below tolerance.
+  const M bisect = hn::AndNot(inside, active);
+  const V mid = hn::Mul(half, hn::Add(r.lo, r.hi));
+  const M bisect_done = hn::And(bisect, hn::Le(hn::Sub(r.hi, r.lo), r.tolerance));
+  r.out_s = hn::IfThenElse(bisect_done, mid, r.out_s);
+  // Inside: done once g² <= stop or the step is below tolerance.
+  const M newton = hn::And(inside, active);
+  const M newton_done =
+      hn::And(newton, hn::Or(hn::Le(hn::Mul(g, g), r.stop), hn::Le(hn::Abs(step), r.tolerance)));
+  r.out_s = hn::IfThenElse(newton_done, next, r.out_s);
+  r.s = hn::IfThenElse(bisect, mid, hn::IfThenElse(newton, next, s));
+  r.active = hn::AndNot(hn::Or(bisect_done, newton_done), active);
+}
+
+// The roots of g for G vectors of runs (arc_root<N> in bezier_curve.cpp, in lockstep with a mask
+// per lane): the G chains of dependent steps are interleaved to hide their latency. A lane that
+// is done (or a vector whose lanes all are) is left unchanged by further steps. Returns each
+// lane's parameter s and point.
+template <int N, int G>
+HWY_INLINE void arc_roots(D d, Runs<N>* r, V* out_s, V* ox, V* oy, V* oz) {
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), half = hn::Set(d, 0.5);
+  for (int g = 0; g < G; ++g) {
+    r[g].lo = zero;
+    r[g].hi = one;
+    r[g].s = hn::IfThenElse(hn::And(hn::Gt(r[g].s0, zero), hn::Lt(r[g].s0, one)), r[g].s0, half);
+    r[g].out_s = r[g].s;
+    r[g].active = hn::Eq(zero, zero);
+  }
+  for (int it = 0; it < kBezierMaxRootIterations; ++it) {
+    M any = r[0].active;
+    for (int g = 1; g < G; ++g) any = hn::Or(any, r[g].active);
+    if (hn::AllFalse(d, any)) break;
+    for (int g = 0; g < G; ++g) newton_step<N>(d, r[g]);
+  }
+  for (int g = 0; g < G; ++g) {
+    // Out of iterations: where it stopped.
+    const V s = hn::IfThenElse(r[g].active, r[g].s, r[g].out_s);
+    // The point: C(s) by Horner (power_point in bezier_curve.cpp; where g == 0 these are the
+    // operations that gave the last step's C).
+    V x = r[g].ax[N], y = r[g].ay[N], z = r[g].az[N];
+    for (int j = N - 1; j >= 0; --j) {
+      x = hn::Add(hn::Mul(x, s), r[g].ax[j]);
+      y = hn::Add(hn::Mul(y, s), r[g].ay[j]);
+      z = hn::Add(hn::Mul(z, s), r[g].az[j]);
+    }
+    out_s[g] = s;
+    ox[g] = x;
+    oy[g] = y;
+    oz[g] = z;
   }
 }
 
-// Runs the queued Newton runs in full vectors and adds their roots to their points: all of them
-// when `all` (the last vector padded with copies of the last run), else only whole vectors (the
-// rest stays queued).
+// Runs the queued Newton runs in full vectors, two at a time, and adds their roots to their
+// points: all of them when `all` (the last vector padded with copies of the last run), else
+// only whole vectors (the rest stays queued).
 template <int N>
 HWY_NOINLINE void run_queue(D d, const BezierArcTable& a, State& st, Queue& queue, bool all) {
   using DI = hn::RebindToSigned<D>;
@@ -220,10 +249,9 @@ HWY_NOINLINE void run_queue(D d, const BezierArcTable& a, State& st, Queue& queu
   if (count == 0) return;
   const std::size_t runs = all ? (count + lanes - 1) / lanes * lanes : count / lanes * lanes;
   for (std::size_t k = count; k < runs; ++k) queue.copy(count - 1, k);
-  alignas(64) double rt[kMaxLanes], rx[kMaxLanes], ry[kMaxLanes], rz[kMaxLanes];
-  for (std::size_t k = 0; k < runs; k += lanes) {
-    // The arcs' constants: broadcast when the vector's runs share one arc (the usual case in the
-    // first phase, where points come sorted by arc), else gathered.
+  // The constants of the arcs of the runs at k: broadcast when they share one arc (the usual
+  // case in the first phase, where points come sorted by arc), else gathered.
+  auto prepare = [&](std::size_t k, Runs<N>& r, V& t0, V& span) {
     const V arc_v = hn::Load(d, queue.arc + k);
     const bool uniform = hn::AllTrue(d, hn::Eq(arc_v, hn::Set(d, queue.arc[k])));
     const std::size_t arc0 = static_cast<std::size_t>(queue.arc[k]);
@@ -231,19 +259,24 @@ HWY_NOINLINE void run_queue(D d, const BezierArcTable& a, State& st, Queue& queu
     auto load = [&](const double* base) {
       return uniform ? hn::Set(d, base[arc0]) : hn::GatherIndex(d, base, arc);
     };
-    V ax[N + 1], ay[N + 1], az[N + 1];
     for (int j = 0; j <= N; ++j) {
       const std::size_t o = static_cast<std::size_t>(j) * K;
-      ax[j] = load(a.ax.data() + o);
-      ay[j] = load(a.ay.data() + o);
-      az[j] = load(a.az.data() + o);
+      r.ax[j] = load(a.ax.data() + o);
+      r.ay[j] = load(a.ay.data() + o);
+      r.az[j] = load(a.az.data() + o);
     }
-    V s, x, y, z;
-    arc_root<N>(d, ax, ay, az, hn::Load(d, queue.qx + k), hn::Load(d, queue.qy + k),
-                hn::Load(d, queue.qz + k), hn::Load(d, queue.s0 + k), load(a.tolerance.data()),
-                hn::Load(d, queue.stop + k), s, x, y, z);
-    const V t = hn::Add(load(a.t0.data()), hn::Mul(s, load(a.span.data())));
-    hn::Store(t, d, rt);
+    r.qx = hn::Load(d, queue.qx + k);
+    r.qy = hn::Load(d, queue.qy + k);
+    r.qz = hn::Load(d, queue.qz + k);
+    r.s0 = hn::Load(d, queue.s0 + k);
+    r.tolerance = load(a.tolerance.data());
+    r.stop = hn::Load(d, queue.stop + k);
+    t0 = load(a.t0.data());
+    span = load(a.span.data());
+  };
+  auto finish = [&](std::size_t k, V t0, V span, V s, V x, V y, V z) {
+    alignas(64) double rt[kMaxLanes], rx[kMaxLanes], ry[kMaxLanes], rz[kMaxLanes];
+    hn::Store(hn::Add(t0, hn::Mul(s, span)), d, rt);
     hn::Store(x, d, rx);
     hn::Store(y, d, ry);
     hn::Store(z, d, rz);
@@ -251,10 +284,27 @@ HWY_NOINLINE void run_queue(D d, const BezierArcTable& a, State& st, Queue& queu
     for (std::size_t l = 0; l < valid; ++l) {
       add_candidate(st, static_cast<std::size_t>(queue.slot[k + l]), rt[l], rx[l], ry[l], rz[l]);
     }
+  };
+  std::size_t k = 0;
+  for (; k + 2 * lanes <= runs; k += 2 * lanes) {
+    Runs<N> r[2];
+    V t0[2], span[2], s[2], x[2], y[2], z[2];
+    prepare(k, r[0], t0[0], span[0]);
+    prepare(k + lanes, r[1], t0[1], span[1]);
+    arc_roots<N, 2>(d, r, s, x, y, z);
+    finish(k, t0[0], span[0], s[0], x[0], y[0], z[0]);
+    finish(k + lanes, t0[1], span[1], s[1], x[1], y[1], z[1]);
+  }
+  if (k < runs) {
+    Runs<N> r[1];
+    V t0, span, s, x, y, z;
+    prepare(k, r[0], t0, span);
+    arc_roots<N, 1>(d, r, &s, &x, &y, &z);
+    finish(k, t0, span, s, x, y, z);
   }
   // Whatever was not run moves to the front.
   const std::size_t rest = count > runs ? count - runs : 0;
-  for (std::size_t k = 0; k < rest; ++k) queue.copy(runs + k, k);
+  for (std::size_t k2 = 0; k2 < rest; ++k2) queue.copy(runs + k2, k2);
   queue.count = rest;
 }
 
@@ -391,23 +441,34 @@ void project_batch(const BezierArcTable& a, const double* qx, const double* qy, 
     py[k] = qy[src];
     pz[k] = qz[src];
   }
-  for (std::size_t k = 0; k < padded; k += lanes) {
-    const V x = hn::Load(d, px + k), y = hn::Load(d, py + k), z = hn::Load(d, pz + k);
-    V best = hn::Set(d, std::numeric_limits<double>::infinity());
-    V index = hn::Zero(d);
+  // Two vectors at a time: their chains of compares are independent.
+  auto nearest = [&](auto group, std::size_t k) {
+    constexpr int G = decltype(group)::value;
+    V x[G], y[G], z[G], best[G], index[G];
+    for (int g = 0; g < G; ++g) {
+      x[g] = hn::Load(d, px + k + g * lanes);
+      y[g] = hn::Load(d, py + k + g * lanes);
+      z[g] = hn::Load(d, pz + k + g * lanes);
+      best[g] = hn::Set(d, std::numeric_limits<double>::infinity());
+      index[g] = hn::Zero(d);
+    }
     V arc = hn::Zero(d);  // i, as a double in every lane
     const V step = hn::Set(d, 1.0);
     for (std::size_t i = 0; i < K; ++i, arc = hn::Add(arc, step)) {
-      const V dx = hn::Sub(hn::Set(d, a.cx[i]), x);
-      const V dy = hn::Sub(hn::Set(d, a.cy[i]), y);
-      const V dz = hn::Sub(hn::Set(d, a.cz[i]), z);
-      const V d2 = dot3(dx, dy, dz, dx, dy, dz);
-      const M nearer = hn::Lt(d2, best);
-      best = hn::IfThenElse(nearer, d2, best);
-      index = hn::IfThenElse(nearer, arc, index);
+      const V cx = hn::Set(d, a.cx[i]), cy = hn::Set(d, a.cy[i]), cz = hn::Set(d, a.cz[i]);
+      for (int g = 0; g < G; ++g) {
+        const V dx = hn::Sub(cx, x[g]), dy = hn::Sub(cy, y[g]), dz = hn::Sub(cz, z[g]);
+        const V d2 = dot3(dx, dy, dz, dx, dy, dz);
+        const M nearer = hn::Lt(d2, best[g]);
+        best[g] = hn::IfThenElse(nearer, d2, best[g]);
+        index[g] = hn::IfThenElse(nearer, arc, index[g]);
+      }
     }
-    hn::Store(index, d, first + k);
-  }
+    for (int g = 0; g < G; ++g) hn::Store(index[g], d, first + k + g * lanes);
+  };
+  std::size_t k0 = 0;
+  for (; k0 + 2 * lanes <= padded; k0 += 2 * lanes) nearest(std::integral_constant<int, 2>(), k0);
+  if (k0 < padded) nearest(std::integral_constant<int, 1>(), k0);
   // Counting sort of the points by that arc (stable), then the sorted, padded copies.
   std::array<std::uint16_t, kCap> order;
   {
@@ -497,13 +558,15 @@ void project_batch(const BezierArcTable& a, const double* qx, const double* qy, 
     const V bd2 = hn::Load(d, st.bd2 + k);
     const M near = hn::Le(hn::Sub(hn::Load(d, st.second + k), bd2),
                           hn::Mul(hn::Set(d, kBezierNearTie), bd2));
-    alignas(64) double redo[kMaxLanes];
+    alignas(64) double redo[kMaxLanes], distance[kMaxLanes];
     hn::Store(hn::IfThenElseZero(near, one), d, redo);
+    hn::Store(hn::Sqrt(bd2), d, distance);
     for (std::size_t l = 0; l < lanes && k + l < n; ++l) {
       const std::size_t slot = k + l;
       BezierLaneResult& r = out[order[slot]];
       r.t = st.bt[slot];
       r.d2 = st.bd2[slot];
+      r.distance = distance[l];
       r.x = st.bx[slot];
       r.y = st.by[slot];
       r.z = st.bz[slot];

@@ -57,6 +57,7 @@ using BezierArcIsolation = int (*)(const void* projector, int arc, const double*
 struct BezierLaneResult {
   double t = 0;                ///< parameter of the nearest candidate
   double d2 = 0;               ///< its squared distance
+  double distance = 0;         ///< sqrt(d2) (correctly rounded, as std::sqrt)
   double x = 0, y = 0, z = 0;  ///< its point, relative to the origin
   int counted = 0;             ///< candidates counted (stationary parameters located or skipped)
   bool redo = false;  ///< the second nearest candidate within kBezierNearTie of the nearest:
