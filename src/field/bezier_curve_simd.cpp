@@ -545,8 +545,22 @@ void project_batch(const BezierArcTable& a, const double* qx, const double* qy, 
       const V dz = hn::Sub(hn::Set(d, a.cz[i]), vz);
       const V dc2 = dot3(dx, dy, dz, dx, dy, dz);
       const V lim = hn::Add(hn::Set(d, a.radius[i]), prune);
-      const M m = hn::Not(hn::Or(hn::Eq(vfirst, hn::Set(d, static_cast<double>(i))),
-                                 hn::Gt(dc2, hn::Mul(lim, lim))));
+      M m = hn::Not(hn::Or(hn::Eq(vfirst, hn::Set(d, static_cast<double>(i))),
+                           hn::Gt(dc2, hn::Mul(lim, lim))));
+      if (hn::AllFalse(d, m)) continue;
+      // The second bound: the distance to the arc's chord less its deviation from it.
+      const V ux = hn::Set(d, a.ux[i]), uy = hn::Set(d, a.uy[i]), uz = hn::Set(d, a.uz[i]);
+      const V wx = hn::Sub(vx, hn::Set(d, a.px[i]));
+      const V wy = hn::Sub(vy, hn::Set(d, a.py[i]));
+      const V wz = hn::Sub(vz, hn::Set(d, a.pz[i]));
+      V along = hn::Mul(dot3(wx, wy, wz, ux, uy, uz), hn::Set(d, a.inv_chord2[i]));
+      along = hn::IfThenElse(hn::Lt(along, zero), zero, along);
+      along = hn::IfThenElse(hn::Gt(along, one), one, along);
+      const V rx = hn::Sub(wx, hn::Mul(along, ux));
+      const V ry = hn::Sub(wy, hn::Mul(along, uy));
+      const V rz = hn::Sub(wz, hn::Mul(along, uz));
+      const V chord_lim = hn::Add(prune, hn::Set(d, a.deviation[i]));
+      m = hn::AndNot(hn::Gt(dot3(rx, ry, rz, rx, ry, rz), hn::Mul(chord_lim, chord_lim)), m);
       if (hn::AllFalse(d, m)) continue;
       visit<N>(d, a, i, k, m, vx, vy, vz, dx, dy, dz, dc2, st, queue, isolate, projector);
       if (queue.count >= kFlush) run_queue<N>(d, a, st, queue, false);

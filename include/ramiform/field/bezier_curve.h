@@ -201,6 +201,9 @@ class BezierProjector {
   // (K + 1 for K arcs: point relative to origin_, C'(t_k), C''(t_k)).
   struct ArcScan {
     std::vector<double> cx, cy, cz, radius;
+    // Per arc: its chord (end - start), 1 / |chord|² (0 for a closed arc) and the largest
+    // distance of its controls from the chord segment (inflated for rounding).
+    std::vector<double> ux, uy, uz, inv_chord2, deviation;
     std::vector<double> px, py, pz, tx, ty, tz, ax, ay, az;
   };
 
