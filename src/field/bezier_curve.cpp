@@ -605,7 +605,7 @@ void BezierProjector::build_arcs() {
   }
   std::vector<Vec3> centres;
   std::vector<double> radii;
-  std::vector<double> deviations;  // largest distance of each arc's controls from its chord
+  std::vector<double> deviations;   // largest distance of each arc's controls from its chord
   std::vector<Vec3> tangents;       // C'(t0) of each arc in t
   std::vector<Vec3> accelerations;  // C''(t0) of each arc in t
   Vec3 last_tangent = Vec3::Zero();
@@ -729,7 +729,8 @@ void BezierProjector::build_arcs() {
     a.cz.push_back(centres[k].z());
     a.radius.push_back(radii[k]);
     const Vec3 start = arcs_[k].power[0];
-    const Vec3 end = k + 1 < count ? Vec3(arcs_[k + 1].power[0]) : Vec3(curve_.controls[n] - origin_);
+    const Vec3 end =
+        k + 1 < count ? Vec3(arcs_[k + 1].power[0]) : Vec3(curve_.controls[n] - origin_);
     const Vec3 chord = end - start;
     const double chord2 = chord.x() * chord.x() + chord.y() * chord.y() + chord.z() * chord.z();
     a.ux.push_back(chord.x());

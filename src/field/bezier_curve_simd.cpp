@@ -6,9 +6,9 @@
 //
 // Each lane runs BezierProjector::project_arcs<N> (bezier_curve.cpp) on its own point with the
 // same IEEE operations in the same order: the scan of the arcs' spheres, the visit of the arc
-// with the nearest centre, then of every arc whose sphere is not farther than the best point
-// found, each visit the certificate g' > 0, the sign test of g at the arc's ends, the Hermite
-// start and the safeguarded Newton iteration (run in lockstep with a mask per lane: a lane stops
+// with the nearest centre, then of every arc that the bound found by that visit does not rule
+// out (sphere and chord), each visit the certificate g' > 0, the sign test of g at the arc's
+// ends, the Hermite start and the safeguarded Newton iteration (a mask per lane: a lane stops
 // where the scalar loop returns). Arcs that are not certified for a lane (rare) go to the exact
 // isolation through a callback, one lane at a time. So the nearest point, its parameter and the
 // number of candidates are bit-identical to project(p), on every target (as in
@@ -19,10 +19,18 @@
 // (relative) of the nearest, choose()'s tie rule might matter: the lane is flagged (`redo`) and
 // the caller projects that point one by one, so choose() decides exactly as before.
 //
-// Arcs are per lane: the arc with the nearest centre differs between points. Points are sorted
-// by it (counting sort) so that the lanes of a vector mostly share it and every visit reads one
-// arc's constants, broadcast to all lanes, with no gathers. Visits of other arcs go arc by arc
-// over the vector with the mask of the lanes that need them.
+// Order of the work (none of it changes a lane's operations): the points are sorted by the arc
+// with the nearest centre (counting sort), so that the lanes of a vector mostly share it and its
+// visit reads one arc's constants, broadcast. A visit does the certificate, the sign test and
+// the Hermite start for the lanes that need the arc, and queues their Newton runs (point, arc,
+// start, stop); the queue runs in full vectors, two at a time (their dependent chains
+// interleave), every lane with its own arc's constants (broadcast when the vector's runs share
+// one arc, gathered otherwise). The first phase visits every point's nearest-centre arc; its
+// runs finish before the second phase fixes each point's pruning bound and visits the other
+// arcs, whose runs are independent of each other (the bound is not tightened within the phase).
+// The candidates of a point may thus arrive in another order than in project_arcs<N>, which
+// changes nothing: the nearest and the second-nearest squared distance do not depend on it, and
+// equal distances are redone one by one.
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "field/bezier_curve_simd.cpp"
@@ -311,9 +319,8 @@ HWY_NOINLINE void run_queue(D d, const BezierArcTable& a, State& st, Queue& queu
 // The exact isolation on arc i for the lanes of `m` of the vector at slot `base`, one lane at a
 // time (the uncertified branch of visit() in project_arcs<N>).
 template <int N>
-HWY_NOINLINE void isolate_lanes(D d, const BezierArcTable& a, std::size_t i, std::size_t base,
-                                M m, State& st, BezierArcIsolation isolate,
-                                const void* projector) {
+HWY_NOINLINE void isolate_lanes(D d, const BezierArcTable& a, std::size_t i, std::size_t base, M m,
+                                State& st, BezierArcIsolation isolate, const void* projector) {
   const std::size_t K = static_cast<std::size_t>(a.count);
   std::uint8_t bits[(kMaxLanes + 7) / 8] = {};
   hn::StoreMaskBits(d, m, bits);
@@ -570,8 +577,8 @@ void project_batch(const BezierArcTable& a, const double* qx, const double* qy, 
   for (std::size_t k = 0; k < padded; k += lanes) {
     // A tie within choose()'s limit is possible: the caller decides it one by one.
     const V bd2 = hn::Load(d, st.bd2 + k);
-    const M near = hn::Le(hn::Sub(hn::Load(d, st.second + k), bd2),
-                          hn::Mul(hn::Set(d, kBezierNearTie), bd2));
+    const M near =
+        hn::Le(hn::Sub(hn::Load(d, st.second + k), bd2), hn::Mul(hn::Set(d, kBezierNearTie), bd2));
     alignas(64) double redo[kMaxLanes], distance[kMaxLanes];
     hn::Store(hn::IfThenElseZero(near, one), d, redo);
     hn::Store(hn::Sqrt(bd2), d, distance);
