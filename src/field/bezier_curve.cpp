@@ -605,6 +605,7 @@ void BezierProjector::build_arcs() {
   }
   std::vector<Vec3> centres;
   std::vector<double> radii;
+  std::vector<double> deviations;   // largest distance of each arc's controls from its chord
   std::vector<Vec3> tangents;       // C'(t0) of each arc in t
   std::vector<Vec3> accelerations;  // C''(t0) of each arc in t
   Vec3 last_tangent = Vec3::Zero();
@@ -699,6 +700,19 @@ void BezierProjector::build_arcs() {
     arcs_.push_back(arc);
     centres.push_back(centre);
     radii.push_back(radius);
+    {
+      // The arc lies in the convex hull of its controls, and the distance to the chord segment
+      // is convex: the arc is within max_j dist(Q_j, chord) of the chord.
+      const Vec3 chord = q[n] - q[0];
+      const double chord2 = chord.squaredNorm();
+      double deviation = 0;
+      for (int j = 0; j <= n; ++j) {
+        const Vec3 w = q[j] - q[0];
+        const double s = chord2 > 0 ? std::clamp(w.dot(chord) / chord2, 0.0, 1.0) : 0.0;
+        deviation = std::max(deviation, (w - s * chord).norm());
+      }
+      deviations.push_back(deviation * (1 + kReachMargin) + kReachMargin * radius);
+    }
     const double span = w.t1 - w.t0;
     tangents.push_back(n * (q[1] - q[0]) / span);
     last_tangent = n * (q[n] - q[n - 1]) / span;
@@ -714,6 +728,16 @@ void BezierProjector::build_arcs() {
     a.cy.push_back(centres[k].y());
     a.cz.push_back(centres[k].z());
     a.radius.push_back(radii[k]);
+    const Vec3 start = arcs_[k].power[0];
+    const Vec3 end =
+        k + 1 < count ? Vec3(arcs_[k + 1].power[0]) : Vec3(curve_.controls[n] - origin_);
+    const Vec3 chord = end - start;
+    const double chord2 = chord.x() * chord.x() + chord.y() * chord.y() + chord.z() * chord.z();
+    a.ux.push_back(chord.x());
+    a.uy.push_back(chord.y());
+    a.uz.push_back(chord.z());
+    a.inv_chord2.push_back(chord2 > 0 ? 1 / chord2 : 0.0);
+    a.deviation.push_back(deviations[k]);
   }
   for (std::size_t k = 0; k <= count; ++k) {
     const Vec3 p = k < count ? Vec3(arcs_[k].power[0]) : Vec3(curve_.controls[n] - origin_);
@@ -737,6 +761,11 @@ void BezierProjector::build_arcs() {
   table->cy = a.cy;
   table->cz = a.cz;
   table->radius = a.radius;
+  table->ux = a.ux;
+  table->uy = a.uy;
+  table->uz = a.uz;
+  table->inv_chord2 = a.inv_chord2;
+  table->deviation = a.deviation;
   for (const Arc& arc : arcs_) {
     const double span = arc.t1 - arc.t0;
     table->t0.push_back(arc.t0);
@@ -826,10 +855,26 @@ ArcRoot arc_root(const Vec3* a, const Vec3& q, double s0, double tolerance, doub
   double lo = 0, hi = 1;
   double s = s0 > 0 && s0 < 1 ? s0 : 0.5;
   for (int it = 0; it < kMaxRootIterations; ++it) {
+    // C, C' and C''/2 by Horner; the first two steps, where C' and C''/2 start from 0, are
+    // written out without their products by 0 (the batched path does the same operations).
     double cx = ax[N], cy = ay[N], cz = az[N];
-    double ux = 0, uy = 0, uz = 0;  // C'
-    double vx = 0, vy = 0, vz = 0;  // C'' / 2
-    for (int j = N - 1; j >= 0; --j) {
+    double ux = cx, uy = cy, uz = cz;  // C'
+    double vx = 0, vy = 0, vz = 0;     // C'' / 2
+    cx = cx * s + ax[N - 1];
+    cy = cy * s + ay[N - 1];
+    cz = cz * s + az[N - 1];
+    if constexpr (N >= 2) {
+      vx = ux;
+      vy = uy;
+      vz = uz;
+      ux = ux * s + cx;
+      uy = uy * s + cy;
+      uz = uz * s + cz;
+      cx = cx * s + ax[N - 2];
+      cy = cy * s + ay[N - 2];
+      cz = cz * s + az[N - 2];
+    }
+    for (int j = N - 3; j >= 0; --j) {
       vx = vx * s + ux;
       vy = vy * s + uy;
       vz = vz * s + uz;
@@ -856,11 +901,8 @@ ArcRoot arc_root(const Vec3* a, const Vec3& q, double s0, double tolerance, doub
       if (hi - lo <= tolerance) return {s, power_point(a, N, s)};
       continue;
     }
-    if (g * g <= stop || std::abs(step) <= tolerance) {
-      // C(next) by Taylor from s; the remainder (|C'''| step³ / 6) is below rounding here.
-      const double h = -step, h2 = step * step;
-      return {next, Vec3(cx + h * ux + h2 * vx, cy + h * uy + h2 * vy, cz + h * uz + h2 * vz)};
-    }
+    // C(next) by Horner (the same operations as the batched path's).
+    if (g * g <= stop || std::abs(step) <= tolerance) return {next, power_point(a, N, next)};
     s = next;
   }
   return {s, power_point(a, N, s)};
@@ -979,15 +1021,25 @@ BezierProjection BezierProjector::project_arcs(const Vec3& q, TieRule rule) cons
   };
 
   visit(first);
-  // An arc whose sphere is farther than the best point found (inflated for ties and rounding)
-  // cannot hold the nearest point.
+  // An arc whose sphere is farther than the best point found by then (inflated for ties and
+  // rounding) cannot hold the nearest point. The bound is not tightened by the visits that
+  // follow: they are independent of each other, so that the batched path can queue their
+  // Newton runs and run them in full vectors (field/bezier_curve_simd.cpp).
   constexpr double kPruneSlack = detail::kBezierPruneSlack;
-  double prune = std::sqrt(best2) * (1 + kPruneSlack);
+  // Two lower bounds of the distance to an arc: to its sphere, and to its chord less the arc's
+  // deviation from the chord (tighter for flat arcs).
+  const double prune = std::sqrt(best2) * (1 + kPruneSlack);
   for (int i = 0; i < count; ++i) {
     const double lim = radius[i] + prune;
     if (i == first || dc2[static_cast<std::size_t>(i)] > lim * lim) continue;
+    const double wx = qx - px[i], wy = qy - py[i], wz = qz - pz[i];
+    double s = (wx * a.ux[i] + wy * a.uy[i] + wz * a.uz[i]) * a.inv_chord2[i];
+    s = s < 0 ? 0.0 : s;
+    s = s > 1 ? 1.0 : s;
+    const double rx = wx - s * a.ux[i], ry = wy - s * a.uy[i], rz = wz - s * a.uz[i];
+    const double chord_lim = prune + a.deviation[i];
+    if (rx * rx + ry * ry + rz * rz > chord_lim * chord_lim) continue;
     visit(i);
-    prune = std::sqrt(best2) * (1 + kPruneSlack);
   }
   return choose(c, rule, origin_, interior + skipped + 2);
 }
@@ -1079,7 +1131,7 @@ void BezierProjector::project(std::span<const Vec3> points, std::span<BezierProj
       }
       BezierProjection& o = out[begin + k];
       o.t = r.t;
-      o.distance = std::sqrt(r.d2);
+      o.distance = r.distance;
       o.point = Vec3(r.x, r.y, r.z) + origin_;
       o.candidates = r.counted + 2;
       o.tie = false;

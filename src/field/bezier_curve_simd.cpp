@@ -6,9 +6,9 @@
 //
 // Each lane runs BezierProjector::project_arcs<N> (bezier_curve.cpp) on its own point with the
 // same IEEE operations in the same order: the scan of the arcs' spheres, the visit of the arc
-// with the nearest centre, then of every arc whose sphere is not farther than the best point
-// found, each visit the certificate g' > 0, the sign test of g at the arc's ends, the Hermite
-// start and the safeguarded Newton iteration (run in lockstep with a mask per lane: a lane stops
+// with the nearest centre, then of every arc that the bound found by that visit does not rule
+// out (sphere and chord), each visit the certificate g' > 0, the sign test of g at the arc's
+// ends, the Hermite start and the safeguarded Newton iteration (a mask per lane: a lane stops
 // where the scalar loop returns). Arcs that are not certified for a lane (rare) go to the exact
 // isolation through a callback, one lane at a time. So the nearest point, its parameter and the
 // number of candidates are bit-identical to project(p), on every target (as in
@@ -19,10 +19,18 @@
 // (relative) of the nearest, choose()'s tie rule might matter: the lane is flagged (`redo`) and
 // the caller projects that point one by one, so choose() decides exactly as before.
 //
-// Arcs are per lane: the arc with the nearest centre differs between points. Points are sorted
-// by it (counting sort) so that the lanes of a vector mostly share it and every visit reads one
-// arc's constants, broadcast to all lanes, with no gathers. Visits of other arcs go arc by arc
-// over the vector with the mask of the lanes that need them.
+// Order of the work (none of it changes a lane's operations): the points are sorted by the arc
+// with the nearest centre (counting sort), so that the lanes of a vector mostly share it and its
+// visit reads one arc's constants, broadcast. A visit does the certificate, the sign test and
+// the Hermite start for the lanes that need the arc, and queues their Newton runs (point, arc,
+// start, stop); the queue runs in full vectors, two at a time (their dependent chains
+// interleave), every lane with its own arc's constants (broadcast when the vector's runs share
+// one arc, gathered otherwise). The first phase visits every point's nearest-centre arc; its
+// runs finish before the second phase fixes each point's pruning bound and visits the other
+// arcs, whose runs are independent of each other (the bound is not tightened within the phase).
+// The candidates of a point may thus arrive in another order than in project_arcs<N>, which
+// changes nothing: the nearest and the second-nearest squared distance do not depend on it, and
+// equal distances are redone one by one.
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "field/bezier_curve_simd.cpp"
@@ -34,6 +42,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "field/bezier_curve_simd.h"
 
@@ -49,219 +58,281 @@ using M = hn::Mask<D>;
 // Lanes of the widest vector of any target (arrays that hold one vector).
 constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
 
-// The state of the lanes of one vector: the query, the arc with the nearest centre, the bound
-// that prunes arcs (best2: the least squared distance to a known curve point), and the nearest
-// candidate so far (what choose() would pick when no two candidates are near a tie).
-struct Lanes {
-  V qx, qy, qz;
-  V first;  // index of the arc with the nearest centre
-  V best2;
-  V bd2, bt, bx, by, bz;
-  V second;             // the least squared distance of the other candidates
-  V interior, skipped;  // counts (as doubles)
+// Per-point state of a batch, in the sorted order (slot k: the k-th point after sorting by the
+// arc with the nearest centre; the last vector padded with copies of the last point): the query,
+// that arc, the bound that prunes arcs (best2: the least squared distance to a known curve
+// point), the nearest candidate so far (what choose() would pick when no two candidates are near
+// a tie) and the least squared distance of the others, the counts (as doubles).
+constexpr std::size_t kCap = kBezierBatch + kMaxLanes;
+struct State {
+  alignas(64) double qx[kCap], qy[kCap], qz[kCap], first[kCap];
+  alignas(64) double best2[kCap];
+  alignas(64) double bd2[kCap], bt[kCap], bx[kCap], by[kCap], bz[kCap], second[kCap];
+  alignas(64) double interior[kCap], skipped[kCap];
 };
 
-// The same state spilled to memory, for the lanes that take the scalar fallback.
-struct LaneArrays {
-  alignas(64) double qx[kMaxLanes], qy[kMaxLanes], qz[kMaxLanes];
-  alignas(64) double best2[kMaxLanes];
-  alignas(64) double bd2[kMaxLanes], bt[kMaxLanes], bx[kMaxLanes], by[kMaxLanes], bz[kMaxLanes];
-  alignas(64) double second[kMaxLanes], interior[kMaxLanes], skipped[kMaxLanes];
+// Newton runs waiting for full vectors: the slot of the point, the arc, the start s0 and the
+// stop bound on g² (arc_root<N> in bezier_curve.cpp). Runs are independent of each other, so
+// they are queued by the visits and run in full vectors whatever point or arc they come from.
+constexpr std::size_t kFlush = 8 * kMaxLanes;  // run the queue once it holds this many
+constexpr std::size_t kQueueCap = kFlush + 3 * kMaxLanes;
+struct Queue {
+  alignas(64) double slot[kQueueCap], arc[kQueueCap], s0[kQueueCap], stop[kQueueCap];
+  alignas(64) double qx[kQueueCap], qy[kQueueCap], qz[kQueueCap];
+  std::size_t count = 0;
+  // Moves run `from` to `to`.
+  void copy(std::size_t from, std::size_t to) {
+    slot[to] = slot[from];
+    arc[to] = arc[from];
+    s0[to] = s0[from];
+    stop[to] = stop[from];
+    qx[to] = qx[from];
+    qy[to] = qy[from];
+    qz[to] = qz[from];
+  }
 };
-
-HWY_INLINE void spill(D d, const Lanes& s, LaneArrays& a) {
-  hn::Store(s.qx, d, a.qx);
-  hn::Store(s.qy, d, a.qy);
-  hn::Store(s.qz, d, a.qz);
-  hn::Store(s.best2, d, a.best2);
-  hn::Store(s.bd2, d, a.bd2);
-  hn::Store(s.bt, d, a.bt);
-  hn::Store(s.bx, d, a.bx);
-  hn::Store(s.by, d, a.by);
-  hn::Store(s.bz, d, a.bz);
-  hn::Store(s.interior, d, a.interior);
-  hn::Store(s.skipped, d, a.skipped);
-  hn::Store(s.second, d, a.second);
-}
-
-HWY_INLINE void fill(D d, const LaneArrays& a, Lanes& s) {
-  s.best2 = hn::Load(d, a.best2);
-  s.bd2 = hn::Load(d, a.bd2);
-  s.bt = hn::Load(d, a.bt);
-  s.bx = hn::Load(d, a.bx);
-  s.by = hn::Load(d, a.by);
-  s.bz = hn::Load(d, a.bz);
-  s.interior = hn::Load(d, a.interior);
-  s.skipped = hn::Load(d, a.skipped);
-  s.second = hn::Load(d, a.second);
-}
 
 // (a x + b y) + c z: a dot product in the scalar code's order.
 HWY_INLINE V dot3(V ax, V ay, V az, V bx, V by, V bz) {
   return hn::Add(hn::Add(hn::Mul(ax, bx), hn::Mul(ay, by)), hn::Mul(az, bz));
 }
 
-// A candidate (t, point) for the lanes of `m`: Candidates::add (the nearest so far kept as
-// choose() would take it: the first of the least squared distance; the least of the others
-// kept too), then best2 = min(best2, d2).
-HWY_INLINE void add_candidate(D d, Lanes& s, M m, V t, V x, V y, V z) {
-  const V dx = hn::Sub(x, s.qx), dy = hn::Sub(y, s.qy), dz = hn::Sub(z, s.qz);
-  const V d2 = dot3(dx, dy, dz, dx, dy, dz);
-  const M better = hn::And(m, hn::Lt(d2, s.bd2));
-  s.second =
-      hn::IfThenElse(better, s.bd2, hn::IfThenElse(hn::And(m, hn::Lt(d2, s.second)), d2, s.second));
-  s.bd2 = hn::IfThenElse(better, d2, s.bd2);
-  s.bt = hn::IfThenElse(better, t, s.bt);
-  s.bx = hn::IfThenElse(better, x, s.bx);
-  s.by = hn::IfThenElse(better, y, s.by);
-  s.bz = hn::IfThenElse(better, z, s.bz);
-  s.best2 = hn::IfThenElse(hn::And(m, hn::Lt(d2, s.best2)), d2, s.best2);
-  s.interior = hn::IfThenElse(m, hn::Add(s.interior, hn::Set(d, 1.0)), s.interior);
-}
-
-// The same for one lane in memory (candidates of the isolation fallback).
-inline void add_candidate(LaneArrays& a, std::size_t l, double t, double x, double y, double z) {
-  const double dx = x - a.qx[l], dy = y - a.qy[l], dz = z - a.qz[l];
+// A candidate (t, point) for the point in slot l: Candidates::add (the nearest so far kept as
+// choose() would take it: the first of the least squared distance; the least of the others kept
+// too), then best2 = min(best2, d2). The order of the candidates of a point does not change the
+// result: `second` is the second least squared distance whatever the order, and where two are
+// equally near the point is redone one by one.
+inline void add_candidate(State& st, std::size_t l, double t, double x, double y, double z) {
+  const double dx = x - st.qx[l], dy = y - st.qy[l], dz = z - st.qz[l];
   const double d2 = dx * dx + dy * dy + dz * dz;
-  if (d2 < a.bd2[l]) {
-    a.second[l] = a.bd2[l];
-    a.bd2[l] = d2;
-    a.bt[l] = t;
-    a.bx[l] = x;
-    a.by[l] = y;
-    a.bz[l] = z;
-  } else if (d2 < a.second[l]) {
-    a.second[l] = d2;
+  if (d2 < st.bd2[l]) {
+    st.second[l] = st.bd2[l];
+    st.bd2[l] = d2;
+    st.bt[l] = t;
+    st.bx[l] = x;
+    st.by[l] = y;
+    st.bz[l] = z;
+  } else if (d2 < st.second[l]) {
+    st.second[l] = d2;
   }
-  if (d2 < a.best2[l]) a.best2[l] = d2;
-  a.interior[l] += 1;
+  if (d2 < st.best2[l]) st.best2[l] = d2;
+  st.interior[l] += 1;
 }
 
 // g at arc end k (in t): C'(t_k)·(C(t_k) - q).
-HWY_INLINE V g_end(D d, const BezierArcTable& a, std::size_t k, const Lanes& s) {
+HWY_INLINE V g_end(D d, const BezierArcTable& a, std::size_t k, V qx, V qy, V qz) {
   return dot3(hn::Set(d, a.tx[k]), hn::Set(d, a.ty[k]), hn::Set(d, a.tz[k]),
-              hn::Sub(hn::Set(d, a.px[k]), s.qx), hn::Sub(hn::Set(d, a.py[k]), s.qy),
-              hn::Sub(hn::Set(d, a.pz[k]), s.qz));
+              hn::Sub(hn::Set(d, a.px[k]), qx), hn::Sub(hn::Set(d, a.py[k]), qy),
+              hn::Sub(hn::Set(d, a.pz[k]), qz));
 }
 
 // g' at arc end k (in t): |C'|² + C''·(C - q).
-HWY_INLINE V g_slope(D d, const BezierArcTable& a, std::size_t k, const Lanes& s) {
+HWY_INLINE V g_slope(D d, const BezierArcTable& a, std::size_t k, V qx, V qy, V qz) {
   const double tt = a.tx[k] * a.tx[k] + a.ty[k] * a.ty[k] + a.tz[k] * a.tz[k];
   const V r =
-      hn::Add(hn::Set(d, tt), hn::Mul(hn::Set(d, a.sx[k]), hn::Sub(hn::Set(d, a.px[k]), s.qx)));
-  return hn::Add(hn::Add(r, hn::Mul(hn::Set(d, a.sy[k]), hn::Sub(hn::Set(d, a.py[k]), s.qy))),
-                 hn::Mul(hn::Set(d, a.sz[k]), hn::Sub(hn::Set(d, a.pz[k]), s.qz)));
+      hn::Add(hn::Set(d, tt), hn::Mul(hn::Set(d, a.sx[k]), hn::Sub(hn::Set(d, a.px[k]), qx)));
+  return hn::Add(hn::Add(r, hn::Mul(hn::Set(d, a.sy[k]), hn::Sub(hn::Set(d, a.py[k]), qy))),
+                 hn::Mul(hn::Set(d, a.sz[k]), hn::Sub(hn::Set(d, a.pz[k]), qz)));
 }
 
-// C(s) on arc i by Horner in the power basis (power_point in bezier_curve.cpp).
+// One vector of queued Newton runs: every lane has its own arc, whose power-basis coefficients
+// are given per lane, its query, its start, its stop bounds; then the iteration's state.
 template <int N>
-HWY_INLINE void power_point(D d, const BezierArcTable& a, std::size_t i, V s, V& x, V& y, V& z) {
-  const std::size_t K = static_cast<std::size_t>(a.count);
-  x = hn::Set(d, a.ax[N * K + i]);
-  y = hn::Set(d, a.ay[N * K + i]);
-  z = hn::Set(d, a.az[N * K + i]);
-  for (int j = N - 1; j >= 0; --j) {
-    const std::size_t o = static_cast<std::size_t>(j) * K + i;
-    x = hn::Add(hn::Mul(x, s), hn::Set(d, a.ax[o]));
-    y = hn::Add(hn::Mul(y, s), hn::Set(d, a.ay[o]));
-    z = hn::Add(hn::Mul(z, s), hn::Set(d, a.az[o]));
+struct Runs {
+  V ax[N + 1], ay[N + 1], az[N + 1];
+  V qx, qy, qz, s0, tolerance, stop;
+  V s, lo, hi, out_s;  // out_s: the root's parameter where found
+  M active;
+};
+
+// One step of arc_root<N> (bezier_curve.cpp) on every active lane of `r`.
+template <int N>
+HWY_INLINE void newton_step(D d, Runs<N>& r) {
+  const V zero = hn::Zero(d), two = hn::Set(d, 2.0), half = hn::Set(d, 0.5);
+  const V s = r.s;
+  // C, C' and C''/2 by Horner, the first two steps written out as in the scalar code.
+  V cx = r.ax[N], cy = r.ay[N], cz = r.az[N];
+  V ux = cx, uy = cy, uz = cz;        // C'
+  V vx = zero, vy = zero, vz = zero;  // C'' / 2
+  cx = hn::Add(hn::Mul(cx, s), r.ax[N - 1]);
+  cy = hn::Add(hn::Mul(cy, s), r.ay[N - 1]);
+  cz = hn::Add(hn::Mul(cz, s), r.az[N - 1]);
+  if constexpr (N >= 2) {
+    vx = ux;
+    vy = uy;
+    vz = uz;
+    ux = hn::Add(hn::Mul(ux, s), cx);
+    uy = hn::Add(hn::Mul(uy, s), cy);
+    uz = hn::Add(hn::Mul(uz, s), cz);
+    cx = hn::Add(hn::Mul(cx, s), r.ax[N - 2]);
+    cy = hn::Add(hn::Mul(cy, s), r.ay[N - 2]);
+    cz = hn::Add(hn::Mul(cz, s), r.az[N - 2]);
   }
+  for (int j = N - 3; j >= 0; --j) {
+    vx = hn::Add(hn::Mul(vx, s), ux);
+    vy = hn::Add(hn::Mul(vy, s), uy);
+    vz = hn::Add(hn::Mul(vz, s), uz);
+    ux = hn::Add(hn::Mul(ux, s), cx);
+    uy = hn::Add(hn::Mul(uy, s), cy);
+    uz = hn::Add(hn::Mul(uz, s), cz);
+    cx = hn::Add(hn::Mul(cx, s), r.ax[j]);
+    cy = hn::Add(hn::Mul(cy, s), r.ay[j]);
+    cz = hn::Add(hn::Mul(cz, s), r.az[j]);
+  }
+  const V rx = hn::Sub(cx, r.qx), ry = hn::Sub(cy, r.qy), rz = hn::Sub(cz, r.qz);
+  const V g = dot3(ux, uy, uz, rx, ry, rz);
+  // g == 0: the root itself.
+  const M exact = hn::And(r.active, hn::Eq(g, zero));
+  r.out_s = hn::IfThenElse(exact, s, r.out_s);
+  const M active = hn::AndNot(exact, r.active);
+  const M negative = hn::Lt(g, zero);
+  r.lo = hn::IfThenElse(hn::And(active, negative), s, r.lo);
+  r.hi = hn::IfThenElse(hn::AndNot(negative, active), s, r.hi);
+  const V gp = hn::Add(dot3(ux, uy, uz, ux, uy, uz), hn::Mul(two, dot3(vx, vy, vz, rx, ry, rz)));
+  const V step = hn::Div(g, gp);
+  const V next = hn::Sub(s, step);
+  const M inside = hn::And(hn::Gt(gp, zero), hn::And(hn::Gt(next, r.lo), hn::Lt(next, r.hi)));
+  // Outside the bracket (or g' <= 0): bisection; done once the bracket is below tolerance.
+  const M bisect = hn::AndNot(inside, active);
+  const V mid = hn::Mul(half, hn::Add(r.lo, r.hi));
+  const M bisect_done = hn::And(bisect, hn::Le(hn::Sub(r.hi, r.lo), r.tolerance));
+  r.out_s = hn::IfThenElse(bisect_done, mid, r.out_s);
+  // Inside: done once g² <= stop or the step is below tolerance.
+  const M newton = hn::And(inside, active);
+  const M newton_done =
+      hn::And(newton, hn::Or(hn::Le(hn::Mul(g, g), r.stop), hn::Le(hn::Abs(step), r.tolerance)));
+  r.out_s = hn::IfThenElse(newton_done, next, r.out_s);
+  r.s = hn::IfThenElse(bisect, mid, hn::IfThenElse(newton, next, s));
+  r.active = hn::AndNot(hn::Or(bisect_done, newton_done), active);
 }
 
-// The root of g on arc i for the lanes of `m` (arc_root<N> in bezier_curve.cpp, in lockstep):
-// its parameter s and point.
-template <int N>
-HWY_INLINE void arc_root(D d, const BezierArcTable& a, std::size_t i, const Lanes& q, M m, V s0,
-                         V tolerance, V stop, V& out_s, V& ox, V& oy, V& oz) {
-  const std::size_t K = static_cast<std::size_t>(a.count);
-  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), two = hn::Set(d, 2.0), half = hn::Set(d, 0.5);
-  V lo = zero, hi = one;
-  V s = hn::IfThenElse(hn::And(hn::Gt(s0, zero), hn::Lt(s0, one)), s0, half);
-  out_s = s;
-  ox = oy = oz = zero;
-  M active = m;
-  M need_point = hn::Lt(one, zero);  // none yet
-  for (int it = 0; it < kBezierMaxRootIterations && !hn::AllFalse(d, active); ++it) {
-    V cx = hn::Set(d, a.ax[N * K + i]), cy = hn::Set(d, a.ay[N * K + i]),
-      cz = hn::Set(d, a.az[N * K + i]);
-    V ux = zero, uy = zero, uz = zero;  // C'
-    V vx = zero, vy = zero, vz = zero;  // C'' / 2
+// The roots of g for G vectors of runs (arc_root<N> in bezier_curve.cpp, in lockstep with a mask
+// per lane): the G chains of dependent steps are interleaved to hide their latency. A lane that
+// is done (or a vector whose lanes all are) is left unchanged by further steps. Returns each
+// lane's parameter s and point.
+template <int N, int G>
+HWY_INLINE void arc_roots(D d, Runs<N>* r, V* out_s, V* ox, V* oy, V* oz) {
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), half = hn::Set(d, 0.5);
+  for (int g = 0; g < G; ++g) {
+    r[g].lo = zero;
+    r[g].hi = one;
+    r[g].s = hn::IfThenElse(hn::And(hn::Gt(r[g].s0, zero), hn::Lt(r[g].s0, one)), r[g].s0, half);
+    r[g].out_s = r[g].s;
+    r[g].active = hn::Eq(zero, zero);
+  }
+  for (int it = 0; it < kBezierMaxRootIterations; ++it) {
+    M any = r[0].active;
+    for (int g = 1; g < G; ++g) any = hn::Or(any, r[g].active);
+    if (hn::AllFalse(d, any)) break;
+    for (int g = 0; g < G; ++g) newton_step<N>(d, r[g]);
+  }
+  for (int g = 0; g < G; ++g) {
+    // Out of iterations: where it stopped.
+    const V s = hn::IfThenElse(r[g].active, r[g].s, r[g].out_s);
+    // The point: C(s) by Horner (power_point in bezier_curve.cpp; where g == 0 these are the
+    // operations that gave the last step's C).
+    V x = r[g].ax[N], y = r[g].ay[N], z = r[g].az[N];
     for (int j = N - 1; j >= 0; --j) {
-      const std::size_t o = static_cast<std::size_t>(j) * K + i;
-      vx = hn::Add(hn::Mul(vx, s), ux);
-      vy = hn::Add(hn::Mul(vy, s), uy);
-      vz = hn::Add(hn::Mul(vz, s), uz);
-      ux = hn::Add(hn::Mul(ux, s), cx);
-      uy = hn::Add(hn::Mul(uy, s), cy);
-      uz = hn::Add(hn::Mul(uz, s), cz);
-      cx = hn::Add(hn::Mul(cx, s), hn::Set(d, a.ax[o]));
-      cy = hn::Add(hn::Mul(cy, s), hn::Set(d, a.ay[o]));
-      cz = hn::Add(hn::Mul(cz, s), hn::Set(d, a.az[o]));
+      x = hn::Add(hn::Mul(x, s), r[g].ax[j]);
+      y = hn::Add(hn::Mul(y, s), r[g].ay[j]);
+      z = hn::Add(hn::Mul(z, s), r[g].az[j]);
     }
-    const V rx = hn::Sub(cx, q.qx), ry = hn::Sub(cy, q.qy), rz = hn::Sub(cz, q.qz);
-    const V g = dot3(ux, uy, uz, rx, ry, rz);
-    // g == 0: the root itself.
-    const M exact = hn::And(active, hn::Eq(g, zero));
-    out_s = hn::IfThenElse(exact, s, out_s);
-    ox = hn::IfThenElse(exact, cx, ox);
-    oy = hn::IfThenElse(exact, cy, oy);
-    oz = hn::IfThenElse(exact, cz, oz);
-    active = hn::AndNot(exact, active);
-    const M negative = hn::Lt(g, zero);
-    lo = hn::IfThenElse(hn::And(active, negative), s, lo);
-    hi = hn::IfThenElse(hn::AndNot(negative, active), s, hi);
-    const V gp = hn::Add(dot3(ux, uy, uz, ux, uy, uz), hn::Mul(two, dot3(vx, vy, vz, rx, ry, rz)));
-    const V step = hn::Div(g, gp);
-    const V next = hn::Sub(s, step);
-    const M inside = hn::And(hn::Gt(gp, zero), hn::And(hn::Gt(next, lo), hn::Lt(next, hi)));
-    // Outside the bracket (or g' <= 0): bisection; done once the bracket is below tolerance.
-    const M bisect = hn::AndNot(inside, active);
-    const V mid = hn::Mul(half, hn::Add(lo, hi));
-    const M bisect_done = hn::And(bisect, hn::Le(hn::Sub(hi, lo), tolerance));
-    out_s = hn::IfThenElse(bisect_done, mid, out_s);
-    need_point = hn::Or(need_point, bisect_done);
-    // Inside: done once g² <= stop or the step is below tolerance; the point by Taylor from s.
-    const M newton = hn::And(inside, active);
-    const M newton_done =
-        hn::And(newton, hn::Or(hn::Le(hn::Mul(g, g), stop), hn::Le(hn::Abs(step), tolerance)));
-    const V h = hn::Neg(step), h2 = hn::Mul(step, step);
-    out_s = hn::IfThenElse(newton_done, next, out_s);
-    ox = hn::IfThenElse(newton_done, hn::Add(hn::Add(cx, hn::Mul(h, ux)), hn::Mul(h2, vx)), ox);
-    oy = hn::IfThenElse(newton_done, hn::Add(hn::Add(cy, hn::Mul(h, uy)), hn::Mul(h2, vy)), oy);
-    oz = hn::IfThenElse(newton_done, hn::Add(hn::Add(cz, hn::Mul(h, uz)), hn::Mul(h2, vz)), oz);
-    s = hn::IfThenElse(bisect, mid, hn::IfThenElse(newton, next, s));
-    active = hn::AndNot(hn::Or(bisect_done, newton_done), active);
-  }
-  // Out of iterations: where it stopped.
-  out_s = hn::IfThenElse(active, s, out_s);
-  need_point = hn::Or(need_point, active);
-  if (!hn::AllFalse(d, need_point)) {
-    V x, y, z;
-    power_point<N>(d, a, i, out_s, x, y, z);
-    ox = hn::IfThenElse(need_point, x, ox);
-    oy = hn::IfThenElse(need_point, y, oy);
-    oz = hn::IfThenElse(need_point, z, oz);
+    out_s[g] = s;
+    ox[g] = x;
+    oy[g] = y;
+    oz[g] = z;
   }
 }
 
-// The exact isolation on arc i for the lanes of `m`, one lane at a time (the uncertified branch
-// of visit() in project_arcs<N>).
+// Runs the queued Newton runs in full vectors, two at a time, and adds their roots to their
+// points: all of them when `all` (the last vector padded with copies of the last run), else
+// only whole vectors (the rest stays queued).
 template <int N>
-HWY_NOINLINE void isolate_lanes(D d, const BezierArcTable& a, std::size_t i, M m, Lanes& s,
-                                BezierArcIsolation isolate, const void* projector) {
+HWY_NOINLINE void run_queue(D d, const BezierArcTable& a, State& st, Queue& queue, bool all) {
+  using DI = hn::RebindToSigned<D>;
+  const DI di;
+  const std::size_t lanes = hn::Lanes(d);
   const std::size_t K = static_cast<std::size_t>(a.count);
-  LaneArrays arrays;
-  spill(d, s, arrays);
+  const std::size_t count = queue.count;
+  if (count == 0) return;
+  const std::size_t runs = all ? (count + lanes - 1) / lanes * lanes : count / lanes * lanes;
+  for (std::size_t k = count; k < runs; ++k) queue.copy(count - 1, k);
+  // The constants of the arcs of the runs at k: broadcast when they share one arc (the usual
+  // case in the first phase, where points come sorted by arc), else gathered.
+  auto prepare = [&](std::size_t k, Runs<N>& r, V& t0, V& span) {
+    const V arc_v = hn::Load(d, queue.arc + k);
+    const bool uniform = hn::AllTrue(d, hn::Eq(arc_v, hn::Set(d, queue.arc[k])));
+    const std::size_t arc0 = static_cast<std::size_t>(queue.arc[k]);
+    const auto arc = hn::ConvertTo(di, arc_v);
+    auto load = [&](const double* base) {
+      return uniform ? hn::Set(d, base[arc0]) : hn::GatherIndex(d, base, arc);
+    };
+    for (int j = 0; j <= N; ++j) {
+      const std::size_t o = static_cast<std::size_t>(j) * K;
+      r.ax[j] = load(a.ax.data() + o);
+      r.ay[j] = load(a.ay.data() + o);
+      r.az[j] = load(a.az.data() + o);
+    }
+    r.qx = hn::Load(d, queue.qx + k);
+    r.qy = hn::Load(d, queue.qy + k);
+    r.qz = hn::Load(d, queue.qz + k);
+    r.s0 = hn::Load(d, queue.s0 + k);
+    r.tolerance = load(a.tolerance.data());
+    r.stop = hn::Load(d, queue.stop + k);
+    t0 = load(a.t0.data());
+    span = load(a.span.data());
+  };
+  auto finish = [&](std::size_t k, V t0, V span, V s, V x, V y, V z) {
+    alignas(64) double rt[kMaxLanes], rx[kMaxLanes], ry[kMaxLanes], rz[kMaxLanes];
+    hn::Store(hn::Add(t0, hn::Mul(s, span)), d, rt);
+    hn::Store(x, d, rx);
+    hn::Store(y, d, ry);
+    hn::Store(z, d, rz);
+    const std::size_t valid = std::min(lanes, count - std::min(count, k));
+    for (std::size_t l = 0; l < valid; ++l) {
+      add_candidate(st, static_cast<std::size_t>(queue.slot[k + l]), rt[l], rx[l], ry[l], rz[l]);
+    }
+  };
+  std::size_t k = 0;
+  for (; k + 2 * lanes <= runs; k += 2 * lanes) {
+    Runs<N> r[2];
+    V t0[2], span[2], s[2], x[2], y[2], z[2];
+    prepare(k, r[0], t0[0], span[0]);
+    prepare(k + lanes, r[1], t0[1], span[1]);
+    arc_roots<N, 2>(d, r, s, x, y, z);
+    finish(k, t0[0], span[0], s[0], x[0], y[0], z[0]);
+    finish(k + lanes, t0[1], span[1], s[1], x[1], y[1], z[1]);
+  }
+  if (k < runs) {
+    Runs<N> r[1];
+    V t0, span, s, x, y, z;
+    prepare(k, r[0], t0, span);
+    arc_roots<N, 1>(d, r, &s, &x, &y, &z);
+    finish(k, t0, span, s, x, y, z);
+  }
+  // Whatever was not run moves to the front.
+  const std::size_t rest = count > runs ? count - runs : 0;
+  for (std::size_t k2 = 0; k2 < rest; ++k2) queue.copy(runs + k2, k2);
+  queue.count = rest;
+}
+
+// The exact isolation on arc i for the lanes of `m` of the vector at slot `base`, one lane at a
+// time (the uncertified branch of visit() in project_arcs<N>).
+template <int N>
+HWY_NOINLINE void isolate_lanes(D d, const BezierArcTable& a, std::size_t i, std::size_t base, M m,
+                                State& st, BezierArcIsolation isolate, const void* projector) {
+  const std::size_t K = static_cast<std::size_t>(a.count);
   std::uint8_t bits[(kMaxLanes + 7) / 8] = {};
   hn::StoreMaskBits(d, m, bits);
   const double t0 = a.t0[i], span = a.span[i];
   for (std::size_t l = 0; l < hn::Lanes(d); ++l) {
     if (((bits[l / 8] >> (l % 8)) & 1) == 0) continue;
-    const double q[3] = {arrays.qx[l], arrays.qy[l], arrays.qz[l]};
+    const std::size_t slot = base + l;
+    const double q[3] = {st.qx[slot], st.qy[slot], st.qz[slot]};
     std::array<double, 32> roots;
     int skipped = 0;
     const int found = isolate(projector, static_cast<int>(i), q, roots.data(), &skipped);
-    arrays.skipped[l] += skipped;
+    st.skipped[slot] += skipped;
     for (int k = 0; k < found; ++k) {
       const double sk = roots[static_cast<std::size_t>(k)];
       if (!(sk >= 0 && sk <= 1)) continue;
@@ -274,17 +345,18 @@ HWY_NOINLINE void isolate_lanes(D d, const BezierArcTable& a, std::size_t i, M m
         y = y * sk + a.ay[o];
         z = z * sk + a.az[o];
       }
-      add_candidate(arrays, l, t, x, y, z);
+      add_candidate(st, slot, t, x, y, z);
     }
   }
-  fill(d, arrays, s);
 }
 
-// visit(i) of project_arcs<N> for the lanes of `m`; (dx, dy, dz) = centre of arc i - q and dc2
-// its squared norm.
+// visit(i) of project_arcs<N> for the lanes of `m` of the vector at slot `base` (query q;
+// (dx, dy, dz) = centre of arc i - q and dc2 its squared norm): the certificate, the sign test
+// of g at the arc's ends and the Hermite start; the Newton run itself is queued.
 template <int N>
-HWY_INLINE void visit(D d, const BezierArcTable& a, std::size_t i, M m, V dx, V dy, V dz, V dc2,
-                      Lanes& s, BezierArcIsolation isolate, const void* projector) {
+HWY_INLINE void visit(D d, const BezierArcTable& a, std::size_t i, std::size_t base, M m, V qx,
+                      V qy, V qz, V dx, V dy, V dz, V dc2, State& st, Queue& queue,
+                      BezierArcIsolation isolate, const void* projector) {
   const std::size_t K = static_cast<std::size_t>(a.count);
   const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
   // A lower bound of g' on the arc (in s).
@@ -303,12 +375,11 @@ HWY_INLINE void visit(D d, const BezierArcTable& a, std::size_t i, M m, V dx, V 
   const M certified = hn::Gt(slope, rounding);
   const M fallback = hn::AndNot(certified, m);
   // Certified: g increasing on the arc, one minimum inside when g goes from - to +.
-  const V g0 = g_end(d, a, i, s);
-  const V g1 = g_end(d, a, i + 1, s);
+  const V g0 = g_end(d, a, i, qx, qy, qz);
+  const V g1 = g_end(d, a, i + 1, qx, qy, qz);
   const M root = hn::And(hn::And(m, certified), hn::And(hn::Lt(g0, zero), hn::Ge(g1, zero)));
   if (!hn::AllFalse(d, root)) {
     const double span = a.span[i];
-    const V tolerance = hn::Set(d, a.tolerance[i]);
     const V g2 = hn::Add(
         hn::Set(d, a.g2_fixed[i]),
         hn::Mul(hn::Set(d, a.g2_per_distance[i]), hn::Add(hn::Sqrt(dc2), hn::Set(d, a.radius[i]))));
@@ -316,8 +387,8 @@ HWY_INLINE void visit(D d, const BezierArcTable& a, std::size_t i, M m, V dx, V 
     const V stop = hn::IfThenElse(hn::Gt(g2, zero), hn::Div(cube, g2),
                                   hn::Set(d, std::numeric_limits<double>::infinity()));
     // Start: the root of g's cubic Hermite interpolant by one Newton step from the chord's.
-    const V m0 = hn::Mul(hn::Set(d, span), g_slope(d, a, i, s));
-    const V m1 = hn::Mul(hn::Set(d, span), g_slope(d, a, i + 1, s));
+    const V m0 = hn::Mul(hn::Set(d, span), g_slope(d, a, i, qx, qy, qz));
+    const V m1 = hn::Mul(hn::Set(d, span), g_slope(d, a, i + 1, qx, qy, qz));
     V s0 = hn::Div(g0, hn::Sub(g0, g1));
     {
       const V two = hn::Set(d, 2.0), three = hn::Set(d, 3.0), four = hn::Set(d, 4.0),
@@ -336,82 +407,29 @@ HWY_INLINE void visit(D d, const BezierArcTable& a, std::size_t i, M m, V dx, V 
       const M ok = hn::And(hn::Gt(dh, zero), hn::And(hn::Gt(next, zero), hn::Lt(next, one)));
       s0 = hn::IfThenElse(ok, next, s0);
     }
-    V rs, rx, ry, rz;
-    arc_root<N>(d, a, i, s, root, s0, tolerance, stop, rs, rx, ry, rz);
-    const V t = hn::Add(hn::Set(d, a.t0[i]), hn::Mul(rs, hn::Set(d, span)));
-    add_candidate(d, s, root, t, rx, ry, rz);
+    // Appended lane by lane (Highway's Compress for 64-bit lanes copies a table per call, and a
+    // compressing store to memory is microcoded on some CPUs).
+    alignas(64) double lane_s0[kMaxLanes], lane_stop[kMaxLanes];
+    hn::Store(s0, d, lane_s0);
+    hn::Store(stop, d, lane_stop);
+    std::uint8_t bits[(kMaxLanes + 7) / 8] = {};
+    hn::StoreMaskBits(d, root, bits);
+    std::size_t at = queue.count;
+    for (std::size_t l = 0; l < hn::Lanes(d); ++l) {
+      if (((bits[l / 8] >> (l % 8)) & 1) == 0) continue;
+      queue.slot[at] = static_cast<double>(base + l);
+      queue.arc[at] = static_cast<double>(i);
+      queue.s0[at] = lane_s0[l];
+      queue.stop[at] = lane_stop[l];
+      queue.qx[at] = st.qx[base + l];
+      queue.qy[at] = st.qy[base + l];
+      queue.qz[at] = st.qz[base + l];
+      ++at;
+    }
+    queue.count = at;
   }
   // Not certified: the exact isolation on the arc (Rigaudière et al. §3.4).
-  if (!hn::AllFalse(d, fallback)) isolate_lanes<N>(d, a, i, fallback, s, isolate, projector);
-}
-
-// The lanes of one vector, from the points' coordinates and their nearest-centre arcs.
-template <int N>
-HWY_INLINE void project_vector(D d, const BezierArcTable& a, const double* qx, const double* qy,
-                               const double* qz, const double* first, BezierArcIsolation isolate,
-                               const void* projector, Lanes& s) {
-  const std::size_t K = static_cast<std::size_t>(a.count);
-  s.qx = hn::Load(d, qx);
-  s.qy = hn::Load(d, qy);
-  s.qz = hn::Load(d, qz);
-  s.first = hn::Load(d, first);
-  const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
-  s.interior = zero;
-  s.skipped = zero;
-  // The two ends of the curve: the first candidates.
-  auto end_d2 = [&](std::size_t k) {
-    const V dx = hn::Sub(hn::Set(d, a.px[k]), s.qx);
-    const V dy = hn::Sub(hn::Set(d, a.py[k]), s.qy);
-    const V dz = hn::Sub(hn::Set(d, a.pz[k]), s.qz);
-    return dot3(dx, dy, dz, dx, dy, dz);
-  };
-  const V d0 = end_d2(0), d1 = end_d2(K);
-  s.bd2 = d0;
-  s.bt = zero;
-  s.bx = hn::Set(d, a.px[0]);
-  s.by = hn::Set(d, a.py[0]);
-  s.bz = hn::Set(d, a.pz[0]);
-  {
-    const M better = hn::Lt(d1, d0);
-    s.second = hn::IfThenElse(better, d0, d1);
-    s.bd2 = hn::IfThenElse(better, d1, s.bd2);
-    s.bt = hn::IfThenElse(better, one, s.bt);
-    s.bx = hn::IfThenElse(better, hn::Set(d, a.px[K]), s.bx);
-    s.by = hn::IfThenElse(better, hn::Set(d, a.py[K]), s.by);
-    s.bz = hn::IfThenElse(better, hn::Set(d, a.pz[K]), s.bz);
-  }
-  const V ends = hn::Min(d0, d1);
-  s.best2 = ends;
-  // The arc with the nearest centre first, lanes grouped by it.
-  alignas(64) double firsts[kMaxLanes];
-  hn::Store(s.first, d, firsts);
-  M pending = hn::Eq(zero, zero);
-  while (!hn::AllFalse(d, pending)) {
-    const std::size_t f = static_cast<std::size_t>(firsts[hn::FindFirstTrue(d, pending)]);
-    const M m = hn::And(pending, hn::Eq(s.first, hn::Set(d, static_cast<double>(f))));
-    pending = hn::AndNot(m, pending);
-    // Upper bound of the nearest distance: the curve's ends and this arc's ends.
-    s.best2 = hn::IfThenElse(m, hn::Min(hn::Min(ends, end_d2(f)), end_d2(f + 1)), s.best2);
-    const V dx = hn::Sub(hn::Set(d, a.cx[f]), s.qx);
-    const V dy = hn::Sub(hn::Set(d, a.cy[f]), s.qy);
-    const V dz = hn::Sub(hn::Set(d, a.cz[f]), s.qz);
-    visit<N>(d, a, f, m, dx, dy, dz, dot3(dx, dy, dz, dx, dy, dz), s, isolate, projector);
-  }
-  // Every other arc whose sphere is not farther than the best point found.
-  const V slack = hn::Set(d, 1 + kBezierPruneSlack);
-  V prune = hn::Mul(hn::Sqrt(s.best2), slack);
-  for (std::size_t i = 0; i < K; ++i) {
-    const V dx = hn::Sub(hn::Set(d, a.cx[i]), s.qx);
-    const V dy = hn::Sub(hn::Set(d, a.cy[i]), s.qy);
-    const V dz = hn::Sub(hn::Set(d, a.cz[i]), s.qz);
-    const V dc2 = dot3(dx, dy, dz, dx, dy, dz);
-    const V lim = hn::Add(hn::Set(d, a.radius[i]), prune);
-    const M m = hn::Not(hn::Or(hn::Eq(s.first, hn::Set(d, static_cast<double>(i))),
-                               hn::Gt(dc2, hn::Mul(lim, lim))));
-    if (hn::AllFalse(d, m)) continue;
-    visit<N>(d, a, i, m, dx, dy, dz, dc2, s, isolate, projector);
-    prune = hn::Mul(hn::Sqrt(s.best2), slack);
-  }
+  if (!hn::AllFalse(d, fallback)) isolate_lanes<N>(d, a, i, base, fallback, st, isolate, projector);
 }
 
 template <int N>
@@ -422,7 +440,6 @@ void project_batch(const BezierArcTable& a, const double* qx, const double* qy, 
   const std::size_t lanes = hn::Lanes(d);
   const std::size_t K = static_cast<std::size_t>(a.count);
   const std::size_t padded = (n + lanes - 1) / lanes * lanes;
-  constexpr std::size_t kCap = kBezierBatch + kMaxLanes;
   // Padded copies (the last point repeated), then the nearest centre of each point.
   alignas(64) double px[kCap], py[kCap], pz[kCap], first[kCap];
   for (std::size_t k = 0; k < padded; ++k) {
@@ -431,21 +448,34 @@ void project_batch(const BezierArcTable& a, const double* qx, const double* qy, 
     py[k] = qy[src];
     pz[k] = qz[src];
   }
-  for (std::size_t k = 0; k < padded; k += lanes) {
-    const V x = hn::Load(d, px + k), y = hn::Load(d, py + k), z = hn::Load(d, pz + k);
-    V best = hn::Set(d, std::numeric_limits<double>::infinity());
-    V index = hn::Zero(d);
-    for (std::size_t i = 0; i < K; ++i) {
-      const V dx = hn::Sub(hn::Set(d, a.cx[i]), x);
-      const V dy = hn::Sub(hn::Set(d, a.cy[i]), y);
-      const V dz = hn::Sub(hn::Set(d, a.cz[i]), z);
-      const V d2 = dot3(dx, dy, dz, dx, dy, dz);
-      const M nearer = hn::Lt(d2, best);
-      best = hn::IfThenElse(nearer, d2, best);
-      index = hn::IfThenElse(nearer, hn::Set(d, static_cast<double>(i)), index);
+  // Two vectors at a time: their chains of compares are independent.
+  auto nearest = [&](auto group, std::size_t k) {
+    constexpr int G = decltype(group)::value;
+    V x[G], y[G], z[G], best[G], index[G];
+    for (int g = 0; g < G; ++g) {
+      x[g] = hn::Load(d, px + k + g * lanes);
+      y[g] = hn::Load(d, py + k + g * lanes);
+      z[g] = hn::Load(d, pz + k + g * lanes);
+      best[g] = hn::Set(d, std::numeric_limits<double>::infinity());
+      index[g] = hn::Zero(d);
     }
-    hn::Store(index, d, first + k);
-  }
+    V arc = hn::Zero(d);  // i, as a double in every lane
+    const V step = hn::Set(d, 1.0);
+    for (std::size_t i = 0; i < K; ++i, arc = hn::Add(arc, step)) {
+      const V cx = hn::Set(d, a.cx[i]), cy = hn::Set(d, a.cy[i]), cz = hn::Set(d, a.cz[i]);
+      for (int g = 0; g < G; ++g) {
+        const V dx = hn::Sub(cx, x[g]), dy = hn::Sub(cy, y[g]), dz = hn::Sub(cz, z[g]);
+        const V d2 = dot3(dx, dy, dz, dx, dy, dz);
+        const M nearer = hn::Lt(d2, best[g]);
+        best[g] = hn::IfThenElse(nearer, d2, best[g]);
+        index[g] = hn::IfThenElse(nearer, arc, index[g]);
+      }
+    }
+    for (int g = 0; g < G; ++g) hn::Store(index[g], d, first + k + g * lanes);
+  };
+  std::size_t k0 = 0;
+  for (; k0 + 2 * lanes <= padded; k0 += 2 * lanes) nearest(std::integral_constant<int, 2>(), k0);
+  if (k0 < padded) nearest(std::integral_constant<int, 1>(), k0);
   // Counting sort of the points by that arc (stable), then the sorted, padded copies.
   std::array<std::uint16_t, kCap> order;
   {
@@ -456,35 +486,112 @@ void project_batch(const BezierArcTable& a, const double* qx, const double* qy, 
       order[start[static_cast<std::size_t>(first[k])]++] = static_cast<std::uint16_t>(k);
     for (std::size_t k = n; k < padded; ++k) order[k] = order[n - 1];
   }
-  alignas(64) double sx[kCap], sy[kCap], sz[kCap], sf[kCap];
+  State st;
   for (std::size_t k = 0; k < padded; ++k) {
-    sx[k] = px[order[k]];
-    sy[k] = py[order[k]];
-    sz[k] = pz[order[k]];
-    sf[k] = first[order[k]];
+    st.qx[k] = px[order[k]];
+    st.qy[k] = py[order[k]];
+    st.qz[k] = pz[order[k]];
+    st.first[k] = first[order[k]];
   }
-  alignas(64) double t[kMaxLanes], d2[kMaxLanes], x[kMaxLanes], y[kMaxLanes], z[kMaxLanes],
-      counted[kMaxLanes], redo[kMaxLanes];
+  Queue queue;
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0);
+  // The first phase: the two ends of the curve, then the arc with the nearest centre, lanes
+  // grouped by it.
   for (std::size_t k = 0; k < padded; k += lanes) {
-    Lanes s;
-    project_vector<N>(d, a, sx + k, sy + k, sz + k, sf + k, isolate, projector, s);
-    hn::Store(s.bt, d, t);
-    hn::Store(s.bd2, d, d2);
-    hn::Store(s.bx, d, x);
-    hn::Store(s.by, d, y);
-    hn::Store(s.bz, d, z);
-    hn::Store(hn::Add(s.interior, s.skipped), d, counted);
+    const V vx = hn::Load(d, st.qx + k), vy = hn::Load(d, st.qy + k), vz = hn::Load(d, st.qz + k);
+    const V vfirst = hn::Load(d, st.first + k);
+    auto end_d2 = [&](std::size_t e) {
+      const V dx = hn::Sub(hn::Set(d, a.px[e]), vx);
+      const V dy = hn::Sub(hn::Set(d, a.py[e]), vy);
+      const V dz = hn::Sub(hn::Set(d, a.pz[e]), vz);
+      return dot3(dx, dy, dz, dx, dy, dz);
+    };
+    const V d0 = end_d2(0), d1 = end_d2(K);
+    const M better = hn::Lt(d1, d0);
+    hn::Store(hn::IfThenElse(better, d0, d1), d, st.second + k);
+    hn::Store(hn::IfThenElse(better, d1, d0), d, st.bd2 + k);
+    hn::Store(hn::IfThenElseZero(better, one), d, st.bt + k);
+    hn::Store(hn::IfThenElse(better, hn::Set(d, a.px[K]), hn::Set(d, a.px[0])), d, st.bx + k);
+    hn::Store(hn::IfThenElse(better, hn::Set(d, a.py[K]), hn::Set(d, a.py[0])), d, st.by + k);
+    hn::Store(hn::IfThenElse(better, hn::Set(d, a.pz[K]), hn::Set(d, a.pz[0])), d, st.bz + k);
+    hn::Store(zero, d, st.interior + k);
+    hn::Store(zero, d, st.skipped + k);
+    const V ends = hn::Min(d0, d1);
+    hn::Store(ends, d, st.best2 + k);
+    alignas(64) double firsts[kMaxLanes];
+    hn::Store(vfirst, d, firsts);
+    M pending = hn::Eq(zero, zero);
+    while (!hn::AllFalse(d, pending)) {
+      const std::size_t f = static_cast<std::size_t>(firsts[hn::FindFirstTrue(d, pending)]);
+      const M m = hn::And(pending, hn::Eq(vfirst, hn::Set(d, static_cast<double>(f))));
+      pending = hn::AndNot(m, pending);
+      // Upper bound of the nearest distance: the curve's ends and this arc's ends.
+      hn::Store(hn::IfThenElse(m, hn::Min(hn::Min(ends, end_d2(f)), end_d2(f + 1)),
+                               hn::Load(d, st.best2 + k)),
+                d, st.best2 + k);
+      const V dx = hn::Sub(hn::Set(d, a.cx[f]), vx);
+      const V dy = hn::Sub(hn::Set(d, a.cy[f]), vy);
+      const V dz = hn::Sub(hn::Set(d, a.cz[f]), vz);
+      visit<N>(d, a, f, k, m, vx, vy, vz, dx, dy, dz, dot3(dx, dy, dz, dx, dy, dz), st, queue,
+               isolate, projector);
+      if (queue.count >= kFlush) run_queue<N>(d, a, st, queue, false);
+    }
+  }
+  run_queue<N>(d, a, st, queue, true);
+  // The second phase: every other arc whose sphere is not farther than the best point that the
+  // first phase found (the bound is not tightened during this phase, so its visits are
+  // independent of each other).
+  const V slack = hn::Set(d, 1 + kBezierPruneSlack);
+  for (std::size_t k = 0; k < padded; k += lanes) {
+    const V vx = hn::Load(d, st.qx + k), vy = hn::Load(d, st.qy + k), vz = hn::Load(d, st.qz + k);
+    const V vfirst = hn::Load(d, st.first + k);
+    const V prune = hn::Mul(hn::Sqrt(hn::Load(d, st.best2 + k)), slack);
+    for (std::size_t i = 0; i < K; ++i) {
+      const V dx = hn::Sub(hn::Set(d, a.cx[i]), vx);
+      const V dy = hn::Sub(hn::Set(d, a.cy[i]), vy);
+      const V dz = hn::Sub(hn::Set(d, a.cz[i]), vz);
+      const V dc2 = dot3(dx, dy, dz, dx, dy, dz);
+      const V lim = hn::Add(hn::Set(d, a.radius[i]), prune);
+      M m = hn::Not(hn::Or(hn::Eq(vfirst, hn::Set(d, static_cast<double>(i))),
+                           hn::Gt(dc2, hn::Mul(lim, lim))));
+      if (hn::AllFalse(d, m)) continue;
+      // The second bound: the distance to the arc's chord less its deviation from it.
+      const V ux = hn::Set(d, a.ux[i]), uy = hn::Set(d, a.uy[i]), uz = hn::Set(d, a.uz[i]);
+      const V wx = hn::Sub(vx, hn::Set(d, a.px[i]));
+      const V wy = hn::Sub(vy, hn::Set(d, a.py[i]));
+      const V wz = hn::Sub(vz, hn::Set(d, a.pz[i]));
+      V along = hn::Mul(dot3(wx, wy, wz, ux, uy, uz), hn::Set(d, a.inv_chord2[i]));
+      along = hn::IfThenElse(hn::Lt(along, zero), zero, along);
+      along = hn::IfThenElse(hn::Gt(along, one), one, along);
+      const V rx = hn::Sub(wx, hn::Mul(along, ux));
+      const V ry = hn::Sub(wy, hn::Mul(along, uy));
+      const V rz = hn::Sub(wz, hn::Mul(along, uz));
+      const V chord_lim = hn::Add(prune, hn::Set(d, a.deviation[i]));
+      m = hn::AndNot(hn::Gt(dot3(rx, ry, rz, rx, ry, rz), hn::Mul(chord_lim, chord_lim)), m);
+      if (hn::AllFalse(d, m)) continue;
+      visit<N>(d, a, i, k, m, vx, vy, vz, dx, dy, dz, dc2, st, queue, isolate, projector);
+      if (queue.count >= kFlush) run_queue<N>(d, a, st, queue, false);
+    }
+  }
+  run_queue<N>(d, a, st, queue, true);
+  for (std::size_t k = 0; k < padded; k += lanes) {
     // A tie within choose()'s limit is possible: the caller decides it one by one.
-    const M near = hn::Le(hn::Sub(s.second, s.bd2), hn::Mul(hn::Set(d, kBezierNearTie), s.bd2));
-    hn::Store(hn::IfThenElseZero(near, hn::Set(d, 1.0)), d, redo);
+    const V bd2 = hn::Load(d, st.bd2 + k);
+    const M near =
+        hn::Le(hn::Sub(hn::Load(d, st.second + k), bd2), hn::Mul(hn::Set(d, kBezierNearTie), bd2));
+    alignas(64) double redo[kMaxLanes], distance[kMaxLanes];
+    hn::Store(hn::IfThenElseZero(near, one), d, redo);
+    hn::Store(hn::Sqrt(bd2), d, distance);
     for (std::size_t l = 0; l < lanes && k + l < n; ++l) {
-      BezierLaneResult& r = out[order[k + l]];
-      r.t = t[l];
-      r.d2 = d2[l];
-      r.x = x[l];
-      r.y = y[l];
-      r.z = z[l];
-      r.counted = static_cast<int>(counted[l]);
+      const std::size_t slot = k + l;
+      BezierLaneResult& r = out[order[slot]];
+      r.t = st.bt[slot];
+      r.d2 = st.bd2[slot];
+      r.distance = distance[l];
+      r.x = st.bx[slot];
+      r.y = st.by[slot];
+      r.z = st.bz[slot];
+      r.counted = static_cast<int>(st.interior[slot] + st.skipped[slot]);
       r.redo = redo[l] != 0;
     }
   }

@@ -36,6 +36,9 @@ struct BezierArcTable {
   int count = 0;   ///< K, the number of arcs
   // Per arc (K entries): bounding sphere, parameter range, certificate and Newton constants.
   std::vector<double> cx, cy, cz, radius;
+  /// Chord (end - start), 1 / |chord|² (0 for a closed arc), largest distance of the arc from
+  /// the chord segment (inflated): a second lower bound of the distance to the arc.
+  std::vector<double> ux, uy, uz, inv_chord2, deviation;
   std::vector<double> t0, span, tolerance;  ///< tolerance = 1e-15 / span (Newton's stop in s)
   std::vector<double> floor, second_max, g2_fixed, g2_per_distance;
   // Per arc and index j: controls of C'' (j < N - 1) and power-basis coefficients of C (j <= N),
@@ -57,6 +60,7 @@ using BezierArcIsolation = int (*)(const void* projector, int arc, const double*
 struct BezierLaneResult {
   double t = 0;                ///< parameter of the nearest candidate
   double d2 = 0;               ///< its squared distance
+  double distance = 0;         ///< sqrt(d2) (correctly rounded, as std::sqrt)
   double x = 0, y = 0, z = 0;  ///< its point, relative to the origin
   int counted = 0;             ///< candidates counted (stationary parameters located or skipped)
   bool redo = false;  ///< the second nearest candidate within kBezierNearTie of the nearest:

@@ -48,12 +48,15 @@
 /// E_j are the controls of C''. When this bound is > 0 (plus a rounding margin) g is strictly
 /// increasing on the arc: it has a root there only if g goes from - to + between the arc's
 /// ends, and that root is the arc's only stationary point, a minimum of the distance. A query:
-/// - the arc with the nearest centre first, then every arc whose sphere is not farther than the
-///   nearest curve point found so far (ends of the curve and of that arc, minima found);
+/// - the arc with the nearest centre first; then, with the bound B = the nearest curve point
+///   found by then (ends of the curve and of that arc, its minimum), every other arc whose
+///   sphere is within B and whose chord is within B + its deviation (the largest distance of
+///   its controls from the chord segment). B is not tightened by these visits, so they are
+///   independent of each other (the batched path queues their Newton runs);
 /// - a certified arc costs two dot products (g at its ends) and, if g changes sign, Newton from
 ///   the root of g's cubic Hermite interpolant at the arc's ends (values and slopes of g),
 ///   safeguarded by the bracket and stopped by an a-priori bound (|g''| bounded on the arc) once
-///   the step's error is below 1e-15 in t;
+///   the step's error is below 1e-15 in t; the root's point is C there, by Horner;
 /// - an arc that is not certified (the query near a centre of curvature, a cusp, or far on the
 ///   concave side) gets the exact isolation above (Descartes, then the paper's derivative chain)
 ///   on its own g. Same guarantee as the isolation on [0, 1].
@@ -153,13 +156,14 @@ class BezierProjector {
 
   /// project() on every point of `points` into `out` (same size; throws InvalidArgument
   /// otherwise or for a non-finite point). Equal, bit for bit and point by point, to
-  /// project(points[k], rule). Degree <= 7 and 4 points or more: the arc path vectorized
-  /// across points (Highway, dispatched at run time; src/field/bezier_curve_simd.cpp): every
-  /// lane runs the scalar path's operations in the same order, Newton in lockstep with per-lane
-  /// masks, uncertified arcs through the exact isolation one lane at a time; a point whose two
-  /// nearest candidates are within 1e-9 (relative, squared distance) is projected one by one so
-  /// that the tie rule decides as in project(p). About 3x faster per point than project(p) with
-  /// AVX-512 (docs/benchmarks.md).
+  /// project(points[k], rule), whatever the other points of the batch. Degree <= 7 and 4 points
+  /// or more: the arc path vectorized across points (Highway, dispatched at run time;
+  /// src/field/bezier_curve_simd.cpp): every lane runs the scalar path's operations in the same
+  /// order; the Newton runs are queued and run in full vectors (a mask per lane), uncertified
+  /// arcs go through the exact isolation one lane at a time; a point whose two nearest
+  /// candidates are within 1e-9 (relative, squared distance) is projected one by one so that the
+  /// tie rule decides as in project(p). About 3x faster per point than project(p) with AVX-512
+  /// (docs/benchmarks.md).
   void project(std::span<const Vec3> points, std::span<BezierProjection> out,
                TieRule rule = TieRule::kFirst) const;
 
@@ -201,6 +205,9 @@ class BezierProjector {
   // (K + 1 for K arcs: point relative to origin_, C'(t_k), C''(t_k)).
   struct ArcScan {
     std::vector<double> cx, cy, cz, radius;
+    // Per arc: its chord (end - start), 1 / |chord|² (0 for a closed arc) and the largest
+    // distance of its controls from the chord segment (inflated for rounding).
+    std::vector<double> ux, uy, uz, inv_chord2, deviation;
     std::vector<double> px, py, pz, tx, ty, tz, ax, ay, az;
   };
 
