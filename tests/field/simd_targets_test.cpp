@@ -99,6 +99,16 @@ std::size_t count_differences(const double* a, const double* b, std::size_t n) {
   return count;
 }
 
+// Values and gradients of target `t` equal, bit for bit, those of target `first`.
+void expect_same_bits(const Evaluation& e, const Evaluation& reference, std::int64_t t,
+                      std::int64_t first) {
+  const std::size_t n = e.values.size();
+  EXPECT_EQ(first_difference(e.values.data(), reference.values.data(), n), -1)
+      << hwy::TargetName(t) << " vs " << hwy::TargetName(first);
+  EXPECT_EQ(first_difference(e.gradients[0].data(), reference.gradients[0].data(), 3 * n), -1)
+      << hwy::TargetName(t) << " vs " << hwy::TargetName(first);
+}
+
 SkeletonFieldOptions field_options(SurfaceKind surface, const Kernel& kernel) {
   SkeletonFieldOptions o;
   o.surface = surface;
@@ -193,11 +203,7 @@ TEST(SimdTargets, BezierCurveFieldBitIdentical) {
         }
         continue;
       }
-      const std::size_t n = points.size();
-      EXPECT_EQ(first_difference(e.values.data(), reference.values.data(), n), -1)
-          << hwy::TargetName(t) << " vs " << hwy::TargetName(list.front());
-      EXPECT_EQ(first_difference(e.gradients[0].data(), reference.gradients[0].data(), 3 * n), -1)
-          << hwy::TargetName(t) << " vs " << hwy::TargetName(list.front());
+      expect_same_bits(e, reference, t, list.front());
     }
   }
 }
@@ -243,11 +249,7 @@ TEST(SimdTargets, EquipotentialFieldBitIdentical) {
         }
         continue;
       }
-      const std::size_t n = points.size();
-      EXPECT_EQ(first_difference(e.values.data(), reference.values.data(), n), -1)
-          << hwy::TargetName(t) << " vs " << hwy::TargetName(list.front());
-      EXPECT_EQ(first_difference(e.gradients[0].data(), reference.gradients[0].data(), 3 * n), -1)
-          << hwy::TargetName(t) << " vs " << hwy::TargetName(list.front());
+      expect_same_bits(e, reference, t, list.front());
     }
   }
 }
