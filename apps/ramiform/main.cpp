@@ -8,10 +8,8 @@
 
 #include <malloc.h>
 #include <signal.h>
-#include <unistd.h>
 
 #include <cerrno>
-#include <cstdlib>
 #include <iostream>
 
 #include "commands.h"
@@ -19,23 +17,6 @@
 #include "ramiform/io/atomic_file.h"
 
 namespace {
-
-// Transparent huge pages for malloc's memory. The polygonizers touch gigabytes of fresh memory
-// once; with 4 KiB pages a tets run spends a fifth of its time in the kernel's page-fault
-// handler (measured on the 1,500-segment benchmark tree: 7.5 s of CPU without, 5.6 s with).
-// glibc asks the kernel for huge pages only when its `glibc.malloc.hugetlb` tunable is set, and
-// tunables are read at program start, so the program runs itself again once with it set. A
-// GLIBC_TUNABLES variable the user set (even empty) is left alone and turns this off.
-void restart_with_huge_pages(char** argv) {
-#if defined(__linux__) && defined(__GLIBC__)
-  if (std::getenv("GLIBC_TUNABLES") != nullptr) return;
-  if (setenv("GLIBC_TUNABLES", "glibc.malloc.hugetlb=1", 1) != 0) return;
-  execv("/proc/self/exe", argv);
-  unsetenv("GLIBC_TUNABLES");  // no /proc: carry on with ordinary pages
-#else
-  (void)argv;
-#endif
-}
 
 // A run stopped from outside leaves no staged file (io/atomic_file.h): the unnamed ones vanish
 // with the process (so also after SIGKILL), the named ones are removed here. It then ends by the
@@ -61,12 +42,16 @@ void install_stop_handlers() {
 
 int main(int argc, char** argv) {
   using namespace ramiform;
-  restart_with_huge_pages(argv);
   install_stop_handlers();
   // The polygonizers allocate and free many large buffers. glibc serves blocks above 128 KiB by
   // mmap and returns them at once, so every reuse page-faults afresh (measured: ~14 % of a
   // tets run in the kernel's fault handler). Keep blocks up to 32 MiB on the heap and do not
-  // trim it eagerly.
+  // trim it eagerly. (The command used to restart itself with glibc's transparent huge pages,
+  // glibc.malloc.hugetlb=1, which helped before these settings; with them, on the 2-core VM of
+  // docs/benchmarks.md, 2026-12-06, huge pages cost 0.15-0.55 s more kernel time clearing
+  // 2 MiB pages than they saved: the 1,500-segment benchmark tree 2.10-2.19 s without against
+  // 2.20-2.63 s with, the demo 5.45 against 5.74-5.78 s, the particle mesh of 1,000 segments
+  // 3.36-3.49 against 3.52-3.62 s, archi_Tree_1 5.36-5.64 against 5.61-5.84 s.)
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
   CLI::App app{"ramiform: skeleton-based implicit surfaces, watertight meshes and line drawings",

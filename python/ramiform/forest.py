@@ -30,8 +30,8 @@ MANIFEST = "manifest.jsonl"
 
 def _find_cli():
     """The ``ramiform`` executable: each tree runs in its own process of it when it is found
-    (faster than the in-process ``ramiform.mesh_file``: the executable runs with transparent
-    huge pages and its malloc settings, docs/benchmarks.md "Forests on Dask")."""
+    (faster than the in-process ``ramiform.mesh_file``: the executable runs with its malloc
+    settings, docs/benchmarks.md "Forests on Dask")."""
     found = os.environ.get("RAMIFORM_BINARY") or shutil.which("ramiform")
     if found:
         return found
