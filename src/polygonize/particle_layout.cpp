@@ -81,11 +81,11 @@ enum class NodeKind : std::uint8_t {
   kAbsorbed  // a closed leaf whose short edge and cap lie inside its junction's sphere
 };
 
-// What absorb_stubs() made of a node, before classify() gives it its kind.
-enum class StubRole : std::uint8_t {
+// What absorb_short_leaves() made of a node, before classify() gives it its kind.
+enum class ShortLeafRole : std::uint8_t {
   kNone,
-  kAbsorbed,  // a stub leaf: no particles of its own (NodeKind::kAbsorbed)
-  kHost       // the junction a stub hangs from: stays a junction whatever its remaining degree
+  kAbsorbed,  // a short leaf: no particles of its own (NodeKind::kAbsorbed)
+  kHost       // the junction a short leaf hangs from: stays a junction whatever its degree
 };
 
 // n_circ particles, numbered consecutively from `first`; point k lies at angle 2 pi k / n_circ
@@ -310,16 +310,16 @@ class Builder {
       incident_[s_.edges[e][0]].push_back(e);
       incident_[s_.edges[e][1]].push_back(e);
     }
-    absorb_stubs();
+    absorb_short_leaves();
     const double cos_gamma = pm::cos(o_.gamma_degrees * kPi / 180.0);
     const double cos_chain = pm::cos((180.0 - kChainBendDegrees) * kPi / 180.0);
     const double cos_gentle = pm::cos((180.0 - kGentleBendDegrees) * kPi / 180.0);
     kind_.assign(nodes, NodeKind::kJunction);
     for (std::uint32_t v = 0; v < nodes; ++v) {
       const auto& inc = incident_[v];
-      if (stub_role_[v] == StubRole::kAbsorbed) {
+      if (short_leaf_role_[v] == ShortLeafRole::kAbsorbed) {
         kind_[v] = NodeKind::kAbsorbed;
-      } else if (stub_role_[v] == StubRole::kHost) {
+      } else if (short_leaf_role_[v] == ShortLeafRole::kHost) {
         kind_[v] = NodeKind::kJunction;
       } else if (inc.empty()) {
         kind_[v] = NodeKind::kIsolated;
@@ -383,12 +383,12 @@ class Builder {
   // included (length + R < sphere_factor x the largest R of the junction's other edges), gets no
   // particles of its own: its ring and cap would lie inside that sphere, whose particles cover
   // its bulge of the surface instead. The junction keeps at least two edges and its sphere.
-  void absorb_stubs() {
+  void absorb_short_leaves() {
     const std::size_t nodes = s_.nodes.size();
-    stub_role_.assign(nodes, StubRole::kNone);
+    short_leaf_role_.assign(nodes, ShortLeafRole::kNone);
     absorbed_edge_.assign(s_.edges.size(), 0);
     for (std::uint32_t v = 0; v < nodes; ++v) {
-      if (incident_[v].size() != 1 || stub_role_[v] != StubRole::kNone ||
+      if (incident_[v].size() != 1 || short_leaf_role_[v] != ShortLeafRole::kNone ||
           (!in_.open_end.empty() && in_.open_end[v] != 0)) {
         continue;
       }
@@ -404,8 +404,8 @@ class Builder {
       if (!(length + in_.edge_radius[e] < o_.sphere_factor * r_max)) continue;
       at_w.erase(std::find(at_w.begin(), at_w.end(), e));
       incident_[v].clear();
-      stub_role_[v] = StubRole::kAbsorbed;
-      stub_role_[w] = StubRole::kHost;  // its sphere covers the stub
+      short_leaf_role_[v] = ShortLeafRole::kAbsorbed;
+      short_leaf_role_[w] = ShortLeafRole::kHost;  // its sphere covers the short leaf
       absorbed_edge_[e] = 1;
     }
   }
@@ -1164,7 +1164,7 @@ class Builder {
   double sphere_spacing_ = 0;
   std::vector<std::vector<std::uint32_t>> incident_;
   std::vector<NodeKind> kind_;
-  std::vector<StubRole> stub_role_;
+  std::vector<ShortLeafRole> short_leaf_role_;
   std::vector<char> absorbed_edge_;
   std::vector<EdgeFrame> frames_;
   std::vector<Ring> rings_;

@@ -14,7 +14,7 @@
 // generated trees' crowded crowns, the scanned trees) the mesh folds: the folds are counted
 // (`inverted_triangles`, recounted here), and on the 5,000-segment tree two nodes in such a
 // fold fall outside the mesh (docs/equipotential.md, "What is weak"). Chains of short edges,
-// sharp bends and stub leaves (the scanned trees' other folds) must not fold, nor leave their
+// sharp bends and short leaves (the scanned trees' other folds) must not fold, nor leave their
 // nodes outside.
 
 #include <gtest/gtest.h>
@@ -286,11 +286,11 @@ TEST_F(MeshParticlesTest, AcuteForkAndNearParallelBranches) {
 
 // The shapes that folded the scanned trees' meshes: a trunk of cylinders 1.5 long (radius 0.5)
 // joined by connectors 0.2 long at 76 degrees to them (a zig-zag of edges shorter than the
-// radius, as TreeQSM's connectors make), a fork right after it, a stub leaf at the fork whose
+// radius, as TreeQSM's connectors make), a fork right after it, a short leaf at the fork whose
 // edge and cap lie inside the fork's sphere, and a half circle of 41 edges bent at a radius of
-// 1.6 tube radii. The chains' rings follow the smoothed course, the stub is absorbed by the
+// 1.6 tube radii. The chains' rings follow the smoothed course, the short leaf is absorbed by the
 // fork: no fold, every node inside.
-TEST_F(MeshParticlesTest, ZigzagChainsBendsAndStubsDoNotFold) {
+TEST_F(MeshParticlesTest, ZigzagChainsBendsAndShortLeavesDoNotFold) {
   std::string nodes;
   std::string edges;
   int count = 0;
@@ -318,7 +318,7 @@ TEST_F(MeshParticlesTest, ZigzagChainsBendsAndStubsDoNotFold) {
   }
   edge(previous, node(x + 1.5, 0, z + 3, 0.35));
   edge(previous, node(x - 1.5, 0, z + 3, 0.35));
-  edge(previous, node(x, 0.3, z + 0.1, 0.3));  // the stub
+  edge(previous, node(x, 0.3, z + 0.1, 0.3));  // the short leaf
   const std::string zigzag =
       write("zigzag.json", "{\"nodes\":[" + nodes + "],\"edges\":[" + edges + "]}");
   nodes.clear();
@@ -406,7 +406,7 @@ TEST_F(MeshParticlesTest, RealCylinderModels) {
     if (run.stats.is_null()) continue;
     EXPECT_LE(run.stats.at("radius_error_median").get<double>(), 0.02);
     EXPECT_LE(run.stats.at("radius_error_p90").get<double>(), 0.10);
-    // Chains of short cylinders and stub leaves no longer fold (archi_Tree_1: 3.3 % of the
+    // Chains of short cylinders and short leaves no longer fold (archi_Tree_1: 3.3 % of the
     // triangles before, 0.39 % now; rtwig 0.5 %, now 0.03 %): what is left is at junctions
     // closer together than their spheres and where separate branches merge.
     EXPECT_LE(run.stats.at("inverted_triangles").get<double>(),
