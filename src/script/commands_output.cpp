@@ -361,6 +361,7 @@ CommandResult run_save_mesh(Call& c) {
                   {"components", static_cast<double>(report.components)},
                   {"boundary_edges", static_cast<double>(report.boundary_edges)},
                   {"watertight", report.watertight && report.oriented && report.manifold ? 1 : 0}};
+  result.shape = c.arg(0).text;
   return result;
 }
 

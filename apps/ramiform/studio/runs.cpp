@@ -94,6 +94,7 @@ struct Writer {
   std::string command;
   std::size_t line = 0;
   std::map<std::string, double> facts;  // CommandResult::facts
+  std::string shape;                     // CommandResult::shape
 };
 
 // The objects of the committed outputs, grouped by the command line that wrote them.
@@ -158,6 +159,8 @@ void add_objects(RunManager::Run& run, const std::vector<std::string>& written,
         if (!glb.empty()) view.view_file = glb;
         view.mime = "model/gltf-binary";
         object["kind"] = "mesh";
+        object["shape"] = writer.shape;
+        object["line"] = writer.line;
         object["file"] = rel(glb.empty() ? other : glb);
         object["stats"] = stats;
       } else if (writer.command == "save_skeleton") {
@@ -369,7 +372,7 @@ void RunManager::execute(Run& run) {
     ScriptSession session(options, &run.ctx);
     const auto note_outputs = [&](const CommandResult& r, std::size_t line) {
       for (const std::string& p : session.staged_outputs())
-        writers.emplace(p, Writer{r.command, line, r.facts});
+        writers.emplace(p, Writer{r.command, line, r.facts, r.shape});
     };
     const std::string_view text = run.script;
     const std::size_t lines =

@@ -68,6 +68,9 @@ struct CommandResult {
   /// save_mesh sets vertices, triangles, components, boundary_edges and watertight (1 when
   /// closed, oriented and manifold, else 0) of its finest mesh.
   std::map<std::string, double> facts;
+  /// The shape whose surface the command's output shows (save_mesh: the shape it meshed), so
+  /// that a program can map what it displays back to the script's names; empty otherwise.
+  std::string shape;
 };
 
 /// A `param NAME VALUE [min=A] [max=B] [step=S]` line as the session ran it (for sliders).

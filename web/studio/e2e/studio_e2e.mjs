@@ -16,7 +16,11 @@
 //   4. an error on line 3: state failed, the error marker on the editor's third line;
 //   5. sketching: four clicks on the XY plane become a `curve` + `revolve` at the cursor, with
 //      the clicked coordinates, and the script runs;
-//   6. cancels a long run: state cancelled.
+//   6. picks two spheres' surfaces with Combine (diff): the operation is appended and runs, the
+//      picked meshes are hidden and the difference's bounds are right;
+//   7. drags a sphere with Move: a `translate` line goes in before its save_mesh, with the
+//      drag's distance in the library's frame, and the mesh moves there;
+//   8. cancels a long run: state cancelled.
 // Exit 0 when all pass, 1 on a failure, 77 (ctest's skip) when the binary serves no built page.
 //   node e2e/studio_e2e.mjs RAMIFORM_BINARY WORK_DIR [--screenshots DIR]
 import { spawn } from 'node:child_process';
@@ -466,6 +470,98 @@ async function main() {
     await waitForRun(page, before);
     const objects = await page.evaluate(() => window.studio.result.objects.map((o) => o.name));
     check(objects.includes(m[3]), `the revolved solid ${m[3]} is shown (objects ${objects})`);
+  });
+
+  await step('combine two surfaces picked in the view: diff a b becomes script text and runs', async () => {
+    await typeScript(page, 'sphere a 1\nsphere b 1 center=1.2,0,0\nsave_mesh a a.glb resolution=40\nsave_mesh b b.glb resolution=40\n');
+    const before = await runCount(page);
+    await page.click('#run');
+    await waitForRun(page, before);
+    const cam = await camera(page);
+    const canvas = await page.locator('#view canvas').boundingBox();
+    // The sphere (page frame: the library's x is the page's x) that the ray through a point's
+    // pixel meets first: the clicks are where the test means them.
+    const first = (p) => {
+      const o = cam.eye;
+      const d = p.map((v, i) => v - o[i]);
+      const n = Math.hypot(...d);
+      const u = d.map((v) => v / n);
+      let best = null;
+      for (const [name, c] of [['a', [0, 0, 0]], ['b', [1.2, 0, 0]]]) {
+        const oc = o.map((v, i) => v - c[i]);
+        const b = oc.reduce((s, v, i) => s + v * u[i], 0);
+        const disc = b * b - (oc.reduce((s, v) => s + v * v, 0) - 1);
+        if (disc < 0) continue;
+        const t = -b - Math.sqrt(disc);
+        if (!best || t < best.t) best = { name, t };
+      }
+      return best?.name;
+    };
+    const onA = [-0.7, 0, 0];
+    const onB = [1.9, 0, 0];
+    check(first(onA) === 'a' && first(onB) === 'b', 'the clicked pixels show a and b');
+    await page.locator('#edit-op').selectOption('diff');
+    await page.click('#combine');
+    for (const p of [onA, onB]) {
+      const q = project(cam, p);
+      await page.mouse.click(canvas.x + q.x, canvas.y + q.y);
+    }
+    await waitForRun(page, before + 1);
+    const text = await page.evaluate(() => window.studio.script());
+    check(text.endsWith('# picked on the surfaces: the difference of a and b\ndiff a b a_b\nsave_mesh a_b a_b.glb\n'),
+      `the diff and its save_mesh were appended: ${JSON.stringify(text)}`);
+    const state = await page.evaluate(() => {
+      const objects = window.studio.result.objects;
+      const id = (name) => objects.find((o) => o.name === name)?.id;
+      return {
+        names: objects.map((o) => o.name),
+        shapes: objects.map((o) => o.shape),
+        visible: ['a', 'b', 'a_b'].map((n) => window.studio.view.isVisible(id(n))),
+        bounds: window.studio.view.bounds(),
+      };
+    });
+    check(state.names.includes('a_b') && state.shapes.includes('a_b'), `the combined mesh is shown (objects ${state.names})`);
+    check(state.visible.join() === 'false,false,true', `a and b are hidden, a_b shown: ${state.visible}`);
+    // Inside a and outside b: x from -1 to the plane x = 0.6 where the spheres meet, radius 0.8
+    // there; marching cubes at 40 cells over the 2-wide box: within a cell (0.05).
+    near(state.bounds.min[0], -1, 0.06, 'the difference reaches x = -1');
+    near(state.bounds.max[0], 0.6, 0.06, 'the difference ends at x = 0.6');
+    near(state.bounds.max[1], 1, 0.06, 'the difference keeps a\'s top');
+    if (shots) await page.screenshot({ path: join(shots, 'studio_combine.png') });
+  });
+
+  await step('move a surface by dragging it: translate before its save_mesh, the mesh moves', async () => {
+    await typeScript(page, 'sphere s 1\nsave_mesh s s.glb resolution=40\n');
+    const before = await runCount(page);
+    await page.click('#run');
+    await waitForRun(page, before);
+    const cam = await camera(page);
+    const canvas = await page.locator('#view canvas').boundingBox();
+    await page.click('#move');
+    const c = project(cam, [0, 0, 0]);
+    const dx = 120;
+    await page.mouse.move(canvas.x + c.x, canvas.y + c.y);
+    await page.mouse.down();
+    await page.mouse.move(canvas.x + c.x + dx, canvas.y + c.y, { steps: 6 });
+    await page.mouse.up();
+    await waitForRun(page, before + 1);
+    const text = await page.evaluate(() => window.studio.script());
+    const m = /^sphere s 1\ntranslate s (\S+) (\S+) (\S+)\nsave_mesh s s\.glb resolution=40\n$/.exec(text);
+    check(m, `a translate line went in before save_mesh: ${JSON.stringify(text)}`);
+    // The drag moves the grabbed point (on the front of the sphere, 1 nearer than its centre)
+    // in the plane facing the camera: dx pixels are dx / (height / 2) · depth · tan(fov / 2)
+    // along the camera's right vector.
+    const sub = (a, b) => a.map((v, i) => v - b[i]);
+    const f = sub(cam.target, cam.eye).map((v, _, a) => v / Math.hypot(...a));
+    const r0 = [f[1] * cam.up[2] - f[2] * cam.up[1], f[2] * cam.up[0] - f[0] * cam.up[2], f[0] * cam.up[1] - f[1] * cam.up[0]];
+    const r = r0.map((v) => v / Math.hypot(...r0));
+    const world = (dx / (cam.height / 2)) * (c.depth - 1) * Math.tan((cam.fov * Math.PI) / 360);
+    const page3 = r.map((v) => v * world);
+    const library = [page3[0], -page3[2], page3[1]];
+    [1, 2, 3].forEach((k) => near(Number(m[k]), library[k - 1], 0.02 * world + 0.002, `translate component ${k}`));
+    const b = await page.evaluate(() => window.studio.view.bounds());
+    const centre = b.min.map((v, i) => (v + b.max[i]) / 2);
+    centre.forEach((v, i) => near(v, page3[i], 0.03, `the moved sphere's centre, page axis ${i}`));
   });
 
   await step('cancel a long run: state cancelled', async () => {

@@ -19,6 +19,7 @@ import { sceneSupport, completionSource, scriptParams } from './language.js';
 import { sliderRange, formatValue } from './params.js';
 import { createView } from './view3d.js';
 import { freshName, sketchText } from './sketch.js';
+import { combineText, freshWord, insertLines, translateText } from './edit.js';
 import * as THREE from 'three';
 
 const $ = (id) => document.getElementById(id);
@@ -201,6 +202,7 @@ const view = createView($('view'));
 let currentRun = null; // id of the latest run
 let runTicket = 0; // counts Run presses: an older loop that sees a newer ticket stops
 let lastResult = null;
+let lastScript = null; // the script text of lastResult's run
 const timings = { runs: [], lines: [] };
 
 function setState(state) {
@@ -217,8 +219,9 @@ async function run({ frame = true, draft = false } = {}) {
   $('progress').value = 0;
   $('stage').textContent = 'starting';
   let id;
+  const sent = script();
   try {
-    ({ run: id } = await api('api/run', { script: script(), params: paramValues(), draft }));
+    ({ run: id } = await api('api/run', { script: sent, params: paramValues(), draft }));
   } catch (e) {
     if (ticket !== runTicket) return;
     setState('failed');
@@ -245,7 +248,7 @@ async function run({ frame = true, draft = false } = {}) {
       await new Promise((r) => setTimeout(r, 100));
       continue;
     }
-    await finish(status, frame);
+    await finish(status, frame, sent);
     if (ticket !== runTicket) return;
     timings.runs.push({ run: id, state: status.state, draft, server: status.seconds, wall: (performance.now() - started) / 1000 });
     setState(status.state);
@@ -253,8 +256,9 @@ async function run({ frame = true, draft = false } = {}) {
   }
 }
 
-async function finish(status, frame) {
+async function finish(status, frame, sent) {
   lastResult = status;
+  lastScript = sent;
   $('progress').value = status.state === 'done' ? 1 : $('progress').value;
   $('stage').textContent = `${status.state} ${(status.seconds ?? 0).toFixed(2)} s`;
   renderLog(status);
@@ -512,19 +516,130 @@ view.canvas.addEventListener('pointerdown', (e) => {
   sketch.down = { x: e.clientX, y: e.clientY };
 });
 view.canvas.addEventListener('pointerup', (e) => {
-  if (!sketch.on || !sketch.down) return;
+  if (!sketch.down) return;
   const moved = Math.hypot(e.clientX - sketch.down.x, e.clientY - sketch.down.y);
   sketch.down = null;
   if (moved > 4) return; // a drag orbits the camera
+  if (edit.mode === 'combine') return combineClick(e);
+  if (!sketch.on) return;
   const hit = view.pick(e.clientX, e.clientY, planeNormal());
   if (!hit) return;
   sketch.points.push(hit);
   view.showSketch($('sketch-plane').value, sketch.points);
 });
-$('sketch').addEventListener('click', () => (sketch.on ? finishSketch() : setSketch(true)));
+$('sketch').addEventListener('click', () => {
+  if (edit.mode) setEdit(null);
+  sketch.on ? finishSketch() : setSketch(true);
+});
 $('sketch-plane').addEventListener('change', () => sketch.on && setSketch(true));
 window.addEventListener('keydown', (e) => {
   if (e.key === 'Escape' && sketch.on) setSketch(false);
+  if (e.key === 'Escape' && edit.mode) setEdit(null);
+});
+
+// ---- editing on the surfaces ----------------------------------------------------------------
+// Combine: click two surfaces, the chosen operation between their shapes is appended to the
+// script (and their meshes hidden); Move: drag a surface, a `translate` line goes in before the
+// `save_mesh` line that made it (edit.js). Both run the script again.
+const edit = { mode: null, first: null, drag: null };
+
+function setEdit(mode) {
+  if (sketch.on) setSketch(false);
+  if (edit.drag) view.setOffset(edit.drag.id, new THREE.Vector3());
+  edit.mode = mode;
+  edit.first = null;
+  edit.drag = null;
+  view.controls.enabled = true;
+  $('combine').classList.toggle('active', mode === 'combine');
+  $('move').classList.toggle('active', mode === 'move');
+  document.body.dataset.edit = mode || 'off';
+  editHint();
+}
+
+function editHint(text) {
+  const hint = $('edit-hint');
+  const texts = {
+    combine: edit.first ? `Combine: click the second surface (the first is ${edit.first.info.shape}).` : 'Combine: click the first surface.',
+    move: 'Move: drag a surface (Esc cancels).',
+  };
+  hint.textContent = text || texts[edit.mode] || '';
+  hint.hidden = !hint.textContent;
+}
+
+// The picked object's shape, or null with a message (not a script's mesh, or the view is stale).
+function pickedShape(e) {
+  const hit = view.pickObject(e.clientX, e.clientY);
+  if (!hit) return null;
+  if (!hit.info.shape) {
+    editHint('That mesh was not made by save_mesh of a shape; pick another.');
+    return null;
+  }
+  if (lastScript !== script()) {
+    showError({ message: 'The view shows an older version of the script: Run it first, then pick.' });
+    setEdit(null);
+    return null;
+  }
+  return hit;
+}
+
+function applyEdit(text) {
+  setScript(text);
+  setEdit(null);
+  run({ frame: false });
+}
+
+function combineClick(e) {
+  const hit = pickedShape(e);
+  if (!hit) return;
+  if (!edit.first) {
+    edit.first = hit;
+    editHint();
+    return;
+  }
+  const a = edit.first.info.shape;
+  const b = hit.info.shape;
+  if (a === b) {
+    editHint(`Both clicks picked ${a}: click a surface of another shape.`);
+    return;
+  }
+  const op = $('edit-op').value;
+  const name = freshWord(script(), `${a}_${b}`);
+  view.setVisible(edit.first.id, false); // visibility carries over to the new run's meshes
+  view.setVisible(hit.id, false);
+  applyEdit(insertLines(script(), 0, combineText(op, a, b, name)));
+}
+
+// Move: the pointer goes down on a surface (before OrbitControls sees it, which would orbit).
+view.canvas.parentElement.addEventListener(
+  'pointerdown',
+  (e) => {
+    if (edit.mode !== 'move' || e.button !== 0) return;
+    const hit = pickedShape(e);
+    if (!hit) return;
+    view.controls.enabled = false;
+    edit.drag = { id: hit.id, info: hit.info, start: hit.point, delta: new THREE.Vector3() };
+    e.preventDefault();
+  },
+  { capture: true },
+);
+window.addEventListener('pointermove', (e) => {
+  if (!edit.drag) return;
+  const p = view.pointOnViewPlane(e.clientX, e.clientY, edit.drag.start);
+  if (!p) return;
+  edit.drag.delta = p.sub(edit.drag.start);
+  view.setOffset(edit.drag.id, edit.drag.delta);
+});
+window.addEventListener('pointerup', () => {
+  if (!edit.drag) return;
+  const { id, info, delta } = edit.drag;
+  edit.drag = null;
+  view.controls.enabled = true;
+  const line = translateText(info.shape, delta.toArray(), view.objectSize(id));
+  if (!line) {
+    view.setOffset(id, new THREE.Vector3());
+    return;
+  }
+  applyEdit(insertLines(script(), info.line, line));
 });
 
 // ---- wiring ----------------------------------------------------------------------------------
@@ -536,6 +651,8 @@ $('wireframe').addEventListener('change', (e) => view.setWireframe(e.target.chec
 $('line-mode').addEventListener('change', updateLineMode);
 $('lines-mesh').addEventListener('change', updateLineMode);
 linesShape.addEventListener('change', requestLines);
+$('combine').addEventListener('click', () => setEdit(edit.mode === 'combine' ? null : 'combine'));
+$('move').addEventListener('click', () => setEdit(edit.mode === 'move' ? null : 'move'));
 
 window.studio = {
   view,

@@ -17,8 +17,8 @@
 //   up), where the section's axes are the world's x and y (`sweep`), so the solid rises from the
 //   drawn outline.
 
-// Rounds to 3 significant decimals past the sketch's scale, without "-0".
-function number(v, places) {
+// `v` with `places` decimals, trailing zeros dropped, without "-0".
+export function number(v, places) {
   const s = v.toFixed(places).replace(/\.?0+$/, '');
   return s === '-0' || s === '' ? '0' : s;
 }

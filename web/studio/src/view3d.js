@@ -148,7 +148,7 @@ export function createView(container) {
       const key = `${info.kind}:${info.name}`;
       const visible = previous.has(key) ? previous.get(key) : true;
       object.name = info.name;
-      entries.set(info.id, { object, kind: info.kind, name: info.name, visible });
+      entries.set(info.id, { object, kind: info.kind, name: info.name, info, visible });
       root.add(object);
     }
     restyle();
@@ -206,9 +206,8 @@ export function createView(container) {
     };
   }
 
-  // The point where the ray through a client pixel meets a plane through the origin
-  // (`normal` is the plane's normal), or null when the ray misses it.
-  function pick(clientX, clientY, normal) {
+  // The camera's ray through a client pixel.
+  function rayAt(clientX, clientY) {
     const rect = renderer.domElement.getBoundingClientRect();
     const ndc = new THREE.Vector2(
       ((clientX - rect.left) / rect.width) * 2 - 1,
@@ -216,8 +215,52 @@ export function createView(container) {
     );
     const raycaster = new THREE.Raycaster();
     raycaster.setFromCamera(ndc, camera);
-    const hit = raycaster.ray.intersectPlane(new THREE.Plane(normal, 0), new THREE.Vector3());
-    return hit;
+    return raycaster;
+  }
+
+  // The point where the ray through a client pixel meets a plane through the origin
+  // (`normal` is the plane's normal), or null when the ray misses it.
+  function pick(clientX, clientY, normal) {
+    return rayAt(clientX, clientY).ray.intersectPlane(new THREE.Plane(normal, 0), new THREE.Vector3());
+  }
+
+  // The nearest visible mesh surface under a client pixel: {id, info, point} (the run's object
+  // and the page-frame point hit), or null.
+  function pickObject(clientX, clientY) {
+    if (settings.meshMode === 'hidden') return null;
+    const meshes = [...entries.entries()].filter(([, e]) => e.kind === 'mesh' && e.visible);
+    const hits = rayAt(clientX, clientY).intersectObjects(meshes.map(([, e]) => e.object), true);
+    if (hits.length === 0) return null;
+    for (let o = hits[0].object; o; o = o.parent) {
+      const found = meshes.find(([, e]) => e.object === o);
+      if (found) return { id: found[0], info: found[1].info, point: hits[0].point.clone() };
+    }
+    return null;
+  }
+
+  // Where the ray through a client pixel meets the plane through `through` that faces the
+  // camera (dragging moves things in it), or null.
+  function pointOnViewPlane(clientX, clientY, through) {
+    const normal = camera.getWorldDirection(new THREE.Vector3());
+    const plane = new THREE.Plane().setFromNormalAndCoplanarPoint(normal, through);
+    return rayAt(clientX, clientY).ray.intersectPlane(plane, new THREE.Vector3());
+  }
+
+  // Shows object `id` displaced by the page vector `offset` (a drag in progress; the next run's
+  // objects replace it).
+  function setOffset(id, offset) {
+    const e = entries.get(id);
+    if (!e) return;
+    e.object.position.copy(offset);
+    render();
+  }
+
+  // The radius of object `id`'s bounding sphere (0 when unknown).
+  function objectSize(id) {
+    const e = entries.get(id);
+    if (!e) return 0;
+    const box = new THREE.Box3().expandByObject(e.object, true);
+    return box.isEmpty() ? 0 : box.getBoundingSphere(new THREE.Sphere()).radius;
   }
 
   // Turns the camera to face a plane through the target ('xy': from the front, +Z; 'xz': from
@@ -263,6 +306,10 @@ export function createView(container) {
     frameAll,
     cameraState,
     pick,
+    pickObject,
+    pointOnViewPlane,
+    setOffset,
+    objectSize,
     showSketch,
     facePlane,
     render,

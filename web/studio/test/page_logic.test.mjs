@@ -9,6 +9,7 @@ import test from 'node:test';
 import assert from 'node:assert/strict';
 import { decimals, sliderRange, formatValue } from '../src/params.js';
 import { freshName, sketchText } from '../src/sketch.js';
+import { combineText, freshWord, insertLines, pageToLibrary, translateText } from '../src/edit.js';
 
 test('decimals of a written number', () => {
   assert.equal(decimals('200'), 0);
@@ -54,4 +55,34 @@ test('too few points make no text; names do not clash', () => {
   assert.equal(freshName('sphere s 1\n'), 'sketch');
   assert.equal(freshName('curve sketch polyline 0 0 1 1\nrevolve sketch_solid sketch\n'), 'sketch2');
   assert.equal(freshName('path sketch2_path polyline 0 0 0 0 0 1\ncurve sketch polyline 0 0 1 1\n'), 'sketch3');
+});
+
+test('combining two picked surfaces appends the operation and a save_mesh of the result', () => {
+  assert.equal(
+    combineText('diff', 'a', 'b', 'a_b'),
+    '# picked on the surfaces: the difference of a and b\ndiff a b a_b\nsave_mesh a_b a_b.glb',
+  );
+  assert.equal(combineText('blend', 'crown', 'top', 'x').split('\n')[1], 'blend crown top x');
+  assert.throws(() => combineText('xor', 'a', 'b', 'c'), /unknown operation 'xor'/);
+  // Fresh names avoid every word of the script, option values included.
+  assert.equal(freshWord('sphere a 1\nsphere b 1\n', 'a_b'), 'a_b');
+  assert.equal(freshWord('blend a b a_b\nsave_mesh a_b a_b.glb\n', 'a_b'), 'a_b2');
+  assert.equal(freshWord('x=a_b a_b2', 'a_b'), 'a_b3');
+});
+
+test('a dragged surface becomes translate in the library frame, before its save_mesh line', () => {
+  // Page (X, Y, Z) = library (X, −Z, Y): a drag up the screen (+Y) is the library's +z, a drag
+  // towards the viewer (+Z) its −y.
+  assert.deepEqual(pageToLibrary([1, 2, 3]), [1, -3, 2]);
+  assert.equal(translateText('s', [0.5, 0.25, -0.125], 1), 'translate s 0.5 0.125 0.25');
+  // Three significant decimals of the object's size: 1.23456 on a size-1 object is 1.235.
+  assert.equal(translateText('s', [1.23456, 0, 0], 1), 'translate s 1.235 0 0');
+  assert.equal(translateText('s', [0.0123456, 0, 0], 0.05), 'translate s 0.01235 0 0');
+  assert.equal(translateText('s', [0.0001, 0, 0], 1), null); // rounds to no move
+  const text = 'sphere a 1\nsphere b 1\nsave_mesh b b.glb';
+  assert.equal(insertLines(text, 3, 'translate b 1 0 0'), 'sphere a 1\nsphere b 1\ntranslate b 1 0 0\nsave_mesh b b.glb');
+  // Line 0 (the server's preview mesh) or past the end: appended as whole lines.
+  assert.equal(insertLines(text, 0, 'x'), `${text}\nx\n`);
+  assert.equal(insertLines(`${text}\n`, 9, 'x'), `${text}\nx\n`);
+  assert.equal(insertLines('', 0, 'x'), 'x\n');
 });
