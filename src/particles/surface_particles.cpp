@@ -11,6 +11,7 @@
 
 #include "particles/particle_common.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/memory.h"
 #include "ramiform/core/portable_math.h"
 #include "ramiform/core/random.h"
 
@@ -352,6 +353,13 @@ ParticleSystem spread_particles(const Field& field, const ParticleOptions& optio
   std::size_t surface_cells = 0;
   for (const CellProbe& p : probes) surface_cells += p.area > 0;
   const std::size_t total = options.count > 0 ? options.count : options.per_cell * surface_cells;
+  // Each particle keeps its state and its seed state; the simulation's neighbour lists and the
+  // line drawings' work come on top.
+  check_memory(ctx,
+               static_cast<double>(total) *
+                   static_cast<double>(sizeof(SurfaceParticle) + 2 * sizeof(Vec3)),
+               std::to_string(total) + " surface particles",
+               "ask for fewer particles (count)");
   const Plan pl = plan(out.cells, probes, total);
   Seeded s = seed(field, out.cells, probes, pl.want, pl.delta, seeds, options.seed, ctx);
   st.dropped = s.missing;

@@ -155,6 +155,15 @@ TEST_F(HostileInputs, RunsAboveTheMemoryBudgetAreRefusedBeforeTheyStart) {
     EXPECT_TRUE(fs::exists(out));
     fs::remove(out);
   }
+  // A line drawing's particles: 20,000 need at least 2.24 MB.
+  const std::string svg = path("fork.svg");
+  const CliRun d = run_bounded("draw " + skel + " -o " + svg + " --count 20000 --max-memory 1M");
+  EXPECT_EQ(d.code, 2) << d.out;
+  EXPECT_NE(d.out.find("20000 surface particles need at least 2.24 MB of memory, more than the "
+                       "budget of 1 MB"),
+            std::string::npos)
+      << d.out;
+  EXPECT_FALSE(fs::exists(svg));
   const std::string script =
       write("many.rf", "sphere s 1\npoint_set_gen s uniform count=100000\nsave_point_set p.txt\n");
   const CliRun r = run_bounded("run " + script + " --out " + dir_.string() + " --max-memory 1M");

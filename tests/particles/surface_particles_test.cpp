@@ -6,7 +6,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <string>
 
+#include "ramiform/core/context.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/field/operators.h"
 #include "ramiform/field/primitives.h"
@@ -80,6 +82,27 @@ TEST(SurfaceParticles, CountIsHonoured) {
   o.count = 3000;
   const ParticleSystem ps = spread_particles(*f, o);
   EXPECT_NEAR(static_cast<double>(ps.particles.size()), 3000.0, 30.0);
+}
+
+TEST(SurfaceParticles, CountsAboveTheMemoryBudgetAreRefusedBeforeSpreading) {
+  // Each particle keeps at least its state and its seed state (112 bytes): 100,000 particles
+  // need 11.2 MB, more than a 1 MB budget; 3,000 (336 kB) fit.
+  const FieldPtr f = sphere(Vec3::Zero(), 2.0);
+  ParticleOptions o;
+  o.count = 100000;
+  Context ctx;
+  ctx.set_max_memory(1'000'000);
+  try {
+    (void)spread_particles(*f, o, {}, {}, nullptr, &ctx);
+    ADD_FAILURE() << "no ResourceLimit";
+  } catch (const ResourceLimit& e) {
+    EXPECT_NE(std::string(e.what()).find("100000 surface particles need at least 11.2 MB of memory"),
+              std::string::npos)
+        << e.what();
+  }
+  o.count = 3000;
+  EXPECT_NEAR(static_cast<double>(spread_particles(*f, o, {}, {}, nullptr, &ctx).particles.size()),
+              3000.0, 30.0);
 }
 
 TEST(SurfaceParticles, AdaptiveCellsConcentrateParticlesWhereCurvatureIsHigh) {

@@ -435,6 +435,46 @@ TEST_F(StudioTest, LinesSilhouetteOfASphereIsTheAnalyticCircle) {
   json bad = body;
   bad["camera"]["eye"] = {0, 1, 0};  // at the target
   EXPECT_EQ(request("POST", "/api/lines", bad.dump()).status, 400);
+  // The page's progress bar: no drawing under way, the last stage was the camera's lines.
+  const Reply p = request("GET", "/api/lines/progress");
+  ASSERT_EQ(p.status, 200) << p.body;
+  const json progress = json::parse(p.body);
+  EXPECT_EQ(progress["busy"], false) << p.body;
+  EXPECT_EQ(progress["stage"], "lines: this camera") << p.body;
+}
+
+TEST_F(StudioTest, LineDrawingsKeepToTheMemoryBudget) {
+  // `--memory-budget` 16 MB: 200,000 particles need at least 22.4 MB (state and seed state, 112
+  // bytes each) and are refused before any work; 3,000 are drawn.
+  server_->stop();
+  StudioOptions o;
+  o.out_dir = out_;
+  o.port = 0;
+  o.threads = 2;
+  o.demo_script = "sphere s 1\n";
+  o.token = std::string(32, 'a');
+  o.max_memory = 16'000'000;
+  server_ = std::make_unique<StudioServer>(o);
+  port_ = server_->start();
+  host_ = "127.0.0.1:" + std::to_string(port_);
+  const std::string id = run("sphere s 1\n");
+  ASSERT_EQ(wait(id)["state"], "done");
+  json body = {{"run", id},
+               {"shape", "s"},
+               {"camera", {{"eye", {0, 0, 5}}, {"target", {0, 0, 0}}}},
+               {"lines", {"silhouette"}},
+               {"count", 200000}};
+  const Reply refused = request("POST", "/api/lines", body.dump());
+  EXPECT_EQ(refused.status, 400);
+  EXPECT_NE(refused.body.find("200000 surface particles need at least 22.4 MB of memory, more "
+                              "than the budget of 16 MB"),
+            std::string::npos)
+      << refused.body;
+  EXPECT_EQ(json::parse(request("GET", "/api/lines/progress").body)["busy"], false);
+  body["count"] = 3000;
+  const Reply drawn = request("POST", "/api/lines", body.dump());
+  EXPECT_EQ(drawn.status, 200) << drawn.body;
+  EXPECT_NE(drawn.body.find("<g id=\"silhouette\""), std::string::npos);
 }
 
 // Bounded, seeded garbage at every endpoint: random methods, paths, headers, bodies, JSON,

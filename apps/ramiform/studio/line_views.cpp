@@ -26,8 +26,25 @@ struct LineViews::Entry {
 
 Vec3 from_page(const std::array<double, 3>& p) { return {p[0], -p[2], p[1]}; }
 
-LineViews::LineViews(fs::path scratch, int threads)
-    : scratch_(std::move(scratch)), threads_(threads) {}
+LineViews::LineViews(fs::path scratch, int threads, std::uint64_t max_memory)
+    : scratch_(std::move(scratch)), threads_(threads), max_memory_(max_memory) {}
+
+LinesProgress LineViews::progress() const {
+  std::lock_guard lock(progress_mutex_);
+  LinesProgress p = progress_;
+  if (p.busy) {
+    p.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - progress_start_).count();
+  }
+  return p;
+}
+
+void LineViews::report(std::uint64_t ticket, const std::string& stage, double fraction) {
+  std::lock_guard lock(progress_mutex_);
+  if (ticket != newest_) return;
+  progress_.stage = stage;
+  progress_.fraction = fraction;
+}
 
 std::shared_ptr<LineViews::Entry> LineViews::entry(const std::string& key) {
   std::lock_guard lock(mutex_);
@@ -63,7 +80,26 @@ std::string LineViews::draw(const std::string& run, const std::string& shape, co
   camera.aspect = static_cast<double>(page.width) / page.height;
   validate(camera);
 
+  std::uint64_t ticket = 0;
+  {
+    std::lock_guard lock(progress_mutex_);
+    ticket = ++newest_;
+    progress_ = {true, "lines", 0.0, 0.0};
+    progress_start_ = std::chrono::steady_clock::now();
+  }
+  // The newest drawing's progress ends with it, however it ends.
+  struct Finish {
+    LineViews& views;
+    std::uint64_t ticket;
+    ~Finish() {
+      std::lock_guard lock(views.progress_mutex_);
+      if (views.newest_ == ticket) views.progress_.busy = false;
+    }
+  } finish{*this, ticket};
   Context ctx(threads_);
+  ctx.set_max_memory(max_memory_);
+  ctx.set_progress(
+      [this, ticket](const std::string& stage, double fraction) { report(ticket, stage, fraction); });
   const std::shared_ptr<Entry> e = entry(run + "\n" + shape + "\n" + std::to_string(count));
   std::lock_guard lock(e->m);
   if (!e->ready) {
@@ -76,9 +112,11 @@ std::string LineViews::draw(const std::string& run, const std::string& shape, co
     }
     LineOptions all = options;
     all.features = true;
+    report(ticket, "lines: feature lines", 0.0);
     e->features = feature_lines(*field, e->particles, all, nullptr, &ctx);
     e->ready = true;
   }
+  report(ticket, "lines: this camera", 0.0);
   const LineDrawing drawing =
       draw_lines(*e->field, e->particles, camera, options, &e->features, nullptr, &ctx);
   DrawingStyle style;

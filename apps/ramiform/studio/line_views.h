@@ -11,6 +11,8 @@
 // removed by rays.
 
 #include <array>
+#include <chrono>
+#include <cstdint>
 #include <cstddef>
 #include <filesystem>
 #include <list>
@@ -30,14 +32,24 @@ struct PageCamera {
   int width = 800, height = 600;
 };
 
+/// What the newest drawing is doing, for the page's progress bar (GET /api/lines/progress).
+struct LinesProgress {
+  bool busy = false;      ///< a drawing is being made
+  std::string stage;      ///< the library's stage ("particles: cells", ...), or "lines"
+  double fraction = 0;    ///< of that stage, 0..1
+  double seconds = 0;     ///< since the drawing started
+};
+
 class LineViews {
  public:
   /// Most particle systems kept (the oldest is dropped first).
   static constexpr std::size_t kMaxCached = 6;
   static constexpr std::size_t kMaxCount = 200'000;
 
-  /// `scratch`: a directory for the SVG writer's file; `threads`: Context threads.
-  LineViews(std::filesystem::path scratch, int threads);
+  /// `scratch`: a directory for the SVG writer's file; `threads`: Context threads;
+  /// `max_memory`: the memory budget of each drawing (Context::set_max_memory; 0: what is
+  /// available), which refuses particle counts that cannot fit.
+  LineViews(std::filesystem::path scratch, int threads, std::uint64_t max_memory = 0);
 
   /// The SVG drawing of `field` (shape `shape` of run `run`) for `camera` with the line kinds
   /// `kinds` ("silhouette", "suggestive", "feature"), from `count` particles. Throws
@@ -46,13 +58,24 @@ class LineViews {
                                  const FieldPtr& field, const PageCamera& camera,
                                  const std::vector<std::string>& kinds, std::size_t count);
 
+  /// The newest drawing's progress (the first drawing of a shape spreads its particles, which
+  /// takes seconds on a large tree; later ones only draw).
+  [[nodiscard]] LinesProgress progress() const;
+
   struct Entry;
 
  private:
   std::shared_ptr<Entry> entry(const std::string& key);
+  // Progress of drawing `ticket`; only the newest drawing's is kept.
+  void report(std::uint64_t ticket, const std::string& stage, double fraction);
 
   std::filesystem::path scratch_;
   int threads_;
+  std::uint64_t max_memory_;
+  mutable std::mutex progress_mutex_;
+  std::uint64_t newest_ = 0;  // ticket of the newest drawing started
+  LinesProgress progress_;
+  std::chrono::steady_clock::time_point progress_start_;
   std::mutex mutex_;
   std::list<std::pair<std::string, std::shared_ptr<Entry>>> cache_;  // newest first
   std::size_t next_file_ = 0;

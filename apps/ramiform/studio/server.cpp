@@ -261,6 +261,13 @@ struct StudioServer::Impl {
     http.Post("/api/lines", [this](const httplib::Request& req, httplib::Response& res) {
       lines_request(req, res);
     });
+    http.Get("/api/lines/progress", [this](const httplib::Request&, httplib::Response& res) {
+      const LinesProgress p = lines->progress();
+      send_json(res, json{{"busy", p.busy},
+                          {"stage", p.stage},
+                          {"fraction", p.fraction},
+                          {"seconds", p.seconds}});
+    });
     // The page's other files (/index.html, /assets/...).
     http.Get(R"(/.*)", [](const httplib::Request& req, httplib::Response& res) {
       const StudioAsset* asset = find_asset(req.path);
@@ -406,7 +413,8 @@ StudioServer::StudioServer(StudioOptions options) : impl_(std::make_unique<Impl>
                 {"page_built", studio_page_built()},
                 {"commands", commands}}
                .dump(-1, ' ', false, json::error_handler_t::replace);
-  s.lines = std::make_unique<LineViews>(settings.out_dir / "cache", s.options.threads);
+  s.lines = std::make_unique<LineViews>(settings.out_dir / "cache", s.options.threads,
+                                        s.options.max_memory);
   s.runs = std::make_unique<RunManager>(std::move(settings));
   s.http.new_task_queue = [] { return new httplib::ThreadPool(kHttpThreads); };
   s.http.set_payload_max_length(kMaxBody);

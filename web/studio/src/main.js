@@ -429,6 +429,17 @@ async function fetchLines() {
   const asked = linesAsked;
   const camera = view.cameraState();
   const started = performance.now();
+  // A shape's first drawing spreads its particles (seconds on a large tree): while it takes
+  // long, the toolbar shows the server's stage for it.
+  const poll = setInterval(async () => {
+    if (seq !== linesSeq || document.body.dataset.state === 'running') return;
+    try {
+      const p = await api('api/lines/progress');
+      if (seq !== linesSeq || !p.busy) return;
+      $('progress').value = Number.isFinite(p.fraction) ? p.fraction : 0;
+      $('stage').textContent = `${p.stage} ${p.seconds.toFixed(1)} s`;
+    } catch {}
+  }, 250);
   try {
     const response = await api(
       'api/lines',
@@ -456,12 +467,15 @@ async function fetchLines() {
     const server = Number(response.headers.get('X-Ramiform-Seconds'));
     const wall = (performance.now() - started) / 1000;
     timings.lines.push({ server, wall });
+    $('progress').value = 1;
     $('stage').textContent = `lines ${Number.isFinite(server) ? `${(server * 1000).toFixed(0)} ms server, ` : ''}${(wall * 1000).toFixed(0)} ms`;
     setLinesState('ready');
   } catch (e) {
     if (e.name === 'AbortError' || seq !== linesSeq) return;
     showError({ message: `line mode: ${e.message}` });
     setLinesState('idle');
+  } finally {
+    clearInterval(poll);
   }
 }
 
