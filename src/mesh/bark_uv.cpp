@@ -687,108 +687,123 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
   std::vector<double> v = ref;
   std::vector<double> delta_u(nu, 0.0), base_u(nu, 0.0);
   for (std::size_t j = 0; j < n; ++j) base_u[unk[j]] = out.uvs[j].x() - std::floor(out.uvs[j].x());
+  // The charts' systems are independent: they are solved in parallel (each the same on any
+  // thread), then placed one after another in chart order, since a chart's constant follows
+  // its parent's drift at the fork.
+  struct ChartSolve {
+    bool ok = false;
+    std::vector<std::uint32_t> members;  // the chart's unknowns, in the order of its triangles
+    std::vector<std::uint32_t> piece;    // per member: its connected piece's root member
+    Eigen::VectorXd x, du;
+  };
+  std::vector<ChartSolve> solves(chains);
+  parallel::for_each(
+      chains, 1,
+      [&](std::size_t c) {
+        check_cancel(ctx);
+        const std::vector<std::uint32_t>& ts = chart_tris[c];
+        if (ts.empty()) return;
+        ChartSolve& out_c = solves[c];
+        std::vector<std::uint32_t>& members = out_c.members;
+        std::unordered_map<std::uint32_t, std::uint32_t> local;
+        local.reserve(2 * ts.size());
+        for (const std::uint32_t t : ts) {
+          for (const std::uint32_t j : out.triangles[t]) {
+            if (local.emplace(unk[j], static_cast<std::uint32_t>(members.size())).second) {
+              members.push_back(unk[j]);
+            }
+          }
+        }
+        const std::size_t m = members.size();
+        std::vector<ChartTri> tris;
+        tris.reserve(ts.size());
+        double orientation = 0.0;
+        for (const std::uint32_t t : ts) {
+          const auto& tri = out.triangles[t];
+          ChartTri x;
+          for (int k = 0; k < 3; ++k) x.at[k] = local.at(unk[tri[k]]);
+          const Vec3& p0 = out.positions[tri[0]];
+          const Vec3& p1 = out.positions[tri[1]];
+          const Vec3& p2 = out.positions[tri[2]];
+          const Vec3 nrm = (p1 - p0).cross(p2 - p0);
+          const double twice = nrm.norm();
+          if (!(twice > 0.0) || !std::isfinite(twice)) {
+            tris.push_back(x);
+            continue;
+          }
+          const Vec3 nh = nrm / twice;
+          x.grad[0] = nh.cross(p2 - p1) / twice;
+          x.grad[1] = nh.cross(p0 - p2) / twice;
+          x.grad[2] = nh.cross(p1 - p0) / twice;
+          x.area = 0.5 * twice;
+          Vec3 grad_u = Vec3::Zero();
+          for (int k = 0; k < 3; ++k) grad_u += out.uvs[tri[k]].x() * x.grad[k];
+          x.g = nh.cross(grad_u);
+          x.grad_u = grad_u;
+          x.normal = nh;
+          orientation += x.area * x.g.dot(segs[placed[tri[0]].seg].d);
+          tris.push_back(x);
+        }
+        const double sign = orientation < 0.0 ? -1.0 : 1.0;
+        std::vector<Eigen::Triplet<double>> entries;
+        entries.reserve(9 * tris.size() + m);
+        Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
+        std::vector<double> mass(m, 0.0), diag(m, 0.0);
+        for (const ChartTri& x : tris) {
+          if (x.area == 0.0) continue;
+          for (int a = 0; a < 3; ++a) {
+            mass[x.at[a]] += x.area / 3.0;
+            rhs[x.at[a]] += x.area * sign * x.grad[a].dot(x.g);
+            for (int b = 0; b < 3; ++b) {
+              const double k = x.area * x.grad[a].dot(x.grad[b]);
+              entries.emplace_back(x.at[a], x.at[b], k);
+              if (a == b) diag[x.at[a]] += k;
+            }
+          }
+        }
+        // A faint pull towards the reference v makes the system definite (its null space is the
+        // constant per connected piece) without moving the solution measurably.
+        double diag_sum = 0.0, mass_sum = 0.0;
+        for (std::size_t i = 0; i < m; ++i) {
+          diag_sum += diag[i];
+          mass_sum += mass[i];
+        }
+        if (!(mass_sum > 0.0) || !(diag_sum > 0.0)) return;
+        const double eps = 1e-11 * diag_sum / mass_sum;
+        const double mass_floor = 1e-3 * mass_sum / static_cast<double>(m);
+        for (std::size_t i = 0; i < m; ++i) {
+          const double w = eps * (mass[i] + mass_floor);
+          entries.emplace_back(static_cast<int>(i), static_cast<int>(i), w);
+          rhs[static_cast<Eigen::Index>(i)] += w * ref[members[i]];
+        }
+        Sparse K(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
+        K.setFromTriplets(entries.begin(), entries.end());
+        Eigen::SimplicialLDLT<Sparse> solver(K);
+        if (solver.info() == Eigen::Success) out_c.x = solver.solve(rhs);
+        if (solver.info() != Eigen::Success || !out_c.x.allFinite()) return;
+        refine_stretch(tris, sign, eps, mass, mass_floor, members, ref, out_c.x, out_c.du);
+        // Connected pieces of the chart, each with its own constant.
+        std::vector<std::uint32_t>& root = out_c.piece;
+        root.resize(m);
+        for (std::size_t i = 0; i < m; ++i) root[i] = static_cast<std::uint32_t>(i);
+        auto find = [&](std::uint32_t i) {
+          while (root[i] != i) i = root[i] = root[root[i]];
+          return i;
+        };
+        for (const ChartTri& t : tris) {
+          for (int k = 1; k < 3; ++k) root[find(t.at[k])] = find(t.at[0]);
+        }
+        for (std::size_t i = 0; i < m; ++i) root[i] = find(static_cast<std::uint32_t>(i));
+        out_c.ok = true;
+      },
+      ctx);
   std::vector<char> solved(nu, 0);
-  std::vector<std::uint32_t> local(nu, kNone);
   for (std::uint32_t c = 0; c < chains; ++c) {
-    check_cancel(ctx);
-    const std::vector<std::uint32_t>& ts = chart_tris[c];
-    if (ts.empty()) continue;
-    std::vector<std::uint32_t> members;
-    for (const std::uint32_t t : ts) {
-      for (const std::uint32_t j : out.triangles[t]) {
-        if (local[unk[j]] == kNone) {
-          local[unk[j]] = static_cast<std::uint32_t>(members.size());
-          members.push_back(unk[j]);
-        }
-      }
-    }
+    ChartSolve& sc = solves[c];
+    if (!sc.ok) continue;
+    const std::vector<std::uint32_t>& members = sc.members;
     const std::size_t m = members.size();
-    std::vector<ChartTri> tris;
-    tris.reserve(ts.size());
-    double orientation = 0.0;
-    for (const std::uint32_t t : ts) {
-      const auto& tri = out.triangles[t];
-      ChartTri x;
-      for (int k = 0; k < 3; ++k) x.at[k] = local[unk[tri[k]]];
-      const Vec3& p0 = out.positions[tri[0]];
-      const Vec3& p1 = out.positions[tri[1]];
-      const Vec3& p2 = out.positions[tri[2]];
-      const Vec3 nrm = (p1 - p0).cross(p2 - p0);
-      const double twice = nrm.norm();
-      if (!(twice > 0.0) || !std::isfinite(twice)) {
-        tris.push_back(x);
-        continue;
-      }
-      const Vec3 nh = nrm / twice;
-      x.grad[0] = nh.cross(p2 - p1) / twice;
-      x.grad[1] = nh.cross(p0 - p2) / twice;
-      x.grad[2] = nh.cross(p1 - p0) / twice;
-      x.area = 0.5 * twice;
-      Vec3 grad_u = Vec3::Zero();
-      for (int k = 0; k < 3; ++k) grad_u += out.uvs[tri[k]].x() * x.grad[k];
-      x.g = nh.cross(grad_u);
-      x.grad_u = grad_u;
-      x.normal = nh;
-      orientation += x.area * x.g.dot(segs[placed[tri[0]].seg].d);
-      tris.push_back(x);
-    }
-    const double sign = orientation < 0.0 ? -1.0 : 1.0;
-    std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(9 * tris.size() + m);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
-    std::vector<double> mass(m, 0.0), diag(m, 0.0);
-    for (const ChartTri& x : tris) {
-      if (x.area == 0.0) continue;
-      for (int a = 0; a < 3; ++a) {
-        mass[x.at[a]] += x.area / 3.0;
-        rhs[x.at[a]] += x.area * sign * x.grad[a].dot(x.g);
-        for (int b = 0; b < 3; ++b) {
-          const double k = x.area * x.grad[a].dot(x.grad[b]);
-          entries.emplace_back(x.at[a], x.at[b], k);
-          if (a == b) diag[x.at[a]] += k;
-        }
-      }
-    }
-    // A faint pull towards the reference v makes the system definite (its null space is the
-    // constant per connected piece) without moving the solution measurably.
-    double diag_sum = 0.0, mass_sum = 0.0;
-    for (std::size_t i = 0; i < m; ++i) {
-      diag_sum += diag[i];
-      mass_sum += mass[i];
-    }
-    if (!(mass_sum > 0.0) || !(diag_sum > 0.0)) {
-      for (const std::uint32_t i : members) local[i] = kNone;
-      continue;
-    }
-    const double eps = 1e-11 * diag_sum / mass_sum;
-    const double mass_floor = 1e-3 * mass_sum / static_cast<double>(m);
-    for (std::size_t i = 0; i < m; ++i) {
-      const double w = eps * (mass[i] + mass_floor);
-      entries.emplace_back(static_cast<int>(i), static_cast<int>(i), w);
-      rhs[static_cast<Eigen::Index>(i)] += w * ref[members[i]];
-    }
-    Sparse K(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
-    K.setFromTriplets(entries.begin(), entries.end());
-    Eigen::SimplicialLDLT<Sparse> solver(K);
-    Eigen::VectorXd x;
-    if (solver.info() == Eigen::Success) x = solver.solve(rhs);
-    if (solver.info() != Eigen::Success || !x.allFinite()) {
-      for (const std::uint32_t i : members) local[i] = kNone;
-      continue;
-    }
-    Eigen::VectorXd du;
-    refine_stretch(tris, sign, eps, mass, mass_floor, members, ref, x, du);
-    for (std::size_t i = 0; i < m; ++i) delta_u[members[i]] = du[static_cast<Eigen::Index>(i)];
-    // Connected pieces of the chart, each with its own constant.
-    std::vector<std::uint32_t> root(m);
-    for (std::size_t i = 0; i < m; ++i) root[i] = static_cast<std::uint32_t>(i);
-    auto find = [&](std::uint32_t i) {
-      while (root[i] != i) i = root[i] = root[root[i]];
-      return i;
-    };
-    for (const ChartTri& t : tris) {
-      for (int k = 1; k < 3; ++k) root[find(t.at[k])] = find(t.at[0]);
-    }
+    for (std::size_t i = 0; i < m; ++i) delta_u[members[i]] = sc.du[static_cast<Eigen::Index>(i)];
     // The drift (v - reference) the parent has at the fork, over about a radius of it.
     double offset = 0.0;
     const std::uint32_t parent = chart.parent_of(c);
@@ -809,8 +824,8 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
     std::vector<double> near_sum(m, 0.0), all_sum(m, 0.0);
     std::vector<std::size_t> near_count(m, 0), all_count(m, 0);
     for (std::size_t i = 0; i < m; ++i) {
-      const std::uint32_t r = find(static_cast<std::uint32_t>(i));
-      const double d = x[static_cast<Eigen::Index>(i)] - ref[members[i]];
+      const std::uint32_t r = sc.piece[i];
+      const double d = sc.x[static_cast<Eigen::Index>(i)] - ref[members[i]];
       all_sum[r] += d;
       ++all_count[r];
       const double s = arc[members[i]];
@@ -820,13 +835,13 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
       }
     }
     for (std::size_t i = 0; i < m; ++i) {
-      const std::uint32_t r = find(static_cast<std::uint32_t>(i));
+      const std::uint32_t r = sc.piece[i];
       const double mean = near_count[r] > 0 ? near_sum[r] / static_cast<double>(near_count[r])
                                             : all_sum[r] / static_cast<double>(all_count[r]);
-      v[members[i]] = x[static_cast<Eigen::Index>(i)] - mean + offset;
+      v[members[i]] = sc.x[static_cast<Eigen::Index>(i)] - mean + offset;
       solved[members[i]] = 1;
     }
-    for (const std::uint32_t i : members) local[i] = kNone;
+    sc = ChartSolve{};  // its memory is no longer needed
   }
   // Not wrapped back into [0, 1): a corrected u just past the seam stays consistent with the
   // triangles around it (wrapping it would need the splits redone).
