@@ -3,6 +3,7 @@
 #include "ramiform/field/skeleton_field.h"
 
 #include <algorithm>
+#include <limits>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -148,15 +149,46 @@ class SkeletonField final : public Field {
     const std::size_t n = points.size();
     const bool with_gradient = !gradients.empty();
     // Spatially coherent chunks: sort points along a Morton curve when the batch spans several
-    // chunks, so each chunk's box (and so its candidate primitives) stays small.
+    // chunks, so each chunk's box (and so its candidate primitives) stays small. A batch that
+    // is small but scattered (a line tracer's few points spread over a tree) is sorted too and
+    // cut wherever a chunk's box would grow past split_diagonal_, so that each chunk meets the
+    // supports near its own points instead of most of the field's. The values do not depend on
+    // the chunks: a primitive out of reach of a point adds exactly +0 to it.
     std::vector<std::uint32_t> order;
-    if (n > detail::kChunk) order = morton_order(points);
-    const std::size_t chunks = (n + detail::kChunk - 1) / detail::kChunk;
+    if (n > detail::kChunk) {
+      order = morton_order(points);
+    } else if (n > 1 && prune_) {
+      Aabb all;
+      for (const Vec3& p : points) all.extend(p);
+      if (all.diagonal().norm() > split_diagonal_) order = morton_order(points);
+    }
+    const auto point_at = [&](std::size_t k) -> const Vec3& {
+      return points[order.empty() ? k : order[k]];
+    };
+    std::vector<std::size_t> starts;  // chunk c is [starts[c], starts[c + 1])
+    if (order.empty()) {
+      for (std::size_t b = 0; b < n; b += detail::kChunk) starts.push_back(b);
+    } else {
+      Aabb box;
+      for (std::size_t k = 0; k < n; ++k) {
+        Aabb grown = box;
+        grown.extend(point_at(k));
+        if (k == 0 || k - starts.back() == detail::kChunk ||
+            grown.diagonal().norm() > split_diagonal_) {
+          starts.push_back(k);
+          box = Aabb(point_at(k), point_at(k));
+        } else {
+          box = grown;
+        }
+      }
+    }
+    const std::size_t chunks = starts.size();
+    starts.push_back(n);
     auto run_chunk = [&](std::size_t c) {
       detail::Chunk chunk;
       thread_local std::vector<std::uint32_t> ids;
-      const std::size_t begin = c * detail::kChunk;
-      const std::size_t count = std::min(detail::kChunk, n - begin);
+      const std::size_t begin = starts[c];
+      const std::size_t count = starts[c + 1] - begin;
       auto point_index = [&](std::size_t k) {
         return order.empty() ? begin + k : static_cast<std::size_t>(order[begin + k]);
       };
@@ -201,7 +233,9 @@ class SkeletonField final : public Field {
         if (with_gradient) gradients[i] = Vec3(chunk.gx[k], chunk.gy[k], chunk.gz[k]);
       }
     };
-    if (chunks >= 4) {
+    // Threads for large batches only: a scattered small batch's chunks are too little work each
+    // to pay for waking the workers.
+    if (chunks >= 4 && n > 3 * detail::kChunk) {
       parallel::for_each(chunks, 1, run_chunk, ctx);
     } else {
       for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
@@ -352,6 +386,12 @@ class SkeletonField final : public Field {
       supports[i] = segment_box(i, reach_[i] * (1 + kSupportMargin));
     }
     bvh_ = detail::BoxBvh(supports);
+    // Chunks of a scattered batch are cut at twice the median support radius (do_evaluate).
+    if (!reach_.empty()) {
+      std::vector<double> r = reach_;
+      std::nth_element(r.begin(), r.begin() + static_cast<std::ptrdiff_t>(r.size() / 2), r.end());
+      split_diagonal_ = 2 * r[r.size() / 2];
+    }
     // Surface box: a point outside every primitive's "reach at level iso / K_i", where K_i is
     // the number of supports overlapping primitive i's support, gets fewer than K_i
     // contributions each below iso / K_i, so f < iso there.
@@ -460,6 +500,7 @@ class SkeletonField final : public Field {
   detail::ModeParams mode_;
   detail::PrimitiveTable table_;
   std::vector<double> reach_;  // support radius of each primitive (model units)
+  double split_diagonal_ = std::numeric_limits<double>::infinity();  // see do_evaluate
   detail::BoxBvh bvh_;
   Aabb surface_box_;
 };
