@@ -435,6 +435,16 @@ TEST_F(StudioTest, LinesSilhouetteOfASphereIsTheAnalyticCircle) {
   json bad = body;
   bad["camera"]["eye"] = {0, 1, 0};  // at the target
   EXPECT_EQ(request("POST", "/api/lines", bad.dump()).status, 400);
+  // The quick drawing (hidden lines by the particles' disks) draws the same silhouette.
+  json quick = body;
+  quick["visibility"] = "surfels";
+  const Reply q = request("POST", "/api/lines", quick.dump());
+  ASSERT_EQ(q.status, 200) << q.body;
+  EXPECT_NE(q.body.find("<g id=\"silhouette\""), std::string::npos);
+  quick["visibility"] = "zbuffer";
+  const Reply qb = request("POST", "/api/lines", quick.dump());
+  EXPECT_EQ(qb.status, 400);
+  EXPECT_EQ(json::parse(qb.body)["error"], "\"visibility\" must be \"rays\" or \"surfels\"");
   // The page's progress bar: no drawing under way, the last stage was the camera's lines.
   const Reply p = request("GET", "/api/lines/progress");
   ASSERT_EQ(p.status, 200) << p.body;

@@ -61,7 +61,7 @@ std::shared_ptr<LineViews::Entry> LineViews::entry(const std::string& key) {
 
 std::string LineViews::draw(const std::string& run, const std::string& shape, const FieldPtr& field,
                             const PageCamera& page, const std::vector<std::string>& kinds,
-                            std::size_t count) {
+                            std::size_t count, bool surfels) {
   if (count < 1 || count > kMaxCount) {
     throw InvalidArgument("count must be in 1.." + std::to_string(kMaxCount));
   }
@@ -69,7 +69,7 @@ std::string LineViews::draw(const std::string& run, const std::string& shape, co
     throw InvalidArgument("camera width and height must be in 16..8192");
   }
   LineOptions options;  // `ramiform draw`'s defaults, hidden lines by rays
-  options.visibility = Visibility::kRays;
+  options.visibility = surfels ? Visibility::kSurfels : Visibility::kRays;
   select_line_kinds(options, kinds);
   validate(options);
   Camera camera;

@@ -54,9 +54,13 @@ class LineViews {
   /// The SVG drawing of `field` (shape `shape` of run `run`) for `camera` with the line kinds
   /// `kinds` ("silhouette", "suggestive", "feature"), from `count` particles. Throws
   /// InvalidArgument for a bad camera, kind or count.
+  /// `surfels`: hidden lines by the paper's depth buffer of disks (tens of milliseconds, may
+  /// hide bits of silhouettes) instead of exact rays (the page's quick drawing while the camera
+  /// moves, followed by the exact one).
   [[nodiscard]] std::string draw(const std::string& run, const std::string& shape,
                                  const FieldPtr& field, const PageCamera& camera,
-                                 const std::vector<std::string>& kinds, std::size_t count);
+                                 const std::vector<std::string>& kinds, std::size_t count,
+                                 bool surfels = false);
 
   /// The newest drawing's progress (the first drawing of a shape spreads its particles, which
   /// takes seconds on a large tree; later ones only draw).

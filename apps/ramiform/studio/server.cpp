@@ -350,6 +350,14 @@ struct StudioServer::Impl {
                           "\"count\" must be in 1.." + std::to_string(LineViews::kMaxCount));
       }
     }
+    bool surfels = false;
+    if (b.contains("visibility")) {
+      const json& v = b["visibility"];
+      if (!v.is_string() || (v != "rays" && v != "surfels")) {
+        return send_error(res, 400, "\"visibility\" must be \"rays\" or \"surfels\"");
+      }
+      surfels = v == "surfels";
+    }
     const std::string run = b["run"].get<std::string>();
     const std::string shape = b["shape"].get<std::string>();
     const FieldPtr field = runs->shape(run, shape);
@@ -360,7 +368,7 @@ struct StudioServer::Impl {
     }
     try {
       std::string svg =
-          lines->draw(run, shape, field, camera, kinds, static_cast<std::size_t>(count));
+          lines->draw(run, shape, field, camera, kinds, static_cast<std::size_t>(count), surfels);
       const double seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       res.set_header("X-Ramiform-Seconds", format_number(seconds));

@@ -11,8 +11,8 @@
 //   2. drags the `param` slider: the script re-runs, the camera stays, the mesh's bounding box
 //      and its projected width grow to the new radius;
 //   3. line mode: an SVG for the current camera arrives, sized like the canvas, whose path
-//      points lie on the sphere's projected outline; after an orbit a new one arrives for the
-//      new camera;
+//      points lie on the sphere's projected outline; after an orbit a quick drawing and then the
+//      exact one arrive for the new camera;
 //   4. an error on line 3: state failed, the error marker on the editor's third line;
 //   5. sketching: four clicks on the XY plane become a `curve` + `revolve` at the cursor, with
 //      the clicked coordinates, and the script runs;
@@ -407,6 +407,7 @@ async function main() {
     // Orbit: drag across the canvas, several times; each move brings a drawing for its camera.
     const canvas = await page.locator('#view canvas').boundingBox();
     const walls = [];
+    const quicks = [];
     for (let i = 0; i < 4; ++i) {
       const n = await page.evaluate(() => window.studio.timings.lines.length);
       const sx = canvas.x + canvas.width / 2 + 200;
@@ -416,15 +417,23 @@ async function main() {
       await page.mouse.move(sx + 60, sy + 15, { steps: 4 });
       await page.mouse.up();
       await page.waitForFunction((k) => document.body.dataset.linesState === 'ready' && window.studio.timings.lines.length > k, n, { timeout: 30000 });
-      walls.push(await page.evaluate(() => window.studio.timings.lines.at(-1)));
+      const drawn = await page.evaluate((k) => window.studio.timings.lines.slice(k), n);
+      check(drawn.at(-1).visibility === 'rays', `the last drawing is the exact one (${drawn.map((d) => d.visibility)})`);
+      walls.push(drawn.at(-1));
+      const quick = drawn.find((d) => d.visibility === 'surfels');
+      if (quick) quicks.push(quick);
     }
     const moved = await camera(page);
     check(JSON.stringify(moved.eye) !== JSON.stringify(cam.eye), 'the orbit moved the camera');
     svg = await svgPoints(page);
     check(svg.eye === moved.eye.join(','), 'the drawing shown was made for the current camera');
+    const shown = await page.evaluate(() => document.querySelector('#lines-svg svg')?.dataset.visibility);
+    check(shown === 'rays', `the drawing shown once ready has exact hidden lines (${shown})`);
+    check(quicks.length > 0, 'quick drawings (surfels) came before the exact ones');
     check(svg.paths > 0, 'the new drawing has paths');
     measured.lines_wall_ms = walls.map((w) => Math.round(w.wall * 1000));
     measured.lines_server_ms = walls.map((w) => Math.round(w.server * 1000));
+    measured.lines_quick_server_ms = quicks.map((w) => Math.round(w.server * 1000));
     await page.locator('#line-mode').uncheck();
     check((await page.evaluate(() => document.body.dataset.linesState)) === 'idle', 'line mode off: lines state idle');
   });

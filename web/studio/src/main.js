@@ -428,7 +428,6 @@ async function fetchLines() {
   const seq = ++linesSeq;
   const asked = linesAsked;
   const camera = view.cameraState();
-  const started = performance.now();
   // A shape's first drawing spreads its particles (seconds on a large tree): while it takes
   // long, the toolbar shows the server's stage for it.
   const poll = setInterval(async () => {
@@ -441,34 +440,40 @@ async function fetchLines() {
     } catch {}
   }, 250);
   try {
-    const response = await api(
-      'api/lines',
-      { run: lastResult.run, shape: linesShape.value, camera, lines: ['silhouette', 'suggestive', 'feature'], count: 10000 },
-      { signal: abort.signal, raw: true },
-    );
-    const text = await response.text();
-    // The camera moved (or the shape changed) while this was drawn: the next one is on its way.
-    if (seq !== linesSeq || asked !== linesAsked) return;
-    if (!response.ok) {
-      let message = text;
-      try {
-        message = JSON.parse(text).error;
-      } catch {}
-      throw new Error(message);
+    // First a quick drawing (hidden lines by the particles' disks, tens of milliseconds), then
+    // the exact one (hidden lines by rays), unless the camera moved meanwhile.
+    for (const visibility of ['surfels', 'rays']) {
+      const started = performance.now();
+      const response = await api(
+        'api/lines',
+        { run: lastResult.run, shape: linesShape.value, camera, lines: ['silhouette', 'suggestive', 'feature'], count: 10000, visibility },
+        { signal: abort.signal, raw: true },
+      );
+      const text = await response.text();
+      // The camera moved (or the shape changed) while this was drawn: the next one is on its way.
+      if (seq !== linesSeq || asked !== linesAsked) return;
+      if (!response.ok) {
+        let message = text;
+        try {
+          message = JSON.parse(text).error;
+        } catch {}
+        throw new Error(message);
+      }
+      const svg = new DOMParser().parseFromString(text, 'image/svg+xml').documentElement;
+      if (svg.nodeName !== 'svg') throw new Error('the server sent no SVG');
+      svg.querySelectorAll('script, foreignObject').forEach((n) => n.remove());
+      svg.setAttribute('width', camera.width);
+      svg.setAttribute('height', camera.height);
+      svg.dataset.eye = camera.eye.join(',');
+      svg.dataset.visibility = visibility;
+      $('lines-svg').replaceChildren(document.importNode(svg, true));
+      $('lines-svg').hidden = false;
+      const server = Number(response.headers.get('X-Ramiform-Seconds'));
+      const wall = (performance.now() - started) / 1000;
+      timings.lines.push({ server, wall, visibility });
+      $('progress').value = 1;
+      $('stage').textContent = `lines ${visibility === 'rays' ? '' : '(quick) '}${Number.isFinite(server) ? `${(server * 1000).toFixed(0)} ms server, ` : ''}${(wall * 1000).toFixed(0)} ms`;
     }
-    const svg = new DOMParser().parseFromString(text, 'image/svg+xml').documentElement;
-    if (svg.nodeName !== 'svg') throw new Error('the server sent no SVG');
-    svg.querySelectorAll('script, foreignObject').forEach((n) => n.remove());
-    svg.setAttribute('width', camera.width);
-    svg.setAttribute('height', camera.height);
-    svg.dataset.eye = camera.eye.join(',');
-    $('lines-svg').replaceChildren(document.importNode(svg, true));
-    $('lines-svg').hidden = false;
-    const server = Number(response.headers.get('X-Ramiform-Seconds'));
-    const wall = (performance.now() - started) / 1000;
-    timings.lines.push({ server, wall });
-    $('progress').value = 1;
-    $('stage').textContent = `lines ${Number.isFinite(server) ? `${(server * 1000).toFixed(0)} ms server, ` : ''}${(wall * 1000).toFixed(0)} ms`;
     setLinesState('ready');
   } catch (e) {
     if (e.name === 'AbortError' || seq !== linesSeq) return;
