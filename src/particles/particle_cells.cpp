@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Copyright (c) 2026 the ramiform authors
+#include <algorithm>
 #include <cmath>
 
 #include "particles/particle_common.h"
@@ -26,7 +27,8 @@ Aabb root_cube(const Field& field) {
 
 std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions& options,
                                        int min_depth, const Aabb& root, const Aabb& region,
-                                       std::vector<CellProbe>* probes, const Context* ctx) {
+                                       std::vector<CellProbe>* probes, const Context* ctx,
+                                       std::size_t max_leaves) {
   std::vector<ParticleCell> leaves;
   if (probes) probes->clear();
   if (root.isEmpty()) return leaves;
@@ -57,15 +59,25 @@ std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions
       split.assign(kept.size(), 1);
     } else {
       pr = probe_cells(field, kept, ctx);
+      std::size_t splitting = 0;
       for (std::size_t i = 0; i < kept.size(); ++i) {
         if (!pr[i].meets()) continue;
         const bool curved =
             pr[i].near_count < kMinFlatProbes || pr[i].spread_deg > options.flatness_deg;
         split[i] = static_cast<char>(depth < options.max_depth && curved);
-        if (!split[i]) {
-          leaves.push_back({kept[i], depth});
-          if (probes) probes->push_back(std::move(pr[i]));
-        }
+        splitting += split[i] != 0;
+      }
+      // A split surface cell has about four surface children. Where that would make more
+      // leaves than `max_leaves` (twice the particles asked for), the cells stay as they are:
+      // most smaller ones would hold no particle (a thin tree's twigs are curved at every
+      // depth, so they would otherwise be split down to max_depth).
+      if (max_leaves > 0 && leaves.size() + 4 * splitting > max_leaves) {
+        std::fill(split.begin(), split.end(), 0);
+      }
+      for (std::size_t i = 0; i < kept.size(); ++i) {
+        if (!pr[i].meets() || split[i]) continue;
+        leaves.push_back({kept[i], depth});
+        if (probes) probes->push_back(std::move(pr[i]));
       }
     }
     std::vector<Aabb> children;

@@ -58,9 +58,12 @@ std::vector<CellProbe> probe_cells(const Field& field, std::span<const Aabb> box
 /// kMinDepth; cells are always split down to min_depth) that meet the surface,
 /// visiting only cells that intersect `region` (an empty region means everywhere). `probes`
 /// (when non-null) receives the probe of each returned cell.
+/// With `max_leaves` > 0, no level is split that would make the leaves outnumber it (about
+/// four surface children per split cell).
 std::vector<ParticleCell> octree_cells(const Field& field, const ParticleOptions& options,
                                        int min_depth, const Aabb& root, const Aabb& region,
-                                       std::vector<CellProbe>* probes, const Context* ctx);
+                                       std::vector<CellProbe>* probes, const Context* ctx,
+                                       std::size_t max_leaves = 0);
 
 /// The root cube adaptive_cells uses for a field.
 Aabb root_cube(const Field& field);

@@ -332,7 +332,8 @@ ParticleSystem spread_particles(const Field& field, const ParticleOptions& optio
     // With `count`, the cells are refined (a deeper minimum depth) until they hold at most
     // 2 k particles each on average, so the start is as close to the goal as with k per cell.
     for (int min_depth = std::min(kMinDepth, options.max_depth);;) {
-      out.cells = octree_cells(field, options, min_depth, out.root, Aabb(), &probes, ctx);
+      out.cells =
+          octree_cells(field, options, min_depth, out.root, Aabb(), &probes, ctx, 2 * options.count);
       std::size_t surface = 0;
       for (const CellProbe& p : probes) surface += p.area > 0 ? 1 : 0;
       const double ratio = static_cast<double>(options.count) /

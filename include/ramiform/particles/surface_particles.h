@@ -70,8 +70,8 @@ struct ParticleOptions {
   std::size_t per_cell = 4;  ///< k initial particles per leaf cell on average (paper §4); >= 1
   /// When > 0: the total number of particles wanted instead of per_cell × cells. Adaptive
   /// cells are then split to a deeper minimum depth until there are at most 2 per_cell
-  /// particles per cell on average (or max_depth is reached), and δ is scaled so that this many
-  /// tile the surface.
+  /// particles per cell on average (or max_depth is reached), no deeper than where the leaves
+  /// would outnumber twice this count, and δ is scaled so that this many tile the surface.
   std::size_t count = 0;
   int iterations = 20;     ///< simulation steps, 0..kMaxIterations
   std::uint64_t seed = 1;  ///< seeds the random choices (which seeds, which cell points)
