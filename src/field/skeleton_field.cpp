@@ -3,9 +3,9 @@
 #include "ramiform/field/skeleton_field.h"
 
 #include <algorithm>
-#include <limits>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 

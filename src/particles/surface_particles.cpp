@@ -332,8 +332,8 @@ ParticleSystem spread_particles(const Field& field, const ParticleOptions& optio
     // With `count`, the cells are refined (a deeper minimum depth) until they hold at most
     // 2 k particles each on average, so the start is as close to the goal as with k per cell.
     for (int min_depth = std::min(kMinDepth, options.max_depth);;) {
-      out.cells =
-          octree_cells(field, options, min_depth, out.root, Aabb(), &probes, ctx, 2 * options.count);
+      out.cells = octree_cells(field, options, min_depth, out.root, Aabb(), &probes, ctx,
+                               2 * options.count);
       std::size_t surface = 0;
       for (const CellProbe& p : probes) surface += p.area > 0 ? 1 : 0;
       const double ratio = static_cast<double>(options.count) /
@@ -356,11 +356,10 @@ ParticleSystem spread_particles(const Field& field, const ParticleOptions& optio
   const std::size_t total = options.count > 0 ? options.count : options.per_cell * surface_cells;
   // Each particle keeps its state and its seed state; the simulation's neighbour lists and the
   // line drawings' work come on top.
-  check_memory(ctx,
-               static_cast<double>(total) *
-                   static_cast<double>(sizeof(SurfaceParticle) + 2 * sizeof(Vec3)),
-               std::to_string(total) + " surface particles",
-               "ask for fewer particles (count)");
+  check_memory(
+      ctx,
+      static_cast<double>(total) * static_cast<double>(sizeof(SurfaceParticle) + 2 * sizeof(Vec3)),
+      std::to_string(total) + " surface particles", "ask for fewer particles (count)");
   const Plan pl = plan(out.cells, probes, total);
   Seeded s = seed(field, out.cells, probes, pl.want, pl.delta, seeds, options.seed, ctx);
   st.dropped = s.missing;

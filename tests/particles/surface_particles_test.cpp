@@ -96,8 +96,9 @@ TEST(SurfaceParticles, CountsAboveTheMemoryBudgetAreRefusedBeforeSpreading) {
     (void)spread_particles(*f, o, {}, {}, nullptr, &ctx);
     ADD_FAILURE() << "no ResourceLimit";
   } catch (const ResourceLimit& e) {
-    EXPECT_NE(std::string(e.what()).find("100000 surface particles need at least 11.2 MB of memory"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("100000 surface particles need at least 11.2 MB of memory"),
+        std::string::npos)
         << e.what();
   }
   o.count = 3000;

@@ -98,8 +98,9 @@ std::string LineViews::draw(const std::string& run, const std::string& shape, co
   } finish{*this, ticket};
   Context ctx(threads_);
   ctx.set_max_memory(max_memory_);
-  ctx.set_progress(
-      [this, ticket](const std::string& stage, double fraction) { report(ticket, stage, fraction); });
+  ctx.set_progress([this, ticket](const std::string& stage, double fraction) {
+    report(ticket, stage, fraction);
+  });
   const std::shared_ptr<Entry> e = entry(run + "\n" + shape + "\n" + std::to_string(count));
   std::lock_guard lock(e->m);
   if (!e->ready) {

@@ -12,8 +12,8 @@
 
 #include <array>
 #include <chrono>
-#include <cstdint>
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <list>
 #include <memory>
@@ -34,10 +34,10 @@ struct PageCamera {
 
 /// What the newest drawing is doing, for the page's progress bar (GET /api/lines/progress).
 struct LinesProgress {
-  bool busy = false;      ///< a drawing is being made
-  std::string stage;      ///< the library's stage ("particles: cells", ...), or "lines"
-  double fraction = 0;    ///< of that stage, 0..1
-  double seconds = 0;     ///< since the drawing started
+  bool busy = false;    ///< a drawing is being made
+  std::string stage;    ///< the library's stage ("particles: cells", ...), or "lines"
+  double fraction = 0;  ///< of that stage, 0..1
+  double seconds = 0;   ///< since the drawing started
 };
 
 class LineViews {

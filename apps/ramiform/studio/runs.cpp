@@ -94,7 +94,7 @@ struct Writer {
   std::string command;
   std::size_t line = 0;
   std::map<std::string, double> facts;  // CommandResult::facts
-  std::string shape;                     // CommandResult::shape
+  std::string shape;                    // CommandResult::shape
 };
 
 // The objects of the committed outputs, grouped by the command line that wrote them.
