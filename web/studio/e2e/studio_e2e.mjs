@@ -16,6 +16,7 @@
 //   4. an error on line 3: state failed, the error marker on the editor's third line;
 //   5. sketching: four clicks on the XY plane become a `curve` + `revolve` at the cursor, with
 //      the clicked coordinates, and the script runs;
+//      Two cross-sections on rising horizontal planes become a path, two curves and a skin;
 //   6. picks two spheres' surfaces with Combine (diff): the operation is appended and runs, the
 //      picked meshes are hidden and the difference's bounds are right;
 //   7. drags a sphere with Move: a `translate` line goes in before its save_mesh, with the
@@ -479,6 +480,58 @@ async function main() {
     await waitForRun(page, before);
     const objects = await page.evaluate(() => window.studio.result.objects.map((o) => o.name));
     check(objects.includes(m[3]), `the revolved solid ${m[3]} is shown (objects ${objects})`);
+  });
+
+  await step('sketch two cross-sections on rising planes: curves + skin inserted, and it runs', async () => {
+    await typeScript(page, '# skin\n');
+    await page.locator('#sketch-plane').selectOption('skin');
+    await page.locator('#sketch-step').fill('1');
+    await page.click('#sketch');
+    const cam = await camera(page);
+    const canvas = await page.locator('#view canvas').boundingBox();
+    const square = (r) => [[-r, -r], [r, -r], [r, r], [-r, r]];
+    for (const [r, h] of [[0.5, 0], [0.25, 1]]) {
+      for (const [x, z] of square(r)) {
+        const p = project(cam, [x, h, z]);
+        await page.mouse.click(canvas.x + p.x, canvas.y + p.y);
+      }
+      if (h === 0) await page.click('#sketch-next');
+    }
+    const sections = await page.evaluate(() => window.studio.sketchSections());
+    check(sections.length === 1 && sections[0].height === 0, `one section kept at height 0, got ${JSON.stringify(sections)}`);
+    await page.click('#sketch');
+    const text = await page.evaluate(() => window.studio.script());
+    const m = /^path (\S+)_path polyline 0 0 0 0 0 1\ncurve \1_1 polyline closed ((?:\S+ ?)+)\ncurve \1_2 polyline closed ((?:\S+ ?)+)\nskin \1_solid \1_path \1_1@0 \1_2@1 radius=\S+$/m.exec(text);
+    check(m, `a path, two curves and a skin were inserted: ${JSON.stringify(text)}`);
+    // Library (x, y) = page (X, −Z); the clicks were the squares' corners.
+    [[2, 0.5], [3, 0.25]].forEach(([k, r]) => {
+      const xy = m[k].trim().split(' ').map(Number);
+      check(xy.length === 8, `eight coordinates in section ${k - 1}, got ${xy.length}`);
+      square(r).forEach(([x, z], i) => {
+        near(xy[2 * i], x, 0.02, `section ${k - 1} x ${i}`);
+        near(xy[2 * i + 1], -z, 0.02, `section ${k - 1} y ${i}`);
+      });
+    });
+    const before = await runCount(page);
+    await page.click('#run');
+    await waitForRun(page, before);
+    const objects = await page.evaluate(() => window.studio.result.objects.map((o) => o.name));
+    check(objects.some((o) => o.startsWith(`${m[1]}_solid`)), `the skinned solid is shown (objects ${objects})`);
+    // The solid rises from the big square at height 0 to the small one at height 1 (page y).
+    const b = await page.evaluate(() => window.studio.view.bounds());
+    near(b.min[1], 0, 0.1, 'the skin starts at the first section');
+    near(b.max[1], 1, 0.1, 'the skin ends at the second section');
+    near(b.max[0], 0.5, 0.1, 'the skin is as wide as the first section');
+    if (shots) {
+      // Orbit down from the top view, to see the solid in depth.
+      await page.mouse.move(canvas.x + canvas.width / 2, canvas.y + canvas.height / 2);
+      await page.mouse.down();
+      await page.mouse.move(canvas.x + canvas.width / 2 - 60, canvas.y + canvas.height / 2 - 110, { steps: 5 });
+      await page.mouse.up();
+      await page.waitForTimeout(300);
+      await page.screenshot({ path: join(shots, 'studio_skin.png') });
+    }
+    await page.locator('#sketch-plane').selectOption('xy');
   });
 
   await step('combine two surfaces picked in the view: diff a b becomes script text and runs', async () => {

@@ -18,7 +18,7 @@ import { searchKeymap, highlightSelectionMatches } from '@codemirror/search';
 import { sceneSupport, completionSource, scriptParams } from './language.js';
 import { sliderRange, formatValue } from './params.js';
 import { createView } from './view3d.js';
-import { freshName, sketchText } from './sketch.js';
+import { freshName, sketchText, skinText } from './sketch.js';
 import { combineText, freshWord, insertLines, translateText } from './edit.js';
 import * as THREE from 'three';
 
@@ -503,23 +503,57 @@ view.onCameraChange(() => {
 });
 
 // ---- sketching -------------------------------------------------------------------------------
-const sketch = { on: false, points: [], down: null };
+// A profile ('xy'), a cross-section ('xz'), or cross-sections on rising horizontal planes
+// skinned together ('skin': Next section raises the plane by the step).
+const sketch = { on: false, points: [], down: null, sections: [], height: 0 };
 const planeNormal = () => ($('sketch-plane').value === 'xy' ? new THREE.Vector3(0, 0, 1) : new THREE.Vector3(0, 1, 0));
+const skinning = () => $('sketch-plane').value === 'skin';
+
+function showSketch() {
+  view.showSketch(sketch.on ? $('sketch-plane').value : null, sketch.points, {
+    height: sketch.height,
+    sections: sketch.sections.map((s) => s.points),
+  });
+}
 
 function setSketch(on) {
   sketch.on = on;
   sketch.points = [];
+  sketch.sections = [];
+  sketch.height = 0;
   $('sketch').textContent = on ? 'Finish sketch' : 'Sketch';
   $('sketch').classList.toggle('active', on);
   $('sketch-hint').hidden = !on;
+  $('sketch-hint').textContent = skinning()
+    ? 'Skin: click a section’s points, “Next section” raises the plane by the step, “Finish sketch” skins them (Esc cancels).'
+    : 'Sketch: click points on the plane, then click “Finish sketch” (Esc cancels).';
+  $('sketch-next').hidden = !(on && skinning());
   document.body.dataset.sketch = on ? 'on' : 'off';
   if (on) view.facePlane($('sketch-plane').value);
-  view.showSketch(on ? $('sketch-plane').value : null, []);
+  showSketch();
+}
+
+// Skin: the section drawn so far is kept and the plane rises by the step.
+function nextSection() {
+  if (!sketch.on || !skinning() || sketch.points.length < 3) return;
+  sketch.sections.push({ points: sketch.points, height: sketch.height });
+  sketch.points = [];
+  const step = Number($('sketch-step').value);
+  sketch.height += Number.isFinite(step) && step > 0 ? step : 1;
+  showSketch();
 }
 
 function finishSketch() {
   const plane = $('sketch-plane').value;
-  const text = sketchText(sketch.points, plane, $('sketch-closed').checked, freshName(script()));
+  const name = freshName(script());
+  let text;
+  if (plane === 'skin') {
+    const sections = [...sketch.sections];
+    if (sketch.points.length >= 3) sections.push({ points: sketch.points, height: sketch.height });
+    text = skinText(sections, name);
+  } else {
+    text = sketchText(sketch.points, plane, $('sketch-closed').checked, name);
+  }
   setSketch(false);
   if (!text) return;
   const { from, to } = editor.state.selection.main;
@@ -541,16 +575,21 @@ view.canvas.addEventListener('pointerup', (e) => {
   if (moved > 4) return; // a drag orbits the camera
   if (edit.mode === 'combine') return combineClick(e);
   if (!sketch.on) return;
-  const hit = view.pick(e.clientX, e.clientY, planeNormal());
+  const hit = view.pick(e.clientX, e.clientY, planeNormal(), skinning() ? sketch.height : 0);
   if (!hit) return;
   sketch.points.push(hit);
-  view.showSketch($('sketch-plane').value, sketch.points);
+  showSketch();
 });
 $('sketch').addEventListener('click', () => {
   if (edit.mode) setEdit(null);
   sketch.on ? finishSketch() : setSketch(true);
 });
-$('sketch-plane').addEventListener('change', () => sketch.on && setSketch(true));
+$('sketch-plane').addEventListener('change', () => {
+  $('sketch-step').hidden = !skinning();
+  $('sketch-closed').parentElement.hidden = skinning(); // skin sections are always closed
+  if (sketch.on) setSketch(true);
+});
+$('sketch-next').addEventListener('click', nextSection);
 window.addEventListener('keydown', (e) => {
   if (e.key === 'Escape' && sketch.on) setSketch(false);
   if (e.key === 'Escape' && edit.mode) setEdit(null);
@@ -684,6 +723,7 @@ window.studio = {
     return lastResult;
   },
   sketchPoints: () => sketch.points.map((p) => p.toArray()),
+  sketchSections: () => sketch.sections.map((s) => ({ height: s.height, points: s.points.map((p) => p.toArray()) })),
 };
 
 (async () => {

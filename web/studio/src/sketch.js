@@ -28,7 +28,7 @@ export function freshName(text, stem = 'sketch') {
   const used = new Set(text.split(/[\s#]+/));
   for (let i = 1; ; ++i) {
     const name = i === 1 ? stem : `${stem}${i}`;
-    if (![name, `${name}_path`, `${name}_solid`].some((n) => used.has(n))) return name;
+    if (![name, `${name}_path`, `${name}_solid`, `${name}_1`].some((n) => used.has(n))) return name;
   }
 }
 
@@ -56,4 +56,34 @@ export function sketchText(points, plane, closed, name) {
     `path ${name}_path polyline 0 0 0 0 0 ${height}`,
     `sweep ${name}_solid ${name} ${name}_path radius=${radius}`,
   ].join('\n');
+}
+
+// The script lines for cross-sections sketched on horizontal planes (page Y = height), skinned
+// into one solid as in the thesis's skinned surfaces (§4.2, Figure 4.10): `sections` is a list of
+// {points: [{x, y, z}, ...], height} from the lowest up (each closed, at least 3 points). The
+// path runs up the library's z axis from the first section's height to the last's, and each
+// section sits at its height's share of it. Returns null for fewer than 2 usable sections or
+// sections not strictly rising.
+export function skinText(sections, name) {
+  const used = sections.filter((s) => s.points.length >= 3);
+  if (used.length < 2) return null;
+  for (let i = 1; i < used.length; ++i) if (!(used[i].height > used[i - 1].height)) return null;
+  const coordinates = used.map((s) => s.points.map((p) => [p.x, -p.z]));
+  const heights = used.map((s) => s.height);
+  const extent = Math.max(1e-9, ...coordinates.flat(2).map(Math.abs), ...heights.map(Math.abs));
+  const places = Math.max(0, Math.min(6, 3 - Math.floor(Math.log10(extent))));
+  const h0 = heights[0];
+  const span = heights.at(-1) - h0;
+  const lines = [
+    `# sketched cross-sections on horizontal planes (heights ${heights.map((h) => number(h, places)).join(', ')}), skinned`,
+    `path ${name}_path polyline 0 0 ${number(h0, places)} 0 0 ${number(heights.at(-1), places)}`,
+  ];
+  used.forEach((s, i) => {
+    const list = coordinates[i].map(([x, y]) => `${number(x, places)} ${number(y, places)}`).join(' ');
+    lines.push(`curve ${name}_${i + 1} polyline closed ${list}`);
+  });
+  const at = heights.map((h, i) => `${name}_${i + 1}@${number((h - h0) / span, 3)}`).join(' ');
+  const radius = number(Math.max(extent / 40, 10 ** -places), places);
+  lines.push(`skin ${name}_solid ${name}_path ${at}${used.length > 2 ? ' interp=cubic' : ''} radius=${radius}`);
+  return lines.join('\n');
 }

@@ -218,10 +218,10 @@ export function createView(container) {
     return raycaster;
   }
 
-  // The point where the ray through a client pixel meets a plane through the origin
-  // (`normal` is the plane's normal), or null when the ray misses it.
-  function pick(clientX, clientY, normal) {
-    return rayAt(clientX, clientY).ray.intersectPlane(new THREE.Plane(normal, 0), new THREE.Vector3());
+  // The point where the ray through a client pixel meets the plane of unit normal `normal` at
+  // signed distance `offset` from the origin, or null when the ray misses it.
+  function pick(clientX, clientY, normal, offset = 0) {
+    return rayAt(clientX, clientY).ray.intersectPlane(new THREE.Plane(normal, -offset), new THREE.Vector3());
   }
 
   // The nearest visible mesh surface under a client pixel: {id, info, point} (the run's object
@@ -263,27 +263,37 @@ export function createView(container) {
     return box.isEmpty() ? 0 : box.getBoundingSphere(new THREE.Sphere()).radius;
   }
 
-  // Turns the camera to face a plane through the target ('xy': from the front, +Z; 'xz': from
-  // above, +Y), at the same distance, so that clicks land where the user means them.
+  // Turns the camera to face a plane through the target ('xy': from the front, +Z; 'xz' and
+  // 'skin': from above, +Y), at the same distance, so that clicks land where the user means them.
   function facePlane(planeName) {
     const distance = camera.position.distanceTo(controls.target);
     const direction = planeName === 'xy' ? new THREE.Vector3(0, 0, 1) : new THREE.Vector3(0, 1, 1e-4).normalize();
     controls.target.z = planeName === 'xy' ? 0 : controls.target.z;
-    controls.target.y = planeName === 'xz' ? 0 : controls.target.y;
+    controls.target.y = planeName !== 'xy' ? 0 : controls.target.y;
     camera.position.copy(controls.target).addScaledVector(direction, distance);
     controls.update();
     render();
   }
 
-  // The sketch's helpers: a grid on the plane and the polyline so far.
-  function showSketch(planeName, points) {
+  // The sketch's helpers: a grid on the plane (at `height` for skin sections), the sections
+  // already drawn (closed, fainter) and the polyline so far.
+  function showSketch(planeName, points, { height = 0, sections = [] } = {}) {
     helpers.clear();
     if (!planeName) return render();
     const box = visibleBox();
     const size = box.isEmpty() ? 4 : Math.max(2, 2.5 * box.getBoundingSphere(new THREE.Sphere()).radius);
     const grid = new THREE.GridHelper(2 * Math.ceil(size), 2 * Math.ceil(size) * 2, 0x6d7f99, 0xb8c2d0);
     if (planeName === 'xy') grid.rotation.x = Math.PI / 2;
+    if (planeName === 'skin') grid.position.y = height;
     helpers.add(grid);
+    for (const section of sections) {
+      const loop = new THREE.LineLoop(
+        new THREE.BufferGeometry().setFromPoints(section),
+        new THREE.LineBasicMaterial({ color: 0x9a6b86, depthTest: false }),
+      );
+      loop.renderOrder = 1;
+      helpers.add(loop);
+    }
     if (points.length > 0) {
       const geometry = new THREE.BufferGeometry().setFromPoints(points);
       // Drawn over the models (a profile through a solid would hide inside it).

@@ -8,7 +8,7 @@
 import test from 'node:test';
 import assert from 'node:assert/strict';
 import { decimals, sliderRange, formatValue } from '../src/params.js';
-import { freshName, sketchText } from '../src/sketch.js';
+import { freshName, sketchText, skinText } from '../src/sketch.js';
 import { combineText, freshWord, insertLines, pageToLibrary, translateText } from '../src/edit.js';
 
 test('decimals of a written number', () => {
@@ -85,4 +85,28 @@ test('a dragged surface becomes translate in the library frame, before its save_
   assert.equal(insertLines(text, 0, 'x'), `${text}\nx\n`);
   assert.equal(insertLines(`${text}\n`, 9, 'x'), `${text}\nx\n`);
   assert.equal(insertLines('', 0, 'x'), 'x\n');
+});
+
+test('sketched sections on rising horizontal planes become curves skinned along a vertical path', () => {
+  // Page (X, Y, Z) = library (X, −Z, Y): a section on the plane Y = h lies in the library's
+  // plane z = h, its curve in (X, −Z).
+  const square = (r, h) => [[-r, -r], [r, -r], [r, r], [-r, r]].map(([x, z]) => ({ x, y: h, z }));
+  const text = skinText([{ points: square(0.5, 0), height: 0 }, { points: square(0.25, 1), height: 1 }, { points: square(0.5, 2), height: 2 }], 'k');
+  assert.deepEqual(text.split('\n'), [
+    '# sketched cross-sections on horizontal planes (heights 0, 1, 2), skinned',
+    'path k_path polyline 0 0 0 0 0 2',
+    'curve k_1 polyline closed -0.5 0.5 0.5 0.5 0.5 -0.5 -0.5 -0.5',
+    'curve k_2 polyline closed -0.25 0.25 0.25 0.25 0.25 -0.25 -0.25 -0.25',
+    'curve k_3 polyline closed -0.5 0.5 0.5 0.5 0.5 -0.5 -0.5 -0.5',
+    'skin k_solid k_path k_1@0 k_2@0.5 k_3@1 interp=cubic radius=0.05',
+  ]);
+  // Two sections: linear interpolation, the path from the first height to the second.
+  const two = skinText([{ points: square(1, 0.5), height: 0.5 }, { points: square(1, 1.6), height: 1.6 }], 'k').split('\n');
+  assert.equal(two[1], 'path k_path polyline 0 0 0.5 0 0 1.6');
+  assert.equal(two.at(-1), 'skin k_solid k_path k_1@0 k_2@1 radius=0.04');
+  // Fewer than two sections of three points, or a section not above the one before: nothing.
+  assert.equal(skinText([{ points: square(1, 0), height: 0 }], 'k'), null);
+  assert.equal(skinText([{ points: square(1, 0), height: 0 }, { points: square(1, 0).slice(0, 2), height: 1 }], 'k'), null);
+  assert.equal(skinText([{ points: square(1, 1), height: 1 }, { points: square(1, 1), height: 1 }], 'k'), null);
+  assert.equal(freshName('curve sketch_1 polyline closed 0 0 1 0 1 1'), 'sketch2');
 });
