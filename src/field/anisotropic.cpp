@@ -569,11 +569,14 @@ std::vector<SkeletonDistance> skeleton_distances(const Skeleton& skeleton,
   }
   const detail::BoxBvh bvh(boxes);
   // Points of each curve (t = j / (kSamples - 1)): their distances bound the curve's from above.
+  // `scale`: the largest coordinate of the curves' controls (for the rounding slack below).
   constexpr std::size_t kSamples = 5;
   std::vector<Vec3> samples;
+  double scale = 0;
   for (const BezierProjector& c : curves) {
     for (std::size_t j = 0; j < kSamples; ++j)
       samples.push_back(bezier_point(c.curve(), static_cast<double>(j) / (kSamples - 1)));
+    for (const Vec3& x : c.curve().controls) scale = std::max(scale, x.cwiseAbs().maxCoeff());
   }
   // The squared distance from p to a straight edge or a node `id`, the edge's parameter in *t.
   auto straight = [&](const Vec3& p, std::uint32_t id, double* t) {
@@ -621,10 +624,11 @@ std::vector<SkeletonDistance> skeleton_distances(const Skeleton& skeleton,
                                   " is not finite: " + vec(p));
           }
           // The straight edges and the nodes exactly, the curves by an upper bound (their
-          // sample points): `bound` is then at least the nearest squared distance, and every
-          // curve whose box is within it was visited (the others are farther than the nearest;
-          // BoxBvh::nearest prunes them too).
+          // sample points, inflated so that it holds for project()'s rounded distance too):
+          // `bound` is then at least the nearest squared distance, and every curve whose box is
+          // within it was visited (the others are farther than the nearest).
           visited.clear();
+          const double slack = 1e-12 * (scale + p.cwiseAbs().maxCoeff());
           double bound = std::numeric_limits<double>::infinity();
           (void)bvh.nearest(
               p,
@@ -641,7 +645,9 @@ std::vector<SkeletonDistance> skeleton_distances(const Skeleton& skeleton,
                 const std::size_t c = static_cast<std::size_t>(item.curve);
                 for (std::size_t j = c * kSamples; j < (c + 1) * kSamples; ++j)
                   d2 = std::min(d2, (p - samples[j]).squaredNorm());
-                return d2;
+                // Inflated past the rounding of both this value and project()'s distance.
+                const double r = std::sqrt(d2) * (1 + 1e-9) + slack;
+                return r * r;
               },
               &bound);
           for (const std::uint32_t i : visited) {

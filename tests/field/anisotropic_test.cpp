@@ -969,6 +969,28 @@ TEST(SkeletonDistances, BatchedCurvesEqualTheOnePointPathBitForBit) {
       }
       EXPECT_EQ(got.back().t, rule == TieRule::kFirst ? 0.0 : 1.0);
     }
+    // Points on the curve (at the parameters where skeleton_distances samples it, and
+    // others), within 1e-10 of it, and beyond its ends: the curve is their only element, so
+    // the bound from its samples must not rule it out whatever the rounding.
+    std::vector<Vec3> on;
+    for (int i = 0; i <= 16; ++i) {
+      const double t = i / 16.0;
+      const Vec3 c = bezier_point(projector.curve(), t);
+      on.push_back(c);
+      on.push_back(c + Vec3(0, 1e-10, 0));
+      on.push_back(c + Vec3(3e-11, -2e-11, 1e-10));
+    }
+    on.emplace_back(-2, 0, 2.5);
+    on.emplace_back(2.000001, 0, 2);
+    on.emplace_back(-2, 1e-12, 2);
+    const auto got = skeleton_distances(u, on);
+    for (std::size_t k = 0; k < on.size(); ++k) {
+      const SkeletonDistance want = one_point_nearest(u, one_curve, on[k], TieRule::kFirst);
+      EXPECT_TRUE(got[k].is_edge) << "point " << k;
+      EXPECT_EQ(got[k].index, 0u) << "point " << k;
+      EXPECT_EQ(got[k].distance, want.distance) << "point " << k;
+      EXPECT_EQ(got[k].t, want.t) << "point " << k;
+    }
   }
   // A non-finite point is refused.
   std::vector<Vec3> bad(pts.begin(), pts.begin() + 5);
