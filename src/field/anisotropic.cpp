@@ -545,6 +545,7 @@ std::vector<SkeletonDistance> skeleton_distances(const Skeleton& skeleton,
   std::vector<Item> items;
   std::vector<Aabb> boxes;
   std::vector<BezierProjector> curves;
+  std::vector<std::uint32_t> curve_item;  // the element id of each curve
   std::vector<Vec3> controls;
   std::vector<double> radii;
   for (std::size_t e = 0; e < skeleton.edges.size(); ++e) {
@@ -555,6 +556,7 @@ std::vector<SkeletonDistance> skeleton_distances(const Skeleton& skeleton,
     if (controls.size() > 2) {
       curve = static_cast<int>(curves.size());
       curves.emplace_back(BezierCurve{controls, {}}, "edge " + std::to_string(e));
+      curve_item.push_back(static_cast<std::uint32_t>(items.size()));
     }
     items.push_back({true, static_cast<std::uint32_t>(e), curve});
     boxes.push_back(box);
@@ -566,48 +568,118 @@ std::vector<SkeletonDistance> skeleton_distances(const Skeleton& skeleton,
     boxes.emplace_back(skeleton.nodes[i].position, skeleton.nodes[i].position);
   }
   const detail::BoxBvh bvh(boxes);
+  // Points of each curve (t = j / (kSamples - 1)): their distances bound the curve's from above.
+  // `scale`: the largest coordinate of the curves' controls (for the rounding slack below).
+  constexpr std::size_t kSamples = 5;
+  std::vector<Vec3> samples;
+  double scale = 0;
+  for (const BezierProjector& c : curves) {
+    for (std::size_t j = 0; j < kSamples; ++j)
+      samples.push_back(bezier_point(c.curve(), static_cast<double>(j) / (kSamples - 1)));
+    for (const Vec3& x : c.curve().controls) scale = std::max(scale, x.cwiseAbs().maxCoeff());
+  }
+  // The squared distance from p to a straight edge or a node `id`, the edge's parameter in *t.
+  auto straight = [&](const Vec3& p, std::uint32_t id, double* t) {
+    const Item& item = items[id];
+    *t = 0;
+    if (!item.is_edge) return (p - skeleton.nodes[item.index].position).squaredNorm();
+    const auto [a, b] = skeleton.edges[item.index];
+    const Vec3 pa = skeleton.nodes[a].position;
+    const Vec3 ab = skeleton.nodes[b].position - pa;
+    *t = std::clamp((p - pa).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    return (p - (pa + *t * ab)).squaredNorm();
+  };
+  // The nearest element of every point: the least squared distance, ties to the lower id (edges
+  // come before nodes), as BoxBvh::nearest decides. A block of points at a time: the curves that
+  // may be nearest to each point are found first, then each curve projects all of the block's
+  // points that need it in one batched call (BezierProjector::project(points, out), equal bit
+  // for bit to project(p)), so the result is the same as projecting one point at a time.
   std::vector<SkeletonDistance> out(points.size());
-  parallel::for_each(
-      points.size(), 256,
-      [&](std::size_t k) {
-        const Vec3& p = points[k];
-        // The parameter of the nearest element so far, kept under BoxBvh::nearest's own rule
-        // (least distance, ties to the lower id), so that no element is projected twice.
-        double best_d2 = std::numeric_limits<double>::infinity();
-        std::uint32_t best_id = UINT32_MAX;
-        double best_t = 0, best_distance = 0;
-        auto distance2 = [&](std::uint32_t id) {
-          const Item& item = items[id];
-          double d2 = 0, t = 0, distance = -1;  // -1: sqrt(d2)
-          if (!item.is_edge) {
-            d2 = (p - skeleton.nodes[item.index].position).squaredNorm();
-          } else if (item.curve >= 0) {
-            const BezierProjection proj =
-                curves[static_cast<std::size_t>(item.curve)].project(p, tie);
-            d2 = proj.distance * proj.distance;
-            t = proj.t;
-            distance = proj.distance;
-          } else {
-            const auto [a, b] = skeleton.edges[item.index];
-            const Vec3 pa = skeleton.nodes[a].position;
-            const Vec3 ab = skeleton.nodes[b].position - pa;
-            t = std::clamp((p - pa).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-            d2 = (p - (pa + t * ab)).squaredNorm();
+  constexpr std::size_t kBlock = 256;
+  parallel::for_chunks(
+      points.size(), kBlock,
+      [&](std::size_t begin, std::size_t end) {
+        struct Best {
+          double d2 = std::numeric_limits<double>::infinity();
+          std::uint32_t id = UINT32_MAX;
+          double t = 0, distance = 0;
+          void offer(std::uint32_t i, double d2_i, double t_i, double distance_i) {
+            if (d2_i < d2 || (d2_i == d2 && i < id)) {
+              d2 = d2_i;
+              id = i;
+              t = t_i;
+              distance = distance_i >= 0 ? distance_i : std::sqrt(d2_i);
+            }
           }
-          if (d2 < best_d2 || (d2 == best_d2 && id < best_id)) {
-            best_d2 = d2;
-            best_id = id;
-            best_t = t;
-            best_distance = distance >= 0 ? distance : std::sqrt(d2);
-          }
-          return d2;
         };
-        const Item& item = items[bvh.nearest(p, distance2)];
-        SkeletonDistance& r = out[k];
-        r.is_edge = item.is_edge;
-        r.index = item.index;
-        r.distance = best_distance;
-        r.t = best_t;
+        std::vector<Best> best(end - begin);
+        // Per curve, the points of the block (offsets from `begin`) that need its projection.
+        std::vector<std::vector<std::uint32_t>> need(curves.size());
+        std::vector<std::uint32_t> visited;
+        for (std::size_t k = begin; k < end; ++k) {
+          const Vec3& p = points[k];
+          Best& b = best[k - begin];
+          if (!p.allFinite()) {
+            throw InvalidArgument("skeleton_distances: point " + std::to_string(k) +
+                                  " is not finite: " + vec(p));
+          }
+          // The straight edges and the nodes exactly, the curves by an upper bound (their
+          // sample points, inflated so that it holds for project()'s rounded distance too):
+          // `bound` is then at least the nearest squared distance, and every curve whose box is
+          // within it was visited (the others are farther than the nearest).
+          visited.clear();
+          const double slack = 1e-12 * (scale + p.cwiseAbs().maxCoeff());
+          double bound = std::numeric_limits<double>::infinity();
+          (void)bvh.nearest(
+              p,
+              [&](std::uint32_t i) {
+                const Item& item = items[i];
+                if (item.curve < 0) {
+                  double t = 0;
+                  const double d2 = straight(p, i, &t);
+                  b.offer(i, d2, t, -1);
+                  return d2;
+                }
+                visited.push_back(i);
+                double d2 = std::numeric_limits<double>::infinity();
+                const std::size_t c = static_cast<std::size_t>(item.curve);
+                for (std::size_t j = c * kSamples; j < (c + 1) * kSamples; ++j)
+                  d2 = std::min(d2, (p - samples[j]).squaredNorm());
+                // Inflated past the rounding of both this value and project()'s distance.
+                const double r = std::sqrt(d2) * (1 + 1e-9) + slack;
+                return r * r;
+              },
+              &bound);
+          for (const std::uint32_t i : visited) {
+            if (squared_distance(bvh.item_box(i), p) > bound) continue;
+            need[static_cast<std::size_t>(items[i].curve)].push_back(
+                static_cast<std::uint32_t>(k - begin));
+          }
+        }
+        // Each curve projects its points in one call.
+        std::vector<Vec3> batch;
+        std::vector<BezierProjection> projected;
+        for (std::size_t c = 0; c < curves.size(); ++c) {
+          if (need[c].empty()) continue;
+          batch.clear();
+          for (const std::uint32_t k : need[c]) batch.push_back(points[begin + k]);
+          projected.resize(batch.size());
+          curves[c].project(batch, projected, tie);
+          for (std::size_t m = 0; m < batch.size(); ++m) {
+            const BezierProjection& proj = projected[m];
+            best[need[c][m]].offer(curve_item[c], proj.distance * proj.distance, proj.t,
+                                   proj.distance);
+          }
+        }
+        for (std::size_t k = begin; k < end; ++k) {
+          const Best& b = best[k - begin];
+          const Item& item = items[b.id];
+          SkeletonDistance& r = out[k];
+          r.is_edge = item.is_edge;
+          r.index = item.index;
+          r.distance = b.distance;
+          r.t = b.t;
+        }
       },
       ctx);
   return out;

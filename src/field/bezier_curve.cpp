@@ -766,6 +766,22 @@ void BezierProjector::build_arcs() {
   table->uz = a.uz;
   table->inv_chord2 = a.inv_chord2;
   table->deviation = a.deviation;
+  // Group spheres: centred at the middle of the group's arc centres' box, holding every arc
+  // sphere of the group; inflated (1e-9 relative and 1e-12 of the coordinates' magnitude) so
+  // that a group the batched path finds out of reach holds no arc its per-arc test would take.
+  for (std::size_t g0 = 0; g0 < count; g0 += detail::kBezierGroup) {
+    const std::size_t g1 = std::min(count, g0 + detail::kBezierGroup);
+    Aabb centres;
+    for (std::size_t k = g0; k < g1; ++k) centres.extend(Vec3(a.cx[k], a.cy[k], a.cz[k]));
+    const Vec3 c = centres.center();
+    double r = 0;
+    for (std::size_t k = g0; k < g1; ++k)
+      r = std::max(r, (Vec3(a.cx[k], a.cy[k], a.cz[k]) - c).norm() + a.radius[k]);
+    table->gx.push_back(c.x());
+    table->gy.push_back(c.y());
+    table->gz.push_back(c.z());
+    table->gradius.push_back(r * (1 + 1e-9) + 1e-12 * (c.cwiseAbs().maxCoeff() + r));
+  }
   for (const Arc& arc : arcs_) {
     const double span = arc.t1 - arc.t0;
     table->t0.push_back(arc.t0);

@@ -28,6 +28,8 @@
 // one arc, gathered otherwise). The first phase visits every point's nearest-centre arc; its
 // runs finish before the second phase fixes each point's pruning bound and visits the other
 // arcs, whose runs are independent of each other (the bound is not tightened within the phase).
+// Its scan skips a group of 4 consecutive arcs when the group's sphere (holding theirs, inflated
+// for rounding) is out of reach for every lane: then each of its arcs fails the per-arc test.
 // The candidates of a point may thus arrive in another order than in project_arcs<N>, which
 // changes nothing: the nearest and the second-nearest squared distance do not depend on it, and
 // equal distances are redone one by one.
@@ -547,6 +549,20 @@ void project_batch(const BezierArcTable& a, const double* qx, const double* qy, 
     const V vfirst = hn::Load(d, st.first + k);
     const V prune = hn::Mul(hn::Sqrt(hn::Load(d, st.best2 + k)), slack);
     for (std::size_t i = 0; i < K; ++i) {
+      if (i % kBezierGroup == 0) {
+        // The whole group is out of reach for every lane: its arcs fail the sphere test below
+        // (the group sphere holds theirs, inflated; the test here has a further 1e-10 margin).
+        const std::size_t g = i / kBezierGroup;
+        const V gx = hn::Sub(hn::Set(d, a.gx[g]), vx);
+        const V gy = hn::Sub(hn::Set(d, a.gy[g]), vy);
+        const V gz = hn::Sub(hn::Set(d, a.gz[g]), vz);
+        const V glim = hn::Add(hn::Set(d, a.gradius[g]), prune);
+        const V glim2 = hn::Mul(hn::Mul(glim, glim), hn::Set(d, 1 + 1e-10));
+        if (hn::AllTrue(d, hn::Gt(dot3(gx, gy, gz, gx, gy, gz), glim2))) {
+          i += kBezierGroup - 1;
+          continue;
+        }
+      }
       const V dx = hn::Sub(hn::Set(d, a.cx[i]), vx);
       const V dy = hn::Sub(hn::Set(d, a.cy[i]), vy);
       const V dz = hn::Sub(hn::Set(d, a.cz[i]), vz);

@@ -25,6 +25,8 @@ inline constexpr int kBezierMaxRootIterations = 200;
 inline constexpr double kBezierSlopeRounding = 16 * std::numeric_limits<double>::epsilon();
 /// An arc whose sphere is farther than the best point found, inflated by this, is skipped.
 inline constexpr double kBezierPruneSlack = 1e-9;
+/// Arcs per group of BezierArcTable::gx, ... (see there).
+inline constexpr int kBezierGroup = 4;
 /// Batched path: a point whose two nearest candidates are within this (relative, in squared
 /// distance) is projected one by one (far above choose()'s tie limit of about 2e-12).
 inline constexpr double kBezierNearTie = 1e-9;
@@ -40,6 +42,10 @@ struct BezierArcTable {
   /// the chord segment (inflated): a second lower bound of the distance to the arc.
   std::vector<double> ux, uy, uz, inv_chord2, deviation;
   std::vector<double> t0, span, tolerance;  ///< tolerance = 1e-15 / span (Newton's stop in s)
+  /// Arcs in groups of kBezierGroup consecutive ones ((K + 3) / 4 groups): a sphere holding the
+  /// spheres of the group (its radius inflated for rounding), so that the batched path skips a
+  /// group that no lane of a vector can need.
+  std::vector<double> gx, gy, gz, gradius;
   std::vector<double> floor, second_max, g2_fixed, g2_per_distance;
   // Per arc and index j: controls of C'' (j < N - 1) and power-basis coefficients of C (j <= N),
   // at [j * K + arc].
@@ -56,15 +62,16 @@ struct BezierArcTable {
 using BezierArcIsolation = int (*)(const void* projector, int arc, const double* q, double* roots,
                                    int* skipped);
 
-/// What the batched projection found for one point.
+/// What the batched projection found for one point. No default values: project_arcs_batch
+/// writes every field of its `n` results (a block of them is not cleared before each call).
 struct BezierLaneResult {
-  double t = 0;                ///< parameter of the nearest candidate
-  double d2 = 0;               ///< its squared distance
-  double distance = 0;         ///< sqrt(d2) (correctly rounded, as std::sqrt)
-  double x = 0, y = 0, z = 0;  ///< its point, relative to the origin
-  int counted = 0;             ///< candidates counted (stationary parameters located or skipped)
-  bool redo = false;  ///< the second nearest candidate within kBezierNearTie of the nearest:
-                      ///< the tie rule may matter, so the caller projects this point one by one
+  double t;                ///< parameter of the nearest candidate
+  double d2;               ///< its squared distance
+  double distance;         ///< sqrt(d2) (correctly rounded, as std::sqrt)
+  double x, y, z;          ///< its point, relative to the origin
+  int counted;             ///< candidates counted (stationary parameters located or skipped)
+  bool redo;  ///< the second nearest candidate within kBezierNearTie of the nearest: the tie
+              ///< rule may matter, so the caller projects this point one by one
 };
 
 /// Most points per call of project_arcs_batch.

@@ -14,6 +14,7 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -864,6 +865,137 @@ TEST(SkeletonDistances, MatchBruteForce) {
     EXPECT_EQ(a[k].t, b[k].t);
     EXPECT_EQ(a[k].is_edge, b[k].is_edge);
   }
+}
+
+// The one-point path, independently: every element, each curve by project(p, rule) one point at
+// a time; the least squared distance wins, ties to the lower element id (edges, then nodes).
+SkeletonDistance one_point_nearest(const Skeleton& s, const std::vector<BezierProjector*>& curve,
+                                   const Vec3& p, TieRule rule) {
+  SkeletonDistance best;
+  double best_d2 = kInf;
+  const std::vector<std::uint32_t> deg = degrees(s);
+  for (std::size_t e = 0; e < s.edges.size(); ++e) {
+    double d2 = 0, t = 0, distance = 0;
+    if (curve[e] != nullptr) {
+      const BezierProjection proj = curve[e]->project(p, rule);
+      t = proj.t;
+      distance = proj.distance;
+      d2 = distance * distance;
+    } else {
+      const Vec3 a = s.nodes[s.edges[e][0]].position, ab = s.nodes[s.edges[e][1]].position - a;
+      t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      d2 = (p - (a + t * ab)).squaredNorm();
+      distance = std::sqrt(d2);
+    }
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = {distance, true, static_cast<std::uint32_t>(e), t};
+    }
+  }
+  for (std::uint32_t n = 0; n < s.nodes.size(); ++n) {
+    if (deg[n] != 0) continue;
+    const double d2 = (p - s.nodes[n].position).squaredNorm();
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = {std::sqrt(d2), false, n, 0.0};
+    }
+  }
+  return best;
+}
+
+TEST(SkeletonDistances, BatchedCurvesEqualTheOnePointPathBitForBit) {
+  // Points near the curves (most blocks give each curve 4 or more of them: the batched path),
+  // points at the curves' ends and nodes, far points, over several blocks of 256.
+  const Skeleton s = random_curved_skeleton(9);
+  std::vector<std::unique_ptr<BezierProjector>> owned;
+  std::vector<BezierProjector*> curve(s.edges.size(), nullptr);
+  std::vector<Vec3> controls;
+  std::vector<double> radii;
+  for (std::size_t e = 0; e < s.edges.size(); ++e) {
+    edge_controls(s, e, controls, radii);
+    if (controls.size() == 2) continue;
+    owned.push_back(std::make_unique<BezierProjector>(BezierCurve{controls, {}}));
+    curve[e] = owned.back().get();
+  }
+  Rng rng(11);
+  std::vector<Vec3> pts;
+  for (int i = 0; i < 700; ++i) {
+    const std::size_t e = rng.below(s.edges.size());
+    edge_controls(s, e, controls, radii);
+    pts.push_back(bernstein_point(controls, rng.uniform()) + rng.uniform(0, 1.5) * random_unit(rng));
+  }
+  for (const auto& n : s.nodes) pts.push_back(n.position);
+  for (int i = 0; i < 40; ++i) pts.push_back(30.0 * random_unit(rng));
+  int curve_hits = 0;
+  for (TieRule rule : {TieRule::kFirst, TieRule::kLast}) {
+    Context one(1), two(2);
+    const auto a = skeleton_distances(s, pts, rule, &one);
+    const auto b = skeleton_distances(s, pts, rule, &two);
+    // A block holding only a few points (the curves project them one by one).
+    const std::vector<Vec3> few(pts.begin(), pts.begin() + 3);
+    const auto c = skeleton_distances(s, few, rule);
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      const SkeletonDistance want = one_point_nearest(s, curve, pts[k], rule);
+      for (const auto* got : {&a[k], &b[k], k < few.size() ? &c[k] : &a[k]}) {
+        EXPECT_EQ(got->distance, want.distance) << "point " << k;
+        EXPECT_EQ(got->t, want.t) << "point " << k;
+        EXPECT_EQ(got->is_edge, want.is_edge) << "point " << k;
+        EXPECT_EQ(got->index, want.index) << "point " << k;
+      }
+      if (want.is_edge && curve[want.index] != nullptr) ++curve_hits;
+    }
+  }
+  EXPECT_GT(curve_hits, 500);
+  // Exact ties inside one curve, in a batch: a U-shaped cubic symmetric about x = 0 and points
+  // on its axis (the tie rule picks t or 1 - t, or an end).
+  {
+    Skeleton u;
+    u.nodes = {{Vec3(-2, 0, 2), 0.2}, {Vec3(2, 0, 2), 0.2}};
+    u.edges = {{0, 1}};
+    u.curves = {EdgeCurve{{Vec3(-2, 0, -2), Vec3(2, 0, -2)}, {}}};
+    BezierProjector projector(BezierCurve{{u.nodes[0].position, Vec3(-2, 0, -2), Vec3(2, 0, -2),
+                                           u.nodes[1].position},
+                                          {}});
+    const std::vector<BezierProjector*> one_curve = {&projector};
+    std::vector<Vec3> axis;
+    for (int i = 0; i < 12; ++i) axis.emplace_back(0, 0.1 * (i % 3), -1.5 + 0.5 * i);
+    axis.emplace_back(0, 0, 50);
+    for (TieRule rule : {TieRule::kFirst, TieRule::kLast}) {
+      const auto got = skeleton_distances(u, axis, rule);
+      for (std::size_t k = 0; k < axis.size(); ++k) {
+        const SkeletonDistance want = one_point_nearest(u, one_curve, axis[k], rule);
+        EXPECT_EQ(got[k].distance, want.distance) << "axis point " << k;
+        EXPECT_EQ(got[k].t, want.t) << "axis point " << k;
+      }
+      EXPECT_EQ(got.back().t, rule == TieRule::kFirst ? 0.0 : 1.0);
+    }
+    // Points on the curve (at the parameters where skeleton_distances samples it, and
+    // others), within 1e-10 of it, and beyond its ends: the curve is their only element, so
+    // the bound from its samples must not rule it out whatever the rounding.
+    std::vector<Vec3> on;
+    for (int i = 0; i <= 16; ++i) {
+      const double t = i / 16.0;
+      const Vec3 c = bezier_point(projector.curve(), t);
+      on.push_back(c);
+      on.push_back(c + Vec3(0, 1e-10, 0));
+      on.push_back(c + Vec3(3e-11, -2e-11, 1e-10));
+    }
+    on.emplace_back(-2, 0, 2.5);
+    on.emplace_back(2.000001, 0, 2);
+    on.emplace_back(-2, 1e-12, 2);
+    const auto got = skeleton_distances(u, on);
+    for (std::size_t k = 0; k < on.size(); ++k) {
+      const SkeletonDistance want = one_point_nearest(u, one_curve, on[k], TieRule::kFirst);
+      EXPECT_TRUE(got[k].is_edge) << "point " << k;
+      EXPECT_EQ(got[k].index, 0u) << "point " << k;
+      EXPECT_EQ(got[k].distance, want.distance) << "point " << k;
+      EXPECT_EQ(got[k].t, want.t) << "point " << k;
+    }
+  }
+  // A non-finite point is refused.
+  std::vector<Vec3> bad(pts.begin(), pts.begin() + 5);
+  bad[3].y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW((void)skeleton_distances(s, bad), InvalidArgument);
 }
 
 TEST(SkeletonDistances, TiesPickTheLowerEdgeIndexAndEdgesBeforeNodes) {

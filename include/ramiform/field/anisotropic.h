@@ -103,8 +103,11 @@ struct SkeletonDistance {
 /// For every point, the nearest skeleton element: the straight edges (segments), the curved
 /// edges (Skeleton::curves; exact distance by BezierProjector, ties by `tie`) and the nodes no
 /// edge touches. Equally near elements: the lower edge index, edges before nodes. Through a BVH
-/// over the elements' boxes; in parallel on ctx's threads (results never depend on them).
-/// Throws InputError for an invalid skeleton (validate()).
+/// over the elements' boxes, blocks of 256 points at a time: each curve that may be nearest to
+/// some of a block's points projects them in one batched call (BezierProjector::project(points,
+/// out), bit for bit project(p)); in parallel on ctx's threads (results never depend on them or
+/// on the other points). Throws InputError for an invalid skeleton (validate()) and
+/// InvalidArgument for a non-finite point.
 [[nodiscard]] std::vector<SkeletonDistance> skeleton_distances(const Skeleton& skeleton,
                                                                std::span<const Vec3> points,
                                                                TieRule tie = TieRule::kFirst,
