@@ -114,10 +114,19 @@ class SkeletonField final : public Field {
     std::sort(ids.begin(), ids.end());
     // Cheap first pass: upper ends from the nearest distance only. When they already prove the
     // box outside (f <= iso everywhere), [0, hi] is a valid and sufficient answer.
+    // The weights and kernel values are non-negative, so the sum only grows: once it passes iso
+    // the box cannot be proven outside and the rest of the pass is skipped.
     double quick_hi = 0;
-    for (const std::uint32_t i : ids) quick_hi += primitive_upper(i, box);
+    bool passed = false;
+    for (const std::uint32_t i : ids) {
+      quick_hi += primitive_upper(i, box);
+      if (quick_hi > iso()) {
+        passed = true;
+        break;
+      }
+    }
     quick_hi += kBoundSlack * quick_hi;
-    if (quick_hi <= iso()) return {0.0, quick_hi};
+    if (!passed && quick_hi <= iso()) return {0.0, quick_hi};
     double lo = 0, hi = 0;
     for (const std::uint32_t i : ids) {
       const auto [plo, phi] = primitive_bound(i, box);
