@@ -106,12 +106,18 @@ class StudioTest : public ::testing::Test {
   void SetUp() override {
     root_ = test::temp_dir("studio");
     out_ = root_ / "out";
+    start();
+  }
+  // (Re)starts the server; `max_memory` is its --memory-budget (0: none).
+  void start(std::uint64_t max_memory = 0) {
+    if (server_) server_->stop();
     StudioOptions o;
     o.out_dir = out_;
     o.port = 0;
     o.threads = 2;
     o.demo_script = "sphere s 1\n";
     o.token = std::string(32, 'a');
+    o.max_memory = max_memory;
     server_ = std::make_unique<StudioServer>(o);
     port_ = server_->start();
     host_ = "127.0.0.1:" + std::to_string(port_);
@@ -456,17 +462,7 @@ TEST_F(StudioTest, LinesSilhouetteOfASphereIsTheAnalyticCircle) {
 TEST_F(StudioTest, LineDrawingsKeepToTheMemoryBudget) {
   // `--memory-budget` 16 MB: 200,000 particles need at least 22.4 MB (state and seed state, 112
   // bytes each) and are refused before any work; 3,000 are drawn.
-  server_->stop();
-  StudioOptions o;
-  o.out_dir = out_;
-  o.port = 0;
-  o.threads = 2;
-  o.demo_script = "sphere s 1\n";
-  o.token = std::string(32, 'a');
-  o.max_memory = 16'000'000;
-  server_ = std::make_unique<StudioServer>(o);
-  port_ = server_->start();
-  host_ = "127.0.0.1:" + std::to_string(port_);
+  start(16'000'000);
   const std::string id = run("sphere s 1\n");
   ASSERT_EQ(wait(id)["state"], "done");
   json body = {{"run", id},

@@ -116,6 +116,16 @@ async function waitForRun(page, before, state = 'done', timeout = 60000) {
 const runCount = (page) => page.evaluate(() => window.studio.timings.runs.length);
 const camera = (page) => page.evaluate(() => window.studio.view.cameraState());
 
+// Types a script and runs it to done; returns the run count before, the camera and the canvas's
+// box.
+async function typeAndRun(page, text) {
+  await typeScript(page, text);
+  const before = await runCount(page);
+  await page.click('#run');
+  await waitForRun(page, before);
+  return { before, cam: await camera(page), canvas: await page.locator('#view canvas').boundingBox() };
+}
+
 // Where the camera puts a point (page frame): pixel x, y (from the top left) and depth.
 function project(cam, p) {
   const sub = (a, b) => a.map((v, i) => v - b[i]);
@@ -535,12 +545,10 @@ async function main() {
   });
 
   await step('combine two surfaces picked in the view: diff a b becomes script text and runs', async () => {
-    await typeScript(page, 'sphere a 1\nsphere b 1 center=1.2,0,0\nsave_mesh a a.glb resolution=40\nsave_mesh b b.glb resolution=40\n');
-    const before = await runCount(page);
-    await page.click('#run');
-    await waitForRun(page, before);
-    const cam = await camera(page);
-    const canvas = await page.locator('#view canvas').boundingBox();
+    const { before, cam, canvas } = await typeAndRun(
+      page,
+      'sphere a 1\nsphere b 1 center=1.2,0,0\nsave_mesh a a.glb resolution=40\nsave_mesh b b.glb resolution=40\n',
+    );
     // The sphere (page frame: the library's x is the page's x) that the ray through a point's
     // pixel meets first: the clicks are where the test means them.
     const first = (p) => {
@@ -593,12 +601,7 @@ async function main() {
   });
 
   await step('move a surface by dragging it: translate before its save_mesh, the mesh moves', async () => {
-    await typeScript(page, 'sphere s 1\nsave_mesh s s.glb resolution=40\n');
-    const before = await runCount(page);
-    await page.click('#run');
-    await waitForRun(page, before);
-    const cam = await camera(page);
-    const canvas = await page.locator('#view canvas').boundingBox();
+    const { before, cam, canvas } = await typeAndRun(page, 'sphere s 1\nsave_mesh s s.glb resolution=40\n');
     await page.click('#move');
     const c = project(cam, [0, 0, 0]);
     const dx = 120;
