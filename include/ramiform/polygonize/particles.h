@@ -103,6 +103,11 @@ struct ParticleMeshStats {
   /// triangles, still a valid surface).
   std::size_t fallback_junctions = 0;
   std::size_t open_loops = 0;  ///< boundary loops (one per open end)
+  /// Links added where branches that the skeleton does not join run into each other's tubes
+  /// and were joined for the triangulation (see polygonize/particle_merge.h): each adds a
+  /// handle to the mesh, or joins two of its pieces. The mesh's Euler characteristic is
+  /// 2 (nodes - edges - joined_branches) minus the open loops.
+  std::size_t joined_branches = 0;
   /// Triangles facing into the surface (normal along the summed gradient of their corners):
   /// folds where the surfaces of two branches not joined in the skeleton merge. 0 without.
   std::size_t inverted_triangles = 0;
