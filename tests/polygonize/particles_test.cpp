@@ -509,6 +509,14 @@ TEST(ParticleMeshEquipotential, BranchesThatMergeAreJoinedWithoutFolds) {
       if (n.dot(g[t[0]] + g[t[1]] + g[t[2]]) > 0) ++folded;
     }
     EXPECT_EQ(folded, 0U);
+    // The same bytes on one thread.
+    Context one(1);
+    const TriMesh single = polygonize_particles(eq, s, {}, &one);
+    ASSERT_EQ(single.positions.size(), mesh.positions.size());
+    EXPECT_EQ(std::memcmp(single.positions.data(), mesh.positions.data(),
+                          mesh.positions.size() * sizeof(Vec3)),
+              0);
+    EXPECT_EQ(single.triangles, mesh.triangles);
   }
 }
 
