@@ -127,7 +127,7 @@ class EdgeGrid {
 };
 
 struct Graph {
-  std::vector<std::vector<std::pair<std::uint32_t, double>>> adjacent;  // node, edge length
+  std::vector<std::vector<std::uint32_t>> adjacent;  // per node, its neighbours
 };
 
 // Whether edge g is another branch for the sources (nodes of the branch that runs into g's
@@ -154,8 +154,7 @@ bool another_branch(const Graph& graph, const Skeleton& s, const std::vector<Seg
     const std::uint32_t v = stack.back();
     stack.pop_back();
     if (v == ends[0] || v == ends[1]) return false;
-    for (const auto& [w, length] : graph.adjacent[v]) {
-      (void)length;
+    for (const std::uint32_t w : graph.adjacent[v]) {
       if (std::find(seen.begin(), seen.end(), w) != seen.end() || !inside(w)) continue;
       seen.push_back(w);
       stack.push_back(w);
@@ -197,9 +196,8 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   for (std::size_t e = 0; e < edges; ++e) {
     const auto [a, b] = s.edges[e];
     seg[e] = {s.nodes[a].position, s.nodes[b].position};
-    const double length = (seg[e].b - seg[e].a).norm();
-    graph.adjacent[a].emplace_back(b, length);
-    graph.adjacent[b].emplace_back(a, length);
+    graph.adjacent[a].push_back(b);
+    graph.adjacent[b].push_back(a);
     node_r[a] = std::max(node_r[a], edge_radius[e]);
     node_r[b] = std::max(node_r[b], edge_radius[e]);
     max_r = std::max(max_r, edge_radius[e]);
