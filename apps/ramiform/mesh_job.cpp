@@ -455,6 +455,7 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
     r.stats["open_loops"] = st.open_loops;
     r.stats["fallback_junctions"] = st.fallback_junctions;
     r.stats["inverted_triangles"] = st.inverted_triangles;
+    r.stats["joined_branches"] = st.joined_branches;
     r.stats["seconds_layout"] = st.seconds_layout;
     r.stats["seconds_move"] = st.seconds_move;
     r.stats["seconds_relax"] = st.seconds_relax;

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "polygonize/particle_layout.h"
+#include "polygonize/particle_merge.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/mesh/checks.h"
@@ -307,7 +308,16 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
                                : options.placement_factor * 0.5 * (ra + rb);
     input.edge_spacing[e] = edge_spacing.empty() ? 0.5 * std::min(ra, rb) : edge_spacing[e];
   }
-  input.open_end.assign(open_end.begin(), open_end.end());
+  // Branches that run into thicker ones elsewhere in the skeleton are joined there, so that
+  // the mesh's connectivity is the merged surface's (polygonize/particle_merge.h).
+  detail::MergedSkeleton joined = detail::join_merging_branches(
+      skeleton, input.edge_radius, input.edge_spacing,
+      std::vector<std::uint8_t>(open_end.begin(), open_end.end()));
+  const Skeleton& layout_skeleton = joined.skeleton;
+  input.skeleton = &layout_skeleton;
+  input.edge_radius = std::move(joined.edge_radius);
+  input.edge_spacing = std::move(joined.edge_spacing);
+  input.open_end = std::move(joined.open_end);
   detail::ParticleLayoutOptions lo;
   lo.n_circ = options.n_circ;
   lo.n_sphere = options.n_sphere;
@@ -318,14 +328,14 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
 
   // Local R: the particle's edge's; at a vertex the largest of its edges'; isolated nodes their
   // radius (the layout places their sphere at it).
-  std::vector<double> node_scale(nodes, 0.0);
-  for (std::size_t e = 0; e < edges; ++e) {
-    for (const std::uint32_t v : skeleton.edges[e]) {
+  std::vector<double> node_scale(layout_skeleton.nodes.size(), 0.0);
+  for (std::size_t e = 0; e < layout_skeleton.edges.size(); ++e) {
+    for (const std::uint32_t v : layout_skeleton.edges[e]) {
       node_scale[v] = std::max(node_scale[v], input.edge_radius[e]);
     }
   }
-  for (std::size_t v = 0; v < nodes; ++v) {
-    if (node_scale[v] == 0) node_scale[v] = skeleton.nodes[v].radius;
+  for (std::size_t v = 0; v < node_scale.size(); ++v) {
+    if (node_scale[v] == 0) node_scale[v] = layout_skeleton.nodes[v].radius;
   }
   const std::size_t n = layout.positions.size();
   Particles p;
@@ -367,6 +377,7 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     }
     s.iterations = iterations;
     s.fallback_junctions = layout.fallback_junctions;
+    s.joined_branches = joined.joins;
     s.open_loops = layout.open_loops.size();
     s.evaluations = evaluations;
     s.inverted_triangles = inverted;

@@ -7,6 +7,7 @@ list(APPEND RAMIFORM_POLYGONIZE_SOURCES
   src/polygonize/improve.cpp
   src/polygonize/lod.cpp
   src/polygonize/particle_layout.cpp
+  src/polygonize/particle_merge.cpp
   src/polygonize/particles.cpp
   src/polygonize/refine.cpp
   src/polygonize/tetrahedral.cpp

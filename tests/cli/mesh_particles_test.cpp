@@ -172,15 +172,18 @@ TEST_F(MeshParticlesTest, GeneratedTreesFrom10To1000Segments) {
   }
 }
 
-// The 5,000-segment tree (1.2 M particles, about a minute): two nodes of its crown lie where
-// the surfaces of twigs not joined in the skeleton merge, in a fold of the particle mesh.
+// The 5,000-segment tree (1.1 M particles, about a minute): two nodes of its crown, a thin
+// twig's fork and leaf beside a thicker branch they are not joined to, lie in a fold of the
+// particle mesh. Joining the branches that run into thicker ones took its folds from 0.40 % of
+// the triangles (9,360) to 0.24 % (5,558).
 TEST_F(MeshParticlesTest, GeneratedTreeOf5000Segments) {
   if (kSanitized) GTEST_SKIP() << "a minute in Release; run by make test, not under sanitizers";
   const ParticleRun run = mesh_and_check(generated(5000), "", "", 2, false);
   if (run.stats.is_null()) return;
   EXPECT_LE(run.stats.at("radius_error_median").get<double>(), 0.10);
+  EXPECT_GT(run.stats.at("joined_branches").get<std::size_t>(), 0U);
   EXPECT_LE(run.stats.at("inverted_triangles").get<double>(),
-            0.01 * static_cast<double>(run.mesh.triangles.size()));
+            0.003 * static_cast<double>(run.mesh.triangles.size()));
 }
 
 TEST_F(MeshParticlesTest, FitRadiiMeetsTheRadiusTargets) {

@@ -10,6 +10,7 @@ set(RAMIFORM_polygonize_TESTS
   polygonize/delaunay_test.cpp
   polygonize/edge_roots_test.cpp
   polygonize/particle_layout_test.cpp
+  polygonize/particle_merge_test.cpp
   polygonize/particles_test.cpp
   polygonize/memory_budget_test.cpp)
 

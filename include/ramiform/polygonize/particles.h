@@ -22,8 +22,13 @@
 /// would cross the previous ring (scaled by 1.5), so zig-zags of short edges and tight bends do
 /// not cross rings. And a closed leaf whose edge plus cap lies inside its junction's sphere gets
 /// no particles: the sphere's cover its bulge. gamma applies only to cycles of degree-two nodes.
-/// The triangles are a 2-manifold by construction: closed where every leaf is closed, with one
-/// boundary loop (the leaf's ring) per open end, one component per connected skeleton component.
+/// Branches that run into a thicker branch the skeleton does not join them to (a node, or an
+/// edge's closest approach, inside its tube; two alike branches whose tubes overlap) are joined
+/// to it for the layout first (polygonize/particle_merge.h): its edge is split at the nearest
+/// axis point, which becomes an ordinary junction, so the mesh takes the merged surface's
+/// topology (stats joined_branches). The triangles are a 2-manifold by construction: closed
+/// where every leaf is closed, with one boundary loop (the leaf's ring) per open end, one
+/// component per connected component of the joined skeleton.
 ///
 /// Movement (§3.5, our variant): every round evaluates all particles not yet converged in one
 /// batch (values and gradients) and moves each along the normalized gradient by the Newton step
@@ -41,11 +46,11 @@
 /// particle that does not converge again goes back to where it was before the round. Open-end
 /// loops stay where the movement put them.
 ///
-/// Folds: the triangles come from the skeleton's structure, so where the surface's topology
-/// departs from the skeleton's, the mesh folds over itself: where the surfaces of two branches
-/// that are not joined in the skeleton merge (branches that pass closer than about their radii's
-/// sum plus the blend), the rings of both land on the merged surface, and no triangulation with
-/// the skeleton's connectivity can lie on it without crossing itself. Junctions closer together
+/// Folds: the triangles come from the (joined) skeleton's structure, so where the surface's
+/// topology departs from it, the mesh folds over itself: where the surfaces of two branches
+/// that are not joined merge (a thin twig beside a thicker branch, within the blend but outside
+/// its tube; crowded crowns), the rings of both land on the merged surface, and no
+/// triangulation with that connectivity can lie on it without crossing itself. Junctions closer together
 /// than their spheres (scanned trees) fold a little too. The folded triangles face into the
 /// surface; they are counted in the stats (inverted_triangles), and a node inside the merged
 /// part can fall outside the mesh. The tetrahedral polygonizer meshes the same field without
@@ -103,6 +108,11 @@ struct ParticleMeshStats {
   /// triangles, still a valid surface).
   std::size_t fallback_junctions = 0;
   std::size_t open_loops = 0;  ///< boundary loops (one per open end)
+  /// Links added where branches that the skeleton does not join run into each other's tubes
+  /// and were joined for the triangulation (see polygonize/particle_merge.h): each adds a
+  /// handle to the mesh, or joins two of its pieces. The mesh's Euler characteristic is
+  /// 2 (nodes - edges - joined_branches) minus the open loops.
+  std::size_t joined_branches = 0;
   /// Triangles facing into the surface (normal along the summed gradient of their corners):
   /// folds where the surfaces of two branches not joined in the skeleton merge. 0 without.
   std::size_t inverted_triangles = 0;

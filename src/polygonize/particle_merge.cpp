@@ -1,0 +1,441 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#include "polygonize/particle_merge.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <set>
+#include <unordered_map>
+#include <utility>
+
+#include "ramiform/core/errors.h"
+
+namespace ramiform::detail {
+
+namespace {
+
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+// A branch runs into a thicker edge g when a node of it (or its closest approach) lies inside
+// g's tube (within R_g of its axis): it is then moved onto that axis, and stays inside the
+// surface. Two alike branches (the same R) meet half way: one joins the other when within
+// R_g + kReach R_own, where their tubes overlap.
+constexpr double kReach = 1.0;
+// g counts as another branch only when the skeleton leaves g's tube between them: no path from
+// the branch's node to g's ends stays within R_g + kNear R_own of g's axis.
+constexpr double kNear = 2.0;
+// Joins on one edge closer than kCluster R_g become one junction; a join within kEndZone R_g of
+// the edge's end goes to that end's node.
+constexpr double kCluster = 2.0;
+constexpr double kEndZone = 1.5;
+
+struct Segment {
+  Vec3 a, b;
+};
+
+// Closest point parameter on segment [a, b] to p.
+double closest_t(const Vec3& a, const Vec3& b, const Vec3& p) {
+  const Vec3 d = b - a;
+  const double dd = d.squaredNorm();
+  return dd > 0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
+}
+
+// Closest parameters (s on [p0, p1], t on [q0, q1]) of two segments.
+std::pair<double, double> closest_pair(const Vec3& p0, const Vec3& p1, const Vec3& q0,
+                                       const Vec3& q1) {
+  const Vec3 d1 = p1 - p0;
+  const Vec3 d2 = q1 - q0;
+  const Vec3 r = p0 - q0;
+  const double a = d1.squaredNorm();
+  const double e = d2.squaredNorm();
+  const double f = d2.dot(r);
+  const double c = d1.dot(r);
+  const double b = d1.dot(d2);
+  const double denom = a * e - b * b;
+  double s = denom > 1e-12 * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0) {
+    t = 0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1) {
+    t = 1;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  return {s, t};
+}
+
+struct UnionFind {
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) {
+    for (std::size_t i = 0; i < n; ++i) parent[i] = static_cast<std::uint32_t>(i);
+  }
+  std::uint32_t find(std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(std::uint32_t a, std::uint32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// A spatial hash of the edges' boxes (widened by twice their radius) in cubes of side h.
+class EdgeGrid {
+ public:
+  EdgeGrid(const std::vector<Segment>& seg, const std::vector<double>& radius, double h)
+      : h_(h) {
+    for (std::size_t e = 0; e < seg.size(); ++e) {
+      const double m = 2 * radius[e];
+      const Vec3 lo = seg[e].a.cwiseMin(seg[e].b) - Vec3::Constant(m);
+      const Vec3 hi = seg[e].a.cwiseMax(seg[e].b) + Vec3::Constant(m);
+      for_cells(lo, hi, [&](std::uint64_t key) {
+        cells_[key].push_back(static_cast<std::uint32_t>(e));
+      });
+    }
+  }
+  // Edges whose widened box may reach the box [lo, hi]; ascending, unique.
+  std::vector<std::uint32_t> near(const Vec3& lo, const Vec3& hi) const {
+    std::vector<std::uint32_t> out;
+    for_cells(lo, hi, [&](std::uint64_t key) {
+      const auto it = cells_.find(key);
+      if (it != cells_.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+    });
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+ private:
+  template <class F>
+  void for_cells(const Vec3& lo, const Vec3& hi, F&& f) const {
+    const auto cell = [&](double x) { return static_cast<std::int64_t>(std::floor(x / h_)); };
+    for (std::int64_t i = cell(lo.x()); i <= cell(hi.x()); ++i) {
+      for (std::int64_t j = cell(lo.y()); j <= cell(hi.y()); ++j) {
+        for (std::int64_t k = cell(lo.z()); k <= cell(hi.z()); ++k) {
+          f((static_cast<std::uint64_t>(i & 0x1fffff) << 42) |
+            (static_cast<std::uint64_t>(j & 0x1fffff) << 21) |
+            static_cast<std::uint64_t>(k & 0x1fffff));
+        }
+      }
+    }
+  }
+  double h_;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+};
+
+struct Graph {
+  std::vector<std::vector<std::uint32_t>> adjacent;  // per node, its neighbours
+};
+
+// Whether edge g is another branch for the sources (nodes of the branch that runs into g's
+// tube): true unless the skeleton leads from a source to an end of g through nodes that all lie
+// within `reach` of g's axis (a child leaving its parent's tube at a fork, a branch that runs on
+// inside it, is reached so).
+bool another_branch(const Graph& graph, const Skeleton& s, const std::vector<Segment>& seg,
+                    const std::vector<std::uint32_t>& sources, std::uint32_t g, double reach) {
+  const std::array<std::uint32_t, 2> ends = s.edges[g];
+  const auto inside = [&](std::uint32_t v) {
+    const Vec3& p = s.nodes[v].position;
+    const double t = closest_t(seg[g].a, seg[g].b, p);
+    return (seg[g].a + t * (seg[g].b - seg[g].a) - p).norm() <= reach;
+  };
+  std::vector<std::uint32_t> stack;
+  std::vector<std::uint32_t> seen;
+  for (const std::uint32_t v : sources) {
+    if (inside(v)) {
+      stack.push_back(v);
+      seen.push_back(v);
+    }
+  }
+  while (!stack.empty()) {
+    const std::uint32_t v = stack.back();
+    stack.pop_back();
+    if (v == ends[0] || v == ends[1]) return false;
+    for (const std::uint32_t w : graph.adjacent[v]) {
+      if (std::find(seen.begin(), seen.end(), w) != seen.end() || !inside(w)) continue;
+      seen.push_back(w);
+      stack.push_back(w);
+    }
+  }
+  return true;
+}
+
+// A join: the point at parameter t of edge `target` takes node `source` (an original node, or
+// a new node splitting a crossing edge).
+struct Join {
+  std::uint32_t target = 0;
+  double t = 0;
+  std::uint32_t source = 0;
+};
+
+}  // namespace
+
+MergedSkeleton join_merging_branches(const Skeleton& skeleton,
+                                     const std::vector<double>& edge_radius,
+                                     const std::vector<double>& edge_spacing,
+                                     const std::vector<std::uint8_t>& open_end) {
+  MergedSkeleton out;
+  out.skeleton.nodes = skeleton.nodes;
+  out.skeleton.edges = skeleton.edges;
+  out.edge_radius = edge_radius;
+  out.edge_spacing = edge_spacing;
+  out.open_end = open_end;
+  const Skeleton& s = skeleton;
+  const std::size_t nodes = s.nodes.size();
+  const std::size_t edges = s.edges.size();
+  if (edges < 2) return out;
+
+  std::vector<Segment> seg(edges);
+  std::vector<double> node_r(nodes, 0.0);
+  Graph graph;
+  graph.adjacent.resize(nodes);
+  double max_r = 0;
+  for (std::size_t e = 0; e < edges; ++e) {
+    const auto [a, b] = s.edges[e];
+    seg[e] = {s.nodes[a].position, s.nodes[b].position};
+    graph.adjacent[a].push_back(b);
+    graph.adjacent[b].push_back(a);
+    node_r[a] = std::max(node_r[a], edge_radius[e]);
+    node_r[b] = std::max(node_r[b], edge_radius[e]);
+    max_r = std::max(max_r, edge_radius[e]);
+  }
+  const EdgeGrid grid(seg, edge_radius, 4 * max_r);
+
+  // The thicker edge (not adjacent in the skeleton) that `p`, of own radius r, runs into:
+  // the one reaching furthest over p, or kNone.
+  const auto find_target = [&](const Vec3& p, double r, std::uint32_t skip_a, std::uint32_t skip_b,
+                               const std::vector<std::uint32_t>& sources,
+                               double& t_out) {
+    std::uint32_t best = kNone;
+    double best_excess = 0;
+    for (const std::uint32_t g : grid.near(p, p)) {
+      const auto [a, b] = s.edges[g];
+      if (a == skip_a || a == skip_b || b == skip_a || b == skip_b) continue;
+      const double rg = edge_radius[g];
+      if (rg < r) continue;
+      const double t = closest_t(seg[g].a, seg[g].b, p);
+      const double d = (seg[g].a + t * (seg[g].b - seg[g].a) - p).norm();
+      const double excess = (rg == r ? rg + kReach * r : rg) - d;  // > 0: p is within reach
+      if (!(excess > best_excess)) continue;
+      if (!another_branch(graph, s, seg, sources, g, rg + kNear * r)) continue;
+      best = g;
+      best_excess = excess;
+      t_out = t;
+    }
+    return best;
+  };
+
+  std::vector<Join> joins;
+  std::vector<std::uint8_t> joined(nodes, 0);
+  for (std::uint32_t v = 0; v < nodes; ++v) {
+    if (graph.adjacent[v].empty()) continue;
+    double t = 0;
+    const std::uint32_t g = find_target(s.nodes[v].position, node_r[v], v, v, {v}, t);
+    if (g == kNone) continue;
+    joins.push_back({g, t, v});
+    joined[v] = 1;
+  }
+  // Edges passing through a thicker tube between their nodes: split at the closest approach.
+  struct Split {
+    std::uint32_t edge;
+    double s;
+    std::uint32_t node;
+  };
+  std::vector<Split> splits;
+  std::uint32_t next_node = static_cast<std::uint32_t>(nodes);
+  for (std::uint32_t e = 0; e < edges; ++e) {
+    const auto [u, w] = s.edges[e];
+    if (joined[u] != 0 || joined[w] != 0) continue;
+    const double re = edge_radius[e];
+    const double length = (seg[e].b - seg[e].a).norm();
+    const Vec3 lo = seg[e].a.cwiseMin(seg[e].b);
+    const Vec3 hi = seg[e].a.cwiseMax(seg[e].b);
+    std::uint32_t best = kNone;
+    double best_excess = 0, best_s = 0, best_t = 0;
+    for (const std::uint32_t g : grid.near(lo, hi)) {
+      const auto [a, b] = s.edges[g];
+      if (a == u || a == w || b == u || b == w) continue;
+      const double rg = edge_radius[g];
+      if (rg < re || (rg == re && g > e)) continue;  // of two alike, the first takes the other
+      const auto [ps, pt] = closest_pair(seg[e].a, seg[e].b, seg[g].a, seg[g].b);
+      // Near a node of e, the node's own test decides.
+      if (ps * length < rg + re || (1 - ps) * length < rg + re) continue;
+      const Vec3 p = seg[e].a + ps * (seg[e].b - seg[e].a);
+      const double d = (seg[g].a + pt * (seg[g].b - seg[g].a) - p).norm();
+      const double excess = (rg == re ? rg + kReach * re : rg) - d;
+      if (!(excess > best_excess)) continue;
+      if (!another_branch(graph, s, seg, {u, w}, g, rg + kNear * re)) continue;
+      best = g;
+      best_excess = excess;
+      best_s = ps;
+      best_t = pt;
+    }
+    if (best == kNone) continue;
+    splits.push_back({e, best_s, next_node});
+    joins.push_back({best, best_t, next_node});
+    ++next_node;
+  }
+  if (joins.empty()) return out;
+
+  // New nodes: first the crossing splits' (already numbered), then the targets' points.
+  std::vector<SkeletonNode> new_nodes;
+  std::vector<double> new_r;  // the radius of the edge each new node lies on
+  for (const Split& sp : splits) {
+    const auto [u, w] = s.edges[sp.edge];
+    new_nodes.push_back({seg[sp.edge].a + sp.s * (seg[sp.edge].b - seg[sp.edge].a),
+                         (1 - sp.s) * s.nodes[u].radius + sp.s * s.nodes[w].radius});
+    new_r.push_back(edge_radius[sp.edge]);
+  }
+  // Per edge, its inner points (parameter, node) after all joins.
+  std::vector<std::vector<std::pair<double, std::uint32_t>>> inner(edges);
+  for (const Split& sp : splits) inner[sp.edge].emplace_back(sp.s, sp.node);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> unite;  // source, target node
+  std::sort(joins.begin(), joins.end(), [](const Join& x, const Join& y) {
+    return x.target != y.target ? x.target < y.target
+                                : (x.t != y.t ? x.t < y.t : x.source < y.source);
+  });
+  for (std::size_t i = 0; i < joins.size();) {
+    const std::uint32_t g = joins[i].target;
+    const double length = (seg[g].b - seg[g].a).norm();
+    const double rg = edge_radius[g];
+    std::size_t j = i;
+    double sum = 0;
+    while (j < joins.size() && joins[j].target == g &&
+           (joins[j].t - joins[i].t) * length < kCluster * rg) {
+      sum += joins[j].t;
+      ++j;
+    }
+    const double t = sum / static_cast<double>(j - i);
+    std::uint32_t point;
+    if (t * length < kEndZone * rg) {
+      point = s.edges[g][0];
+    } else if ((1 - t) * length < kEndZone * rg) {
+      point = s.edges[g][1];
+    } else {
+      point = next_node++;
+      const auto [a, b] = s.edges[g];
+      new_nodes.push_back({seg[g].a + t * (seg[g].b - seg[g].a),
+                           (1 - t) * s.nodes[a].radius + t * s.nodes[b].radius});
+      new_r.push_back(rg);
+      inner[g].emplace_back(t, point);
+    }
+    for (std::size_t k = i; k < j; ++k) unite.emplace_back(joins[k].source, point);
+    i = j;
+  }
+
+  // All nodes (old, then new), classes of joined nodes, each placed at its thickest member.
+  std::vector<SkeletonNode> all = s.nodes;
+  all.insert(all.end(), new_nodes.begin(), new_nodes.end());
+  std::vector<double> weight = node_r;
+  weight.insert(weight.end(), new_r.begin(), new_r.end());
+  std::vector<std::uint8_t> open(all.size(), 0);
+  for (std::size_t v = 0; v < open_end.size(); ++v) open[v] = open_end[v];
+  UnionFind uf(all.size());
+  for (const auto& [a, b] : unite) uf.unite(a, b);
+
+  // Edges: each original edge as the chain through its inner points.
+  struct Piece {
+    std::uint32_t a, b, edge;
+  };
+  std::vector<Piece> pieces;
+  for (std::uint32_t e = 0; e < edges; ++e) {
+    auto& points = inner[e];
+    std::sort(points.begin(), points.end());
+    std::uint32_t prev = s.edges[e][0];
+    for (const auto& [t, v] : points) {
+      pieces.push_back({prev, v, e});
+      prev = v;
+    }
+    pieces.push_back({prev, s.edges[e][1], e});
+  }
+  // Pieces too short for the layout (their ends joined to points next to each other): their
+  // ends become one node, until none is left.
+  const auto representatives = [&] {
+    std::vector<std::uint32_t> rep(all.size(), kNone);
+    for (std::uint32_t v = 0; v < all.size(); ++v) {
+      const std::uint32_t root = uf.find(v);
+      if (rep[root] == kNone || weight[v] > weight[rep[root]]) rep[root] = v;
+    }
+    return rep;
+  };
+  for (;;) {
+    const std::vector<std::uint32_t> rep = representatives();
+    bool changed = false;
+    for (const Piece& p : pieces) {
+      const std::uint32_t a = uf.find(p.a);
+      const std::uint32_t b = uf.find(p.b);
+      if (a == b) continue;
+      if ((all[rep[a]].position - all[rep[b]].position).norm() < 0.05 * edge_radius[p.edge]) {
+        uf.unite(a, b);
+        changed = true;
+      }
+    }
+    if (!changed) break;
+  }
+
+  // Compact: one node per class, at its thickest member (the first among equals).
+  const std::vector<std::uint32_t> rep = representatives();
+  std::vector<std::uint8_t> joined_class(all.size(), 0);
+  for (const auto& [source, target] : unite) joined_class[uf.find(source)] = 1;
+  std::vector<std::uint32_t> index(all.size(), kNone);
+  Skeleton merged;
+  std::vector<std::uint8_t> merged_open;
+  std::vector<int> ties;
+  for (std::uint32_t v = 0; v < all.size(); ++v) {
+    const std::uint32_t root = uf.find(v);
+    if (index[root] == kNone) {
+      index[root] = static_cast<std::uint32_t>(merged.nodes.size());
+      merged.nodes.push_back({Vec3::Zero(), all[rep[root]].radius});
+      merged_open.push_back(0);
+      ties.push_back(0);
+    }
+    const std::uint32_t i = index[root];
+    merged_open[i] |= open[v];
+    // At the thickest member's place; between several equally thick ones (two alike branches
+    // that run side by side), at their mean.
+    if (weight[v] == weight[rep[root]]) {
+      merged.nodes[i].position += all[v].position;
+      ++ties[i];
+    }
+  }
+  for (std::size_t i = 0; i < merged.nodes.size(); ++i) {
+    merged.nodes[i].position /= static_cast<double>(ties[i]);
+  }
+  // Edges in the order of the pieces, without self-loops and repeats.
+  MergedSkeleton result;
+  std::set<std::pair<std::uint32_t, std::uint32_t>> seen;
+  for (const Piece& p : pieces) {
+    const std::uint32_t a = index[uf.find(p.a)];
+    const std::uint32_t b = index[uf.find(p.b)];
+    if (a == b || !seen.insert({std::min(a, b), std::max(a, b)}).second) continue;
+    // A thinner branch's piece that ends in a join starts from the thicker tube, as a child
+    // does at a fork: its placement radius is the mean of the two, as R is the mean of an
+    // edge's node radii there, so that its rings start outside the blend.
+    double r = edge_radius[p.edge];
+    for (const std::uint32_t end : {p.a, p.b}) {
+      const std::uint32_t root = uf.find(end);
+      if (joined_class[root] != 0 && weight[rep[root]] > edge_radius[p.edge]) {
+        r = std::max(r, 0.5 * (edge_radius[p.edge] + weight[rep[root]]));
+      }
+    }
+    result.skeleton.edges.push_back({a, b});
+    result.edge_radius.push_back(r);
+    result.edge_spacing.push_back(edge_spacing[p.edge]);
+  }
+  result.skeleton.nodes = std::move(merged.nodes);
+  if (!open_end.empty()) result.open_end = std::move(merged_open);
+  const auto links = static_cast<long long>(nodes + result.skeleton.edges.size()) -
+                     static_cast<long long>(result.skeleton.nodes.size() + edges);
+  result.joins = static_cast<std::size_t>(std::max(0LL, links));
+  try {
+    validate(result.skeleton);
+  } catch (const InputError&) {
+    return out;  // a join the layout could not take: keep the skeleton's own connectivity
+  }
+  return result;
+}
+
+}  // namespace ramiform::detail

@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+#pragma once
+
+// Branches that the skeleton does not join but whose tubes merge, joined for the particle
+// layout. Gruber & Wallner 2014 ("Polygonization of Line Skeletons by Using Equipotential
+// Surfaces – A Practical Description", §5, Figures 11–12) note that the surfaces of close
+// branches merge; a mesh with the skeleton's connectivity cannot follow such a surface without
+// folding over itself. This finds the places where a thinner branch runs into a thicker one
+// that is not its neighbour in the skeleton (a node of it, or its closest approach, inside the
+// thicker tube) and joins the two there: the thicker edge is split at the nearest point of its
+// axis and the thinner branch's node (or a new node at its closest approach) is moved onto that
+// point. The layout then builds a junction there as at any fork, so the mesh has the merged
+// surface's topology (each join adds a handle, or joins two components). Only the layout's
+// skeleton changes; the field is built on the original one.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "ramiform/skeleton/skeleton.h"
+
+namespace ramiform::detail {
+
+/// The layout's skeleton and its per-edge and per-node inputs (see ParticleLayoutInput).
+struct MergedSkeleton {
+  Skeleton skeleton;                   ///< nodes and edges only
+  std::vector<double> edge_radius;     ///< placement radius R per edge
+  std::vector<double> edge_spacing;    ///< ring spacing per edge
+  std::vector<std::uint8_t> open_end;  ///< per node, or empty
+  /// Links the joins add: (nodes - edges) of the skeleton minus that of the result. Each adds
+  /// a handle to the mesh, or joins two of its pieces (a closed mesh's Euler characteristic is
+  /// 2 (nodes - edges) of the layout's skeleton).
+  std::size_t joins = 0;
+};
+
+/// Joins the branches of `skeleton` (validated, straight edges) that run into thicker branches
+/// not adjacent to them in the skeleton (see above). `edge_radius`, `edge_spacing`: one per
+/// edge; `open_end`: one per node or empty. Without such places the result is the input.
+/// Deterministic.
+[[nodiscard]] MergedSkeleton join_merging_branches(const Skeleton& skeleton,
+                                                   const std::vector<double>& edge_radius,
+                                                   const std::vector<double>& edge_spacing,
+                                                   const std::vector<std::uint8_t>& open_end);
+
+}  // namespace ramiform::detail

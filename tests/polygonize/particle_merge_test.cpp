@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+// Copyright (c) 2026 the ramiform authors
+//
+// Joining branches whose tubes merge without an edge between them (polygonize/particle_merge.h):
+// the joined skeleton computed by hand for a twig whose tip lies inside a thicker branch, and
+// no join for a child that leaves its parent's tube at their fork.
+
+#include "polygonize/particle_merge.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace ramiform {
+namespace {
+
+std::vector<double> mean_radii(const Skeleton& s) {
+  std::vector<double> r;
+  for (const auto& e : s.edges) r.push_back(0.5 * (s.nodes[e[0]].radius + s.nodes[e[1]].radius));
+  return r;
+}
+
+// A trunk (radius 0.5 to 0.4) with a twig (0.1) from node 1 that goes out to (2, 0, 4) and
+// comes back into the trunk, its tip 0.2 from the trunk's axis.
+TEST(JoinMergingBranches, TwigTipInsideAThickerBranchIsJoinedToItsAxis) {
+  Skeleton s;
+  s.nodes = {{Vec3(0, 0, -3), 0.5},
+             {Vec3(0, 0, 2), 0.5},
+             {Vec3(0, 0, 10), 0.4},
+             {Vec3(2, 0, 4), 0.1},
+             {Vec3(0.2, 0, 7), 0.1}};
+  s.edges = {{0, 1}, {1, 2}, {1, 3}, {3, 4}};
+  const std::vector<double> radius = mean_radii(s);  // 0.5, 0.45, 0.3, 0.1
+  const std::vector<double> spacing = {0.25, 0.2, 0.05, 0.05};
+  const detail::MergedSkeleton m = detail::join_merging_branches(s, radius, spacing, {});
+  EXPECT_EQ(m.joins, 1U);
+  // The trunk's edge 1 is split at (0, 0, 7), its axis point nearest the tip (t = 5/8), with
+  // the radius interpolated there; the tip becomes that node.
+  ASSERT_EQ(m.skeleton.nodes.size(), 5U);
+  for (int v = 0; v < 4; ++v) {
+    EXPECT_EQ(m.skeleton.nodes[v].position, s.nodes[v].position) << v;
+  }
+  EXPECT_EQ(m.skeleton.nodes[4].position, Vec3(0, 0, 7));
+  EXPECT_DOUBLE_EQ(m.skeleton.nodes[4].radius, 0.5 - 0.625 * 0.1);
+  const std::vector<std::array<std::uint32_t, 2>> edges = {{0, 1}, {1, 4}, {4, 2}, {1, 3}, {3, 4}};
+  EXPECT_EQ(m.skeleton.edges, edges);
+  // The trunk's pieces keep its R and spacing; the twig's piece into the join starts from the
+  // trunk, R the mean of the two.
+  EXPECT_EQ(m.edge_radius, (std::vector<double>{0.5, 0.45, 0.45, 0.3, 0.5 * (0.1 + 0.45)}));
+  EXPECT_EQ(m.edge_spacing, (std::vector<double>{0.25, 0.2, 0.2, 0.05, 0.05}));
+  EXPECT_TRUE(m.open_end.empty());
+}
+
+// A child from the trunk's node that runs inside the trunk's tube before it leaves it: reached
+// from the trunk through nodes inside its tube, so it is the trunk's own child and not joined.
+TEST(JoinMergingBranches, ChildInsideItsParentsTubeAtTheForkIsLeftAlone) {
+  Skeleton s;
+  s.nodes = {{Vec3(0, 0, -3), 1.0},
+             {Vec3(0, 0, 0), 1.0},
+             {Vec3(0, 0, 10), 1.0},
+             {Vec3(0.5, 0, 6), 0.3},
+             {Vec3(3, 0, 9), 0.3}};
+  s.edges = {{0, 1}, {1, 2}, {1, 3}, {3, 4}};
+  const std::vector<double> radius = mean_radii(s);
+  const std::vector<double> spacing(4, 0.15);
+  const std::vector<std::uint8_t> open = {1, 0, 0, 0, 0};
+  const detail::MergedSkeleton m = detail::join_merging_branches(s, radius, spacing, open);
+  EXPECT_EQ(m.joins, 0U);
+  ASSERT_EQ(m.skeleton.nodes.size(), s.nodes.size());
+  EXPECT_EQ(m.skeleton.edges, s.edges);
+  EXPECT_EQ(m.edge_radius, radius);
+  EXPECT_EQ(m.open_end, open);
+}
+
+}  // namespace
+}  // namespace ramiform
