@@ -59,6 +59,10 @@ struct RefineOptions {
   /// memory available) lowers it to budget / 256 bytes per triangle.
   std::size_t max_triangles = 20'000'000;
   double max_turn_deg = 80.0;          ///< largest turn of a new triangle's normal, (0, 180)
+  /// A new triangle turning farther than max_turn_deg against its parent is still taken when
+  /// every triangle of its vertex's fan lies within this angle of the surface's outward normal
+  /// at its centroid (the parent stood across the surface), (0, 90).
+  double max_normal_deg = 60.0;
 };
 
 /// What refine_to_surface() did.
