@@ -526,9 +526,9 @@ std::string time_tets(const ramiform::Skeleton& skeleton, int levels, double sec
                 "\"tolerance\": %g, \"fit_radii\": %s, \"seconds\": {\"total\": %.6f, "
                 "\"first_total\": %.6f, \"tetrahedralize\": %.6f, \"subdivide\": %.6f, "
                 "\"extract\": %.6f, \"cleanup\": %.6f}, \"runs\": %d, ",
-                levels, section_scale, tolerance, fit_radii ? "true" : "false", best, first, best_stats.seconds_tetrahedralize,
-                best_stats.seconds_subdivide, best_stats.seconds_extract,
-                best_stats.seconds_cleanup, runs);
+                levels, section_scale, tolerance, fit_radii ? "true" : "false", best, first,
+                best_stats.seconds_tetrahedralize, best_stats.seconds_subdivide,
+                best_stats.seconds_extract, best_stats.seconds_cleanup, runs);
   return buffer + check_json(mesh, skeleton) + ", " +
          deviation_json(mesh, *field, surface_skeleton) + "}";
 }
@@ -582,8 +582,8 @@ int main(int argc, char** argv) {
     const ramiform::Skeleton skeleton = ramiform::read_skeleton(args[0]);
     if (tets_levels >= 0) {
       std::printf("%s\n", time_tets(skeleton, tets_levels, section_scale, tolerance, fit_radii,
-                                     kRuns, out_path)
-                               .c_str());
+                                    kRuns, out_path)
+                              .c_str());
       return 0;
     }
     openvdb::initialize();

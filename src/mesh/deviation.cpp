@@ -144,10 +144,10 @@ SurfaceDistance distance_from(const Field& field, const Vec3& point, const Probe
 /// the nearest crossing), then the foot-point refinement of distance_from, its Newton steps
 /// batched too. A point whose line steps leave their bracket, go beyond the search distance or
 /// do not converge is projected by distance_from itself. `out[i]` is set for every i in `ids`.
-void project_batch(const Field& field, std::span<const Vec3> points,
-                   std::span<const double> value, std::span<const Vec3> grad,
-                   std::span<const double> search, std::span<const std::size_t> ids,
-                   int refine_steps, std::vector<SurfaceDistance>& out, Context* ctx) {
+void project_batch(const Field& field, std::span<const Vec3> points, std::span<const double> value,
+                   std::span<const Vec3> grad, std::span<const double> search,
+                   std::span<const std::size_t> ids, int refine_steps,
+                   std::vector<SurfaceDistance>& out, Context* ctx) {
   const double iso = field.iso();
   const std::size_t n = ids.size();
   std::vector<Vec3> dir(n, Vec3::Zero());
@@ -278,8 +278,8 @@ void project_batch(const Field& field, std::span<const Vec3> points,
       rest.size(), 16,
       [&](std::size_t k) {
         const std::size_t i = ids[rest[k]];
-        out[i] = distance_from(field, points[i], {value[i] - iso, grad[i]}, search[i],
-                               refine_steps);
+        out[i] =
+            distance_from(field, points[i], {value[i] - iso, grad[i]}, search[i], refine_steps);
       },
       ctx);
 }

@@ -185,7 +185,9 @@ TEST(MeasureDeviation, BatchedProjectionAgreesWithDistanceToSurfaceAtAFork) {
   // must be the one distance_to_surface gives point by point. A sphere around the fork of a
   // convolution surface (no closed form) puts the points at many distances and directions.
   Skeleton s;
-  s.nodes = {{Vec3(0, 0, 0), 0.1}, {Vec3(0, 0, 0.5), 0.08}, {Vec3(0.3, 0, 0.9), 0.05},
+  s.nodes = {{Vec3(0, 0, 0), 0.1},
+             {Vec3(0, 0, 0.5), 0.08},
+             {Vec3(0.3, 0, 0.9), 0.05},
              {Vec3(-0.3, 0.05, 0.9), 0.05}};
   s.edges = {{0, 1}, {1, 2}, {1, 3}};
   const FieldPtr f = make_skeleton_field(s);
