@@ -70,6 +70,7 @@
 #include <vector>
 
 #include "ramiform/core/geometry.h"
+#include "ramiform/field/radius_fit.h"
 #include "ramiform/field/skeleton_field.h"
 #include "ramiform/io/mesh_io.h"
 #include "ramiform/io/skeleton_io.h"
@@ -436,7 +437,7 @@ int usage() {
   std::fprintf(
       stderr,
       "usage: ramiform_bench_openvdb SKELETON VOXEL [HALF_WIDTH=3] [--out MESH] [--tets N]\n"
-      "                              [--section-scale S]\n"
+      "                              [--tolerance T] [--section-scale S] [--fit-radii]\n"
       "  SKELETON    skeleton file (.json, .ply, or a cylinder model; see "
       "docs/formats.md)\n"
       "  VOXEL       voxel size in model units (> 0)\n"
@@ -445,7 +446,9 @@ int usage() {
       "  --tets N    time ramiform's tetrahedral polygonizer at N levels (0..6) instead\n"
       "  --tolerance T  with --tets: refined to deviation p99 T (mesh --tolerance; N is then\n"
       "              the base mesh's levels)\n"
-      "  --section-scale S  with --tets: cross-section squares S radii wide (default 3)\n");
+      "  --section-scale S  with --tets: cross-section squares S radii wide (default 3)\n"
+      "  --fit-radii  with --tets: the convolution surface with fitted radii (mesh --fit-radii;\n"
+      "              the split and the fit are timed with the meshing)\n");
   return 2;
 }
 
@@ -477,8 +480,10 @@ std::string check_json(const ramiform::TriMesh& mesh, const ramiform::Skeleton& 
 
 // ramiform's tetrahedral polygonizer under the same protocol: `runs` runs, each building the
 // field and meshing; the stage times of the best run.
+// With `fit_radii` each run also splits the edges and fits their weights, as `ramiform mesh
+// --fit-radii` does (the field and the polygonizer follow the split skeleton).
 std::string time_tets(const ramiform::Skeleton& skeleton, int levels, double section_scale,
-                      double tolerance, int runs, const std::string& out_path) {
+                      double tolerance, bool fit_radii, int runs, const std::string& out_path) {
   ramiform::TetrahedralOptions options;
   options.levels = levels;
   options.section_scale = section_scale;
@@ -490,15 +495,24 @@ std::string time_tets(const ramiform::Skeleton& skeleton, int levels, double sec
   ramiform::TetrahedralStats stats, best_stats;
   ramiform::ToleranceStats tstats;
   ramiform::FieldPtr field;
+  ramiform::Skeleton surface_skeleton;
   for (int run = 0; run < runs; ++run) {
     mesh = {};
     const auto t0 = Clock::now();
-    field = ramiform::make_skeleton_field(skeleton, {}, {});
+    std::vector<double> weights;
+    if (fit_radii) {
+      ramiform::SplitSkeleton split = ramiform::split_edges(skeleton);
+      weights = ramiform::fit_edge_weights(split.skeleton, {}).weights;
+      surface_skeleton = std::move(split.skeleton);
+    } else {
+      surface_skeleton = skeleton;
+    }
+    field = ramiform::make_skeleton_field(surface_skeleton, {}, weights);
     if (tolerance > 0) {
-      mesh = ramiform::polygonize_to_tolerance(*field, skeleton, to, nullptr, &tstats);
+      mesh = ramiform::polygonize_to_tolerance(*field, surface_skeleton, to, nullptr, &tstats);
       stats = tstats.tets;
     } else {
-      mesh = ramiform::polygonize_tetrahedral(*field, skeleton, options, nullptr, &stats);
+      mesh = ramiform::polygonize_tetrahedral(*field, surface_skeleton, options, nullptr, &stats);
     }
     const double seconds = seconds_since(t0);
     if (run == 0) first = seconds;
@@ -509,13 +523,14 @@ std::string time_tets(const ramiform::Skeleton& skeleton, int levels, double sec
   char buffer[640];
   std::snprintf(buffer, sizeof buffer,
                 "{\"pipeline\": \"ramiform tets\", \"levels\": %d, \"section_scale\": %g, "
-                "\"tolerance\": %g, \"seconds\": {\"total\": %.6f, "
+                "\"tolerance\": %g, \"fit_radii\": %s, \"seconds\": {\"total\": %.6f, "
                 "\"first_total\": %.6f, \"tetrahedralize\": %.6f, \"subdivide\": %.6f, "
                 "\"extract\": %.6f, \"cleanup\": %.6f}, \"runs\": %d, ",
-                levels, section_scale, tolerance, best, first, best_stats.seconds_tetrahedralize,
-                best_stats.seconds_subdivide, best_stats.seconds_extract,
-                best_stats.seconds_cleanup, runs);
-  return buffer + check_json(mesh, skeleton) + ", " + deviation_json(mesh, *field, skeleton) + "}";
+                levels, section_scale, tolerance, fit_radii ? "true" : "false", best, first,
+                best_stats.seconds_tetrahedralize, best_stats.seconds_subdivide,
+                best_stats.seconds_extract, best_stats.seconds_cleanup, runs);
+  return buffer + check_json(mesh, skeleton) + ", " +
+         deviation_json(mesh, *field, surface_skeleton) + "}";
 }
 
 bool parse_positive(const char* text, double& out) {
@@ -535,6 +550,7 @@ int main(int argc, char** argv) {
   int tets_levels = -1;
   double section_scale = 3.0;
   double tolerance = 0.0;
+  bool fit_radii = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out") {
@@ -544,6 +560,8 @@ int main(int argc, char** argv) {
       if (i + 1 >= argc || !parse_positive(argv[++i], section_scale)) return usage();
     } else if (a == "--tolerance") {
       if (i + 1 >= argc || !parse_positive(argv[++i], tolerance)) return usage();
+    } else if (a == "--fit-radii") {
+      fit_radii = true;
     } else if (a == "--tets") {
       if (i + 1 >= argc) return usage();
       const std::string n = argv[++i];
@@ -563,7 +581,9 @@ int main(int argc, char** argv) {
     constexpr int kRuns = 3;
     const ramiform::Skeleton skeleton = ramiform::read_skeleton(args[0]);
     if (tets_levels >= 0) {
-      std::printf("%s\n", time_tets(skeleton, tets_levels, section_scale, tolerance, kRuns, out_path).c_str());
+      std::printf("%s\n", time_tets(skeleton, tets_levels, section_scale, tolerance, fit_radii,
+                                    kRuns, out_path)
+                              .c_str());
       return 0;
     }
     openvdb::initialize();

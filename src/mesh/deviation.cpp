@@ -6,7 +6,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "field/bvh.h"
 #include "ramiform/core/errors.h"
@@ -134,6 +136,154 @@ SurfaceDistance distance_from(const Field& field, const Vec3& point, const Probe
   return {best, foot, true};
 }
 
+/// distance_from for many points at once, in lockstep, with one batched field evaluation per
+/// step for all points still at work (single-point evaluations cost several times more per
+/// point): the crossing on the gradient line by Newton steps along it from the point, each kept
+/// inside the bracket the steps before have established (from the point the first step lands on
+/// the first-order estimate; where f is convex along the line the steps rise monotonically to
+/// the nearest crossing), then the foot-point refinement of distance_from, its Newton steps
+/// batched too. A point whose line steps leave their bracket, go beyond the search distance or
+/// do not converge is projected by distance_from itself. `out[i]` is set for every i in `ids`.
+void project_batch(const Field& field, std::span<const Vec3> points, std::span<const double> value,
+                   std::span<const Vec3> grad, std::span<const double> search,
+                   std::span<const std::size_t> ids, int refine_steps,
+                   std::vector<SurfaceDistance>& out, Context* ctx) {
+  const double iso = field.iso();
+  const std::size_t n = ids.size();
+  std::vector<Vec3> dir(n, Vec3::Zero());
+  std::vector<double> t(n, 0.0), lo(n, 0.0), hi(n, 0.0), best(n, kInf);
+  std::vector<Vec3> foot(n, Vec3::Zero());
+  std::vector<char> fallback(n, 0);
+  std::vector<std::size_t> active;
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::size_t i = ids[j];
+    const double g0 = value[i] - iso;
+    const double gn = grad[i].norm();
+    if (!std::isfinite(g0) || !(gn > 0.0) || !std::isfinite(gn) || !(search[i] > 0.0) ||
+        !std::isfinite(search[i]) || g0 == 0.0) {
+      fallback[j] = 1;
+      continue;
+    }
+    dir[j] = (g0 > 0.0 ? -1.0 : 1.0) / gn * grad[i];
+    t[j] = std::abs(g0) / gn;  // the first Newton step from the point
+    hi[j] = search[i];
+    if (!(t[j] < hi[j])) {
+      fallback[j] = 1;
+      continue;
+    }
+    active.push_back(j);
+  }
+  std::vector<Vec3> at;
+  std::vector<double> v;
+  std::vector<Vec3> g;
+  auto evaluate = [&](const std::vector<std::size_t>& which, auto&& position) {
+    at.resize(which.size());
+    for (std::size_t k = 0; k < which.size(); ++k) at[k] = position(which[k]);
+    v.resize(which.size());
+    g.resize(which.size());
+    field.evaluate(at, v, g, ctx);
+  };
+  // The crossing on the line.
+  for (int step = 0; step < 24 && !active.empty(); ++step) {
+    evaluate(active, [&](std::size_t j) { return Vec3(points[ids[j]] + t[j] * dir[j]); });
+    std::vector<std::size_t> next;
+    for (std::size_t k = 0; k < active.size(); ++k) {
+      const std::size_t j = active[k];
+      const double gt = v[k] - iso;
+      const double slope = g[k].dot(dir[j]);
+      if (!std::isfinite(gt) || !std::isfinite(slope)) {
+        fallback[j] = 1;
+        continue;
+      }
+      if (gt == 0.0) {
+        best[j] = t[j];
+        continue;
+      }
+      const bool same_side = (gt > 0.0) == (value[ids[j]] - iso > 0.0);
+      (same_side ? lo[j] : hi[j]) = t[j];
+      const double tn = t[j] - gt / slope;
+      if (!(tn > lo[j] && tn < hi[j])) {
+        fallback[j] = 1;
+        continue;
+      }
+      const double moved = std::abs(tn - t[j]);
+      t[j] = tn;
+      if (moved <= 1e-13 * search[ids[j]]) {
+        best[j] = t[j];
+        continue;
+      }
+      next.push_back(j);
+    }
+    active = std::move(next);
+  }
+  for (const std::size_t j : active) fallback[j] = 1;  // not converged
+  active.clear();
+  for (std::size_t j = 0; j < n; ++j) {
+    if (fallback[j] != 0) continue;
+    foot[j] = points[ids[j]] + best[j] * dir[j];
+    active.push_back(j);
+  }
+  // Foot-point refinement, as in distance_from.
+  std::vector<Vec3> z(n, Vec3::Zero());
+  for (int r = 0; r < refine_steps && !active.empty(); ++r) {
+    evaluate(active, [&](std::size_t j) { return foot[j]; });
+    std::vector<std::size_t> moving;
+    for (std::size_t k = 0; k < active.size(); ++k) {
+      const std::size_t j = active[k];
+      const double qn = g[k].norm();
+      if (!(qn > 0.0) || !std::isfinite(qn)) continue;
+      const Vec3 nrm = g[k] / qn;
+      const Vec3 d = points[ids[j]] - foot[j];
+      const Vec3 w = d - d.dot(nrm) * nrm;
+      if (w.norm() <= 1e-12 * std::max(best[j], 1e-300)) continue;
+      z[j] = foot[j] + w;
+      moving.push_back(j);
+    }
+    // Newton steps along the gradient onto the surface (newton_to_surface, batched).
+    std::vector<std::size_t> converged;
+    for (int k = 0; k < 20 && !moving.empty(); ++k) {
+      evaluate(moving, [&](std::size_t j) { return z[j]; });
+      std::vector<std::size_t> still;
+      for (std::size_t m = 0; m < moving.size(); ++m) {
+        const std::size_t j = moving[m];
+        const double q = v[m] - iso;
+        const double gg = g[m].squaredNorm();
+        if (!std::isfinite(q) || !(gg > 0.0) || !std::isfinite(gg)) continue;
+        const Vec3 step = (q / gg) * g[m];
+        z[j] -= step;
+        (step.norm() <= 1e-13 * search[ids[j]] ? converged : still).push_back(j);
+      }
+      moving = std::move(still);
+    }
+    std::sort(converged.begin(), converged.end());
+    std::vector<std::size_t> next;
+    for (const std::size_t j : converged) {
+      const double d = (points[ids[j]] - z[j]).norm();
+      if (!(d < best[j])) continue;
+      best[j] = d;
+      foot[j] = z[j];
+      next.push_back(j);
+    }
+    active = std::move(next);
+  }
+  std::vector<std::size_t> rest;
+  for (std::size_t j = 0; j < n; ++j) {
+    if (fallback[j] != 0) {
+      rest.push_back(j);
+    } else {
+      out[ids[j]] = {best[j], foot[j], true};
+    }
+  }
+  parallel::for_each(
+      rest.size(), 16,
+      [&](std::size_t k) {
+        const std::size_t i = ids[rest[k]];
+        out[i] =
+            distance_from(field, points[i], {value[i] - iso, grad[i]}, search[i], refine_steps);
+      },
+      ctx);
+}
+
 }  // namespace
 
 SurfaceDistance distance_to_surface(const Field& field, const Vec3& point, double search,
@@ -238,27 +388,29 @@ DeviationSummary summarise(const Field& field, const std::vector<Vec3>& points,
   std::vector<double> value(points.size());
   std::vector<Vec3> grad(points.size());
   field.evaluate(points, value, grad, ctx);
-  parallel::for_chunks(
-      points.size(), 256,
-      [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) {
-          const double r = skeleton != nullptr ? radius[i] : 0.0;
-          const double search = skeleton != nullptr ? o.search_radii * r : search_distance;
-          const double gn = grad[i].norm();
-          const double first = std::abs(value[i] - field.iso()) / gn;
-          SurfaceDistance d;
-          if (gn > 0.0 && std::isfinite(first) && first <= first_order * search) {
-            d = {first, points[i], true};
-          } else {
-            d = distance_from(field, points[i], {value[i] - field.iso(), grad[i]}, search,
-                              o.refine_steps);
-          }
-          abs[i] = d.distance;
-          resolved[i] = d.resolved ? 1 : 0;
-          if (skeleton != nullptr) rel[i] = r > 0.0 ? d.distance / r : (d.distance > 0 ? kInf : 0);
-        }
-      },
-      ctx);
+  std::vector<double> search(points.size());
+  std::vector<SurfaceDistance> found(points.size());
+  std::vector<std::size_t> project;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    search[i] = skeleton != nullptr ? o.search_radii * radius[i] : search_distance;
+    const double gn = grad[i].norm();
+    const double first = std::abs(value[i] - field.iso()) / gn;
+    if (gn > 0.0 && std::isfinite(first) && first <= first_order * search[i]) {
+      found[i] = {first, points[i], true};
+    } else if (!(search[i] > 0.0) || !std::isfinite(search[i]) || !points[i].allFinite()) {
+      found[i] = {search[i], points[i], false};
+    } else {
+      project.push_back(i);
+    }
+  }
+  project_batch(field, points, value, grad, search, project, o.refine_steps, found, ctx);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const double r = skeleton != nullptr ? radius[i] : 0.0;
+    const SurfaceDistance& d = found[i];
+    abs[i] = d.distance;
+    resolved[i] = d.resolved ? 1 : 0;
+    if (skeleton != nullptr) rel[i] = r > 0.0 ? d.distance / r : (d.distance > 0 ? kInf : 0);
+  }
   const std::vector<double>& key = skeleton != nullptr ? rel : abs;
   std::size_t worst = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {

@@ -180,6 +180,46 @@ TEST(MeasureDeviation, IcosphereAgainstItsSphereMatchesTheExactDistance) {
   EXPECT_GT(rep.field_evaluations, o.samples);
 }
 
+TEST(MeasureDeviation, BatchedProjectionAgreesWithDistanceToSurfaceAtAFork) {
+  // measure_deviation projects its points in lockstep with batched evaluations; each figure
+  // must be the one distance_to_surface gives point by point. A sphere around the fork of a
+  // convolution surface (no closed form) puts the points at many distances and directions.
+  Skeleton s;
+  s.nodes = {{Vec3(0, 0, 0), 0.1},
+             {Vec3(0, 0, 0.5), 0.08},
+             {Vec3(0.3, 0, 0.9), 0.05},
+             {Vec3(-0.3, 0.05, 0.9), 0.05}};
+  s.edges = {{0, 1}, {1, 2}, {1, 3}};
+  const FieldPtr f = make_skeleton_field(s);
+  const TriMesh mesh = test::icosphere(3, 0.2, Vec3(0, 0, 0.55));
+  DeviationOptions o;
+  o.samples = 2000;
+  o.seed = 5;
+  o.vertices = false;
+  const DeviationReport rep = measure_deviation(mesh, *f, &s, o);
+  const MeshAreaSampler sampler(mesh);
+  Rng rng(o.seed);
+  std::vector<Vec3> points;
+  for (std::size_t i = 0; i < o.samples; ++i) points.push_back(sampler.position(sampler.draw(rng)));
+  const std::vector<double> radius = local_radii(s, points);
+  std::vector<double> rel, abs;
+  std::size_t unresolved = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const SurfaceDistance d = distance_to_surface(*f, points[i], o.search_radii * radius[i]);
+    unresolved += d.resolved ? 0 : 1;
+    abs.push_back(d.distance);
+    rel.push_back(d.distance / radius[i]);
+  }
+  EXPECT_EQ(rep.samples.unresolved, unresolved);
+  EXPECT_LT(unresolved, points.size() / 10);
+  EXPECT_GT(rank(rel, 0.5), 0.1);  // far enough off for the projection to matter
+  EXPECT_NEAR(rep.samples.p50, rank(rel, 0.5), 1e-9);
+  EXPECT_NEAR(rep.samples.p99, rank(rel, 0.99), 1e-9);
+  EXPECT_NEAR(rep.samples.max, *std::max_element(rel.begin(), rel.end()), 1e-9);
+  EXPECT_NEAR(rep.samples.abs_p50, rank(abs, 0.5), 1e-10);
+  EXPECT_NEAR(rep.samples.abs_max, *std::max_element(abs.begin(), abs.end()), 1e-10);
+}
+
 TEST(MeasureDeviation, TorusWithoutASkeletonGivesAbsoluteFigures) {
   const double R = 1.0, r = 0.3;
   const TriMesh mesh = test::torus(R, r, 48, 16);

@@ -153,6 +153,9 @@ TEST(RefineToSurface, BadOptionsAreRefused) {
   o.max_turn_deg = 180;
   EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
   o = {};
+  o.max_normal_deg = 90;
+  EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
+  o = {};
   o.max_rounds = -1;
   EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
   EXPECT_THROW(refine_to_surface(m, *f, Skeleton{}, RefineOptions{}), InvalidArgument);

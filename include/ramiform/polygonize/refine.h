@@ -26,9 +26,11 @@
 ///     mesh stays closed, consistently oriented and 2-manifold by construction;
 ///  4. a projected vertex goes half way back to its edge's midpoint, and then all the way (where
 ///     the split is flat, so nothing can fold), when one of its new triangles turns against its
-///     parent triangle by more than
-///     `max_turn_deg`, or when the move would carry a protected point (the skeleton's nodes)
-///     across the surface (the point lies in one of the tetrahedra swept by the vertex's fan).
+///     parent triangle by more than `max_turn_deg` while some triangle of its fan lies farther
+///     than `max_normal_deg` from the surface's outward normal at its centroid (a fan that
+///     follows the surface is kept however far it turned: its parent stood across the surface),
+///     or when the move would carry a protected point (the skeleton's nodes) across the surface
+///     (the point lies in one of the tetrahedra swept by the vertex's fan).
 /// Rounds stop when no edge is split, after `max_rounds`, or when the next round would exceed
 /// `max_triangles`. Deterministic: the result depends only on the inputs, never on the thread
 /// count.
@@ -59,6 +61,10 @@ struct RefineOptions {
   /// memory available) lowers it to budget / 256 bytes per triangle.
   std::size_t max_triangles = 20'000'000;
   double max_turn_deg = 80.0;          ///< largest turn of a new triangle's normal, (0, 180)
+  /// A new triangle turning farther than max_turn_deg against its parent is still taken when
+  /// every triangle of its vertex's fan lies within this angle of the surface's outward normal
+  /// at its centroid (the parent stood across the surface), (0, 90).
+  double max_normal_deg = 60.0;
 };
 
 /// What refine_to_surface() did.
