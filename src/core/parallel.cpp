@@ -14,6 +14,9 @@
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
+
+#include <map>
+#include <mutex>
 #endif
 
 namespace ramiform::parallel {
@@ -36,6 +39,24 @@ class SerialScope {
  private:
   bool outer_;
 };
+
+#if !defined(RAMIFORM_PARALLEL_STD_THREADS)
+// One task arena per thread count, made on first use and kept: making an arena for every loop
+// cost up to milliseconds a call (a line tracer's thousands of small batched evaluations took
+// seconds), and loops of one Context now share its arena's threads. Never destroyed (the
+// workers may outlive static destructors).
+tbb::task_arena& arena_for(int threads) {
+  static std::mutex mutex;
+  static auto* arenas = new std::map<int, tbb::task_arena*>();
+  const std::lock_guard<std::mutex> lock(mutex);
+  tbb::task_arena*& arena = (*arenas)[threads];
+  if (arena == nullptr) {
+    arena = new tbb::task_arena(threads);
+    arena->initialize();
+  }
+  return *arena;
+}
+#endif
 
 }  // namespace
 
@@ -102,8 +123,7 @@ void for_chunks(std::size_t n, std::size_t grain,
         tbb::simple_partitioner());
   };
   if (threads > 1) {
-    tbb::task_arena arena(threads);
-    arena.execute(run);
+    arena_for(threads).execute(run);
   } else {
     run();
   }

@@ -242,9 +242,7 @@ class SkeletonField final : public Field {
         if (with_gradient) gradients[i] = Vec3(chunk.gx[k], chunk.gy[k], chunk.gz[k]);
       }
     };
-    // Threads for large batches only: a scattered small batch's chunks are too little work each
-    // to pay for waking the workers.
-    if (chunks >= 4 && n > 3 * detail::kChunk) {
+    if (chunks >= 2) {
       parallel::for_each(chunks, 1, run_chunk, ctx);
     } else {
       for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
