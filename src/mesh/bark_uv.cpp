@@ -16,6 +16,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "core/union_find.h"
 #include "field/bvh.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
@@ -783,17 +784,14 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
         if (solver.info() != Eigen::Success || !out_c.x.allFinite()) return;
         refine_stretch(tris, sign, eps, mass, mass_floor, members, ref, out_c.x, out_c.du);
         // Connected pieces of the chart, each with its own constant.
-        std::vector<std::uint32_t>& root = out_c.piece;
-        root.resize(m);
-        for (std::size_t i = 0; i < m; ++i) root[i] = static_cast<std::uint32_t>(i);
-        auto find = [&](std::uint32_t i) {
-          while (root[i] != i) i = root[i] = root[root[i]];
-          return i;
-        };
+        detail::UnionFind pieces(m);
         for (const ChartTri& t : tris) {
-          for (int k = 1; k < 3; ++k) root[find(t.at[k])] = find(t.at[0]);
+          for (int k = 1; k < 3; ++k) pieces.unite(t.at[0], t.at[k]);
         }
-        for (std::size_t i = 0; i < m; ++i) root[i] = find(static_cast<std::uint32_t>(i));
+        out_c.piece.resize(m);
+        for (std::size_t i = 0; i < m; ++i) {
+          out_c.piece[i] = pieces.find(static_cast<std::uint32_t>(i));
+        }
         out_c.ok = true;
       },
       ctx);

@@ -8,6 +8,7 @@
 #include <numeric>
 #include <string>
 
+#include "core/union_find.h"
 #include "mesh/mesh_indices.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
@@ -40,27 +41,6 @@ constexpr std::size_t kGrain = 4096;
 bool has_repeated_index(const std::array<std::uint32_t, 3>& t) {
   return t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
 }
-
-/// Union-find with path halving; unions attach the larger root to the smaller, so the final
-/// structure does not depend on anything but the order of unions.
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return;
-    if (a < b) std::swap(a, b);
-    parent[a] = b;
-  }
-};
 
 /// Compressed vertex -> incident triangles (each triangle listed once per distinct vertex).
 struct VertexTriangles {
@@ -344,7 +324,7 @@ MeshReport check_mesh(const TriMesh& mesh, Context* ctx) {
 
 TriangleComponents triangle_components(const TriMesh& mesh) {
   detail::check_triangle_indices(mesh, "triangle_components");
-  UnionFind uf(mesh.positions.size());
+  detail::UnionFind uf(mesh.positions.size());
   for (const auto& t : mesh.triangles) {
     uf.unite(t[0], t[1]);
     uf.unite(t[0], t[2]);

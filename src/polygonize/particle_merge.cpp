@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "core/union_find.h"
 #include "ramiform/core/errors.h"
 
 namespace ramiform::detail {
@@ -65,22 +66,6 @@ std::pair<double, double> closest_pair(const Vec3& p0, const Vec3& p1, const Vec
   }
   return {s, t};
 }
-
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) {
-    for (std::size_t i = 0; i < n; ++i) parent[i] = static_cast<std::uint32_t>(i);
-  }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 // A spatial hash of the edges' boxes (widened by twice their radius) in cubes of side h.
 class EdgeGrid {

@@ -137,17 +137,7 @@ class MeshParticlesTest : public test::CliDirTest {
 // Triangles whose normal points along the summed field gradient of their corners, counted
 // here with the library's equipotential field of the same skeleton (default options).
 std::size_t count_inverted(const TriMesh& mesh, const Skeleton& s) {
-  const Equipotential eq = make_equipotential(s);
-  std::vector<double> values(mesh.positions.size());
-  std::vector<Vec3> gradients(mesh.positions.size());
-  eq.field->evaluate(mesh.positions, values, gradients);
-  std::size_t inverted = 0;
-  for (const auto& t : mesh.triangles) {
-    const Vec3& a = mesh.positions[t[0]];
-    const Vec3 normal = (mesh.positions[t[1]] - a).cross(mesh.positions[t[2]] - a);
-    if (normal.dot(gradients[t[0]] + gradients[t[1]] + gradients[t[2]]) > 0) ++inverted;
-  }
-  return inverted;
+  return test::triangles_facing_inwards(mesh, *make_equipotential(s).field);
 }
 
 TEST_F(MeshParticlesTest, GeneratedTreesFrom10To1000Segments) {

@@ -500,15 +500,7 @@ TEST(ParticleMeshEquipotential, BranchesThatMergeAreJoinedWithoutFolds) {
     }
     // Folds independently of the mesher's count: no triangle faces along the field's gradient
     // (into the surface).
-    std::vector<Vec3> g(mesh.positions.size());
-    eq.field->evaluate(mesh.positions, f, g);
-    std::size_t folded = 0;
-    for (const auto& t : mesh.triangles) {
-      const Vec3& a = mesh.positions[t[0]];
-      const Vec3 n = (mesh.positions[t[1]] - a).cross(mesh.positions[t[2]] - a);
-      if (n.dot(g[t[0]] + g[t[1]] + g[t[2]]) > 0) ++folded;
-    }
-    EXPECT_EQ(folded, 0U);
+    EXPECT_EQ(test::triangles_facing_inwards(mesh, *eq.field), 0U);
     // The same bytes on one thread.
     Context one(1);
     const TriMesh single = polygonize_particles(eq, s, {}, &one);

@@ -6,6 +6,7 @@
 
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace ramiform::test {
 
@@ -72,6 +73,19 @@ std::size_t nodes_outside(const TriMesh& mesh, const Skeleton& skeleton,
   std::size_t outside = 0;
   for (const char f : points_inside(mesh, nodes)) outside += f == 0 ? 1 : 0;
   return outside;
+}
+
+std::size_t triangles_facing_inwards(const TriMesh& mesh, const Field& field) {
+  std::vector<double> values(mesh.positions.size());
+  std::vector<Vec3> gradients(mesh.positions.size());
+  field.evaluate(mesh.positions, values, gradients);
+  std::size_t inwards = 0;
+  for (const auto& t : mesh.triangles) {
+    const Vec3& a = mesh.positions[t[0]];
+    const Vec3 normal = (mesh.positions[t[1]] - a).cross(mesh.positions[t[2]] - a);
+    if (normal.dot(gradients[t[0]] + gradients[t[1]] + gradients[t[2]]) > 0) ++inwards;
+  }
+  return inwards;
 }
 
 }  // namespace ramiform::test

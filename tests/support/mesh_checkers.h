@@ -12,6 +12,7 @@
 #include <cstddef>
 
 #include "ramiform/core/geometry.h"
+#include "ramiform/field/field.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/skeleton/skeleton.h"
 
@@ -40,5 +41,9 @@ void expect_closed_surface(const TriMesh& mesh, std::size_t components, long lon
 /// lie outside the closed mesh (mesh/winding.h points_inside).
 [[nodiscard]] std::size_t nodes_outside(const TriMesh& mesh, const Skeleton& skeleton,
                                         Vec3 (*transform)(const Vec3&) = nullptr);
+
+/// How many triangles face along `field`'s gradient summed at their corners, i.e. into the
+/// surface (f > iso inside): folded triangles, counted independently of any mesher's own count.
+[[nodiscard]] std::size_t triangles_facing_inwards(const TriMesh& mesh, const Field& field);
 
 }  // namespace ramiform::test
