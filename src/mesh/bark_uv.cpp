@@ -2,6 +2,7 @@
 // Copyright (c) 2026 the ramiform authors
 #include "ramiform/mesh/bark_uv.h"
 
+#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
@@ -486,10 +487,112 @@ struct ChartTri {
   Vec3 normal = Vec3::Zero();
 };
 
+using Sparse = Eigen::SparseMatrix<double>;
+
 constexpr int kRefineSteps = 3;           // Gauss-Newton steps of refine_stretch()
 constexpr double kConformalWeight = 0.1;  // weight of |grad v - n x grad u|^2 there
 constexpr double kAngleWeight = 0.03;     // weight of |grad du|^2 (u stays near the angle)
 constexpr double kRobustStretch = 0.2;    // stretch error beyond which a triangle weighs less
+
+/// The sparsity both of a chart's systems share, in one fill-reducing order. The chart's vertex
+/// graph (each unknown with its triangles' other corners and itself) is ordered once by
+/// approximate minimum degree; the conformal system (one unknown per vertex) and the stretch
+/// system (v and du per vertex, side by side) are then assembled directly in that order, upper
+/// triangle only, so that their factorizations need neither an ordering of their own nor a
+/// permuted copy per step (the stretch system's graph is the vertex graph with 2 x 2 blocks).
+class ChartPattern {
+ public:
+  ChartPattern(const std::vector<ChartTri>& tris, std::size_t m) : pos_(m) {
+    // The vertex graph, both triangles of each pair, as sorted unique (column, row) pairs.
+    std::vector<std::uint64_t> pairs;
+    pairs.reserve(6 * tris.size() + m);
+    for (const ChartTri& t : tris) {
+      if (!(t.area > 0.0)) continue;
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) {
+          if (t.at[a] != t.at[b]) pairs.push_back(std::uint64_t{t.at[a]} << 32 | t.at[b]);
+        }
+      }
+    }
+    for (std::size_t i = 0; i < m; ++i) pairs.push_back(std::uint64_t{i} << 32 | i);
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    const auto M = static_cast<Eigen::Index>(m);
+    Sparse graph(M, M);
+    graph.resizeNonZeros(static_cast<Eigen::Index>(pairs.size()));
+    std::fill(graph.outerIndexPtr(), graph.outerIndexPtr() + m + 1, 0);
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      ++graph.outerIndexPtr()[(pairs[k] >> 32) + 1];
+      graph.innerIndexPtr()[k] = static_cast<int>(pairs[k] & 0xffffffffu);
+      graph.valuePtr()[k] = 1.0;
+    }
+    for (std::size_t j = 0; j < m; ++j) graph.outerIndexPtr()[j + 1] += graph.outerIndexPtr()[j];
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
+    Eigen::AMDOrdering<int>()(graph, inverse);
+    for (std::size_t k = 0; k < m; ++k) pos_[static_cast<std::size_t>(inverse.indices()[k])] = k;
+    // The upper triangle in that order: column q holds the rows p <= q of its graph neighbours.
+    std::vector<std::uint64_t> upper;
+    upper.reserve(pairs.size() / 2 + m);
+    for (const std::uint64_t e : pairs) {
+      const std::size_t p = pos_[e >> 32], q = pos_[e & 0xffffffffu];
+      if (p <= q) upper.push_back(std::uint64_t{q} << 32 | p);
+    }
+    std::sort(upper.begin(), upper.end());
+    single_ = Sparse(M, M);
+    single_.resizeNonZeros(static_cast<Eigen::Index>(upper.size()));
+    std::fill(single_.outerIndexPtr(), single_.outerIndexPtr() + m + 1, 0);
+    // The stretch system: unknown 2p is v, 2p + 1 du of the vertex at position p.
+    std::size_t double_nnz = 0;
+    for (const std::uint64_t e : upper) double_nnz += (e >> 32) == (e & 0xffffffffu) ? 3 : 4;
+    double_ = Sparse(2 * M, 2 * M);
+    double_.resizeNonZeros(static_cast<Eigen::Index>(double_nnz));
+    std::fill(double_.outerIndexPtr(), double_.outerIndexPtr() + 2 * m + 1, 0);
+    std::size_t next = 0;
+    for (std::size_t k = 0, begin = 0; k <= upper.size(); ++k) {
+      if (k < upper.size() && (upper[k] >> 32) == (upper[begin] >> 32)) continue;
+      // upper[begin, k) is one column q, rows ascending (the last is q itself).
+      const std::size_t q = upper[begin] >> 32;
+      for (int b = 0; b < 2; ++b) {
+        for (std::size_t e = begin; e < k; ++e) {
+          const std::size_t p = upper[e] & 0xffffffffu;
+          double_.innerIndexPtr()[next++] = static_cast<int>(2 * p);
+          if (p < q || b == 1) double_.innerIndexPtr()[next++] = static_cast<int>(2 * p + 1);
+        }
+        double_.outerIndexPtr()[2 * q + b + 1] = static_cast<int>(next);
+      }
+      begin = k;
+    }
+    for (std::size_t k = 0; k < upper.size(); ++k) {
+      ++single_.outerIndexPtr()[(upper[k] >> 32) + 1];
+      single_.innerIndexPtr()[k] = static_cast<int>(upper[k] & 0xffffffffu);
+    }
+    for (std::size_t j = 0; j < m; ++j) single_.outerIndexPtr()[j + 1] += single_.outerIndexPtr()[j];
+    // Columns of the stretch system with no rows cannot occur (each has its diagonal), so the
+    // running ends written above are every column's end.
+  }
+
+  /// The elimination position of the chart's unknown i.
+  [[nodiscard]] std::size_t pos(std::size_t i) const { return pos_[i]; }
+  /// The conformal system's upper triangle (values to be filled).
+  [[nodiscard]] Sparse& single() { return single_; }
+  /// The stretch system's upper triangle (values to be filled).
+  [[nodiscard]] Sparse& stretch() { return double_; }
+
+  /// The value slot of (row, col), row <= col, in `matrix`.
+  [[nodiscard]] static std::size_t slot(const Sparse& matrix, std::size_t row, std::size_t col) {
+    const int* begin = matrix.innerIndexPtr() + matrix.outerIndexPtr()[col];
+    const int* end = matrix.innerIndexPtr() + matrix.outerIndexPtr()[col + 1];
+    return static_cast<std::size_t>(std::lower_bound(begin, end, static_cast<int>(row)) -
+                                    matrix.innerIndexPtr());
+  }
+
+ private:
+  std::vector<std::size_t> pos_;
+  Sparse single_, double_;
+};
+
+/// The factorization both systems use: the pattern's own order, no permuted copies.
+using OrderedLdlt = Eigen::SimplicialLDLT<Sparse, Eigen::Upper, Eigen::NaturalOrdering<int>>;
 
 /// The stretch of a triangle is |grad v| / |grad u|, whatever the angle between the two, and
 /// the least-squares conjugate fits two components of grad v per triangle with one vertex per
@@ -505,12 +608,11 @@ constexpr double kRobustStretch = 0.2;    // stretch error beyond which a triang
 void refine_stretch(const std::vector<ChartTri>& tris, double sign, double eps,
                     const std::vector<double>& mass, double mass_floor,
                     const std::vector<std::uint32_t>& members, const std::vector<double>& ref,
-                    Eigen::VectorXd& x, Eigen::VectorXd& du) {
-  using Sparse = Eigen::SparseMatrix<double>;
+                    ChartPattern& pattern, Eigen::VectorXd& x, Eigen::VectorXd& du) {
   const std::size_t m = members.size();
   const auto M = static_cast<Eigen::Index>(m);
   du = Eigen::VectorXd::Zero(M);
-  Eigen::SimplicialLDLT<Sparse> solver;
+  OrderedLdlt solver;
   double scale = 0.0;
   std::size_t counted = 0;
   for (const ChartTri& t : tris) {
@@ -522,12 +624,12 @@ void refine_stretch(const std::vector<ChartTri>& tris, double sign, double eps,
   }
   if (counted == 0) return;
   scale /= static_cast<double>(counted);
-  // The pattern is the same at every step: build it once, then add values into their slots.
+  // The system's unknowns in the pattern's order: v of unknown i at 2 pos(i), du at 2 pos(i) + 1.
   auto corners = [&](const ChartTri& t) {
-    std::array<int, 6> idx{};
+    std::array<std::size_t, 6> idx{};
     for (int k = 0; k < 3; ++k) {
-      idx[k] = static_cast<int>(t.at[k]);
-      idx[k + 3] = static_cast<int>(m + t.at[k]);
+      idx[k] = 2 * pattern.pos(t.at[k]);
+      idx[k + 3] = idx[k] + 1;
     }
     return idx;
   };
@@ -535,38 +637,59 @@ void refine_stretch(const std::vector<ChartTri>& tris, double sign, double eps,
     const double g2 = t.g.squaredNorm();
     return t.area > 0.0 && g2 > 0.0 && std::isfinite(g2);
   };
-  Sparse K(2 * M, 2 * M);
-  {
-    std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(36 * tris.size() + 2 * m);
-    for (const ChartTri& t : tris) {
-      if (!is_used(t)) continue;
-      const std::array<int, 6> idx = corners(t);
-      for (int a = 0; a < 6; ++a) {
-        for (int b = 0; b < 6; ++b) entries.emplace_back(idx[a], idx[b], 0.0);
-      }
-    }
-    for (Eigen::Index i = 0; i < 2 * M; ++i) entries.emplace_back(i, i, 0.0);
-    K.setFromTriplets(entries.begin(), entries.end());
-    K.makeCompressed();
-  }
-  auto slot_of = [&](int row, int col) {
-    const int* begin = K.innerIndexPtr() + K.outerIndexPtr()[col];
-    const int* end = K.innerIndexPtr() + K.outerIndexPtr()[col + 1];
-    return static_cast<std::size_t>(std::lower_bound(begin, end, row) - K.innerIndexPtr());
-  };
-  std::vector<std::size_t> slots;
+  Sparse& K = pattern.stretch();
+  // The upper triangle's slot of each (a, b) of each used triangle (kNone below the diagonal;
+  // the local matrix is symmetric, so the pairs kept sum to the whole of it).
+  std::vector<std::uint32_t> slots;
   slots.reserve(36 * tris.size());
   for (const ChartTri& t : tris) {
     if (!is_used(t)) continue;
-    const std::array<int, 6> idx = corners(t);
+    const std::array<std::size_t, 6> idx = corners(t);
     for (int a = 0; a < 6; ++a) {
-      for (int b = 0; b < 6; ++b) slots.push_back(slot_of(idx[a], idx[b]));
+      for (int b = 0; b < 6; ++b) {
+        slots.push_back(idx[a] <= idx[b]
+                            ? static_cast<std::uint32_t>(ChartPattern::slot(K, idx[a], idx[b]))
+                            : kNone);
+      }
     }
   }
   std::vector<std::size_t> diag_slots(2 * m);
-  for (std::size_t i = 0; i < 2 * m; ++i) {
-    diag_slots[i] = slot_of(static_cast<int>(i), static_cast<int>(i));
+  for (std::size_t i = 0; i < 2 * m; ++i) diag_slots[i] = ChartPattern::slot(K, i, i);
+  // The conformal and angle rows do not change from step to step: their normal matrix and
+  // right-hand side per used triangle, once.
+  struct Fixed {
+    Eigen::Matrix<double, 6, 6> matrix;
+    Eigen::Matrix<double, 6, 1> rhs;
+  };
+  std::vector<Fixed> fixed;
+  fixed.reserve(tris.size());
+  for (const ChartTri& t : tris) {
+    if (!is_used(t)) continue;
+    Fixed f;
+    f.matrix.setZero();
+    f.rhs.setZero();
+    Eigen::Matrix<double, 6, 1> c;
+    // grad v - sign n x grad u = 0 (conformal), per component.
+    const Vec3 target = sign * t.normal.cross(t.grad_u);
+    std::array<Vec3, 3> turned{};
+    for (int k = 0; k < 3; ++k) turned[k] = sign * t.normal.cross(t.grad[k]);
+    for (int i = 0; i < 3; ++i) {
+      for (int k = 0; k < 3; ++k) {
+        c[k] = t.grad[k][i];
+        c[k + 3] = -turned[k][i];
+      }
+      f.matrix.noalias() += kConformalWeight * c * c.transpose();
+      f.rhs += kConformalWeight * target[i] * c;
+    }
+    // grad du = 0 (u stays near the angle).
+    for (int i = 0; i < 3; ++i) {
+      for (int k = 0; k < 3; ++k) {
+        c[k] = 0.0;
+        c[k + 3] = t.grad[k][i];
+      }
+      f.matrix.noalias() += kAngleWeight * c * c.transpose();
+    }
+    fixed.push_back(f);
   }
   solver.analyzePattern(K);
   double* values = K.valuePtr();
@@ -577,13 +700,10 @@ void refine_stretch(const std::vector<ChartTri>& tris, double sign, double eps,
     // Per triangle the 6 x 6 normal matrix of its rows (v at its corners, then du).
     Eigen::Matrix<double, 6, 6> local;
     Eigen::Matrix<double, 6, 1> local_rhs;
-    auto add_row = [&](const Eigen::Matrix<double, 6, 1>& c, double r, double w) {
-      local.noalias() += w * c * c.transpose();
-      local_rhs += w * r * c;
-    };
-    std::size_t next_slot = 0;
+    std::size_t next_slot = 0, used = 0;
     for (const ChartTri& t : tris) {
       if (!is_used(t)) continue;
+      const Fixed& f = fixed[used++];
       const double g2 = t.g.squaredNorm();
       Vec3 grad_v = Vec3::Zero(), grad_u = t.grad_u;
       for (int k = 0; k < 3; ++k) {
@@ -597,53 +717,39 @@ void refine_stretch(const std::vector<ChartTri>& tris, double sign, double eps,
       const double res = usable ? lv / lu - 1.0 : 0.0;
       const double robust = 1.0 / (1.0 + (res / kRobustStretch) * (res / kRobustStretch));
       const double w = usable ? robust * scale / g2 : 0.0;
-      local.setZero();
-      local_rhs.setZero();
-      // |grad v| - |grad u| = 0, linearized.
+      // |grad v| - |grad u| = 0, linearized, with the fixed rows, all weighted by w.
       Eigen::Matrix<double, 6, 1> c;
       for (int k = 0; k < 3; ++k) {
         c[k] = dv.dot(t.grad[k]);
         c[k + 3] = -dunit.dot(t.grad[k]);
       }
-      add_row(c, dunit.dot(t.grad_u), w);
-      // grad v - sign n x grad u = 0 (conformal), per component.
-      const Vec3 target = sign * t.normal.cross(t.grad_u);
-      std::array<Vec3, 3> turned{};
-      for (int k = 0; k < 3; ++k) turned[k] = sign * t.normal.cross(t.grad[k]);
-      for (int i = 0; i < 3; ++i) {
-        for (int k = 0; k < 3; ++k) {
-          c[k] = t.grad[k][i];
-          c[k + 3] = -turned[k][i];
-        }
-        add_row(c, target[i], w * kConformalWeight);
-      }
-      // grad du = 0 (u stays near the angle).
-      for (int i = 0; i < 3; ++i) {
-        for (int k = 0; k < 3; ++k) {
-          c[k] = 0.0;
-          c[k + 3] = t.grad[k][i];
-        }
-        add_row(c, 0.0, w * kAngleWeight);
-      }
-      const std::array<int, 6> idx = corners(t);
+      local.noalias() = w * (f.matrix + c * c.transpose());
+      local_rhs.noalias() = w * (f.rhs + dunit.dot(t.grad_u) * c);
+      const std::array<std::size_t, 6> idx = corners(t);
       for (int a = 0; a < 6; ++a) {
-        rhs[idx[a]] += local_rhs[a];
-        for (int b = 0; b < 6; ++b) values[slots[next_slot++]] += local(a, b);
+        rhs[static_cast<Eigen::Index>(idx[a])] += local_rhs[a];
+        for (int b = 0; b < 6; ++b, ++next_slot) {
+          if (slots[next_slot] != kNone) values[slots[next_slot]] += local(a, b);
+        }
       }
     }
     for (std::size_t i = 0; i < m; ++i) {
       const double wr = eps * (mass[i] + mass_floor);
-      values[diag_slots[i]] += wr;
-      rhs[static_cast<Eigen::Index>(i)] += wr * ref[members[i]];
+      const std::size_t p = 2 * pattern.pos(i);
+      values[diag_slots[p]] += wr;
+      rhs[static_cast<Eigen::Index>(p)] += wr * ref[members[i]];
       // du's constant (a turn of the whole chart, moving its seam) is held harder than v's.
-      values[diag_slots[m + i]] += 1e3 * wr;
+      values[diag_slots[p + 1]] += 1e3 * wr;
     }
     solver.factorize(K);
     if (solver.info() != Eigen::Success) return;
-    Eigen::VectorXd next = solver.solve(rhs);
+    const Eigen::VectorXd next = solver.solve(rhs);
     if (solver.info() != Eigen::Success || !next.allFinite()) return;
-    x = next.head(M);
-    du = next.tail(M);
+    for (std::size_t i = 0; i < m; ++i) {
+      const auto p = static_cast<Eigen::Index>(2 * pattern.pos(i));
+      x[static_cast<Eigen::Index>(i)] = next[p];
+      du[static_cast<Eigen::Index>(i)] = next[p + 1];
+    }
   }
 }
 
@@ -659,7 +765,6 @@ void refine_stretch(const std::vector<ChartTri>& tris, double sign, double eps,
 void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
                  const std::vector<std::uint32_t>& tri_chart, const BarkChart& chart,
                  const Context* ctx) {
-  using Sparse = Eigen::SparseMatrix<double>;
   const std::vector<Seg>& segs = chart.segs();
   const std::size_t n = out.positions.size();
   const std::uint64_t chains = chart.chain_count();
@@ -746,18 +851,22 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
           tris.push_back(x);
         }
         const double sign = orientation < 0.0 ? -1.0 : 1.0;
-        std::vector<Eigen::Triplet<double>> entries;
-        entries.reserve(9 * tris.size() + m);
+        ChartPattern pattern(tris, m);
+        Sparse& K = pattern.single();
+        double* values = K.valuePtr();
+        std::fill(values, values + K.nonZeros(), 0.0);
         Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m));
         std::vector<double> mass(m, 0.0), diag(m, 0.0);
         for (const ChartTri& x : tris) {
           if (x.area == 0.0) continue;
           for (int a = 0; a < 3; ++a) {
+            const std::size_t pa = pattern.pos(x.at[a]);
             mass[x.at[a]] += x.area / 3.0;
-            rhs[x.at[a]] += x.area * sign * x.grad[a].dot(x.g);
+            rhs[static_cast<Eigen::Index>(pa)] += x.area * sign * x.grad[a].dot(x.g);
             for (int b = 0; b < 3; ++b) {
               const double k = x.area * x.grad[a].dot(x.grad[b]);
-              entries.emplace_back(x.at[a], x.at[b], k);
+              const std::size_t pb = pattern.pos(x.at[b]);
+              if (pa <= pb) values[ChartPattern::slot(K, pa, pb)] += k;
               if (a == b) diag[x.at[a]] += k;
             }
           }
@@ -774,15 +883,19 @@ void conformal_v(TriMesh& out, const std::vector<Placement>& placed,
         const double mass_floor = 1e-3 * mass_sum / static_cast<double>(m);
         for (std::size_t i = 0; i < m; ++i) {
           const double w = eps * (mass[i] + mass_floor);
-          entries.emplace_back(static_cast<int>(i), static_cast<int>(i), w);
-          rhs[static_cast<Eigen::Index>(i)] += w * ref[members[i]];
+          const std::size_t p = pattern.pos(i);
+          values[ChartPattern::slot(K, p, p)] += w;
+          rhs[static_cast<Eigen::Index>(p)] += w * ref[members[i]];
         }
-        Sparse K(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(m));
-        K.setFromTriplets(entries.begin(), entries.end());
-        Eigen::SimplicialLDLT<Sparse> solver(K);
-        if (solver.info() == Eigen::Success) out_c.x = solver.solve(rhs);
-        if (solver.info() != Eigen::Success || !out_c.x.allFinite()) return;
-        refine_stretch(tris, sign, eps, mass, mass_floor, members, ref, out_c.x, out_c.du);
+        OrderedLdlt solver(K);
+        if (solver.info() != Eigen::Success) return;
+        const Eigen::VectorXd solved = solver.solve(rhs);
+        if (solver.info() != Eigen::Success || !solved.allFinite()) return;
+        out_c.x.resize(static_cast<Eigen::Index>(m));
+        for (std::size_t i = 0; i < m; ++i) {
+          out_c.x[static_cast<Eigen::Index>(i)] = solved[static_cast<Eigen::Index>(pattern.pos(i))];
+        }
+        refine_stretch(tris, sign, eps, mass, mass_floor, members, ref, pattern, out_c.x, out_c.du);
         // Connected pieces of the chart, each with its own constant.
         detail::UnionFind pieces(m);
         for (const ChartTri& t : tris) {
