@@ -8,7 +8,8 @@ examples/studio.rf) and measures, over HTTP on loopback:
   1. editing the `points` param (the tree regrows and is meshed again) until the run is done:
      POST /api/run, polling GET /api/run/ID every 10 ms; as the page does while a slider is
      dragged (draft runs) and on its release (full runs); wall time and the tree's save_mesh
-     line;
+     line, and for full runs when the new mesh could be shown (its `early` entry listed and
+     its view fetched, before the bark UVs and files are made);
   2. line mode on the grown tree with 10,000 particles: the first camera (which spreads the
      particles and finds the feature lines) and then CAMERAS cameras orbiting the tree (only
      the view-dependent lines), each twice as the page asks for it (the quick drawing, hidden
@@ -66,12 +67,18 @@ def main():
             t0 = time.perf_counter()
             body = {"script": text or script, "params": params, "draft": draft}
             rid = json.loads(call("POST", "/api/run", body)[0])["run"]
+            early = None
             while True:
                 st = json.loads(call("GET", "/api/run/" + rid)[0])
+                tree = [e for e in st.get("early", []) if e["shape"] == "tree"]
+                if early is None and tree:
+                    call("GET", tree[0]["view"])  # the page fetches it to show it
+                    early = time.perf_counter() - t0
                 if st["state"] != "running":
                     break
                 time.sleep(0.01)
             wall = time.perf_counter() - t0
+            run.early = early
             if st["state"] != "done":
                 sys.exit(f"run {rid} {st['state']}: {st['error']}")
             mesh = [e for e in st["log"] if e["command"] == "save_mesh"]
@@ -82,16 +89,22 @@ def main():
         for e in log:
             print(f"  line {e['line']:3d} {e['command']:16s} {e['seconds']:.3f} s")
         for draft in (True, False):
-            walls, tree_mesh = [], []
+            walls, tree_mesh, earlies = [], [], []
             for k in range(args.edits):
                 points = 2500 + 100 * (k + 1)  # a moved `points` slider: the tree regrows
                 rid, wall, _, log, mesh_s = run({"points": str(points)}, draft)
                 walls.append(wall)
                 tree_mesh.append(mesh_s)
+                if run.early is not None:
+                    earlies.append(run.early)
             print(f"param edit (points), {'draft' if draft else 'full'} runs -> run done, "
                   f"{args.edits} edits: wall median {statistics.median(walls):.3f} s, max "
                   f"{max(walls):.3f} s; the tree's save_mesh line median "
                   f"{statistics.median(tree_mesh):.3f} s")
+            if earlies:
+                print(f"  the new tree mesh fetched from the run's early meshes (before its bark "
+                      f"UVs and files): median {statistics.median(earlies):.3f} s, max "
+                      f"{max(earlies):.3f} s")
 
         # Cameras in the page's +Y-up frame (model z is page y, model y is page -z).
         def camera(angle, target, r):

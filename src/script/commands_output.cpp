@@ -299,6 +299,7 @@ CommandResult run_save_mesh(Call& c) {
           (c.session().options.draft ? " (draft)" : "");
   }
   if (levels.empty()) levels.push_back(std::move(mesh));
+  if (c.session().options.on_mesh) c.session().options.on_mesh(c.arg(0).text, levels[0]);
   // Each file gets normals (unless normals=no) and, by its format (uv=auto: .glb and .obj) or
   // as uv= says, bark UVs; the two variants are made once each.
   std::vector<TriMesh> plain, textured;

@@ -435,6 +435,32 @@ TEST_F(ScriptTest, TokenizerKeepsQuotedPathsAndStripsComments) {
   EXPECT_TRUE(fs::exists(dir_ / "with space" / "s.off"));
 }
 
+// ScriptOptions::on_mesh sees each save_mesh's mesh as polygonized, before normals and bark UVs:
+// the geometry its files hold (a .ply without UVs has exactly its vertices and triangles; the
+// textured .glb only adds seam copies).
+TEST_F(ScriptTest, OnMeshSeesEachMeshAsPolygonized) {
+  std::vector<std::pair<std::string, TriMesh>> seen;
+  ScriptOptions o = options_;
+  o.on_mesh = [&](const std::string& shape, const TriMesh& mesh) {
+    EXPECT_TRUE(mesh.normals.empty() && mesh.uvs.empty());
+    seen.emplace_back(shape, mesh);
+  };
+  ScriptSession s(o);
+  s.run_text(
+      "lsystem t binary iterations=3\nsave_mesh t t.ply t.glb method=tets levels=0\n"
+      "sphere b 1\nsave_mesh b b.ply resolution=20\n",
+      "t.rf");
+  s.commit();
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_EQ(seen[0].first, "t");
+  EXPECT_EQ(seen[1].first, "b");
+  for (const auto& [shape, mesh] : seen) {
+    const TriMesh saved = read_mesh((dir_ / (shape + ".ply")).string());
+    EXPECT_EQ(mesh.positions, saved.positions) << shape;
+    EXPECT_EQ(mesh.triangles, saved.triangles) << shape;
+  }
+}
+
 // A draft run (ScriptOptions::draft, the studio's slider previews): save_mesh meshes tets at the
 // base lattice exactly as levels=0 does and mc at resolution kDraftResolution at most; draw
 // writes nothing; the shapes and skeletons are those of the full run.

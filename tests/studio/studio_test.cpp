@@ -282,6 +282,51 @@ TEST_F(StudioTest, SphereRunGivesAWatertightMeshAndItsGlb) {
   EXPECT_EQ(request("GET", "/files/" + id + "/nothere.ply").status, 404);
 }
 
+// A full run lists each mesh under "early" as soon as it is polygonized (before normals, bark
+// UVs and files), with its script line, shape and counts, and serves it as a glb; the run's own
+// objects hold the same surface. Drafts list none.
+TEST_F(StudioTest, FullRunsListEachMeshEarlyDraftsDoNot) {
+  const std::string script =
+      "sphere s 1\nsave_mesh s s.glb resolution=40\nsphere t 0.5 center=3,0,0\n"
+      "save_mesh t t.ply t.glb resolution=30\n";
+  const json st = wait(run(script));
+  ASSERT_EQ(st["state"], "done") << st.dump();
+  ASSERT_EQ(st["early"].size(), 2u) << st.dump();
+  ASSERT_EQ(st["objects"].size(), 2u) << st.dump();
+  for (std::size_t k = 0; k < 2; ++k) {
+    const json& e = st["early"][k];
+    const json& o = st["objects"][k];
+    EXPECT_EQ(e["id"], "e" + std::to_string(k));
+    EXPECT_EQ(e["kind"], "mesh");
+    EXPECT_EQ(e["shape"], k == 0 ? "s" : "t");
+    EXPECT_EQ(e["line"], k == 0 ? 2 : 4);
+    EXPECT_EQ(e["line"], o["line"]);
+    EXPECT_EQ(e["stats"]["triangles"], o["stats"]["triangles"]);
+    EXPECT_EQ(e["stats"]["vertices"], o["stats"]["vertices"]);
+    const Reply view = request("GET", e["view"].get<std::string>());
+    ASSERT_EQ(view.status, 200);
+    EXPECT_EQ(view.header("Content-Type"), "model/gltf-binary");
+    const fs::path copy = root_ / ("early" + std::to_string(k) + ".glb");
+    std::ofstream(copy, std::ios::binary) << view.body;
+    const test::Glb glb = test::read_glb(copy.string());
+    const int position = glb.attribute(0, "POSITION");
+    ASSERT_GE(position, 0);
+    EXPECT_EQ(glb.json["accessors"][position]["count"], e["stats"]["vertices"]);
+    EXPECT_GE(glb.attribute(0, "NORMAL"), 0);
+    // The same surface as the run's object: the glb's bounds (+Y up) are the sphere's.
+    const json& box = glb.json["accessors"][position];
+    const double cx = k == 0 ? 0.0 : 3.0, r = k == 0 ? 1.0 : 0.5;
+    EXPECT_NEAR(box["min"][0].get<double>(), cx - r, 0.05 * r);
+    EXPECT_NEAR(box["max"][0].get<double>(), cx + r, 0.05 * r);
+    EXPECT_NEAR(box["max"][1].get<double>(), r, 0.05 * r);
+  }
+  EXPECT_EQ(request("GET", "/api/run/" + st["run"].get<std::string>() + "/view/e2").status, 404);
+  const Reply r = request("POST", "/api/run", json{{"script", script}, {"draft", true}}.dump());
+  const json draft = wait(json::parse(r.body, nullptr, false).value("run", ""));
+  ASSERT_EQ(draft["state"], "done") << draft.dump();
+  EXPECT_TRUE(draft["early"].empty());
+}
+
 TEST_F(StudioTest, NoSavedMeshGivesAPreviewOfTheLastShape) {
   const json st = wait(run("sphere a 1\nsphere b 0.5 center=2,0,0\n"));
   ASSERT_EQ(st["state"], "done") << st.dump();

@@ -84,6 +84,10 @@ struct RunManager::Run {
   json shapes = json::array();
   json outputs = json::array();
   std::vector<Object> views;
+  // Meshes shown before the run ends (ScriptOptions::on_mesh): their entries in the status and
+  // their views ("e0", "e1", ...), kept until the run is forgotten.
+  json early = json::array();
+  std::vector<Object> early_views;
   std::map<std::string, FieldPtr> fields;
 };
 
@@ -369,6 +373,39 @@ void RunManager::execute(Run& run) {
     options.input_dir = settings_.input_dir.string();
     options.params = run.params;
     options.draft = run.draft;
+    // A full run shows each mesh as soon as it is polygonized: bark UVs and the files can take
+    // as long again (docs/studio_api.md, "early"). Drafts are quick enough without.
+    std::size_t current_line = 0;
+    const fs::path early_dir = settings_.out_dir / "cache" / run.id;
+    if (!run.draft) {
+      options.on_mesh = [&](const std::string& shape, const TriMesh& polygonized) {
+        TriMesh mesh;
+        mesh.positions = polygonized.positions;
+        mesh.triangles = polygonized.triangles;
+        set_normals_from_faces(mesh);
+        std::size_t number = 0;
+        {
+          std::lock_guard lock(run.m);
+          number = run.early_views.size();
+        }
+        Run::Object view;
+        view.id = "e" + std::to_string(number);
+        view.mime = "model/gltf-binary";
+        view.view_file = early_dir / (view.id + ".glb");
+        std::error_code dir_ec;
+        fs::create_directories(early_dir, dir_ec);
+        write_mesh(mesh, view.view_file.string());
+        std::lock_guard lock(run.m);
+        run.early.push_back({{"id", view.id},
+                             {"kind", "mesh"},
+                             {"shape", shape},
+                             {"line", current_line},
+                             {"view", "/api/run/" + run.id + "/view/" + view.id},
+                             {"stats", {{"vertices", mesh.vertex_count()},
+                                        {"triangles", mesh.triangle_count()}}}});
+        run.early_views.push_back(std::move(view));
+      };
+    }
     ScriptSession session(options, &run.ctx);
     const auto note_outputs = [&](const CommandResult& r, std::size_t line) {
       for (const std::string& p : session.staged_outputs())
@@ -387,6 +424,7 @@ void RunManager::execute(Run& run) {
         run.stage = "line " + std::to_string(line);
         run.fraction = static_cast<double>(line - 1) / static_cast<double>(lines);
       }
+      current_line = line;
       const auto t0 = Clock::now();
       const CommandResult r = session.execute_line(text.substr(at, end - at), file, line);
       const double seconds = seconds_since(t0);
@@ -414,6 +452,7 @@ void RunManager::execute(Run& run) {
     if (!has_mesh && !shapes.empty()) {
       const std::string name = shapes.back();
       const std::string files = " " + name + ".preview.glb";
+      current_line = 0;
       {
         std::lock_guard lock(run.m);
         run.stage = "preview mesh";
@@ -520,6 +559,7 @@ std::optional<json> RunManager::status(const std::string& id) const {
               {"error", run->error},
               {"params", run->param_list},
               {"log", run->log},
+              {"early", run->early},
               {"objects", run->objects},
               {"shapes", run->shapes},
               {"outputs", run->outputs}};
@@ -541,10 +581,16 @@ std::optional<ViewData> RunManager::view(const std::string& id, const std::strin
   Run::Object found;
   {
     std::lock_guard lock(run->m);
-    const auto it = std::find_if(run->views.begin(), run->views.end(),
-                                 [&](const Run::Object& o) { return o.id == object; });
-    if (it == run->views.end()) return std::nullopt;
-    found = *it;
+    const auto is_it = [&](const Run::Object& o) { return o.id == object; };
+    const auto it = std::find_if(run->views.begin(), run->views.end(), is_it);
+    const auto early = std::find_if(run->early_views.begin(), run->early_views.end(), is_it);
+    if (it != run->views.end()) {
+      found = *it;
+    } else if (early != run->early_views.end()) {
+      found = *early;
+    } else {
+      return std::nullopt;
+    }
   }
   if (found.view_file.empty()) return ViewData{found.mime, std::move(found.view_body)};
   std::error_code ec;

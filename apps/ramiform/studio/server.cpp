@@ -239,7 +239,7 @@ struct StudioServer::Impl {
                 if (!state) return send_error(res, 404, "no run " + std::string(req.matches[1]));
                 send_json(res, {{"state", *state}});
               });
-    http.Get(R"(/api/run/(r\d{1,9})/view/(o\d{1,9}))",
+    http.Get(R"(/api/run/(r\d{1,9})/view/([oe]\d{1,9}))",
              [this](const httplib::Request& req, httplib::Response& res) {
                auto view = runs->view(req.matches[1], req.matches[2]);
                if (!view) return send_error(res, 404, "no such run or object");

@@ -23,6 +23,7 @@
 /// the output directory unless `allow_any_path` is set.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -31,6 +32,7 @@
 #include <vector>
 
 #include "ramiform/core/context.h"
+#include "ramiform/core/geometry.h"
 #include "ramiform/field/field.h"
 
 namespace ramiform {
@@ -52,6 +54,12 @@ struct ScriptOptions {
   /// resolution of at most kDraftResolution; `draw` writes nothing. Every other command runs as
   /// usual, so a draft shows the same shapes, skeletons and points, coarsely meshed.
   bool draft = false;
+  /// Called by `save_mesh` with the shape's name and its finest mesh as soon as it is
+  /// polygonized, before normals, bark UVs and the files, which can take as long again (the
+  /// studio shows the new surface while they are made). The mesh is the geometry the files
+  /// will hold (the seam copies of bark UVs aside); the callback must not keep the reference.
+  /// Runs on the session's thread; an exception from it ends the command.
+  std::function<void(const std::string& shape, const TriMesh& mesh)> on_mesh;
 };
 
 /// The finest marching-cubes resolution of a draft run (ScriptOptions::draft).

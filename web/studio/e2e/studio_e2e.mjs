@@ -9,7 +9,9 @@
 //      pixels just outside its projected silhouette are background, and its width on screen is
 //      the projected diameter), its object and download are listed, the download is a glb;
 //   2. drags the `param` slider: the script re-runs, the camera stays, the mesh's bounding box
-//      and its projected width grow to the new radius;
+//      and its projected width grow to the new radius; a grown tree's tolerance slider re-meshes
+//      it, and the full run lists the tree's mesh early (before its bark UVs), shown in place
+//      of the old one;
 //   3. line mode: an SVG for the current camera arrives, sized like the canvas, whose path
 //      points lie on the sphere's projected outline; after an orbit a quick drawing and then the
 //      exact one arrive for the new camera;
@@ -394,6 +396,18 @@ async function main() {
     check(stats1.triangles < 0.8 * stats0.triangles, `a coarser tolerance makes fewer triangles (${stats0.triangles} → ${stats1.triangles})`);
     check(stats1.watertight === true, 'the new mesh is watertight');
     check(await page.evaluate(() => window.studio.result.draft === false), 'the mesh shown after the release is the full run, not a draft');
+    // The full run listed the tree's mesh as soon as it was polygonized (before its bark UVs and
+    // files), with the final mesh's triangles, and the page showed it while the run went on when
+    // its polls saw it in time (`early`, seconds from the release's run).
+    const early = await page.evaluate(() => window.studio.result.early.filter((e) => e.shape === 'tree'));
+    check(early.length === 1 && early[0].stats.triangles === stats1.triangles && early[0].line === 7,
+      `the run listed the tree's mesh early, as polygonized: ${JSON.stringify(early)} vs ${stats1.triangles} triangles`);
+    const last = await page.evaluate(() => window.studio.timings.runs.at(-1));
+    measured.tree_param_early_seconds = last.early;
+    check(last.early === null || (last.early > 0 && last.early <= last.wall), `the early mesh came before the run ended (${last.early} of ${last.wall} s)`);
+    // Shown in place of the mesh of the same line and shape, not beside it.
+    const swapped = await page.evaluate(async (info) => [await window.studio.view.showEarly(info), window.studio.view.triangles()], early[0]);
+    check(swapped[0] === true && swapped[1] === stats1.triangles, `an early mesh replaces the shown one: ${swapped} vs ${stats1.triangles} triangles`);
   });
 
   await typeScript(page, script);

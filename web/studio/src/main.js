@@ -230,6 +230,8 @@ async function run({ frame = true, draft = false } = {}) {
   }
   if (ticket !== runTicket) return;
   currentRun = id;
+  let earlyShown = 0; // entries of status.early already on their way to the view
+  let earlyAt = null; // seconds from Run to the first of them shown
   for (;;) {
     let status;
     try {
@@ -245,12 +247,21 @@ async function run({ frame = true, draft = false } = {}) {
     $('progress').value = Number.isFinite(progress.fraction) ? progress.fraction : 0;
     $('stage').textContent = `${progress.stage || status.state} ${(status.seconds ?? 0).toFixed(1)} s`;
     if (status.state === 'running') {
-      await new Promise((r) => setTimeout(r, 100));
+      // A mesh polygonized already is shown while its bark UVs and files are made.
+      for (const info of (status.early || []).slice(earlyShown)) {
+        earlyShown += 1;
+        view.showEarly(info).then((shown) => {
+          if (shown && ticket === runTicket && earlyAt === null) {
+            earlyAt = (performance.now() - started) / 1000;
+          }
+        }, () => {}); // the run's own objects follow anyway
+      }
+      await new Promise((r) => setTimeout(r, 50));
       continue;
     }
     await finish(status, frame, sent);
     if (ticket !== runTicket) return;
-    timings.runs.push({ run: id, state: status.state, draft, server: status.seconds, wall: (performance.now() - started) / 1000 });
+    timings.runs.push({ run: id, state: status.state, draft, server: status.seconds, wall: (performance.now() - started) / 1000, early: earlyAt });
     setState(status.state);
     return;
   }

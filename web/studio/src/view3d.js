@@ -157,6 +157,36 @@ export function createView(container) {
     return true;
   }
 
+  // Shows a mesh of a run that is still going (an entry of its status's `early`, made before
+  // its bark UVs and files): it takes the place of the shown mesh of the same script line and
+  // shape, keeping its visibility and the camera. Dropped when a run's objects were set while it
+  // loaded; the run's own objects replace it when the run ends.
+  async function showEarly(info) {
+    const mine = generation;
+    const object = await buildObject(info);
+    if (mine !== generation || !object) return false;
+    const old = [...entries.entries()].find(
+      ([, e]) => e.kind === 'mesh' && e.info.line === info.line && e.info.shape === info.shape,
+    );
+    const name = old ? old[1].name : info.shape;
+    const visible = old ? old[1].visible : true;
+    if (old) {
+      root.remove(old[1].object);
+      old[1].object.traverse((o) => {
+        o.geometry?.dispose();
+        o.material?.dispose?.();
+      });
+      entries.delete(old[0]);
+    }
+    const first = entries.size === 0;
+    object.name = name;
+    entries.set(info.id, { object, kind: 'mesh', name, info, visible });
+    root.add(object);
+    restyle();
+    if (first) frameAll(); // nothing was shown yet: look at it
+    return true;
+  }
+
   const isVisible = (id) => entries.get(id)?.visible ?? true;
 
   function setVisible(id, visible) {
@@ -311,6 +341,7 @@ export function createView(container) {
     controls,
     canvas: renderer.domElement,
     setObjects,
+    showEarly,
     setVisible,
     isVisible,
     frameAll,
