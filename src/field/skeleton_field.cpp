@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <string>
+#include <unordered_map>
 
 #include "field/bvh.h"
 #include "field/cutoff.h"
@@ -195,7 +197,7 @@ class SkeletonField final : public Field {
     starts.push_back(n);
     auto run_chunk = [&](std::size_t c) {
       detail::Chunk chunk;
-      thread_local std::vector<std::uint32_t> ids;
+      thread_local std::vector<std::uint32_t> ids;  // every primitive, when not pruning
       const std::size_t begin = starts[c];
       const std::size_t count = starts[c + 1] - begin;
       auto point_index = [&](std::size_t k) {
@@ -222,20 +224,14 @@ class SkeletonField final : public Field {
         std::fill_n(chunk.gy, chunk.padded, 0.0);
         std::fill_n(chunk.gz, chunk.padded, 0.0);
       }
-      ids.clear();
+      const std::vector<std::uint32_t>* use = &ids;
       if (prune_ && !box.isEmpty() && box.min().allFinite() && box.max().allFinite()) {
-        bvh_.query(box, ids);
-        // The support boxes are loose around slanted segments: drop the primitives whose support
-        // misses the chunk's box (every point at least `reach` away adds exactly +0, which
-        // leaves the sums unchanged, so the values stay bit-identical).
-        std::erase_if(ids, [&](std::uint32_t i) {
-          return lower_distance(box, point_a(i), point_b(i)) > reach_[i] * (1 + kSupportMargin);
-        });
+        use = &candidates(box, count);
       } else {
+        ids.clear();
         for (std::uint32_t i = 0; i < table_.size(); ++i) ids.push_back(i);
       }
-      std::sort(ids.begin(), ids.end());
-      detail::accumulate(table_, mode_, ids.data(), ids.size(), chunk, with_gradient);
+      detail::accumulate(table_, mode_, use->data(), use->size(), chunk, with_gradient);
       for (std::size_t k = 0; k < count; ++k) {
         const std::size_t i = point_index(k);
         values[i] = chunk.value[k];
@@ -250,6 +246,77 @@ class SkeletonField final : public Field {
   }
 
  private:
+  // Chunks of at most this many points take their candidates from their thread's cache
+  // (candidates()).
+  static constexpr std::size_t kCachedChunk = 16;
+  // Most lists a thread's cache holds before it starts afresh.
+  static constexpr std::size_t kCachedLists = std::size_t{1} << 14;
+
+  // The primitives whose support may reach `box`, ascending: those of the BVH's support boxes
+  // that meet it, less those whose segment is provably out of reach (lower_distance). A superset
+  // is as good: a primitive out of reach of a point adds exactly +0 to it, so the sums, and the
+  // values, are bit for bit the same. Small chunks (a line tracer's or a root finder's few
+  // points, each trace's a little further on in the next call) are looked up in a per-thread
+  // cache of lists made for the cells of a grid of split_diagonal_ / 16, each grown by half a
+  // cell on every side: a small chunk whose box lies in its centre's grown cell uses that
+  // cell's list, made on first use.
+  const std::vector<std::uint32_t>& candidates(const Aabb& box, std::size_t count) const {
+    struct Cache {
+      std::uint64_t field = 0;  // serial_ of the field the lists are for (0: none)
+      std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> lists;
+    };
+    thread_local Cache cache;
+    thread_local std::vector<std::uint32_t> fresh;
+    const auto make = [&](const Aabb& query, std::vector<std::uint32_t>& ids) {
+      ids.clear();
+      bvh_.query(query, ids);
+      // The support boxes are loose around slanted segments: drop the primitives whose support
+      // misses the box.
+      std::erase_if(ids, [&](std::uint32_t i) {
+        return lower_distance(query, point_a(i), point_b(i)) > reach_[i] * (1 + kSupportMargin);
+      });
+      std::sort(ids.begin(), ids.end());
+    };
+    if (count <= kCachedChunk && std::isfinite(split_diagonal_) && split_diagonal_ > 0) {
+      const double cell = split_diagonal_ / 16;
+      const Vec3 at = box.center() / cell;
+      constexpr double kRange = double{1 << 20};
+      if ((at.array().abs() < kRange).all()) {
+        std::uint64_t key = 0;
+        Aabb grown;
+        for (int k = 0; k < 3; ++k) {
+          const double lo = std::floor(at[k]);
+          grown.min()[k] = (lo - 0.5) * cell;
+          grown.max()[k] = (lo + 1.5) * cell;
+          key = key << 21 | static_cast<std::uint64_t>(static_cast<std::int64_t>(lo) + (1 << 20));
+        }
+        if (grown.contains(box)) {
+          if (cache.field != serial_ || cache.lists.size() >= kCachedLists) {
+            cache.lists.clear();
+            cache.field = serial_;
+          }
+          const auto [it, is_new] = cache.lists.try_emplace(key);
+          if (is_new) {
+            try {
+              make(grown, it->second);
+            } catch (...) {
+              cache.lists.erase(it);
+              throw;
+            }
+          }
+          return it->second;
+        }
+      }
+    }
+    make(box, fresh);
+    return fresh;
+  }
+
+  static std::uint64_t next_serial() {
+    static std::atomic<std::uint64_t> next{1};
+    return next.fetch_add(1, std::memory_order_relaxed);
+  }
+
   // Returns an order of the points along a Morton curve, or an empty vector when the points
   // already arrive in spatially coherent chunks (their boxes on average under 2 % of the
   // batch's diagonal). A looser test (25 %) let the polygonizer's root-finding batches through
@@ -508,6 +575,7 @@ class SkeletonField final : public Field {
   detail::PrimitiveTable table_;
   std::vector<double> reach_;  // support radius of each primitive (model units)
   double split_diagonal_ = std::numeric_limits<double>::infinity();  // see do_evaluate
+  const std::uint64_t serial_ = next_serial();  // this field among all (candidates()' cache)
   detail::BoxBvh bvh_;
   Aabb surface_box_;
 };

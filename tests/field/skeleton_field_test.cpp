@@ -639,6 +639,36 @@ TEST(SkeletonField, PruningDoesNotChangeValues) {
   }
 }
 
+// Small batches reuse their thread's candidate lists (per cell of a grid, per field): a walk
+// of single points and of 3-point stencils in small steps, alternating between two fields,
+// gives bit for bit the values and gradients of the unpruned fields, which sum every primitive.
+TEST(SkeletonField, CachedCandidatesGiveTheUnprunedValues) {
+  const Skeleton a = test::random_tree(45, 150);
+  const Skeleton b = test::random_tree(46, 80);
+  for (auto o : all_options()) {
+    const FieldPtr fa = make_skeleton_field(a, o), fb = make_skeleton_field(b, o);
+    o.prune = false;
+    const FieldPtr ra = make_skeleton_field(a, o), rb = make_skeleton_field(b, o);
+    Rng rng(17);
+    Vec3 p = point_near(a, rng, 1.0);
+    const Vec3 step = 0.01 * (point_near(a, rng, 1.0) - p);
+    for (int k = 0; k < 300; ++k, p += step) {
+      const std::vector<Vec3> stencil = {p, p + 1e-3 * Vec3::UnitX(), p - 1e-3 * Vec3::UnitX()};
+      for (const auto& [f, ref] : {std::pair{fa, ra}, std::pair{fb, rb}}) {
+        std::vector<double> v(3), w(3);
+        std::vector<Vec3> g(3), h(3);
+        f->evaluate(std::span(stencil).first(1 + 2 * (k % 2)), std::span(v).first(1 + 2 * (k % 2)),
+                    std::span(g).first(1 + 2 * (k % 2)));
+        ref->evaluate(stencil, w, h);
+        for (int i = 0; i < 1 + 2 * (k % 2); ++i) {
+          ASSERT_EQ(v[i], w[i]) << name(o) << " step " << k;
+          ASSERT_TRUE(g[i] == h[i]) << name(o) << " step " << k;
+        }
+      }
+    }
+  }
+}
+
 TEST(SkeletonField, ConcurrentEvaluationIsSafeAndIdentical) {
   const Skeleton tree = test::random_tree(44, 100);
   const FieldPtr f = make_skeleton_field(tree);
