@@ -566,7 +566,8 @@ class ChartPattern {
       ++single_.outerIndexPtr()[(upper[k] >> 32) + 1];
       single_.innerIndexPtr()[k] = static_cast<int>(upper[k] & 0xffffffffu);
     }
-    for (std::size_t j = 0; j < m; ++j) single_.outerIndexPtr()[j + 1] += single_.outerIndexPtr()[j];
+    for (std::size_t j = 0; j < m; ++j)
+      single_.outerIndexPtr()[j + 1] += single_.outerIndexPtr()[j];
     // Columns of the stretch system with no rows cannot occur (each has its diagonal), so the
     // running ends written above are every column's end.
   }

@@ -396,13 +396,13 @@ void RunManager::execute(Run& run) {
         fs::create_directories(early_dir, dir_ec);
         write_mesh(mesh, view.view_file.string());
         std::lock_guard lock(run.m);
-        run.early.push_back({{"id", view.id},
-                             {"kind", "mesh"},
-                             {"shape", shape},
-                             {"line", current_line},
-                             {"view", "/api/run/" + run.id + "/view/" + view.id},
-                             {"stats", {{"vertices", mesh.vertex_count()},
-                                        {"triangles", mesh.triangle_count()}}}});
+        run.early.push_back(
+            {{"id", view.id},
+             {"kind", "mesh"},
+             {"shape", shape},
+             {"line", current_line},
+             {"view", "/api/run/" + run.id + "/view/" + view.id},
+             {"stats", {{"vertices", mesh.vertex_count()}, {"triangles", mesh.triangle_count()}}}});
         run.early_views.push_back(std::move(view));
       };
     }
