@@ -538,6 +538,7 @@ class ChartPattern {
       if (p <= q) upper.push_back(std::uint64_t{q} << 32 | p);
     }
     std::sort(upper.begin(), upper.end());
+    upper.erase(std::unique(upper.begin(), upper.end()), upper.end());
     single_ = Sparse(M, M);
     single_.resizeNonZeros(static_cast<Eigen::Index>(upper.size()));
     std::fill(single_.outerIndexPtr(), single_.outerIndexPtr() + m + 1, 0);
