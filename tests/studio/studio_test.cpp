@@ -325,6 +325,11 @@ TEST_F(StudioTest, FullRunsListEachMeshEarlyDraftsDoNot) {
   const json draft = wait(json::parse(r.body, nullptr, false).value("run", ""));
   ASSERT_EQ(draft["state"], "done") << draft.dump();
   EXPECT_TRUE(draft["early"].empty());
+  // The next run freed the first one's early meshes: still listed, no longer served.
+  const json first = wait(st["run"].get<std::string>());
+  EXPECT_EQ(first["early"].size(), 2u);
+  EXPECT_EQ(request("GET", st["early"][0]["view"].get<std::string>()).status, 404);
+  EXPECT_FALSE(fs::exists(out_ / "cache" / st["run"].get<std::string>() / "e0.glb"));
 }
 
 TEST_F(StudioTest, NoSavedMeshGivesAPreviewOfTheLastShape) {

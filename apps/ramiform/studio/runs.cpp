@@ -314,6 +314,22 @@ void RunManager::work() {
       pending_ = nullptr;
       current_ = run;
     }
+    // Early meshes are for the page while their run goes on (and just after): a new run frees
+    // the earlier runs' (their entries stay listed; their views answer 404).
+    std::vector<fs::path> early_files;
+    {
+      std::lock_guard lock(mutex_);
+      for (const auto& [id, other] : runs_) {
+        if (other == run) continue;
+        std::lock_guard run_lock(other->m);
+        for (const Run::Object& o : other->early_views) early_files.push_back(o.view_file);
+        other->early_views.clear();
+      }
+    }
+    for (const fs::path& f : early_files) {
+      std::error_code ec;
+      fs::remove(f, ec);
+    }
     execute(*run);
     std::lock_guard lock(mutex_);
     current_ = nullptr;

@@ -168,6 +168,7 @@ export function createView(container) {
     const old = [...entries.entries()].find(
       ([, e]) => e.kind === 'mesh' && e.info.line === info.line && e.info.shape === info.shape,
     );
+    const first = entries.size === 0; // nothing shown yet: look at it once it is there
     const name = old ? old[1].name : info.shape;
     const visible = old ? old[1].visible : true;
     if (old) {
@@ -178,12 +179,11 @@ export function createView(container) {
       });
       entries.delete(old[0]);
     }
-    const first = entries.size === 0;
     object.name = name;
     entries.set(info.id, { object, kind: 'mesh', name, info, visible });
     root.add(object);
     restyle();
-    if (first) frameAll(); // nothing was shown yet: look at it
+    if (first) frameAll();
     return true;
   }
 
