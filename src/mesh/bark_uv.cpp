@@ -503,7 +503,8 @@ constexpr double kRobustStretch = 0.2;    // stretch error beyond which a triang
 class ChartPattern {
  public:
   ChartPattern(const std::vector<ChartTri>& tris, std::size_t m) : pos_(m) {
-    // The vertex graph, both triangles of each pair, as sorted unique (column, row) pairs.
+    // The vertex graph (each edge both ways, and every diagonal) as sorted unique (column, row)
+    // pairs.
     std::vector<std::uint64_t> pairs;
     pairs.reserve(6 * tris.size() + m);
     for (const ChartTri& t : tris) {
