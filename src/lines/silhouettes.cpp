@@ -547,7 +547,8 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
           } else {
             const std::uint32_t own = t.line;
             const std::int32_t here = t.direction * index;  // position along the line
-            const double radius = near_factor * lookup.delta_at(c.q);
+            const double delta_here = lookup.delta_at(c.q);
+            const double radius = near_factor * delta_here;
             const bool near_other =
                 hash.any_within(c.q, radius, [own, here](std::uint32_t line_id, std::int32_t at) {
                   if (line_id != own) return true;
@@ -563,7 +564,7 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
             if (tangent.dot(t.t) < 0) tangent = -tangent;
             t.p = c.q;
             t.t = tangent;
-            t.delta = lookup.delta_at(c.q);
+            t.delta = delta_here;
             t.scale = std::min(1.0, 2 * t.scale);
             finish = near_other || pts.size() >= kMaxTracePoints;
           }
