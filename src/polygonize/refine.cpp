@@ -204,25 +204,30 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
     // The edges to split, cheapest first by the area they would leave beyond the tolerance
     // (the share of their triangles' area, ties by edge), stay unsplit while that area fits in
     // what is left of the spare area.
-    std::vector<double> around(ne, 0.0);
+    std::vector<double> area(nt), around(ne, 0.0);
+    parallel::for_each(
+        nt, kGrain,
+        [&](std::size_t t) { area[t] = 0.5 * normal_of(mesh, mesh.triangles[t]).norm(); }, ctx);
     for (std::size_t t = 0; t < nt; ++t) {
-      const double area = 0.5 * normal_of(mesh, mesh.triangles[t]).norm();
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t e = edges.of_slot[3 * t + k];
-        if (split[e] != 0) around[e] += area;
+        if (split[e] != 0) around[e] += area[t];
       }
     }
+    // (An edge costing more than the whole spare area is never spared: only the others are
+    // sorted.)
     std::vector<std::pair<double, std::uint32_t>> cost;
     for (std::uint32_t c = 0; c < nc; ++c) {
       const std::uint32_t e = candidates[c];
       if (split[e] == 0) continue;
-      cost.emplace_back(
-          share_beyond(estimate[c] / (o.edge_tolerance * radius[c])) * around[e], e);
+      const double beyond =
+          share_beyond(estimate[c] / (o.edge_tolerance * radius[c])) * around[e];
+      if (beyond <= spare) cost.emplace_back(beyond, e);
     }
     std::sort(cost.begin(), cost.end());
-    for (const auto& [area, e] : cost) {
-      if (area > spare) break;
-      spare -= area;
+    for (const auto& [beyond, e] : cost) {
+      if (beyond > spare) break;
+      spare -= beyond;
       split[e] = 0;
       ++st.spared;
     }
