@@ -141,9 +141,8 @@ double share_beyond(double q) {
 /// tolerance, nor those at a vertex that `off` marks as left off the surface.
 std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradius,
                          std::vector<char>& fresh, std::vector<char>& off, double& spare,
-                         const Field& field, const Skeleton& skeleton,
-                         const detail::BoxBvh& nodes, const RefineOptions& o, Context* ctx,
-                         RefineStats& st) {
+                         const Field& field, const Skeleton& skeleton, const detail::BoxBvh& nodes,
+                         const RefineOptions& o, Context* ctx, RefineStats& st) {
   const std::size_t ne = edges.ends.size();
   std::vector<std::uint32_t> candidates;
   for (std::uint32_t e = 0; e < ne; ++e) {
@@ -220,8 +219,7 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
     for (std::uint32_t c = 0; c < nc; ++c) {
       const std::uint32_t e = candidates[c];
       if (split[e] == 0) continue;
-      const double beyond =
-          share_beyond(estimate[c] / (o.edge_tolerance * radius[c])) * around[e];
+      const double beyond = share_beyond(estimate[c] / (o.edge_tolerance * radius[c])) * around[e];
       if (beyond <= spare) cost.emplace_back(beyond, e);
     }
     std::sort(cost.begin(), cost.end());
