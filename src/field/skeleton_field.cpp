@@ -324,7 +324,7 @@ class SkeletonField final : public Field {
   // batch's diagonal). A looser test (25 %) let the polygonizer's root-finding batches through
   // unsorted: in a dense crown a chunk box that size meets thousands of Cauchy supports
   // (20,000-segment tree: 20 % more time placing vertices). Parallel on ctx's threads; the
-  // order (by code, ties by index) does not depend on them. It was sequential, a tenth of the
+  // order (by code, ties by index) does not depend on them. It was sequential, about 7 % of the
   // benchmark tree's polygonization on two threads.
   static std::vector<std::uint32_t> morton_order(std::span<const Vec3> points, const Context* ctx) {
     const std::size_t n = points.size();
