@@ -41,8 +41,8 @@ constexpr double kConvergedStep = 3e-3;
 /// The share of the mesh's area the first refinement pass may leave beyond the tolerance
 /// (RefineOptions::spare_area): a twentieth of the 1 % a p99 leaves. Spared edges lie where a
 /// split brings little area within the tolerance (thin twigs, midpoints just beyond it); on
-/// archi_Tree_1 they save 6 % of the triangles, on generated trees 2-4 %, with p99 rising from
-/// about 0.85-0.9 to 0.88-0.95 of the tolerance. A quarter of the 1 % saved 13 % on
+/// archi_Tree_1 they save 6 % of the triangles, on generated trees 2-3 %, with p99 rising from
+/// about 0.83-0.92 to 0.88-0.95 of the tolerance. A quarter of the 1 % saved 13 % on
 /// archi_Tree_1 but left its p99 at the tolerance.
 constexpr double kSpareShare = 5e-4;
 
