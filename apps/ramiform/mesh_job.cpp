@@ -176,6 +176,7 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
                        {"reverted", st.refine.reverted},
                        {"halfway", st.refine.halfway},
                        {"inherited", st.refine.inherited},
+                       {"spared", st.refine.spared},
                        {"triangles_before", st.refine.triangles_before},
                        {"triangles_after", st.refine.triangles_after},
                        {"edge_tolerance", st.edge_tolerance},

@@ -142,6 +142,44 @@ TEST(RefineToSurface, SplitsOnlyWhereTheMeshIsFarAndRespectsTheBudget) {
   EXPECT_EQ(st.flat_splits, st.unprojected + st.reverted);
 }
 
+TEST(RefineToSurface, SpareAreaLeavesEdgesUnsplitWithinItsShare) {
+  const Skeleton s = tree(20);
+  const FieldPtr f = make_skeleton_field(s);
+  TetrahedralOptions base;
+  base.levels = 1;
+  const TriMesh coarse = polygonize_tetrahedral(*f, s, base);
+  // One round with and without a spare area: the same edges are beyond the tolerance, and each
+  // is either split or spared.
+  RefineOptions all, spare;
+  all.max_rounds = spare.max_rounds = 1;
+  spare.spare_area = 0.01;
+  TriMesh a = coarse, b = coarse;
+  RefineStats sa, sb;
+  refine_to_surface(a, *f, s, all, nullptr, &sa);
+  refine_to_surface(b, *f, s, spare, nullptr, &sb);
+  EXPECT_EQ(sa.spared, 0u);
+  EXPECT_GT(sb.spared, 0u);
+  EXPECT_LT(sb.spared, sa.split_edges / 4);
+  EXPECT_EQ(sb.split_edges + sb.spared, sa.split_edges);
+  EXPECT_EQ(b.triangles.size(), coarse.triangles.size() + 2 * sb.split_edges);
+  test::expect_closed_manifold(b);
+  EXPECT_EQ(test::nodes_outside(b, s), 0u);
+  // Refined to the end with the share polygonize_to_tolerance() spares (a twentieth of the 1 %
+  // a p99 leaves): fewer triangles, and p99 (measured independently) still within the
+  // tolerance.
+  all.max_rounds = spare.max_rounds = 6;
+  spare.spare_area = 5e-4;
+  a = coarse;
+  b = coarse;
+  refine_to_surface(a, *f, s, all);
+  refine_to_surface(b, *f, s, spare, nullptr, &sb);
+  EXPECT_GT(sb.spared, 0u);
+  EXPECT_LT(b.triangles.size(), a.triangles.size());
+  test::expect_closed_manifold(b);
+  const DeviationSummary da = measured(a, *f, s), db = measured(b, *f, s);
+  EXPECT_LE(db.p99, all.edge_tolerance) << "without spare " << da.p99;
+}
+
 TEST(RefineToSurface, BadOptionsAreRefused) {
   const Skeleton s = tree(5);
   const FieldPtr f = make_skeleton_field(s);
@@ -154,6 +192,11 @@ TEST(RefineToSurface, BadOptionsAreRefused) {
   EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
   o = {};
   o.max_normal_deg = 90;
+  EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
+  o = {};
+  o.spare_area = 0.02;
+  EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
+  o.spare_area = -0.001;
   EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
   o = {};
   o.max_rounds = -1;
