@@ -113,6 +113,15 @@ struct ParticleMeshStats {
   /// handle to the mesh, or joins two of its pieces. The mesh's Euler characteristic is
   /// 2 (nodes - edges - joined_branches) minus the open loops.
   std::size_t joined_branches = 0;
+  /// Skeleton nodes (other than open leaves) that the first layout's mesh left outside and a
+  /// rebuilt layout brought inside (the repair; see polygonize_particles()).
+  std::size_t repaired_nodes = 0;
+  /// Skeleton nodes (other than open leaves) outside the mesh at the end (generalized winding
+  /// number at most 0.5). 0 on every skeleton we measured.
+  std::size_t nodes_outside = 0;
+  /// Particles whose relaxation was undone because a triangle of theirs would have swept
+  /// across a skeleton node (see polygonize_particles()).
+  std::size_t unrelaxed = 0;
   /// Triangles facing into the surface (normal along the summed gradient of their corners):
   /// folds where the surfaces of two branches not joined in the skeleton merge. 0 without.
   std::size_t inverted_triangles = 0;
