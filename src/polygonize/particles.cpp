@@ -34,7 +34,7 @@ constexpr double kRelaxWeight = 0.5;
 // the field rather than a root (a treecode switching approximations, a kernel's cut-off):
 // further rounds only halve the step again, so it stops there, unconverged. 2^-40 ~ 1e-12.
 constexpr double kStalled = 0x1p-40;
-// Layouts rebuilt at most, each joining the nodes the previous mesh left outside.
+// Layouts rebuilt at most to repair the nodes the previous one's mesh left outside.
 constexpr int kMaxRepairs = 3;
 
 using Clock = std::chrono::steady_clock;
@@ -465,9 +465,9 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
 
   // Branches that run into thicker ones elsewhere in the skeleton are joined there, so that
   // the mesh's connectivity is the merged surface's (polygonize/particle_merge.h). A node the
-  // projected mesh leaves outside (a twig near a thicker branch, within the blend but outside
-  // its tube, where the folds of the merged surface cover it) is joined to that branch in a
-  // rebuilt layout (the repair).
+  // projected mesh leaves outside is repaired in a rebuilt layout: joined to a thicker branch
+  // nearby when no join moved it, left in its place when one did (the joined layout, built
+  // around the new place, missed the old one).
   std::vector<std::uint8_t> force;
   detail::ParticleLayoutInput input;
   std::uint64_t evaluations = 0;

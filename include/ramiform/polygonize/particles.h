@@ -52,9 +52,15 @@
 /// its tube; crowded crowns), the rings of both land on the merged surface, and no
 /// triangulation with that connectivity can lie on it without crossing itself. Junctions closer together
 /// than their spheres (scanned trees) fold a little too. The folded triangles face into the
-/// surface; they are counted in the stats (inverted_triangles), and a node inside the merged
-/// part can fall outside the mesh. The tetrahedral polygonizer meshes the same field without
-/// folds.
+/// surface; they are counted in the stats (inverted_triangles). The tetrahedral polygonizer
+/// meshes the same field without folds.
+///
+/// Every skeleton node (open leaves aside) is kept inside the mesh: after the movement, the
+/// nodes the mesh leaves outside (generalized winding number, mesh/winding.h) are repaired by a
+/// rebuilt layout, at most three times (a node no join moved is joined to a thicker branch
+/// nearby, a join that moved one is undone; polygonize/particle_merge.h), every particle that
+/// starts where it did before taking its earlier projection; and relaxation moves that would
+/// carry a triangle across a node are undone, which keeps the winding number at every node.
 ///
 /// The result is deterministic and byte-identical for any thread count.
 
