@@ -282,16 +282,26 @@ class PointGrid {
   }
   // Whether a point lies in the box [lo, hi] (closed).
   bool any_in(const Vec3& lo, const Vec3& hi) const {
+    const auto in_box = [&](const Vec3& x) {
+      return (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all();
+    };
     const std::array<std::int64_t, 3> a = cell(lo);
     const std::array<std::int64_t, 3> b = cell(hi);
+    // A box over more cells than there are points (a thick branch's triangle among thin
+    // twigs' cells) looks at every point instead.
+    const double cells = static_cast<double>(b[0] - a[0] + 1) *
+                         static_cast<double>(b[1] - a[1] + 1) *
+                         static_cast<double>(b[2] - a[2] + 1);
+    if (cells > static_cast<double>(points_.size())) {
+      return std::any_of(points_.begin(), points_.end(), in_box);
+    }
     for (std::int64_t i = a[0]; i <= b[0]; ++i) {
       for (std::int64_t j = a[1]; j <= b[1]; ++j) {
         for (std::int64_t k = a[2]; k <= b[2]; ++k) {
           const auto it = cells_.find(key({i, j, k}));
           if (it == cells_.end()) continue;
           for (const std::uint32_t q : it->second) {
-            const Vec3& x = points_[q];
-            if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) return true;
+            if (in_box(points_[q])) return true;
           }
         }
       }
