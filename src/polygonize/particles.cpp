@@ -3,6 +3,7 @@
 #include "ramiform/polygonize/particles.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -280,6 +281,33 @@ class PointGrid {
   PointGrid(std::vector<Vec3> points, double h) : points_(std::move(points)), h_(h) {
     for (std::uint32_t k = 0; k < points_.size(); ++k) cells_[key(cell(points_[k]))].push_back(k);
   }
+  // Calls f(k) for every point k in the box [lo, hi] (closed), in no particular order.
+  template <class F>
+  void for_each_in(const Vec3& lo, const Vec3& hi, F&& f) const {
+    const std::array<std::int64_t, 3> a = cell(lo);
+    const std::array<std::int64_t, 3> b = cell(hi);
+    const double cells = static_cast<double>(b[0] - a[0] + 1) *
+                         static_cast<double>(b[1] - a[1] + 1) *
+                         static_cast<double>(b[2] - a[2] + 1);
+    const auto visit = [&](std::uint32_t q) {
+      const Vec3& x = points_[q];
+      if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) f(q);
+    };
+    if (cells > static_cast<double>(points_.size())) {
+      for (std::uint32_t q = 0; q < points_.size(); ++q) visit(q);
+      return;
+    }
+    for (std::int64_t i = a[0]; i <= b[0]; ++i) {
+      for (std::int64_t j = a[1]; j <= b[1]; ++j) {
+        for (std::int64_t k = a[2]; k <= b[2]; ++k) {
+          const auto it = cells_.find(key({i, j, k}));
+          if (it == cells_.end()) continue;
+          for (const std::uint32_t q : it->second) visit(q);
+        }
+      }
+    }
+  }
+
   // Whether a point lies in the box [lo, hi] (closed).
   bool any_in(const Vec3& lo, const Vec3& hi) const {
     const auto in_box = [&](const Vec3& x) {
@@ -400,22 +428,51 @@ ProjectionKey projection_key(const Vec3& x, double scale) {
   return k;
 }
 
-// The nodes among `checked` that the mesh (`positions`, `triangles`) leaves outside: fast
+// Per point of `nodes`, 1 when some triangle's corners, between `start` and `end`, span a box
+// holding it: a point no triangle sweeps keeps its winding number (see restore_sweeps).
+std::vector<std::uint8_t> swept_points(const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                       const std::vector<Vec3>& start,
+                                       const std::vector<Vec3>& end, const PointGrid& nodes,
+                                       std::size_t points, const Context* ctx) {
+  std::vector<std::atomic<std::uint8_t>> hit(points);
+  for (auto& h : hit) h.store(0, std::memory_order_relaxed);
+  parallel::for_each(
+      triangles.size(), kGrain,
+      [&](std::size_t k) {
+        const auto& t = triangles[k];
+        Vec3 lo = start[t[0]];
+        Vec3 hi = lo;
+        for (const std::uint32_t i : t) {
+          lo = lo.cwiseMin(start[i]).cwiseMin(end[i]);
+          hi = hi.cwiseMax(start[i]).cwiseMax(end[i]);
+        }
+        nodes.for_each_in(lo, hi, [&](std::uint32_t q) { hit[q].store(1, std::memory_order_relaxed); });
+      },
+      ctx);
+  std::vector<std::uint8_t> out(points);
+  for (std::size_t q = 0; q < points; ++q) out[q] = hit[q].load(std::memory_order_relaxed);
+  return out;
+}
+
+// The nodes among `suspects` that the mesh (`positions`, `triangles`) leaves outside: fast
 // generalized winding number at most 0.5 (mesh/winding.h), as `ramiform check` tests them.
 std::vector<std::uint32_t> nodes_outside(const Skeleton& skeleton,
-                                         const std::vector<std::uint32_t>& checked,
+                                         const std::vector<std::uint32_t>& suspects,
                                          const std::vector<Vec3>& positions,
                                          const std::vector<std::array<std::uint32_t, 3>>& triangles,
                                          const Context* ctx) {
+  if (suspects.empty()) return {};
   TriMesh mesh;
   mesh.positions = positions;
   mesh.triangles = triangles;
-  std::vector<Vec3> points(checked.size());
-  for (std::size_t k = 0; k < checked.size(); ++k) points[k] = skeleton.nodes[checked[k]].position;
+  std::vector<Vec3> points(suspects.size());
+  for (std::size_t k = 0; k < suspects.size(); ++k) {
+    points[k] = skeleton.nodes[suspects[k]].position;
+  }
   const std::vector<char> inside = points_inside(mesh, points, ctx);
   std::vector<std::uint32_t> out;
-  for (std::size_t k = 0; k < checked.size(); ++k) {
-    if (inside[k] == 0) out.push_back(checked[k]);
+  for (std::size_t k = 0; k < suspects.size(); ++k) {
+    if (inside[k] == 0) out.push_back(suspects[k]);
   }
   return out;
 }
@@ -471,6 +528,18 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     for (std::uint32_t v = 0; v < nodes; ++v) {
       if (!(degree[v] == 1 && !open.empty() && open[v] != 0)) checked.push_back(v);
     }
+  }
+
+  // The checked nodes hashed in cubes of twice their mean radius (about a ring's diameter).
+  std::optional<PointGrid> node_grid;
+  if (!checked.empty()) {
+    std::vector<Vec3> points(checked.size());
+    double h = 0;
+    for (std::size_t k = 0; k < checked.size(); ++k) {
+      points[k] = skeleton.nodes[checked[k]].position;
+      h += skeleton.nodes[checked[k]].radius;
+    }
+    node_grid.emplace(std::move(points), 2 * h / static_cast<double>(checked.size()));
   }
 
   // Branches that run into thicker ones elsewhere in the skeleton are joined there, so that
@@ -554,9 +623,23 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     if (attempt == 0) iterations = rounds;
     seconds_move += seconds_since(t_move);
 
+    // Only a node that a join moved, or that some triangle swept on its way from the layout to
+    // the surface, can be outside: every other one keeps the winding number of the layout,
+    // whose tubes and spheres it is the centre of (see restore_sweeps).
     const auto t_check = Clock::now();
+    std::vector<std::uint32_t> suspects;
+    if (node_grid) {
+      const std::vector<std::uint8_t> swept =
+          swept_points(layout.triangles, start, p.position, *node_grid, checked.size(), ctx);
+      for (std::size_t k = 0; k < checked.size(); ++k) {
+        const std::uint32_t v = checked[k];
+        if (swept[k] != 0 || (!joined.moved.empty() && joined.moved[v] != 0)) {
+          suspects.push_back(v);
+        }
+      }
+    }
     const std::vector<std::uint32_t> outside =
-        nodes_outside(skeleton, checked, p.position, layout.triangles, ctx);
+        nodes_outside(skeleton, suspects, p.position, layout.triangles, ctx);
     seconds_layout += seconds_since(t_check);
     const bool better = !best || outside.size() < best->outside;
     if (attempt == 0) first_outside = outside.size();
@@ -610,17 +693,7 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     relax(field, options, layout, nb, p, evaluations, ctx);
     // Relaxation slides particles along the surface; where it folds, that can carry a folded
     // sheet across a node (2 of 5,001 nodes on a 5,000-segment tree). Those moves are undone.
-    std::vector<Vec3> points(checked.size());
-    double h = 0;
-    for (std::size_t k = 0; k < checked.size(); ++k) {
-      points[k] = skeleton.nodes[checked[k]].position;
-      h += skeleton.nodes[checked[k]].radius;
-    }
-    if (!points.empty()) {
-      // Cubes of twice the mean node radius: about a ring's diameter.
-      const PointGrid grid(std::move(points), 2 * h / static_cast<double>(checked.size()));
-      unrelaxed = restore_sweeps(layout.triangles, before, grid, p, ctx);
-    }
+    if (node_grid) unrelaxed = restore_sweeps(layout.triangles, before, *node_grid, p, ctx);
   }
   const std::size_t inverted = inverted_triangles(layout.triangles, p).size();
   const double seconds_relax = seconds_since(t_relax);

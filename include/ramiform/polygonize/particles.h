@@ -56,7 +56,8 @@
 /// meshes the same field without folds.
 ///
 /// Every skeleton node (open leaves aside) is kept inside the mesh: after the movement, the
-/// nodes the mesh leaves outside (generalized winding number, mesh/winding.h) are repaired by a
+/// nodes the mesh leaves outside (generalized winding number, mesh/winding.h, tested on the
+/// nodes a join moved or a triangle swept on its way to the surface) are repaired by a
 /// rebuilt layout, at most three times (a node no join moved is joined to a thicker branch
 /// nearby, a join that moved one is undone; polygonize/particle_merge.h), every particle that
 /// starts where it did before taking its earlier projection; and relaxation moves that would
