@@ -16,8 +16,6 @@ namespace ramiform {
 namespace {
 
 constexpr double kInv4Pi = 0.25 / std::numbers::pi;
-// The two subtrees of a node over at least this many triangles are built in parallel.
-constexpr std::uint32_t kParallelBuild = 1U << 14;
 using detail::solid_angle_fraction;
 
 }  // namespace
@@ -101,24 +99,15 @@ struct WindingNumber::Impl {
     return w;
   }
 
-  /// Nodes of the subtree over `count` triangles at `depth` (the shape build() gives it).
-  static std::uint32_t subtree_nodes(std::uint32_t count, int leaf_size, int depth) {
-    if (static_cast<int>(count) <= leaf_size || depth >= 100) return 1;
-    return 1 + subtree_nodes(count / 2, leaf_size, depth + 1) +
-           subtree_nodes(count - count / 2, leaf_size, depth + 1);
-  }
-
-  /// Builds the subtree over order[begin, end) as node `id` and its descendants, numbered in
-  /// preorder (the left child id + 1, the right one after the left's subtree), into `nodes`
-  /// sized beforehand, and returns `id`. Leaves compute their moments from their triangles;
-  /// inner nodes combine their children's moments, shifted to the node's centre (exact), so the
-  /// build costs O(T log T) for the splits only. The two subtrees of a large node are built in
-  /// parallel: they touch disjoint ranges of `order` and `nodes`, so the tree is the same for
-  /// any thread count.
+  /// Builds the subtree over order[begin, end) and returns its node id. Leaves compute their
+  /// moments from their triangles; inner nodes combine their children's moments, shifted to the
+  /// node's centre (exact), so the build costs O(T log T) for the splits only.
   std::uint32_t build(std::vector<std::uint32_t>& order, const std::vector<Vec3>& centroid,
                       const std::vector<Vec3>& area_normal, const std::vector<double>& area,
                       const TriMesh& mesh, std::uint32_t begin, std::uint32_t end, int leaf_size,
-                      int depth, std::uint32_t id) {
+                      int depth) {
+    const auto id = static_cast<std::uint32_t>(nodes.size());
+    nodes.emplace_back();
     Node n;
     n.begin = begin;
     n.end = end;
@@ -161,25 +150,10 @@ struct WindingNumber::Impl {
                        const double cb = centroid[b][axis];
                        return ca < cb || (ca == cb && a < b);
                      });
-    n.left = id + 1;
-    n.right = id + 1 + subtree_nodes(mid - begin, leaf_size, depth + 1);
-    const auto child = [&](std::size_t k) {
-      if (k == 0) {
-        (void)build(order, centroid, area_normal, area, mesh, begin, mid, leaf_size, depth + 1,
-                    n.left);
-      } else {
-        (void)build(order, centroid, area_normal, area, mesh, mid, end, leaf_size, depth + 1,
-                    n.right);
-      }
-    };
-    if (end - begin >= kParallelBuild) {
-      parallel::for_each(2, 1, child);
-    } else {
-      child(0);
-      child(1);
-    }
-    const Node& l = nodes[n.left];
-    const Node& r = nodes[n.right];
+    n.left = build(order, centroid, area_normal, area, mesh, begin, mid, leaf_size, depth + 1);
+    n.right = build(order, centroid, area_normal, area, mesh, mid, end, leaf_size, depth + 1);
+    const Node l = nodes[n.left];  // copies: `nodes` grew during the recursion
+    const Node r = nodes[n.right];
     n.area = l.area + r.area;
     n.center = n.area > 0.0 ? Vec3((l.area * l.center + r.area * r.center) / n.area)
                             : Vec3(((l.end - l.begin) * l.center + (r.end - r.begin) * r.center) /
@@ -230,10 +204,9 @@ WindingNumber::WindingNumber(const TriMesh& mesh, const WindingOptions& options)
   }
   std::vector<std::uint32_t> order(nt);
   for (std::size_t t = 0; t < nt; ++t) order[t] = static_cast<std::uint32_t>(t);
-  impl_->nodes.resize(
-      Impl::subtree_nodes(static_cast<std::uint32_t>(nt), options.leaf_size, 0));
+  impl_->nodes.reserve(2 * nt / static_cast<std::size_t>(options.leaf_size) + 2);
   impl_->build(order, centroid, area_normal, area, mesh, 0, static_cast<std::uint32_t>(nt),
-               options.leaf_size, 0, 0);
+               options.leaf_size, 0);
   impl_->corners.resize(3 * nt);
   for (std::size_t i = 0; i < nt; ++i) {
     for (int k = 0; k < 3; ++k)

@@ -9,7 +9,6 @@
 
 #include "mesh/test_meshes.h"
 #include "ramiform/core/errors.h"
-#include "ramiform/core/parallel.h"
 
 namespace ramiform {
 namespace {
@@ -112,20 +111,6 @@ TEST(WindingNumber, PointsInsideDoesNotDependOnThreads) {
   const WindingNumber wn(m);
   EXPECT_EQ(wn.evaluate(points, &one), wn.evaluate(points, &two));
   EXPECT_EQ(points_inside(m, points, &one), points_inside(m, points, &two));
-}
-
-// The tree of a mesh large enough for its subtrees to be built in parallel (65,536 triangles)
-// is the same built serially (inside a one-thread loop) and on every thread: the same values.
-TEST(WindingNumber, BuildDoesNotDependOnThreads) {
-  const TriMesh m = torus(1.5, 0.5, 256, 128);
-  ASSERT_EQ(m.triangles.size(), 65536U);
-  const std::vector<Vec3> points = random_points(2000, 2.5, 6);
-  const WindingNumber parallel_built(m);
-  std::vector<double> serial;
-  Context one(1);
-  parallel::for_each(
-      1, 1, [&](std::size_t) { serial = WindingNumber(m).evaluate(points, &one); }, &one);
-  EXPECT_EQ(parallel_built.evaluate(points, &one), serial);
 }
 
 TEST(WindingNumber, HigherBetaIsCloserToExact) {
