@@ -457,6 +457,9 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
     r.stats["fallback_junctions"] = st.fallback_junctions;
     r.stats["inverted_triangles"] = st.inverted_triangles;
     r.stats["joined_branches"] = st.joined_branches;
+    r.stats["repaired_nodes"] = st.repaired_nodes;
+    r.stats["nodes_outside"] = st.nodes_outside;
+    r.stats["unrelaxed"] = st.unrelaxed;
     r.stats["seconds_layout"] = st.seconds_layout;
     r.stats["seconds_move"] = st.seconds_move;
     r.stats["seconds_relax"] = st.seconds_relax;

@@ -31,6 +31,9 @@ constexpr double kNear = 2.0;
 // the edge's end goes to that end's node.
 constexpr double kCluster = 2.0;
 constexpr double kEndZone = 1.5;
+// A node the mesh left outside (the mesher's repair) joins a thicker edge of another branch
+// whose axis lies within kForceReach R_g of it.
+constexpr double kForceReach = 3.0;
 
 struct Segment {
   Vec3 a, b;
@@ -161,7 +164,8 @@ struct Join {
 MergedSkeleton join_merging_branches(const Skeleton& skeleton,
                                      const std::vector<double>& edge_radius,
                                      const std::vector<double>& edge_spacing,
-                                     const std::vector<std::uint8_t>& open_end) {
+                                     const std::vector<std::uint8_t>& open_end,
+                                     const std::vector<std::uint8_t>& force) {
   MergedSkeleton out;
   out.skeleton.nodes = skeleton.nodes;
   out.skeleton.edges = skeleton.edges;
@@ -191,21 +195,26 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
 
   // The thicker edge (not adjacent in the skeleton) that `p`, of own radius r, runs into:
   // the one reaching furthest over p, or kNone.
+  // With `forced`, any thicker edge within kForceReach R_g counts (the nearest relative to R_g).
   const auto find_target = [&](const Vec3& p, double r, std::uint32_t skip_a, std::uint32_t skip_b,
-                               const std::vector<std::uint32_t>& sources,
+                               const std::vector<std::uint32_t>& sources, bool forced,
                                double& t_out) {
     std::uint32_t best = kNone;
     double best_excess = 0;
-    for (const std::uint32_t g : grid.near(p, p)) {
+    const Vec3 margin = Vec3::Constant(forced ? kForceReach * max_r : 0.0);
+    for (const std::uint32_t g : grid.near(p - margin, p + margin)) {
       const auto [a, b] = s.edges[g];
       if (a == skip_a || a == skip_b || b == skip_a || b == skip_b) continue;
       const double rg = edge_radius[g];
       if (rg < r) continue;
       const double t = closest_t(seg[g].a, seg[g].b, p);
       const double d = (seg[g].a + t * (seg[g].b - seg[g].a) - p).norm();
-      const double excess = (rg == r ? rg + kReach * r : rg) - d;  // > 0: p is within reach
+      // > 0: p is within reach
+      const double excess = forced ? kForceReach - d / rg : (rg == r ? rg + kReach * r : rg) - d;
       if (!(excess > best_excess)) continue;
-      if (!another_branch(graph, s, seg, sources, g, rg + kNear * r)) continue;
+      // (A forced node farther out than rg + kNear r is a source of the search all the same.)
+      const double reach = std::max(rg, forced ? d : 0.0) + kNear * r;
+      if (!another_branch(graph, s, seg, sources, g, reach)) continue;
       best = g;
       best_excess = excess;
       t_out = t;
@@ -218,7 +227,10 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   for (std::uint32_t v = 0; v < nodes; ++v) {
     if (graph.adjacent[v].empty()) continue;
     double t = 0;
-    const std::uint32_t g = find_target(s.nodes[v].position, node_r[v], v, v, {v}, t);
+    const std::uint8_t mode = force.empty() ? kJoinAsFound : force[v];
+    if (mode == kJoinNever) continue;
+    const bool forced = mode == kJoinNearby;
+    const std::uint32_t g = find_target(s.nodes[v].position, node_r[v], v, v, {v}, forced, t);
     if (g == kNone) continue;
     joins.push_back({g, t, v});
     joined[v] = 1;
@@ -409,6 +421,10 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
     result.skeleton.edges.push_back({a, b});
     result.edge_radius.push_back(r);
     result.edge_spacing.push_back(edge_spacing[p.edge]);
+  }
+  result.moved.assign(nodes, 0);
+  for (std::uint32_t v = 0; v < nodes; ++v) {
+    result.moved[v] = merged.nodes[index[uf.find(v)]].position != s.nodes[v].position ? 1 : 0;
   }
   result.skeleton.nodes = std::move(merged.nodes);
   if (!open_end.empty()) result.open_end = std::move(merged_open);

@@ -22,6 +22,11 @@
 
 namespace ramiform::detail {
 
+/// Values of join_merging_branches()'s `force`.
+inline constexpr std::uint8_t kJoinAsFound = 0;
+inline constexpr std::uint8_t kJoinNearby = 1;
+inline constexpr std::uint8_t kJoinNever = 2;
+
 /// The layout's skeleton and its per-edge and per-node inputs (see ParticleLayoutInput).
 struct MergedSkeleton {
   Skeleton skeleton;                   ///< nodes and edges only
@@ -32,15 +37,23 @@ struct MergedSkeleton {
   /// a handle to the mesh, or joins two of its pieces (a closed mesh's Euler characteristic is
   /// 2 (nodes - edges) of the layout's skeleton).
   std::size_t joins = 0;
+  /// Per node of the skeleton, 1 when its node in the result lies elsewhere (a node joined to
+  /// a thicker branch's axis, or to a class placed at a thicker member); empty without joins.
+  std::vector<std::uint8_t> moved;
 };
 
 /// Joins the branches of `skeleton` (validated, straight edges) that run into thicker branches
 /// not adjacent to them in the skeleton (see above). `edge_radius`, `edge_spacing`: one per
-/// edge; `open_end`: one per node or empty. Without such places the result is the input.
+/// edge; `open_end`: one per node or empty. `force`: one per node or empty, for the particle
+/// mesher's repair of nodes its mesh left outside: a node marked kJoinNearby is joined to the
+/// nearest thicker edge of another branch whose axis lies within 3 R of it (R that edge's),
+/// even when it lies outside that edge's tube; a node marked kJoinNever is not moved by a join
+/// of its own (it may still be a join's target). Without joins the result is the input.
 /// Deterministic.
 [[nodiscard]] MergedSkeleton join_merging_branches(const Skeleton& skeleton,
                                                    const std::vector<double>& edge_radius,
                                                    const std::vector<double>& edge_spacing,
-                                                   const std::vector<std::uint8_t>& open_end);
+                                                   const std::vector<std::uint8_t>& open_end,
+                                                   const std::vector<std::uint8_t>& force = {});
 
 }  // namespace ramiform::detail

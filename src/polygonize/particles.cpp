@@ -3,10 +3,14 @@
 #include "ramiform/polygonize/particles.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <cstring>
+#include <optional>
 #include <string>
+#include <unordered_map>
 #include <utility>
 
 #include "polygonize/particle_layout.h"
@@ -14,6 +18,7 @@
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
 #include "ramiform/mesh/checks.h"
+#include "ramiform/mesh/winding.h"
 
 namespace ramiform {
 
@@ -30,6 +35,8 @@ constexpr double kRelaxWeight = 0.5;
 // the field rather than a root (a treecode switching approximations, a kernel's cut-off):
 // further rounds only halve the step again, so it stops there, unconverged. 2^-40 ~ 1e-12.
 constexpr double kStalled = 0x1p-40;
+// Layouts rebuilt at most to repair the nodes the previous one's mesh left outside.
+constexpr int kMaxRepairs = 3;
 
 using Clock = std::chrono::steady_clock;
 
@@ -240,15 +247,6 @@ std::vector<std::uint8_t> fixed_particles(std::size_t n, const detail::ParticleL
   return fixed;
 }
 
-// Tangential relaxation rounds (see the header).
-void relax(const Field& field, const ParticleMeshOptions& o, const detail::ParticleLayout& layout,
-           const Neighbours& nb, Particles& p, std::uint64_t& evaluations, const Context* ctx) {
-  const std::vector<std::uint8_t> fixed = fixed_particles(p.position.size(), layout);
-  for (int round = 0; round < o.relax; ++round) {
-    if (!relax_round(field, o, nb, fixed, p, evaluations, ctx)) return;
-  }
-}
-
 // Triangles facing the wrong way: their normal (counter-clockwise seen from outside) points
 // along the summed gradient of their corners, that is into the surface. The mesh folds so
 // where the surfaces of two branches that are not joined in the skeleton merge: the particles
@@ -268,6 +266,217 @@ std::vector<std::uint32_t> inverted_triangles(const std::vector<std::array<std::
   return out;
 }
 
+// Tangential relaxation rounds (see the header).
+void relax(const Field& field, const ParticleMeshOptions& o, const detail::ParticleLayout& layout,
+           const Neighbours& nb, Particles& p, std::uint64_t& evaluations, const Context* ctx) {
+  const std::vector<std::uint8_t> fixed = fixed_particles(p.position.size(), layout);
+  for (int round = 0; round < o.relax; ++round) {
+    if (!relax_round(field, o, nb, fixed, p, evaluations, ctx)) return;
+  }
+}
+
+// Points hashed in cubes of side h, to find those inside a box.
+class PointGrid {
+ public:
+  PointGrid(std::vector<Vec3> points, double h) : points_(std::move(points)), h_(h) {
+    for (std::uint32_t k = 0; k < points_.size(); ++k) cells_[key(cell(points_[k]))].push_back(k);
+  }
+  // Calls f(k) for every point k in the box [lo, hi] (closed), in no particular order.
+  template <class F>
+  void for_each_in(const Vec3& lo, const Vec3& hi, F&& f) const {
+    const std::array<std::int64_t, 3> a = cell(lo);
+    const std::array<std::int64_t, 3> b = cell(hi);
+    const double cells = static_cast<double>(b[0] - a[0] + 1) *
+                         static_cast<double>(b[1] - a[1] + 1) *
+                         static_cast<double>(b[2] - a[2] + 1);
+    const auto visit = [&](std::uint32_t q) {
+      const Vec3& x = points_[q];
+      if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) f(q);
+    };
+    if (cells > static_cast<double>(points_.size())) {
+      for (std::uint32_t q = 0; q < points_.size(); ++q) visit(q);
+      return;
+    }
+    for (std::int64_t i = a[0]; i <= b[0]; ++i) {
+      for (std::int64_t j = a[1]; j <= b[1]; ++j) {
+        for (std::int64_t k = a[2]; k <= b[2]; ++k) {
+          const auto it = cells_.find(key({i, j, k}));
+          if (it == cells_.end()) continue;
+          for (const std::uint32_t q : it->second) visit(q);
+        }
+      }
+    }
+  }
+
+  // Whether a point lies in the box [lo, hi] (closed).
+  bool any_in(const Vec3& lo, const Vec3& hi) const {
+    const auto in_box = [&](const Vec3& x) {
+      return (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all();
+    };
+    const std::array<std::int64_t, 3> a = cell(lo);
+    const std::array<std::int64_t, 3> b = cell(hi);
+    // A box over more cells than there are points (a thick branch's triangle among thin
+    // twigs' cells) looks at every point instead.
+    const double cells = static_cast<double>(b[0] - a[0] + 1) *
+                         static_cast<double>(b[1] - a[1] + 1) *
+                         static_cast<double>(b[2] - a[2] + 1);
+    if (cells > static_cast<double>(points_.size())) {
+      return std::any_of(points_.begin(), points_.end(), in_box);
+    }
+    for (std::int64_t i = a[0]; i <= b[0]; ++i) {
+      for (std::int64_t j = a[1]; j <= b[1]; ++j) {
+        for (std::int64_t k = a[2]; k <= b[2]; ++k) {
+          const auto it = cells_.find(key({i, j, k}));
+          if (it == cells_.end()) continue;
+          for (const std::uint32_t q : it->second) {
+            if (in_box(points_[q])) return true;
+          }
+        }
+      }
+    }
+    return false;
+  }
+
+ private:
+  std::array<std::int64_t, 3> cell(const Vec3& x) const {
+    return {static_cast<std::int64_t>(std::floor(x.x() / h_)),
+            static_cast<std::int64_t>(std::floor(x.y() / h_)),
+            static_cast<std::int64_t>(std::floor(x.z() / h_))};
+  }
+  static std::uint64_t key(const std::array<std::int64_t, 3>& c) {
+    return (static_cast<std::uint64_t>(c[0] & 0x1fffff) << 42) |
+           (static_cast<std::uint64_t>(c[1] & 0x1fffff) << 21) |
+           static_cast<std::uint64_t>(c[2] & 0x1fffff);
+  }
+  std::vector<Vec3> points_;
+  double h_;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+};
+
+// Puts back (to `before`) the particles of every triangle whose corners, between `before` and
+// now, span a box holding one of `nodes`, until no triangle does. Moving every particle along
+// the straight line from before to now keeps each triangle inside the convex hull of its six
+// corner positions, so no triangle then sweeps across a node: the mesh's winding number at every
+// node is what it was before (it is an integer that changes only when the surface crosses the
+// point). Returns the particles put back.
+std::size_t restore_sweeps(const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                           const Particles& before, const PointGrid& nodes, Particles& p,
+                           const Context* ctx) {
+  std::vector<std::uint8_t> moved(p.position.size(), 0);
+  for (std::size_t i = 0; i < moved.size(); ++i) {
+    moved[i] = p.position[i] != before.position[i] ? 1 : 0;
+  }
+  std::size_t restored = 0;
+  for (;;) {
+    std::vector<std::uint8_t> hit(triangles.size(), 0);
+    parallel::for_each(
+        triangles.size(), kGrain,
+        [&](std::size_t k) {
+          const auto& t = triangles[k];
+          if (moved[t[0]] == 0 && moved[t[1]] == 0 && moved[t[2]] == 0) return;
+          Vec3 lo = p.position[t[0]];
+          Vec3 hi = lo;
+          for (const std::uint32_t i : t) {
+            for (const Vec3* x : std::array<const Vec3*, 2>{&p.position[i], &before.position[i]}) {
+              lo = lo.cwiseMin(*x);
+              hi = hi.cwiseMax(*x);
+            }
+          }
+          if (nodes.any_in(lo, hi)) hit[k] = 1;
+        },
+        ctx);
+    std::size_t changed = 0;
+    for (std::size_t k = 0; k < triangles.size(); ++k) {
+      if (hit[k] == 0) continue;
+      for (const std::uint32_t i : triangles[k]) {
+        if (moved[i] == 0) continue;
+        moved[i] = 0;
+        p.position[i] = before.position[i];
+        p.gradient[i] = before.gradient[i];
+        p.residual[i] = before.residual[i];
+        p.converged[i] = before.converged[i];
+        ++changed;
+      }
+    }
+    if (changed == 0) return restored;
+    restored += changed;
+  }
+}
+
+// A particle's starting point and step scale, bit for bit.
+struct ProjectionKey {
+  std::array<std::uint64_t, 4> bits;
+  bool operator==(const ProjectionKey&) const = default;
+};
+
+struct ProjectionKeyHash {
+  std::size_t operator()(const ProjectionKey& k) const {
+    std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+    for (const std::uint64_t b : k.bits) {
+      h ^= b + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+    }
+    return static_cast<std::size_t>(h);
+  }
+};
+
+ProjectionKey projection_key(const Vec3& x, double scale) {
+  ProjectionKey k{};
+  std::memcpy(&k.bits[0], &x.x(), sizeof(double));
+  std::memcpy(&k.bits[1], &x.y(), sizeof(double));
+  std::memcpy(&k.bits[2], &x.z(), sizeof(double));
+  std::memcpy(&k.bits[3], &scale, sizeof(double));
+  return k;
+}
+
+// Per point of `nodes`, 1 when some triangle's corners, between `start` and `end`, span a box
+// holding it: a point no triangle sweeps keeps its winding number (see restore_sweeps).
+std::vector<std::uint8_t> swept_points(const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                       const std::vector<Vec3>& start,
+                                       const std::vector<Vec3>& end, const PointGrid& nodes,
+                                       std::size_t points, const Context* ctx) {
+  std::vector<std::atomic<std::uint8_t>> hit(points);
+  for (auto& h : hit) h.store(0, std::memory_order_relaxed);
+  parallel::for_each(
+      triangles.size(), kGrain,
+      [&](std::size_t k) {
+        const auto& t = triangles[k];
+        Vec3 lo = start[t[0]];
+        Vec3 hi = lo;
+        for (const std::uint32_t i : t) {
+          lo = lo.cwiseMin(start[i]).cwiseMin(end[i]);
+          hi = hi.cwiseMax(start[i]).cwiseMax(end[i]);
+        }
+        nodes.for_each_in(lo, hi, [&](std::uint32_t q) { hit[q].store(1, std::memory_order_relaxed); });
+      },
+      ctx);
+  std::vector<std::uint8_t> out(points);
+  for (std::size_t q = 0; q < points; ++q) out[q] = hit[q].load(std::memory_order_relaxed);
+  return out;
+}
+
+// The nodes among `suspects` that the mesh (`positions`, `triangles`) leaves outside: fast
+// generalized winding number at most 0.5 (mesh/winding.h), as `ramiform check` tests them.
+std::vector<std::uint32_t> nodes_outside(const Skeleton& skeleton,
+                                         const std::vector<std::uint32_t>& suspects,
+                                         const std::vector<Vec3>& positions,
+                                         const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                         const Context* ctx) {
+  if (suspects.empty()) return {};
+  TriMesh mesh;
+  mesh.positions = positions;
+  mesh.triangles = triangles;
+  std::vector<Vec3> points(suspects.size());
+  for (std::size_t k = 0; k < suspects.size(); ++k) {
+    points[k] = skeleton.nodes[suspects[k]].position;
+  }
+  const std::vector<char> inside = points_inside(mesh, points, ctx);
+  std::vector<std::uint32_t> out;
+  for (std::size_t k = 0; k < suspects.size(); ++k) {
+    if (inside[k] == 0) out.push_back(suspects[k]);
+  }
+  return out;
+}
+
 }  // namespace
 
 TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
@@ -281,7 +490,7 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     throw InvalidArgument("polygonize_particles: the field's iso value must be non-zero");
   }
   const std::size_t edges = skeleton.edges.size();
-  const std::size_t nodes = skeleton.nodes.size();
+  const auto nodes = static_cast<std::uint32_t>(skeleton.nodes.size());
   if (!edge_spacing.empty() && edge_spacing.size() != edges) {
     throw InvalidArgument(
         "polygonize_particles: edge_spacing must be empty or have one value "
@@ -295,70 +504,197 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
         std::to_string(nodes) + "), got " + std::to_string(open_end.size()));
   }
 
-  const auto t_layout = Clock::now();
-  detail::ParticleLayoutInput input;
-  input.skeleton = &skeleton;
-  input.edge_radius.resize(edges);
-  input.edge_spacing.resize(edges);
+  std::vector<double> base_radius(edges);
+  std::vector<double> base_spacing(edges);
   for (std::size_t e = 0; e < edges; ++e) {
     const double ra = skeleton.nodes[skeleton.edges[e][0]].radius;
     const double rb = skeleton.nodes[skeleton.edges[e][1]].radius;
-    input.edge_radius[e] = options.placement_radius > 0
-                               ? options.placement_radius
-                               : options.placement_factor * 0.5 * (ra + rb);
-    input.edge_spacing[e] = edge_spacing.empty() ? 0.5 * std::min(ra, rb) : edge_spacing[e];
+    base_radius[e] = options.placement_radius > 0 ? options.placement_radius
+                                                  : options.placement_factor * 0.5 * (ra + rb);
+    base_spacing[e] = edge_spacing.empty() ? 0.5 * std::min(ra, rb) : edge_spacing[e];
   }
-  // Branches that run into thicker ones elsewhere in the skeleton are joined there, so that
-  // the mesh's connectivity is the merged surface's (polygonize/particle_merge.h).
-  detail::MergedSkeleton joined = detail::join_merging_branches(
-      skeleton, input.edge_radius, input.edge_spacing,
-      std::vector<std::uint8_t>(open_end.begin(), open_end.end()));
-  const Skeleton& layout_skeleton = joined.skeleton;
-  input.skeleton = &layout_skeleton;
-  input.edge_radius = std::move(joined.edge_radius);
-  input.edge_spacing = std::move(joined.edge_spacing);
-  input.open_end = std::move(joined.open_end);
+  const std::vector<std::uint8_t> open(open_end.begin(), open_end.end());
   detail::ParticleLayoutOptions lo;
   lo.n_circ = options.n_circ;
   lo.n_sphere = options.n_sphere;
   lo.sphere_factor = options.sphere_factor;
   lo.gamma_degrees = options.gamma_degrees;
-  detail::ParticleLayout layout = detail::build_particle_layout(input, lo);
-  const double seconds_layout = seconds_since(t_layout);
 
-  // Local R: the particle's edge's; at a vertex the largest of its edges'; isolated nodes their
-  // radius (the layout places their sphere at it).
-  std::vector<double> node_scale(layout_skeleton.nodes.size(), 0.0);
-  for (std::size_t e = 0; e < layout_skeleton.edges.size(); ++e) {
-    for (const std::uint32_t v : layout_skeleton.edges[e]) {
-      node_scale[v] = std::max(node_scale[v], input.edge_radius[e]);
+  // The skeleton's nodes the mesh must enclose: all but the open leaves (which sit in their
+  // loop).
+  std::vector<std::uint32_t> checked;
+  {
+    const auto degree = degrees(skeleton);
+    for (std::uint32_t v = 0; v < nodes; ++v) {
+      if (!(degree[v] == 1 && !open.empty() && open[v] != 0)) checked.push_back(v);
     }
   }
-  for (std::size_t v = 0; v < node_scale.size(); ++v) {
-    if (node_scale[v] == 0) node_scale[v] = layout_skeleton.nodes[v].radius;
-  }
-  const std::size_t n = layout.positions.size();
-  Particles p;
-  p.position = std::move(layout.positions);
-  p.gradient.assign(n, Vec3::Zero());
-  p.residual.assign(n, std::numeric_limits<double>::quiet_NaN());
-  p.converged.assign(n, 0);
-  p.scale.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    p.scale[i] =
-        layout.edge[i] != kNone ? input.edge_radius[layout.edge[i]] : node_scale[layout.node[i]];
+
+  // The checked nodes hashed in cubes of twice their mean radius (about a ring's diameter).
+  std::optional<PointGrid> node_grid;
+  if (!checked.empty()) {
+    std::vector<Vec3> points(checked.size());
+    double h = 0;
+    for (std::size_t k = 0; k < checked.size(); ++k) {
+      points[k] = skeleton.nodes[checked[k]].position;
+      h += skeleton.nodes[checked[k]].radius;
+    }
+    node_grid.emplace(std::move(points), 2 * h / static_cast<double>(checked.size()));
   }
 
+  // Branches that run into thicker ones elsewhere in the skeleton are joined there, so that
+  // the mesh's connectivity is the merged surface's (polygonize/particle_merge.h). A node the
+  // projected mesh leaves outside is repaired in a rebuilt layout: joined to a thicker branch
+  // nearby when no join moved it, left in its place when one did (the joined layout, built
+  // around the new place, missed the old one).
+  std::vector<std::uint8_t> force;
+  detail::ParticleLayoutInput input;
   std::uint64_t evaluations = 0;
-  const auto t_move = Clock::now();
-  std::vector<std::uint32_t> all(n);
-  for (std::size_t i = 0; i < n; ++i) all[i] = static_cast<std::uint32_t>(i);
-  const int iterations = project(field, options, std::move(all), p, evaluations, ctx);
-  const double seconds_move = seconds_since(t_move);
+  int iterations = 0;
+  double seconds_layout = 0;
+  double seconds_move = 0;
+  std::size_t first_outside = 0;
+  std::size_t unrelaxed = 0;
+  // The previous attempt's projections by starting point (and step scale): a particle the
+  // rebuilt layout starts where it started before ends where it ended, bit for bit (each one
+  // moves on its own, and a field value does not depend on the batch), so it is copied.
+  std::unordered_map<ProjectionKey, std::uint32_t, ProjectionKeyHash> previous_start;
+  Particles previous;
+  // The attempt with the fewest nodes outside (the first among equals) is the result.
+  struct Attempt {
+    detail::MergedSkeleton joined;
+    detail::ParticleLayout layout;
+    Particles particles;
+    std::size_t outside = 0;
+  };
+  std::optional<Attempt> best;
+  for (int attempt = 0;; ++attempt) {
+    const auto t_build = Clock::now();
+    detail::MergedSkeleton joined =
+        detail::join_merging_branches(skeleton, base_radius, base_spacing, open, force);
+    input.skeleton = &joined.skeleton;
+    input.edge_radius = joined.edge_radius;
+    input.edge_spacing = joined.edge_spacing;
+    input.open_end = joined.open_end;
+    detail::ParticleLayout layout = detail::build_particle_layout(input, lo);
+    seconds_layout += seconds_since(t_build);
+    const Skeleton& layout_skeleton = joined.skeleton;
+
+    // Local R: the particle's edge's; at a vertex the largest of its edges'; isolated nodes
+    // their radius (the layout places their sphere at it).
+    std::vector<double> node_scale(layout_skeleton.nodes.size(), 0.0);
+    for (std::size_t e = 0; e < layout_skeleton.edges.size(); ++e) {
+      for (const std::uint32_t v : layout_skeleton.edges[e]) {
+        node_scale[v] = std::max(node_scale[v], input.edge_radius[e]);
+      }
+    }
+    for (std::size_t v = 0; v < node_scale.size(); ++v) {
+      if (node_scale[v] == 0) node_scale[v] = layout_skeleton.nodes[v].radius;
+    }
+    const std::size_t n = layout.positions.size();
+    Particles p;
+    p.position = std::move(layout.positions);
+    p.gradient.assign(n, Vec3::Zero());
+    p.residual.assign(n, std::numeric_limits<double>::quiet_NaN());
+    p.converged.assign(n, 0);
+    p.scale.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      p.scale[i] =
+          layout.edge[i] != kNone ? input.edge_radius[layout.edge[i]] : node_scale[layout.node[i]];
+    }
+
+    const auto t_move = Clock::now();
+    const std::vector<Vec3> start = p.position;
+    std::vector<std::uint32_t> active;
+    active.reserve(n);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const auto it = previous_start.find(projection_key(start[i], p.scale[i]));
+      if (it == previous_start.end()) {
+        active.push_back(i);
+        continue;
+      }
+      const std::uint32_t j = it->second;
+      p.position[i] = previous.position[j];
+      p.gradient[i] = previous.gradient[j];
+      p.residual[i] = previous.residual[j];
+      p.converged[i] = previous.converged[j];
+    }
+    const int rounds = project(field, options, std::move(active), p, evaluations, ctx);
+    if (attempt == 0) iterations = rounds;
+    seconds_move += seconds_since(t_move);
+
+    // Only a node that a join moved, or that some triangle swept on its way from the layout to
+    // the surface, can be outside: every other one keeps the winding number of the layout,
+    // whose tubes and spheres it is the centre of (see restore_sweeps).
+    const auto t_check = Clock::now();
+    std::vector<std::uint32_t> suspects;
+    if (node_grid) {
+      const std::vector<std::uint8_t> swept =
+          swept_points(layout.triangles, start, p.position, *node_grid, checked.size(), ctx);
+      for (std::size_t k = 0; k < checked.size(); ++k) {
+        const std::uint32_t v = checked[k];
+        if (swept[k] != 0 || (!joined.moved.empty() && joined.moved[v] != 0)) {
+          suspects.push_back(v);
+        }
+      }
+    }
+    const std::vector<std::uint32_t> outside =
+        nodes_outside(skeleton, suspects, p.position, layout.triangles, ctx);
+    seconds_layout += seconds_since(t_check);
+    const bool better = !best || outside.size() < best->outside;
+    if (attempt == 0) first_outside = outside.size();
+    if (better) {
+      best = Attempt{std::move(joined), std::move(layout), {}, outside.size()};
+    }
+    if (outside.empty() || attempt == kMaxRepairs) {
+      if (better) best->particles = std::move(p);
+      break;
+    }
+    // A node left where it was is joined to a thicker branch nearby; one a join moved (whose
+    // own place the joined layout missed) stays where it is. Each node gets each change once.
+    if (force.empty()) force.assign(nodes, detail::kJoinAsFound);
+    std::size_t changed = 0;
+    const std::vector<std::uint8_t>& moved_nodes = better ? best->joined.moved : joined.moved;
+    for (const std::uint32_t v : outside) {
+      const bool moved = !moved_nodes.empty() && moved_nodes[v] != 0;
+      if (moved && force[v] != detail::kJoinNever) {
+        force[v] = detail::kJoinNever;
+      } else if (!moved && force[v] == detail::kJoinAsFound) {
+        force[v] = detail::kJoinNearby;
+      } else {
+        continue;
+      }
+      ++changed;
+    }
+    if (changed == 0) {
+      if (better) best->particles = std::move(p);
+      break;
+    }
+    previous_start.clear();
+    previous_start.reserve(n);
+    for (std::uint32_t i = 0; i < n; ++i) {
+      previous_start.emplace(projection_key(start[i], p.scale[i]), i);
+    }
+    if (better) {
+      best->particles = p;
+    }
+    previous = std::move(p);
+  }
+  const detail::MergedSkeleton joined = std::move(best->joined);
+  detail::ParticleLayout layout = std::move(best->layout);
+  Particles p = std::move(best->particles);
+  const std::size_t outside = best->outside;
+  const std::size_t n = p.position.size();
 
   const auto t_relax = Clock::now();
   const Neighbours nb = one_rings(n, layout.triangles);
-  if (options.relax > 0) relax(field, options, layout, nb, p, evaluations, ctx);
+  if (options.relax > 0) {
+    const Particles before = p;
+    relax(field, options, layout, nb, p, evaluations, ctx);
+    // Relaxation slides particles along the surface; where it folds, that can carry a folded
+    // sheet across a node (2 of 5,001 nodes on a 5,000-segment tree). Those moves are undone.
+    if (node_grid) unrelaxed = restore_sweeps(layout.triangles, before, *node_grid, p, ctx);
+  }
   const std::size_t inverted = inverted_triangles(layout.triangles, p).size();
   const double seconds_relax = seconds_since(t_relax);
 
@@ -378,6 +714,9 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     s.iterations = iterations;
     s.fallback_junctions = layout.fallback_junctions;
     s.joined_branches = joined.joins;
+    s.repaired_nodes = first_outside - outside;
+    s.nodes_outside = outside;
+    s.unrelaxed = unrelaxed;
     s.open_loops = layout.open_loops.size();
     s.evaluations = evaluations;
     s.inverted_triangles = inverted;

@@ -2,8 +2,9 @@
 // Copyright (c) 2026 the ramiform authors
 //
 // Joining branches whose tubes merge without an edge between them (polygonize/particle_merge.h):
-// the joined skeleton computed by hand for a twig whose tip lies inside a thicker branch, and
-// no join for a child that leaves its parent's tube at their fork.
+// the joined skeleton computed by hand for a twig whose tip lies inside a thicker branch, the
+// repair's forced and forbidden joins, and no join for a child that leaves its parent's tube at
+// their fork.
 
 #include "polygonize/particle_merge.h"
 
@@ -49,6 +50,45 @@ TEST(JoinMergingBranches, TwigTipInsideAThickerBranchIsJoinedToItsAxis) {
   EXPECT_EQ(m.edge_radius, (std::vector<double>{0.5, 0.45, 0.45, 0.3, 0.5 * (0.1 + 0.45)}));
   EXPECT_EQ(m.edge_spacing, (std::vector<double>{0.25, 0.2, 0.2, 0.05, 0.05}));
   EXPECT_TRUE(m.open_end.empty());
+}
+
+// The particle mesher's repair: a tip outside the trunk's tube (1.0 from its axis, R 0.45) is
+// not joined as found, is joined like the tip inside it when marked kJoinNearby (within 3 R),
+// and a tip inside it is left alone when marked kJoinNever.
+TEST(JoinMergingBranches, RepairJoinsANodeNearbyOrLeavesItInPlace) {
+  Skeleton s;
+  s.nodes = {{Vec3(0, 0, -3), 0.5},
+             {Vec3(0, 0, 2), 0.5},
+             {Vec3(0, 0, 10), 0.4},
+             {Vec3(2, 0, 4), 0.1},
+             {Vec3(1.0, 0, 7), 0.1}};
+  s.edges = {{0, 1}, {1, 2}, {1, 3}, {3, 4}};
+  const std::vector<double> radius = mean_radii(s);
+  const std::vector<double> spacing = {0.25, 0.2, 0.05, 0.05};
+  const detail::MergedSkeleton as_found = detail::join_merging_branches(s, radius, spacing, {});
+  EXPECT_EQ(as_found.joins, 0U);
+  EXPECT_EQ(as_found.skeleton.edges, s.edges);
+  EXPECT_TRUE(as_found.moved.empty());
+
+  std::vector<std::uint8_t> force(s.nodes.size(), detail::kJoinAsFound);
+  force[4] = detail::kJoinNearby;
+  const detail::MergedSkeleton nearby =
+      detail::join_merging_branches(s, radius, spacing, {}, force);
+  EXPECT_EQ(nearby.joins, 1U);
+  ASSERT_EQ(nearby.skeleton.nodes.size(), 5U);
+  EXPECT_EQ(nearby.skeleton.nodes[4].position, Vec3(0, 0, 7));  // t = 5/8 on the trunk's edge 1
+  const std::vector<std::array<std::uint32_t, 2>> edges = {{0, 1}, {1, 4}, {4, 2}, {1, 3}, {3, 4}};
+  EXPECT_EQ(nearby.skeleton.edges, edges);
+  EXPECT_EQ(nearby.moved, (std::vector<std::uint8_t>{0, 0, 0, 0, 1}));
+
+  Skeleton inside = s;
+  inside.nodes[4].position = Vec3(0.2, 0, 7);
+  force[4] = detail::kJoinNever;
+  const detail::MergedSkeleton never =
+      detail::join_merging_branches(inside, radius, spacing, {}, force);
+  EXPECT_EQ(never.joins, 0U);
+  EXPECT_EQ(never.skeleton.edges, inside.edges);
+  EXPECT_EQ(never.skeleton.nodes[4].position, Vec3(0.2, 0, 7));
 }
 
 // A child from the trunk's node that runs inside the trunk's tube before it leaves it: reached

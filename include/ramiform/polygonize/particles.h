@@ -52,9 +52,16 @@
 /// its tube; crowded crowns), the rings of both land on the merged surface, and no
 /// triangulation with that connectivity can lie on it without crossing itself. Junctions closer together
 /// than their spheres (scanned trees) fold a little too. The folded triangles face into the
-/// surface; they are counted in the stats (inverted_triangles), and a node inside the merged
-/// part can fall outside the mesh. The tetrahedral polygonizer meshes the same field without
-/// folds.
+/// surface; they are counted in the stats (inverted_triangles). The tetrahedral polygonizer
+/// meshes the same field without folds.
+///
+/// Every skeleton node (open leaves aside) is kept inside the mesh: after the movement, the
+/// nodes the mesh leaves outside (generalized winding number, mesh/winding.h, tested on the
+/// nodes a join moved or a triangle swept on its way to the surface) are repaired by a
+/// rebuilt layout, at most three times (a node no join moved is joined to a thicker branch
+/// nearby, a join that moved one is undone; polygonize/particle_merge.h), every particle that
+/// starts where it did before taking its earlier projection; and relaxation moves that would
+/// carry a triangle across a node are undone, which keeps the winding number at every node.
 ///
 /// The result is deterministic and byte-identical for any thread count.
 
@@ -113,6 +120,15 @@ struct ParticleMeshStats {
   /// handle to the mesh, or joins two of its pieces. The mesh's Euler characteristic is
   /// 2 (nodes - edges - joined_branches) minus the open loops.
   std::size_t joined_branches = 0;
+  /// Skeleton nodes (other than open leaves) that the first layout's mesh left outside and a
+  /// rebuilt layout brought inside (the repair; see polygonize_particles()).
+  std::size_t repaired_nodes = 0;
+  /// Skeleton nodes (other than open leaves) outside the mesh at the end (generalized winding
+  /// number at most 0.5). 0 on every skeleton we measured.
+  std::size_t nodes_outside = 0;
+  /// Particles whose relaxation was undone because a triangle of theirs would have swept
+  /// across a skeleton node (see polygonize_particles()).
+  std::size_t unrelaxed = 0;
   /// Triangles facing into the surface (normal along the summed gradient of their corners):
   /// folds where the surfaces of two branches not joined in the skeleton merge. 0 without.
   std::size_t inverted_triangles = 0;
