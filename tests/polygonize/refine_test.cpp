@@ -31,6 +31,13 @@ Skeleton tree(std::size_t segments) {
   return branching_tree(o);
 }
 
+/// The paper's uniform mesh at level 1 of the field of `s`.
+TriMesh level_one(const Field& f, const Skeleton& s) {
+  TetrahedralOptions base;
+  base.levels = 1;
+  return polygonize_tetrahedral(f, s, base);
+}
+
 /// The deviation p99 of `m`, measured with a seed and a count the polygonizer did not use.
 DeviationSummary measured(const TriMesh& m, const Field& f, const Skeleton& s) {
   DeviationOptions o;
@@ -102,9 +109,7 @@ TEST(PolygonizeToTolerance, SameMeshOnAnyThreadCount) {
 TEST(RefineToSurface, SplitsOnlyWhereTheMeshIsFarAndRespectsTheBudget) {
   const Skeleton s = tree(20);
   const FieldPtr f = make_skeleton_field(s);
-  TetrahedralOptions base;
-  base.levels = 1;
-  const TriMesh coarse = polygonize_tetrahedral(*f, s, base);
+  const TriMesh coarse = level_one(*f, s);
   // A tolerance the coarse mesh already meets everywhere: nothing changes.
   TriMesh same = coarse;
   RefineOptions loose;
@@ -145,9 +150,7 @@ TEST(RefineToSurface, SplitsOnlyWhereTheMeshIsFarAndRespectsTheBudget) {
 TEST(RefineToSurface, SpareAreaLeavesEdgesUnsplitWithinItsShare) {
   const Skeleton s = tree(20);
   const FieldPtr f = make_skeleton_field(s);
-  TetrahedralOptions base;
-  base.levels = 1;
-  const TriMesh coarse = polygonize_tetrahedral(*f, s, base);
+  const TriMesh coarse = level_one(*f, s);
   // One round with and without a spare area: the same edges are beyond the tolerance, and each
   // is either split or spared.
   RefineOptions all, spare;
