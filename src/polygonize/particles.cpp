@@ -6,8 +6,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -431,9 +431,9 @@ ProjectionKey projection_key(const Vec3& x, double scale) {
 // Per point of `nodes`, 1 when some triangle's corners, between `start` and `end`, span a box
 // holding it: a point no triangle sweeps keeps its winding number (see restore_sweeps).
 std::vector<std::uint8_t> swept_points(const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                                       const std::vector<Vec3>& start,
-                                       const std::vector<Vec3>& end, const PointGrid& nodes,
-                                       std::size_t points, const Context* ctx) {
+                                       const std::vector<Vec3>& start, const std::vector<Vec3>& end,
+                                       const PointGrid& nodes, std::size_t points,
+                                       const Context* ctx) {
   std::vector<std::atomic<std::uint8_t>> hit(points);
   for (auto& h : hit) h.store(0, std::memory_order_relaxed);
   parallel::for_each(
@@ -446,7 +446,8 @@ std::vector<std::uint8_t> swept_points(const std::vector<std::array<std::uint32_
           lo = lo.cwiseMin(start[i]).cwiseMin(end[i]);
           hi = hi.cwiseMax(start[i]).cwiseMax(end[i]);
         }
-        nodes.for_each_in(lo, hi, [&](std::uint32_t q) { hit[q].store(1, std::memory_order_relaxed); });
+        nodes.for_each_in(lo, hi,
+                          [&](std::uint32_t q) { hit[q].store(1, std::memory_order_relaxed); });
       },
       ctx);
   std::vector<std::uint8_t> out(points);

@@ -50,9 +50,9 @@
 /// topology departs from it, the mesh folds over itself: where the surfaces of two branches
 /// that are not joined merge (a thin twig beside a thicker branch, within the blend but outside
 /// its tube; crowded crowns), the rings of both land on the merged surface, and no
-/// triangulation with that connectivity can lie on it without crossing itself. Junctions closer together
-/// than their spheres (scanned trees) fold a little too. The folded triangles face into the
-/// surface; they are counted in the stats (inverted_triangles). The tetrahedral polygonizer
+/// triangulation with that connectivity can lie on it without crossing itself. Junctions closer
+/// together than their spheres (scanned trees) fold a little too. The folded triangles face into
+/// the surface; they are counted in the stats (inverted_triangles). The tetrahedral polygonizer
 /// meshes the same field without folds.
 ///
 /// Every skeleton node (open leaves aside) is kept inside the mesh: after the movement, the
