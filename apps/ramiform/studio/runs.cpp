@@ -85,7 +85,7 @@ struct RunManager::Run {
   json outputs = json::array();
   std::vector<Object> views;
   // Meshes shown before the run ends (ScriptOptions::on_mesh): their entries in the status and
-  // their views ("e0", "e1", ...), kept until the run is forgotten.
+  // their views ("e0", "e1", ...); the views are freed when the next run starts.
   json early = json::array();
   std::vector<Object> early_views;
   std::map<std::string, FieldPtr> fields;
@@ -410,7 +410,11 @@ void RunManager::execute(Run& run) {
         view.view_file = early_dir / (view.id + ".glb");
         std::error_code dir_ec;
         fs::create_directories(early_dir, dir_ec);
-        write_mesh(mesh, view.view_file.string());
+        try {
+          write_mesh(mesh, view.view_file.string());
+        } catch (const Failure&) {
+          return;  // no early view (e.g. the disk is full); the run goes on to its own files
+        }
         std::lock_guard lock(run.m);
         run.early.push_back(
             {{"id", view.id},
