@@ -326,6 +326,9 @@ class SkeletonField final : public Field {
   // (20,000-segment tree: 20 % more time placing vertices). Parallel on ctx's threads; the
   // order (by code, ties by index) does not depend on them. It was sequential, about 7 % of the
   // benchmark tree's polygonization on two threads.
+  // Batches of at most this many points are Morton-sorted by comparison (morton_order()).
+  static constexpr std::size_t kSmallSort = 1024;
+
   static std::vector<std::uint32_t> morton_order(std::span<const Vec3> points, const Context* ctx) {
     const std::size_t n = points.size();
     const std::size_t chunk_count = (n + detail::kChunk - 1) / detail::kChunk;
@@ -379,6 +382,14 @@ class SkeletonField final : public Field {
           key[i] = static_cast<std::uint64_t>(c) << 32U | i;
         },
         ctx);
+    // A small batch (a line tracer's scattered points, many calls a drawing) is sorted directly:
+    // the keys are unique, so this is the radix sort's order, without its 1,024-digit passes.
+    if (n <= kSmallSort) {
+      std::sort(key.get(), key.get() + n);
+      std::vector<std::uint32_t> order(n);
+      for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(key[i]);
+      return order;
+    }
     // Stable LSD radix sort on the codes, three passes of 10 bits, each over fixed blocks of the
     // keys: the blocks count their digits in parallel, and each scatters its keys in parallel
     // behind those of the blocks before it (the result does not depend on the thread count).
