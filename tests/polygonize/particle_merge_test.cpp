@@ -93,7 +93,7 @@ TEST(JoinMergingBranches, RepairJoinsANodeNearbyOrLeavesItInPlace) {
 
 // A child from the trunk's node that runs inside the trunk's tube before it leaves it: reached
 // from the trunk through nodes inside its tube, so it is the trunk's own child and not joined.
-TEST(JoinMergingBranches, ChildInsideItsParentsTubeAtTheForkIsNotJoined) {
+TEST(JoinMergingBranches, ChildInsideItsParentsTubeAtTheForkKeepsItsEdges) {
   Skeleton s;
   s.nodes = {{Vec3(0, 0, -3), 1.0},
              {Vec3(0, 0, 0), 1.0},
