@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <numeric>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -197,9 +198,40 @@ class SkeletonField final : public Field {
     }
     const std::size_t chunks = starts.size();
     starts.push_back(n);
-    auto run_chunk = [&](std::size_t c) {
+    // Groups of up to kGroupChunks consecutive chunks of more than kCachedChunk points (the
+    // Morton order keeps them near each other) share one query of the BVH for the group's box;
+    // each chunk then keeps the group's candidates that may reach its own box. A candidate list
+    // is a superset of what reaches its points either way, so the values are the same; one
+    // query per chunk was a tenth of a dense tree's polygonization.
+    std::vector<std::size_t> group_starts;  // group g is chunks [group_starts[g], [g + 1])
+    std::vector<Aabb> chunk_boxes;
+    if (prune_ && chunks >= 2) {
+      chunk_boxes.resize(chunks);
+      Aabb group_box;
+      for (std::size_t c = 0; c < chunks; ++c) {
+        for (std::size_t k = starts[c]; k < starts[c + 1]; ++k) chunk_boxes[c].extend(point_at(k));
+        Aabb grown = group_box;
+        grown.extend(chunk_boxes[c]);
+        const bool joins = c > 0 && c - group_starts.back() < kGroupChunks &&
+                           starts[c + 1] - starts[c] > kCachedChunk &&
+                           starts[c] - starts[c - 1] > kCachedChunk &&
+                           grown.diagonal().norm() <= 2 * split_diagonal_;
+        if (joins) {
+          group_box = grown;
+        } else {
+          group_starts.push_back(c);
+          group_box = chunk_boxes[c];
+        }
+      }
+    } else {
+      for (std::size_t c = 0; c < chunks; ++c) group_starts.push_back(c);
+    }
+    const std::size_t groups = group_starts.size();
+    group_starts.push_back(chunks);
+    auto run_chunk = [&](std::size_t c, const std::vector<std::uint32_t>* group_ids) {
       detail::Chunk chunk;
       thread_local std::vector<std::uint32_t> ids;  // every primitive, when not pruning
+      thread_local std::vector<std::uint32_t> kept;  // the group's candidates for this chunk
       const std::size_t begin = starts[c];
       const std::size_t count = starts[c + 1] - begin;
       auto point_index = [&](std::size_t k) {
@@ -227,7 +259,13 @@ class SkeletonField final : public Field {
         std::fill_n(chunk.gz, chunk.padded, 0.0);
       }
       const std::vector<std::uint32_t>* use = &ids;
-      if (prune_ && !box.isEmpty() && box.min().allFinite() && box.max().allFinite()) {
+      if (group_ids != nullptr) {
+        kept.clear();
+        for (const std::uint32_t i : *group_ids) {
+          if (!out_of_reach(i, box)) kept.push_back(i);
+        }
+        use = &kept;
+      } else if (prune_ && !box.isEmpty() && box.min().allFinite() && box.max().allFinite()) {
         use = &candidates(box, count);
       } else {
         ids.clear();
@@ -240,10 +278,24 @@ class SkeletonField final : public Field {
         if (with_gradient) gradients[i] = Vec3(chunk.gx[k], chunk.gy[k], chunk.gz[k]);
       }
     };
-    if (chunks >= 2) {
-      parallel::for_each(chunks, 1, run_chunk, ctx);
+    auto run_group = [&](std::size_t g) {
+      const std::size_t first = group_starts[g], last = group_starts[g + 1];
+      const Aabb box = last - first >= 2 ? std::accumulate(chunk_boxes.begin() + first + 1,
+                                                           chunk_boxes.begin() + last,
+                                                           chunk_boxes[first], extended)
+                                         : Aabb();
+      if (last - first < 2 || !box.min().allFinite() || !box.max().allFinite()) {
+        for (std::size_t c = first; c < last; ++c) run_chunk(c, nullptr);
+        return;
+      }
+      thread_local std::vector<std::uint32_t> group_ids;
+      collect(box, group_ids);
+      for (std::size_t c = first; c < last; ++c) run_chunk(c, &group_ids);
+    };
+    if (groups >= 2) {
+      parallel::for_each(groups, 1, run_group, ctx);
     } else {
-      for (std::size_t c = 0; c < chunks; ++c) run_chunk(c);
+      for (std::size_t g = 0; g < groups; ++g) run_group(g);
     }
   }
 
@@ -253,6 +305,29 @@ class SkeletonField final : public Field {
   static constexpr std::size_t kCachedChunk = 16;
   // Most lists a thread's cache holds before it starts afresh.
   static constexpr std::size_t kCachedLists = std::size_t{1} << 14;
+
+  // Chunks of more than kCachedChunk points share a BVH query in groups of at most this many.
+  static constexpr std::size_t kGroupChunks = 4;
+
+  static Aabb extended(Aabb a, const Aabb& b) {
+    a.extend(b);
+    return a;
+  }
+
+  // Whether primitive i's support provably misses `box`.
+  bool out_of_reach(std::uint32_t i, const Aabb& box) const {
+    return lower_distance(box, point_a(i), point_b(i)) > reach_[i] * (1 + kSupportMargin);
+  }
+
+  // Into `ids`, ascending: the primitives of the BVH's support boxes that meet `box`, less those
+  // whose segment is provably out of reach (the support boxes are loose around slanted
+  // segments).
+  void collect(const Aabb& box, std::vector<std::uint32_t>& ids) const {
+    ids.clear();
+    bvh_.query(box, ids);
+    std::erase_if(ids, [&](std::uint32_t i) { return out_of_reach(i, box); });
+    std::sort(ids.begin(), ids.end());
+  }
 
   // The primitives whose support may reach `box`, ascending: those of the BVH's support boxes
   // that meet it, less those whose segment is provably out of reach (lower_distance). A superset
@@ -270,14 +345,7 @@ class SkeletonField final : public Field {
     thread_local Cache cache;
     thread_local std::vector<std::uint32_t> fresh;
     const auto make = [&](const Aabb& query, std::vector<std::uint32_t>& ids) {
-      ids.clear();
-      bvh_.query(query, ids);
-      // The support boxes are loose around slanted segments: drop the primitives whose support
-      // misses the box.
-      std::erase_if(ids, [&](std::uint32_t i) {
-        return lower_distance(query, point_a(i), point_b(i)) > reach_[i] * (1 + kSupportMargin);
-      });
-      std::sort(ids.begin(), ids.end());
+      collect(query, ids);
     };
     if (count <= kCachedChunk && std::isfinite(split_diagonal_) && split_diagonal_ > 0) {
       const double cell = split_diagonal_ / 16;

@@ -601,6 +601,32 @@ TEST(SkeletonField, BatchIsBitIdenticalToSingle) {
   }
 }
 
+// A large batch packed near the skeleton: its Morton-sorted chunks are full and close, so they
+// share their candidates in groups (skeleton_field.cpp, do_evaluate), and most lanes of a
+// primitive's vectors lie beyond its support and are skipped (skeleton_field_simd.cpp). Neither
+// may change a value or a gradient, against one point at a time.
+TEST(SkeletonField, DenseBatchIsBitIdenticalToSingle) {
+  const Skeleton tree = test::random_tree(44, 301);
+  Rng rng(12);
+  for (const auto& o : all_options()) {
+    const FieldPtr f = make_skeleton_field(tree, o);
+    std::vector<Vec3> pts(3000);
+    for (auto& p : pts) p = point_near(tree, rng, 1.5);
+    std::vector<double> vals(pts.size());
+    std::vector<Vec3> grads(pts.size());
+    f->evaluate(pts, vals, grads);
+    int nonzero = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const double v = f->value(pts[i]);
+      const Vec3 g = f->gradient(pts[i]);
+      nonzero += v != 0;
+      ASSERT_EQ(std::memcmp(&v, &vals[i], sizeof v), 0) << name(o) << " i " << i;
+      ASSERT_TRUE(g == grads[i]) << name(o) << " i " << i;
+    }
+    EXPECT_GT(nonzero, 2000) << name(o);
+  }
+}
+
 // f is one function: asking for gradients must not change the values.
 TEST(SkeletonField, ValuesDoNotDependOnGradientRequest) {
   const Skeleton tree = test::random_tree(42, 201);
