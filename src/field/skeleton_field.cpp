@@ -8,9 +8,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <numeric>
 #include <memory>
 #include <numbers>
+#include <numeric>
 #include <string>
 #include <unordered_map>
 
