@@ -705,6 +705,7 @@ TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,
     improve_triangles(mesh, field, skeleton, io, ctx, &is);
     st.seconds_improve += since(t0);
     accumulate(st.improve, is, pass == 0);
+    if (options.on_pass) options.on_pass(mesh);
     t0 = Clock::now();
     st.deviation = measure_deviation(mesh, field, &skeleton, dev, ctx);
     st.seconds_measure += since(t0);

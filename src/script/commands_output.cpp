@@ -210,6 +210,7 @@ CommandResult run_save_mesh(Call& c) {
   }
   TriMesh mesh;
   std::vector<TriMesh> levels;
+  bool sent = false;  // on_mesh already has the mesh (polygonize_to_tolerance's on_pass)
   std::string how;
   std::size_t open_loops = 0;  // method=particles: boundary loops at open ends
   if (method != "particles") refuse(c, kParticleKeys, "particles");
@@ -265,7 +266,13 @@ CommandResult run_save_mesh(Call& c) {
             (c.session().options.draft ? " (draft)" : "");
     } else {
       ToleranceStats st;
+      // The mesh goes to on_mesh before its deviation is measured (a tenth of the time); a
+      // second pass, when the measure asks for one, sends its mesh again.
+      if (c.session().options.on_mesh) {
+        t.on_pass = [&](const TriMesh& m) { c.session().options.on_mesh(c.arg(0).text, m); };
+      }
       mesh = polygonize_to_tolerance(*obj.field, *obj.skeleton, t, c.session().ctx, &st);
+      sent = t.on_pass != nullptr;
       how = "tets to tolerance " + format_number(t.tolerance) + ": deviation p99 " +
             format_number(st.deviation.samples.p99) + ", max " +
             format_number(st.deviation.samples.max) + " of the local radius" +
@@ -299,7 +306,7 @@ CommandResult run_save_mesh(Call& c) {
           (c.session().options.draft ? " (draft)" : "");
   }
   if (levels.empty()) levels.push_back(std::move(mesh));
-  if (c.session().options.on_mesh) c.session().options.on_mesh(c.arg(0).text, levels[0]);
+  if (c.session().options.on_mesh && !sent) c.session().options.on_mesh(c.arg(0).text, levels[0]);
   // Each file gets normals (unless normals=no) and, by its format (uv=auto: .glb and .obj) or
   // as uv= says, bark UVs; the two variants are made once each.
   std::vector<TriMesh> plain, textured;

@@ -106,6 +106,21 @@ TEST(PolygonizeToTolerance, SameMeshOnAnyThreadCount) {
   }
 }
 
+// on_pass sees each pass's mesh before it is measured (the studio shows it meanwhile): once per
+// pass, the last one the result itself.
+TEST(PolygonizeToTolerance, OnPassSeesEachPassBeforeItsMeasure) {
+  const Skeleton s = tree(30);
+  const FieldPtr f = make_skeleton_field(s);
+  ToleranceOptions o;
+  std::vector<TriMesh> seen;
+  o.on_pass = [&](const TriMesh& m) { seen.push_back(m); };
+  ToleranceStats st;
+  const TriMesh m = polygonize_to_tolerance(*f, s, o, nullptr, &st);
+  ASSERT_EQ(seen.size(), static_cast<std::size_t>(st.passes));
+  EXPECT_EQ(seen.back().triangles, m.triangles);
+  EXPECT_EQ(seen.back().positions, m.positions);
+}
+
 TEST(RefineToSurface, SplitsOnlyWhereTheMeshIsFarAndRespectsTheBudget) {
   const Skeleton s = tree(20);
   const FieldPtr f = make_skeleton_field(s);

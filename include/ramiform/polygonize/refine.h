@@ -40,6 +40,7 @@
 /// count.
 
 #include <cstddef>
+#include <functional>
 #include <span>
 
 #include "ramiform/core/context.h"
@@ -123,6 +124,11 @@ struct ToleranceOptions {
   /// The triangle improvement after each refinement pass (its `tolerance` is set to the pass's
   /// edge tolerance; `max_rounds = 0` turns it off).
   ImproveOptions improve;
+  /// When set, called with the mesh of each pass once it is refined and improved, before its
+  /// deviation is measured: the result, unless the measure finds the tolerance missed and
+  /// another pass follows (a viewer shows it while the measure runs). Runs on the calling
+  /// thread; must not keep the reference.
+  std::function<void(const TriMesh& mesh)> on_pass;
 };
 
 /// What polygonize_to_tolerance() did.

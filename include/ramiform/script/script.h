@@ -58,6 +58,9 @@ struct ScriptOptions {
   /// polygonized, before normals, bark UVs and the files, which can take as long again (the
   /// studio shows the new surface while they are made). The mesh is the geometry the files
   /// will hold (the seam copies of bark UVs aside); the callback must not keep the reference.
+  /// A mesh made to a tolerance is sent before its deviation is measured; in the rare case the
+  /// measure asks for a second refinement pass, the same shape is sent again with that pass's
+  /// mesh (the last call holds the files' geometry).
   /// Runs on the session's thread; an exception from it ends the command.
   std::function<void(const std::string& shape, const TriMesh& mesh)> on_mesh;
 };
