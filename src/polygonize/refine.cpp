@@ -36,6 +36,9 @@ constexpr std::size_t kBytesPerTriangle = 256;
 /// sag by at most this share of its parent's first-order distance, and is not evaluated again
 /// when that stays within the tolerance.
 constexpr double kHalfSag = 0.5;
+/// A median's chord (from an edge's midpoint to the opposite corner) is assumed to sag by at
+/// most this multiple of the sag the parallelogram law predicts for it (refine_round()).
+constexpr double kMedianSag = 2.0;
 /// A Newton step at most this long (in local radii) ends the projection of a new vertex.
 constexpr double kConvergedStep = 3e-3;
 /// The share of the mesh's area the first refinement pass may leave beyond the tolerance
@@ -80,6 +83,9 @@ struct Edges {
   /// Per edge, its midpoint's first-order distance from the surface where it was evaluated,
   /// else a bound derived from the edges it came from (see refine_round), else infinity.
   std::vector<double> sag;
+  /// Per edge, its midpoint's signed first-order distance (f - iso) / |grad f| where it was
+  /// evaluated, else a prediction from the edges it came from (see refine_round), else NaN.
+  std::vector<double> curve;
 };
 
 Edges mesh_edges(const TriMesh& mesh) {
@@ -115,6 +121,7 @@ Edges mesh_edges(const TriMesh& mesh) {
     }
   }
   e.sag.assign(e.ends.size(), std::numeric_limits<double>::infinity());
+  e.curve.assign(e.ends.size(), std::numeric_limits<double>::quiet_NaN());
   return e;
 }
 
@@ -188,6 +195,7 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
         const double gn = grad[c].norm();
         estimate[c] = gn > 0.0 ? std::abs(value[c] - iso) / gn : std::numeric_limits<double>::infinity();
         edges.sag[e] = estimate[c];
+        edges.curve[e] = gn > 0.0 ? (value[c] - iso) / gn : std::numeric_limits<double>::quiet_NaN();
         const double length =
             (mesh.positions[edges.ends[e][0]] - mesh.positions[edges.ends[e][1]]).norm();
         // An edge already short against the radius sags by less than the tolerance (L^2 / 8 r);
@@ -326,12 +334,14 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   Edges out;
   out.ends.resize(next_edge);
   out.sag.assign(next_edge, std::numeric_limits<double>::infinity());
+  out.curve.assign(next_edge, std::numeric_limits<double>::quiet_NaN());
   out.of_slot.resize(3 * (nt + added));
   for (std::size_t e = 0; e < ne; ++e) {
     const auto [a, b] = edges.ends[e];
     if (new_id[e] == kNone) {
       out.ends[first_edge[e]] = {a, b};
       out.sag[first_edge[e]] = edges.sag[e];
+      out.curve[first_edge[e]] = edges.curve[e];
     } else {
       out.ends[first_edge[e]] = {a, new_id[e]};  // new vertices come after all old ones
       out.ends[first_edge[e] + 1] = {b, new_id[e]};
@@ -354,6 +364,9 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   // A new inner edge; its sag bound comes from the old edge it is parallel to (below), kNone
   // for none.
   std::vector<std::uint32_t> inner_from;
+  // Medians and diagonals: the new edge, then the old edges of its triangle: the two from its
+  // corner, then the split one whose midpoint it ends at.
+  std::vector<std::array<std::uint32_t, 4>> median_of;
   auto inner = [&](std::uint32_t a, std::uint32_t b, std::uint32_t parallel) {
     out.ends.push_back({std::min(a, b), std::max(a, b)});
     inner_from.push_back(parallel);
@@ -389,6 +402,7 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
       const int k = m[0] != kNone ? 0 : (m[1] != kNone ? 1 : 2);
       const std::uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
       const std::uint32_t mc = inner(m[k], c, kNone);
+      median_of.push_back({mc, old[(k + 2) % 3], old[(k + 1) % 3], old[k]});
       emit(a, m[k], c, half(k, a), mc, whole(k + 2), t);
       emit(m[k], b, c, half(k, b), whole(k + 1), mc, t);
     } else {
@@ -403,10 +417,12 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
       };
       if ((pos(a) - pos(m1)).squaredNorm() <= (pos(b) - pos(m2)).squaredNorm()) {
         const std::uint32_t d = inner(a, m1, kNone);
+        median_of.push_back({d, old[k], old[(k + 2) % 3], old[(k + 1) % 3]});
         emit(a, b, m1, whole(k), half(k + 1, b), d, t);
         emit(a, m1, m2, d, i12, half(k + 2, a), t);
       } else {
         const std::uint32_t d = inner(b, m2, kNone);
+        median_of.push_back({d, old[k], old[(k + 1) % 3], old[(k + 2) % 3]});
         emit(a, b, m2, whole(k), d, half(k + 2, a), t);
         emit(b, m1, m2, half(k + 1, b), i12, d, t);
       }
@@ -551,19 +567,30 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   // - a half of a split edge, a quarter of its parent's;
   // - an inner edge joining two edge midpoints is parallel to the third edge at half its length:
   //   a quarter of that edge's.
+  // - a median (from a midpoint to the opposite corner; a quadrilateral's diagonal is one) of a
+  //   triangle with sides u, v from that corner: by the parallelogram law, which holds for any
+  //   quadratic form, definite or not (the saddles of forks), Q((u + v) / 2) =
+  //   (2 Q(u) + 2 Q(v) - Q(u - v)) / 4, so its signed sag is (2 s_u + 2 s_v - s_split) / 4 from
+  //   the signed sags of the triangle's three edges (`curve`, measured or predicted alike).
+  //   Without the signs, a bound from the two sides alone, (sqrt s_u + sqrt s_v)^2 / 4, holds
+  //   only where K is semi-definite, and at forks it let the largest deviation on the benchmark
+  //   tree rise from 0.21 to 0.41 radii; so medians were all evaluated, a tenth of the field
+  //   evaluations of a mesh. With the prediction (taken kMedianSag times over) the benchmark
+  //   tree and the scanned and generated trees keep their triangle counts within 0.04 %, their
+  //   p99 and, over 300,000 points, their largest deviation, for 8-12 % fewer evaluations.
   // Each bound is taken twice over (kHalfSag = 2 x 1/4), for the first-order distance and
-  // curvature that varies; an edge at a vertex not taken onto the surface gets none. Medians
-  // (from a midpoint to the opposite corner) and a quadrilateral's diagonal are always
-  // evaluated: a median's bound from the two edges beside it, (sqrt s_u + sqrt s_v)^2 / 4,
-  // holds only where K is semi-definite, and at the saddles of forks it let the largest
-  // deviation on the benchmark tree rise from 0.21 to 0.41 radii.
+  // curvature that varies; an edge at a vertex not taken onto the surface gets none.
   off.resize(mesh.positions.size(), 0);
   out.sag.resize(out.ends.size(), std::numeric_limits<double>::infinity());
+  out.curve.resize(out.ends.size(), std::numeric_limits<double>::quiet_NaN());
   for (std::size_t i = 0; i < ns; ++i) {
     if (moved[i] != 1) continue;
     const double half = kHalfSag * estimate[split_candidate[i]];
     out.sag[first_edge[split_edges[i]]] = half;
     out.sag[first_edge[split_edges[i]] + 1] = half;
+    const double quarter = edges.curve[split_edges[i]] / 4;
+    out.curve[first_edge[split_edges[i]]] = quarter;
+    out.curve[first_edge[split_edges[i]] + 1] = quarter;
   }
   auto on_surface = [&](std::uint32_t v) { return v < nv_old || moved[v - nv_old] == 1; };
   for (std::size_t k = 0; k < inner_from.size(); ++k) {
@@ -571,6 +598,15 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
     const std::uint32_t p = inner_from[k];
     if (p == kNone || !on_surface(out.ends[e][0]) || !on_surface(out.ends[e][1])) continue;
     out.sag[e] = kHalfSag * edges.sag[p];
+    out.curve[e] = edges.curve[p] / 4;
+  }
+  for (const auto& [me, s1, s2, sp] : median_of) {
+    if (!on_surface(out.ends[me][0]) || !on_surface(out.ends[me][1])) continue;
+    const double c1 = edges.curve[s1], c2 = edges.curve[s2], c3 = edges.curve[sp];
+    const double p = (2 * c1 + 2 * c2 - c3) / 4;
+    if (std::isnan(p)) continue;
+    out.curve[me] = p;
+    out.sag[me] = kMedianSag * std::abs(p);
   }
   edges = std::move(out);
   for (std::size_t i = 0; i < ns; ++i) {
