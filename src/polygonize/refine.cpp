@@ -195,7 +195,8 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
         const double gn = grad[c].norm();
         estimate[c] = gn > 0.0 ? std::abs(value[c] - iso) / gn : std::numeric_limits<double>::infinity();
         edges.sag[e] = estimate[c];
-        edges.curve[e] = gn > 0.0 ? (value[c] - iso) / gn : std::numeric_limits<double>::quiet_NaN();
+        edges.curve[e] =
+            gn > 0.0 ? (value[c] - iso) / gn : std::numeric_limits<double>::quiet_NaN();
         const double length =
             (mesh.positions[edges.ends[e][0]] - mesh.positions[edges.ends[e][1]]).norm();
         // An edge already short against the radius sags by less than the tolerance (L^2 / 8 r);
