@@ -85,7 +85,8 @@ struct Edges {
   std::vector<double> sag;
   /// Per edge, its midpoint's signed first-order distance (f - iso) / |grad f| where it was
   /// evaluated, else a prediction from the edges it came from (see refine_round), else NaN.
-  std::vector<double> curve;
+  /// Single precision: it only decides which edges to evaluate, and halves the memory.
+  std::vector<float> curve;
 };
 
 Edges mesh_edges(const TriMesh& mesh) {
@@ -121,7 +122,7 @@ Edges mesh_edges(const TriMesh& mesh) {
     }
   }
   e.sag.assign(e.ends.size(), std::numeric_limits<double>::infinity());
-  e.curve.assign(e.ends.size(), std::numeric_limits<double>::quiet_NaN());
+  e.curve.assign(e.ends.size(), std::numeric_limits<float>::quiet_NaN());
   return e;
 }
 
@@ -195,8 +196,8 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
         const double gn = grad[c].norm();
         estimate[c] = gn > 0.0 ? std::abs(value[c] - iso) / gn : std::numeric_limits<double>::infinity();
         edges.sag[e] = estimate[c];
-        edges.curve[e] =
-            gn > 0.0 ? (value[c] - iso) / gn : std::numeric_limits<double>::quiet_NaN();
+        edges.curve[e] = gn > 0.0 ? static_cast<float>((value[c] - iso) / gn)
+                                  : std::numeric_limits<float>::quiet_NaN();
         const double length =
             (mesh.positions[edges.ends[e][0]] - mesh.positions[edges.ends[e][1]]).norm();
         // An edge already short against the radius sags by less than the tolerance (L^2 / 8 r);
@@ -335,7 +336,7 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   Edges out;
   out.ends.resize(next_edge);
   out.sag.assign(next_edge, std::numeric_limits<double>::infinity());
-  out.curve.assign(next_edge, std::numeric_limits<double>::quiet_NaN());
+  out.curve.assign(next_edge, std::numeric_limits<float>::quiet_NaN());
   out.of_slot.resize(3 * (nt + added));
   for (std::size_t e = 0; e < ne; ++e) {
     const auto [a, b] = edges.ends[e];
@@ -583,13 +584,13 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   // curvature that varies; an edge at a vertex not taken onto the surface gets none.
   off.resize(mesh.positions.size(), 0);
   out.sag.resize(out.ends.size(), std::numeric_limits<double>::infinity());
-  out.curve.resize(out.ends.size(), std::numeric_limits<double>::quiet_NaN());
+  out.curve.resize(out.ends.size(), std::numeric_limits<float>::quiet_NaN());
   for (std::size_t i = 0; i < ns; ++i) {
     if (moved[i] != 1) continue;
     const double half = kHalfSag * estimate[split_candidate[i]];
     out.sag[first_edge[split_edges[i]]] = half;
     out.sag[first_edge[split_edges[i]] + 1] = half;
-    const double quarter = edges.curve[split_edges[i]] / 4;
+    const float quarter = edges.curve[split_edges[i]] / 4;
     out.curve[first_edge[split_edges[i]]] = quarter;
     out.curve[first_edge[split_edges[i]] + 1] = quarter;
   }
@@ -603,10 +604,10 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   }
   for (const auto& [me, s1, s2, sp] : median_of) {
     if (!on_surface(out.ends[me][0]) || !on_surface(out.ends[me][1])) continue;
-    const double c1 = edges.curve[s1], c2 = edges.curve[s2], c3 = edges.curve[sp];
+    const double c1 = edges.curve[s1], c2 = edges.curve[s2], c3 = edges.curve[sp];  // widened
     const double p = (2 * c1 + 2 * c2 - c3) / 4;
     if (std::isnan(p)) continue;
-    out.curve[me] = p;
+    out.curve[me] = static_cast<float>(p);
     out.sag[me] = kMedianSag * std::abs(p);
   }
   edges = std::move(out);
