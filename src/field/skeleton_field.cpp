@@ -344,9 +344,6 @@ class SkeletonField final : public Field {
     };
     thread_local Cache cache;
     thread_local std::vector<std::uint32_t> fresh;
-    const auto make = [&](const Aabb& query, std::vector<std::uint32_t>& ids) {
-      collect(query, ids);
-    };
     if (count <= kCachedChunk && std::isfinite(split_diagonal_) && split_diagonal_ > 0) {
       const double cell = split_diagonal_ / 16;
       const Vec3 at = box.center() / cell;
@@ -368,7 +365,7 @@ class SkeletonField final : public Field {
           const auto [it, is_new] = cache.lists.try_emplace(key);
           if (is_new) {
             try {
-              make(grown, it->second);
+              collect(grown, it->second);
             } catch (...) {
               cache.lists.erase(it);
               throw;
@@ -378,7 +375,7 @@ class SkeletonField final : public Field {
         }
       }
     }
-    make(box, fresh);
+    collect(box, fresh);
     return fresh;
   }
 
