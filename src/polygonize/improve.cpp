@@ -1043,19 +1043,20 @@ class Improver {
           break;
         }
         case Move::kNudge: {
-          // Below kHardAngleDeg, when nothing before fits: a corner moves a short step (half to
-          // four times what opens a needle's angle to kHardAngleDeg, or times its shortest
-          // edge) in one of the directions of kNudgeDirections in its fan's tangent plane (of
-          // its area vector), along that normal or along the shortest edge, and back onto the
-          // surface. Of the three corners and their steps, the one whose fan gets the best
-          // smallest angle without turning a triangle over is tried (keeps_side(), the test
-          // try_replace() applies too). It mends the needles the moves before leave: their
-          // short edge lies on a pinched neck of the mesh (a cycle of three edges that is no
-          // triangle, so the link condition refuses its collapse), where the refined mesh
-          // stands across the surface and every larger move turns a triangle against the
-          // gradient (on archi_Tree_1 and the studio's tree, 2026-12-07: short edges of 5e-6
-          // to 7e-4 against others of 0.01-0.07, in clusters of near-coincident vertices).
-          if (!sc.relaxed) break;
+          // Below kHardAngleDeg, when no move before fits at all (elsewhere it would replace a
+          // better-placed change and alter meshes it need not): a corner moves a short step (half
+          // to four times what opens a needle's angle to kHardAngleDeg, or times its shortest edge)
+          // in one of the directions of kNudgeDirections in its fan's tangent plane (of its area
+          // vector), along that normal or along the shortest edge, and back onto the surface. Of
+          // the three corners and their steps, the one whose fan gets the best smallest angle
+          // without turning a triangle over is tried (keeps_side(), the test try_replace() applies
+          // too). It mends the needles the moves before leave: their short edge lies on a pinched
+          // neck of the mesh (a cycle of three edges that is no triangle, so the link condition
+          // refuses its collapse), where the refined mesh stands across the surface and every
+          // larger move turns a triangle against the gradient (on archi_Tree_1 and the studio's
+          // tree, 2026-12-07: short edges of 5e-6 to 7e-4 against others of 0.01-0.07, in clusters
+          // of near-coincident vertices).
+          if (!sc.relaxed || op.kind != Op::Kind::kNone) break;
           if (!resume.nudge_chosen) {
             std::uint32_t best = kNone;
             double best_quality = std::max(op.quality, 0.0);

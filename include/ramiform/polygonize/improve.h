@@ -27,11 +27,12 @@
 ///  5. below 1.5 degrees only: collapse the **patch** of bad triangles joined to the triangle
 ///     through shared corners (at most 12 vertices) into its centroid on the surface, and
 ///     relax the third corner too.
-///  6. below 1.5 degrees only: **nudge** a corner a short step (half to four times the
-///     triangle's longest edge times sin 1.5 degrees, or times its shortest edge) in one of 12
-///     directions of its fan's tangent plane, along that plane's normal or along the shortest
-///     edge, and back onto the surface: of the corners and steps, the one whose fan gets the
-///     best smallest angle without turning a triangle over. It mends the needles whose short
+///  6. below 1.5 degrees, when none of the moves before is possible: **nudge** a corner a
+///     short step (half to four times the triangle's longest edge times sin 1.5 degrees, or
+///     times its shortest edge) in one of 12 directions of its fan's tangent plane, along that
+///     plane's normal or along the shortest edge, and back onto the surface: of the corners
+///     and steps, the one whose fan gets the best smallest angle without turning a triangle
+///     over. It mends the needles whose short
 ///     edge lies on a pinched neck of the mesh (a cycle of three edges that is no triangle, so
 ///     no collapse keeps it 2-manifold), where the triangles stand across the surface and any
 ///     larger move turns one of them against the gradient.
