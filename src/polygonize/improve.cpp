@@ -37,8 +37,8 @@ constexpr std::size_t kGrain = 16384;  // triangles per chunk of the scans over 
 constexpr std::size_t kOpGrain = 64;   // bad triangles per chunk of the operations' evaluation
 // Request-and-evaluate stages per round: flips and the collapses into an end point need one
 // (midpoints), a collapse into the projected midpoint two (the point, then its edges), and a
-// relaxation, tried only when no flip or collapse does, two more.
-constexpr int kStages = 10;
+// relaxation, tried only when no flip or collapse does, two more; the nudge, last, two more.
+constexpr int kStages = 12;
 // Newton steps onto the surface, as refine_to_surface() takes them: a step below kNewtonStop
 // local radii leaves a distance of the order of its square, far below any tolerance.
 constexpr int kNewtonSteps = 8;
@@ -58,6 +58,12 @@ constexpr std::size_t kGroupGrain = 64;
 // test of its midpoint (as refine_to_surface()'s min_edge_radii: it sags by less than 1/128 of
 // a radius).
 constexpr double kShortEdge = 0.25;
+// The nudge (see Move::kNudge): its steps, in multiples of the bad triangle's longest edge times
+// sin(kHardAngleDeg) (about what opens a needle's angle to kHardAngleDeg) and of its shortest
+// edge, and the directions tried in the tangent plane (four more: along the normal and along
+// the shortest edge, both ways).
+constexpr std::array<double, 4> kNudgeSteps = {0.5, 1.0, 2.0, 4.0};
+constexpr int kNudgeDirections = 12;
 // A cluster: vertices joined by edges shorter than this times the bad triangle's longest edge.
 constexpr double kClusterEdge = 0.2;
 
@@ -195,6 +201,7 @@ struct Scratch {
   std::vector<std::array<Vec3, 4>> tets;
   std::vector<Vec3> old_normals;
   bool relaxed = false;  // see Improver::follows
+  bool nudging = false;  // see Improver::try_replace
   // prepare_disk()'s results: the smallest angle (sine) of the disk, the box of its corners,
   // and the disk triangles with one cluster vertex (the triangle, that corner).
   double old_worst = 1.0;
@@ -239,14 +246,19 @@ struct Resume {
   std::uint32_t relax_corner = kNone;
   Vec3 relax_start = Vec3::Zero();
   double relax_reach = 0;
+  // The nudge level's choice of corner (kNone: none fits), start and step, once made.
+  bool nudge_chosen = false;
+  std::uint32_t nudge_corner = kNone;
+  Vec3 nudge_start = Vec3::Zero();
+  double nudge_step = 0;
 };
 // The moves choose() tries, in this order (kOrder): flips of the triangle's edges;
 // relaxation of a corner; the collapse of its shortest edge into an end point, into its
 // midpoint on the surface; the collapse of the cluster of near-coincident vertices around that
 // edge into one of them, into their centroid on the surface; the collapse of the patch of bad
-// triangles around it. Relaxation comes second: on archi_Tree_1 (fitted radii), where most bad
-// triangles are caps of 7-9 degrees that only a relaxation mends, that order takes a quarter
-// less time than collapses first, for the same result.
+// triangles around it; a nudge of a corner. Relaxation comes second: on archi_Tree_1 (fitted
+// radii), where most bad triangles are caps of 7-9 degrees that only a relaxation mends, that order
+// takes a quarter less time than collapses first, for the same result.
 enum class Move {
   kFlip,
   kRelax,
@@ -254,12 +266,17 @@ enum class Move {
   kEdgeToMidpoint,
   kClusterToVertex,
   kClusterToCentroid,
-  kPatch
+  kPatch,
+  kNudge
 };
-constexpr std::array<Move, 7> kOrder = {
-    Move::kFlip,           Move::kRelax,           Move::kEdgeToEnd,
-    Move::kEdgeToMidpoint, Move::kClusterToVertex, Move::kClusterToCentroid,
-    Move::kPatch};
+constexpr std::array<Move, 8> kOrder = {Move::kFlip,
+                                        Move::kRelax,
+                                        Move::kEdgeToEnd,
+                                        Move::kEdgeToMidpoint,
+                                        Move::kClusterToVertex,
+                                        Move::kClusterToCentroid,
+                                        Move::kPatch,
+                                        Move::kNudge};
 constexpr int kLevels = static_cast<int>(kOrder.size());
 
 class Improver {
@@ -489,6 +506,12 @@ class Improver {
     return true;
   }
 
+  // Whether a new triangle of normal `fresh` turns by less than 60 degrees from `src`, the
+  // normal of the triangle it replaces (a nudge's fold test, see try_replace()).
+  static bool keeps_side(const Vec3& fresh, const Vec3& src) {
+    return fresh.dot(src) > 0.5 * fresh.norm() * src.norm();
+  }
+
   // The projection of `start` onto the surface; null (asked for in `req`, with the smallest
   // local radius of `cluster` as its scale and the new vertex's radius) when not known yet.
   const Projection* projection(const Vec3& start, const std::vector<std::uint32_t>& cluster,
@@ -593,12 +616,14 @@ class Improver {
       const double ra = radius(a, req, m), rb = radius(b, req, m);
       double before = edge_distance(pos(a), pos(b), ra, rb, req, m);
       if (sc.relaxed) {
-        // Below kHardAngleDeg: as far as the farthest edge of the pair.
+        // Below kHardAngleDeg: as far as the farthest edge of the pair, plus kSlack of the
+        // tolerance (as try_replace()).
         for (const auto& [x, y] :
              {std::pair{a, c}, std::pair{b, c}, std::pair{a, d}, std::pair{b, d}}) {
           before = std::max(
               before, edge_distance(pos(x), pos(y), radius(x, req, m), radius(y, req, m), req, m));
         }
+        before += kSlack * o_.tolerance;
       }
       return before;
     });
@@ -829,6 +854,13 @@ class Improver {
       bool m = false;
       const double rw = radius(w, req, m);
       const std::array<Vec3, 1> fresh{normal_of({pos(w), pos(w_next), z})};
+      // A nudge may instead keep each triangle within 60 degrees of itself (any way, for one
+      // below kHardAngleDeg: its normal is noise and its area next to none): at a pinched neck
+      // of the mesh the triangles stand across the surface and the gradient there says little
+      // of how they should turn, while a short step that turns none of them far does not fold
+      // the mesh, and its new edges are held to the distance test below.
+      const bool intrinsic =
+          sc.nudging && (sines_[t] < sin_hard_ || keeps_side(fresh[0], normal(mesh_.triangles[t])));
       // A new vertex taken onto the surface and a new edge short against the radius: the
       // chord sags by less than L^2 / 8 r (refine_to_surface()'s min_edge_radii), and the
       // triangle is judged against the surface normal at z.
@@ -838,12 +870,14 @@ class Improver {
           continue;
         }
         if ((z - pos(w)).norm() <= kShortEdge * std::min(rz, rw)) {
-          if (moved && !follows(fresh, sc.old_normals, *on_surface, sc.relaxed)) fits = false;
+          if (moved && !intrinsic && !follows(fresh, sc.old_normals, *on_surface, sc.relaxed)) {
+            fits = false;
+          }
           continue;
         }
       }
       auto fold_ok = [&](const Probe& pr) {
-        return !moved || follows(fresh, sc.old_normals, pr, sc.relaxed);
+        return !moved || intrinsic || follows(fresh, sc.old_normals, pr, sc.relaxed);
       };
       const bool ok = edge_fits(z, pos(w), rz, rw, fold_ok, !same, req, m, [&](bool& mm) {
         // An end point moving by |z - x| moves the midpoint by half that: an old edge beyond
@@ -1005,6 +1039,93 @@ class Improver {
           if (const Projection* p = projection(centroid, cluster, req, missing);
               p != nullptr && p->ok && p->lands_within(centroid, reach)) {
             try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
+          }
+          break;
+        }
+        case Move::kNudge: {
+          // Below kHardAngleDeg, when no move before fits at all (elsewhere it would replace a
+          // better-placed change and alter meshes it need not): a corner moves a short step (half
+          // to four times what opens a needle's angle to kHardAngleDeg, or times its shortest edge)
+          // in one of the directions of kNudgeDirections in its fan's tangent plane (of its area
+          // vector), along that normal or along the shortest edge, and back onto the surface. Of
+          // the three corners and their steps, the one whose fan gets the best smallest angle
+          // without turning a triangle over is tried (keeps_side(), the test try_replace() applies
+          // too). It mends the needles the moves before leave: their short edge lies on a pinched
+          // neck of the mesh (a cycle of three edges that is no triangle, so the link condition
+          // refuses its collapse), where the refined mesh stands across the surface and every
+          // larger move turns a triangle against the gradient (on archi_Tree_1 and the studio's
+          // tree, 2026-12-07: short edges of 5e-6 to 7e-4 against others of 0.01-0.07, in clusters
+          // of near-coincident vertices).
+          if (!sc.relaxed || op.kind != Op::Kind::kNone) break;
+          if (!resume.nudge_chosen) {
+            std::uint32_t best = kNone;
+            double best_quality = std::max(op.quality, 0.0);
+            Vec3 best_start = Vec3::Zero();
+            double best_step = 0;
+            const double base = std::sqrt(longest) * sin_hard_;
+            for (const std::uint32_t w : f) {
+              cluster.assign(1, w);
+              if (!prepare_disk(cluster, sc)) continue;
+              Vec3 area = Vec3::Zero();
+              for (const Vec3& n : sc.old_normals) area += n;
+              const double an = area.norm();
+              if (!(an > 0)) continue;
+              const Vec3 n = area / an;
+              // A tangent frame from the triangle's longest edge (or any, when along n).
+              Vec3 e1 = pos(f[(k + 1) % 3]) - pos(f[(k + 2) % 3]);
+              if (!((e1 - e1.dot(n) * n).squaredNorm() > 1e-6 * e1.squaredNorm())) {
+                e1 = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+              }
+              e1 = (e1 - e1.dot(n) * n).normalized();
+              const Vec3 e2 = n.cross(e1);
+              const Vec3 along = (pos(u) - pos(v)).normalized();
+              for (std::size_t si = 0; si < 2 * kNudgeSteps.size(); ++si) {
+                const double step = kNudgeSteps[si % kNudgeSteps.size()] *
+                                    (si < kNudgeSteps.size() ? base : std::sqrt(shortest));
+                for (int j = 0; j < kNudgeDirections + 4; ++j) {
+                  const double angle = 2.0 * std::numbers::pi * j / kNudgeDirections;
+                  const Vec3 dir = j < kNudgeDirections
+                                       ? Vec3(pm::cos(angle) * e1 + pm::sin(angle) * e2)
+                                   : j == kNudgeDirections     ? n
+                                   : j == kNudgeDirections + 1 ? Vec3(-n)
+                                   : j == kNudgeDirections + 2 ? along
+                                                               : Vec3(-along);
+                  const Vec3 start = pos(w) + step * dir;
+                  double quality = 1.0;
+                  for (const auto& [kt, kk] : sc.kept) {
+                    const Tri& g = mesh_.triangles[kt];
+                    std::array<Vec3, 3> q{pos(g[0]), pos(g[1]), pos(g[2])};
+                    q[kk] = start;
+                    // (a step that turns a triangle over is no candidate: the sine of its
+                    // angle does not see it)
+                    if (sines_[kt] >= sin_hard_ && !keeps_side(normal_of(q), normal(g))) {
+                      quality = -1;
+                      break;
+                    }
+                    quality = std::min(quality, sine_of(q));
+                  }
+                  if (quality > sc.old_worst && quality > best_quality) {
+                    best = w;
+                    best_quality = quality;
+                    best_start = start;
+                    best_step = step;
+                  }
+                }
+              }
+            }
+            resume.nudge_chosen = true;
+            resume.nudge_corner = best;
+            resume.nudge_start = best_start;
+            resume.nudge_step = best_step;
+          }
+          if (resume.nudge_corner == kNone) break;
+          cluster.assign(1, resume.nudge_corner);
+          if (!prepare_disk(cluster, sc)) break;
+          if (const Projection* p = projection(resume.nudge_start, cluster, req, missing);
+              p != nullptr && p->lands_within(resume.nudge_start, resume.nudge_step)) {
+            sc.nudging = true;
+            try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
+            sc.nudging = false;
           }
           break;
         }

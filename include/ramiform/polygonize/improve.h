@@ -27,6 +27,15 @@
 ///  5. below 1.5 degrees only: collapse the **patch** of bad triangles joined to the triangle
 ///     through shared corners (at most 12 vertices) into its centroid on the surface, and
 ///     relax the third corner too.
+///  6. below 1.5 degrees, when none of the moves before is possible: **nudge** a corner a
+///     short step (half to four times the triangle's longest edge times sin 1.5 degrees, or
+///     times its shortest edge) in one of 12 directions of its fan's tangent plane, along that
+///     plane's normal or along the shortest edge, and back onto the surface: of the corners
+///     and steps, the one whose fan gets the best smallest angle without turning a triangle
+///     over. It mends the needles whose short
+///     edge lies on a pinched neck of the mesh (a cycle of three edges that is no triangle, so
+///     no collapse keeps it 2-manifold), where the triangles stand across the surface and any
+///     larger move turns one of them against the gradient.
 /// A collapse or a relaxation replaces a set of vertices (one, for a relaxation) by one new
 /// vertex: the triangles around them must form a disk (V - E + F = 1) whose interior vertices
 /// are exactly the set and whose boundary is one simple cycle with no chord; each disk triangle
@@ -38,7 +47,8 @@
 ///  - follow the surface: each new triangle's normal turns from the surface normal (the field's
 ///    gradient at the midpoint of its new edge, or at the new vertex) by less than
 ///    `max_turn_deg`, or by no more than the worst of the triangles it replaces, and by less
-///    than 90 degrees;
+///    than 90 degrees; or, for a nudge, it turns by less than 60 degrees from the triangle it
+///    replaces (any way, when that one is below 1.5 degrees);
 ///  - stay on the surface: every new edge's midpoint lies within `tolerance` local radii of the
 ///    surface (first-order distance |f - iso| / |grad f|, relative to the smaller local radius
 ///    of its end points, as refine_to_surface() measures edges; mesh/deviation.h's
