@@ -416,8 +416,11 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
   LinePointHash hash(near_factor * mean_delta);
 
   std::vector<std::uint8_t> consumed(candidates.size(), 0);
+  // δ at each candidate, looked up once (a candidate waits through many rounds).
+  std::vector<double> candidate_delta(candidates.size(), -1.0);
   std::vector<Trace> traces;
   std::vector<Correction> steps;
+  std::vector<std::uint32_t> stepping;
   auto any_line_within = [&](const Vec3& p, double radius) {
     return hash.any_within(p, radius, [](std::uint32_t, std::int32_t) { return true; });
   };
@@ -433,7 +436,8 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       if (consumed[k]) continue;
       const Correction& c = jobs[candidates[k]];
-      const double delta = lookup.delta_at(c.q);
+      if (candidate_delta[k] < 0) candidate_delta[k] = lookup.delta_at(c.q);
+      const double delta = candidate_delta[k];
       const double clearance = k < first_gap_seed ? near_factor : kGapSeedClearance;
       if (any_line_within(c.q, clearance * delta)) {
         consumed[k] = 1;
@@ -496,6 +500,7 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
       });
       candidates.insert(candidates.end(), added.begin(), added.end());
       consumed.resize(candidates.size(), 0);
+      candidate_delta.resize(candidates.size(), -1.0);
       continue;
     }
     if (traces.empty()) break;
@@ -504,7 +509,7 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
     for (;;) {
       check_cancel(ctx);
       steps.clear();
-      std::vector<std::uint32_t> stepping;
+      stepping.clear();
       for (std::uint32_t k = 0; k < traces.size(); ++k) {
         const Trace& t = traces[k];
         if (t.finished) continue;
