@@ -141,3 +141,18 @@ double angle_between(const Vec3& a, const Vec3& b) {
 }
 
 }  // namespace ramiform::detail
+
+namespace ramiform {
+
+ParticleLookup::ParticleLookup(const ParticleSystem& particles)
+    : impl_(std::make_unique<Impl>(particles)) {}
+
+ParticleLookup::~ParticleLookup() = default;
+
+void ParticleLookup::Impl::check(const ParticleSystem& particles) const {
+  if (&delta.system() != &particles || delta.positions().size() != particles.particles.size()) {
+    throw InvalidArgument("lines: the particle lookup was made for another particle system");
+  }
+}
+
+}  // namespace ramiform

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <mutex>
 #include <span>
 #include <utility>
 #include <vector>
@@ -47,6 +48,11 @@ class DeltaLookup {
   std::vector<Vec3> positions_;
   PointKdTree tree_;
 };
+
+/// The radius of each particle's surfel (Visibility::kSurfels, visibility.cpp): the distance
+/// to the third nearest other particle.
+[[nodiscard]] std::vector<double> surfel_radii(const ParticleSystem& particles,
+                                               const PointKdTree& tree, const Context* ctx);
 
 /// A growable uniform grid of line points, each tagged with the line it belongs to and its
 /// position along that line. Queries visit the points in insertion order within each cell and
@@ -134,3 +140,24 @@ void project_to_surface(const Field& field, std::span<Vec3> points, std::span<co
 [[nodiscard]] double angle_between(const Vec3& a, const Vec3& b);
 
 }  // namespace ramiform::detail
+
+namespace ramiform {
+
+struct ParticleLookup::Impl {
+  explicit Impl(const ParticleSystem& particles) : delta(particles) {}
+  /// surfel_radii() of the particles, made on first use.
+  [[nodiscard]] const std::vector<double>& radii(const Context* ctx) const {
+    std::call_once(radii_once, [&] { radii_ = detail::surfel_radii(delta.system(), delta.tree(), ctx); });
+    return radii_;
+  }
+  /// Throws InvalidArgument unless this lookup was made for `particles`.
+  void check(const ParticleSystem& particles) const;
+
+  detail::DeltaLookup delta;
+
+ private:
+  mutable std::once_flag radii_once;
+  mutable std::vector<double> radii_;
+};
+
+}  // namespace ramiform

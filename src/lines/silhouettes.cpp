@@ -36,6 +36,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 #include "lines/line_common.h"
@@ -374,14 +375,21 @@ std::vector<Polyline> chain(std::vector<Polyline> pieces, const Camera& camera,
 
 std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& particles,
                                   const Camera& camera, const LineOptions& options,
-                                  LineStats* stats, const Context* ctx) {
+                                  LineStats* stats, const Context* ctx,
+                                  const ParticleLookup* particle_lookup) {
   const auto clock_start = std::chrono::steady_clock::now();
   validate(camera);
   validate(options);
   const std::uint64_t evals_start = field.evaluations();
   std::vector<Polyline> result;
   if (particles.particles.empty()) return result;
-  const DeltaLookup lookup(particles);
+  std::optional<DeltaLookup> own_lookup;
+  if (particle_lookup != nullptr) {
+    particle_lookup->impl().check(particles);
+  } else {
+    own_lookup.emplace(particles);
+  }
+  const DeltaLookup& lookup = own_lookup ? *own_lookup : particle_lookup->impl().delta;
   const Vec3 eye = camera.eye;
 
   // Seeds (eq. 9), best first.

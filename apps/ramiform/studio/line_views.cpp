@@ -22,6 +22,7 @@ struct LineViews::Entry {
   FieldPtr field;
   ParticleSystem particles;
   std::vector<Polyline> features;  // view-independent: found once
+  std::unique_ptr<ParticleLookup> lookup;  // the particles' k-d tree and surfel radii, made once
 };
 
 Vec3 from_page(const std::array<double, 3>& p) { return {p[0], -p[2], p[1]}; }
@@ -115,11 +116,13 @@ std::string LineViews::draw(const std::string& run, const std::string& shape, co
     all.features = true;
     report(ticket, "lines: feature lines", 0.0);
     e->features = feature_lines(*field, e->particles, all, nullptr, &ctx);
+    e->lookup = std::make_unique<ParticleLookup>(e->particles);
     e->ready = true;
   }
   report(ticket, "lines: this camera", 0.0);
   const LineDrawing drawing =
-      draw_lines(*e->field, e->particles, camera, options, &e->features, nullptr, &ctx);
+      draw_lines(*e->field, e->particles, camera, options, &e->features, nullptr, &ctx,
+                 e->lookup.get());
   DrawingStyle style;
   style.width = page.width;
   style.height = page.height;

@@ -6,7 +6,8 @@
 // page's camera, after Proença, Jorge & Costa Sousa 2008, "Suggestive Contours over Point-Set
 // Implicits" (GRAPP), §3 (drawings that follow the camera: the particles stay, only the
 // view-dependent lines are found again). The particles of (run, shape, count) are spread once
-// and kept, with the shape's feature lines (view-independent); every camera then only draws
+// and kept, with the shape's feature lines and the particles' k-d tree and surfel radii
+// (view-independent: a ParticleLookup); every camera then only draws
 // with ramiform's line drawing (lines/lines.h), the defaults of `ramiform draw`, hidden lines
 // removed by rays.
 
