@@ -35,6 +35,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <limits>
 #include <numeric>
 #include <optional>
 #include <vector>
@@ -73,6 +74,10 @@ struct Correction {
   Vec3 hv = Vec3::Zero();  // H v̂: the derivative of ∇f along the unit view direction
   Vec3 grad = Vec3::Zero(), grad_g = Vec3::Zero();  // ∇f and ∇g at the final point
   double first_nv = 0;                              // |n·v| where the correction started
+  // The correction is given up (kFailed) when first_nv is at least this: a trace step whose
+  // predicted point has left the silhouette area (eq. 10) is refused whatever its correction
+  // gives, so its rounds would be wasted.
+  double give_up_nv = std::numeric_limits<double>::infinity();
   int round = 0;
   enum : std::uint8_t { kRunning, kDone, kFailed } state = kRunning;
 };
@@ -132,7 +137,13 @@ class Corrector {
     }
     const Vec3 n = -grad / gn;
     const double nv = n.dot(v);
-    if (c.round == 0) c.first_nv = std::abs(nv);
+    if (c.round == 0) {
+      c.first_nv = std::abs(nv);
+      if (c.first_nv >= c.give_up_nv) {
+        c.state = Correction::kFailed;
+        return;
+      }
+    }
     const Vec3 grad_g = dist * c.hv + grad;  // ∇(∇f·(x − eye))
     const double surface = (f - iso) / gn;
     if (std::abs(surface) <= detail::kLineSurfaceTolerance * c.delta &&
@@ -527,6 +538,7 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
         c.q = t.p + h * t.t;
         c.delta = t.delta;
         c.reach = kStepReach * h;
+        c.give_up_nv = options.k_c * options.k_e;
         steps.push_back(c);
         stepping.push_back(k);
       }
