@@ -17,7 +17,8 @@ LineDrawing draw_lines(const Field& field, const ParticleSystem& particles, cons
   auto append = [&](std::vector<Polyline> lines) {
     for (Polyline& line : lines) drawing.lines.push_back(std::move(line));
   };
-  if (options.silhouettes) append(silhouettes(field, particles, camera, options, stats, ctx, lookup));
+  if (options.silhouettes)
+    append(silhouettes(field, particles, camera, options, stats, ctx, lookup));
   if (options.suggestive)
     append(suggestive_contours(field, particles, camera, options, stats, ctx));
   if (options.features) {

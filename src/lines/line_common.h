@@ -147,7 +147,8 @@ struct ParticleLookup::Impl {
   explicit Impl(const ParticleSystem& particles) : delta(particles) {}
   /// surfel_radii() of the particles, made on first use.
   [[nodiscard]] const std::vector<double>& radii(const Context* ctx) const {
-    std::call_once(radii_once, [&] { radii_ = detail::surfel_radii(delta.system(), delta.tree(), ctx); });
+    std::call_once(radii_once,
+                   [&] { radii_ = detail::surfel_radii(delta.system(), delta.tree(), ctx); });
     return radii_;
   }
   /// Throws InvalidArgument unless this lookup was made for `particles`.

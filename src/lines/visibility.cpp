@@ -469,8 +469,8 @@ void classify_surfels(const ParticleSystem& particles, const std::vector<double>
 
 }  // namespace
 
-std::vector<double> detail::surfel_radii(const ParticleSystem& particles,
-                                         const PointKdTree& tree, const Context* ctx) {
+std::vector<double> detail::surfel_radii(const ParticleSystem& particles, const PointKdTree& tree,
+                                         const Context* ctx) {
   const std::size_t m = particles.particles.size();
   std::vector<double> radii(m);
   parallel::for_chunks(

@@ -122,8 +122,7 @@ void LineViews::serve() {
 
 std::string LineViews::render(const std::string& run, const std::string& shape,
                               const FieldPtr& field, const PageCamera& page,
-                              const LineOptions& options, const Camera& camera,
-                              std::size_t count) {
+                              const LineOptions& options, const Camera& camera, std::size_t count) {
   std::uint64_t ticket = 0;
   {
     std::lock_guard lock(progress_mutex_);
@@ -163,9 +162,8 @@ std::string LineViews::render(const std::string& run, const std::string& shape,
     e->ready = true;
   }
   report(ticket, "lines: this camera", 0.0);
-  const LineDrawing drawing =
-      draw_lines(*e->field, e->particles, camera, options, &e->features, nullptr, &ctx,
-                 e->lookup.get());
+  const LineDrawing drawing = draw_lines(*e->field, e->particles, camera, options, &e->features,
+                                         nullptr, &ctx, e->lookup.get());
   DrawingStyle style;
   style.width = page.width;
   style.height = page.height;
