@@ -13,8 +13,10 @@ examples/studio.rf) and measures, over HTTP on loopback:
   2. line mode on the grown tree with 10,000 particles: the first camera (which spreads the
      particles and finds the feature lines) and then CAMERAS cameras orbiting the tree (only
      the view-dependent lines), each twice as the page asks for it (the quick drawing, hidden
-     lines by surfels, then the exact one by rays), timed by the client and by
-     X-Ramiform-Seconds; and the
+     lines by surfels, then the exact one by rays), timed by the client, by
+     X-Ramiform-Seconds and by the server process's CPU time (Linux: /proc/PID/stat, user +
+     system, both threads: unlike wall time it barely moves when other work shares the
+     cores); and the
      same for the Stanford bunny fitted by `mpu` when ../shared/data/models/bunny.ply exists
      (--bunny PATH).
 
@@ -112,6 +114,16 @@ def main():
                             target[2] + r * math.cos(angle)],
                     "target": target, "up": [0, 1, 0], "fov": 40, "width": 800, "height": 600}
 
+        ticks = os.sysconf("SC_CLK_TCK") if hasattr(os, "sysconf") else 100
+
+        def cpu_seconds():
+            try:
+                with open(f"/proc/{proc.pid}/stat") as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
+                return (int(fields[11]) + int(fields[12])) / ticks  # utime + stime
+            except OSError:
+                return float("nan")
+
         def lines(angle, shape, target, r, visibility="rays"):
             t0 = time.perf_counter()
             body, hdr = call("POST", "/api/lines", {"run": rid, "shape": shape,
@@ -127,14 +139,17 @@ def main():
                   f"lines): {first:.3f} s wall, {server_first:.3f} s server")
             # As the page asks: per camera the quick drawing (surfels), then the exact one (rays).
             for visibility in ("surfels", "rays"):
+                cpu0 = cpu_seconds()
                 times = [lines(2 * math.pi * (k + 1) / (args.cameras + 1), shape, target, r,
                                visibility) for k in range(args.cameras)]
+                cpu = (cpu_seconds() - cpu0) / args.cameras
                 wall = [t[0] for t in times]
                 server = [t[1] for t in times]
                 print(f"lines of {shape}, {args.cameras} more cameras, hidden lines by "
                       f"{visibility}: wall median {statistics.median(wall):.3f} s (max "
                       f"{max(wall):.3f}), server median {statistics.median(server):.3f} s -> "
-                      f"{1 / statistics.median(wall):.1f} frames/s")
+                      f"{1 / statistics.median(wall):.1f} frames/s; server CPU {cpu:.3f} s "
+                      f"per camera (mean)")
 
         orbit("tree", [0, 4.5, 0], 14.0)
         if os.path.exists(args.bunny):

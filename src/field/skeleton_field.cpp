@@ -292,7 +292,11 @@ class SkeletonField final : public Field {
       collect(box, group_ids);
       for (std::size_t c = first; c < last; ++c) run_chunk(c, &group_ids);
     };
-    if (groups >= 2) {
+    // A small batch (a line tracer's few scattered points, cut into chunks of one to three)
+    // runs on the calling thread: handing its few microseconds of chunks to a second thread
+    // cost more than it saved (the studio's quick line drawing of its tree, two threads, 8,000
+    // such batches per camera). The chunks, and so the values, are the same either way.
+    if (groups >= 2 && n > kSerialBatch) {
       parallel::for_each(groups, 1, run_group, ctx);
     } else {
       for (std::size_t g = 0; g < groups; ++g) run_group(g);
@@ -303,6 +307,8 @@ class SkeletonField final : public Field {
   // Chunks of at most this many points take their candidates from their thread's cache
   // (candidates()).
   static constexpr std::size_t kCachedChunk = 16;
+  // Batches of at most this many points are evaluated on the calling thread (do_evaluate).
+  static constexpr std::size_t kSerialBatch = 32;
   // Most lists a thread's cache holds before it starts afresh.
   static constexpr std::size_t kCachedLists = std::size_t{1} << 14;
 

@@ -8,7 +8,7 @@ namespace ramiform {
 
 LineDrawing draw_lines(const Field& field, const ParticleSystem& particles, const Camera& camera,
                        const LineOptions& options, const std::vector<Polyline>* features,
-                       LineStats* stats, const Context* ctx) {
+                       LineStats* stats, const Context* ctx, const ParticleLookup* lookup) {
   validate(camera);
   validate(options);
   LineDrawing drawing;
@@ -17,7 +17,8 @@ LineDrawing draw_lines(const Field& field, const ParticleSystem& particles, cons
   auto append = [&](std::vector<Polyline> lines) {
     for (Polyline& line : lines) drawing.lines.push_back(std::move(line));
   };
-  if (options.silhouettes) append(silhouettes(field, particles, camera, options, stats, ctx));
+  if (options.silhouettes)
+    append(silhouettes(field, particles, camera, options, stats, ctx, lookup));
   if (options.suggestive)
     append(suggestive_contours(field, particles, camera, options, stats, ctx));
   if (options.features) {
@@ -27,7 +28,7 @@ LineDrawing draw_lines(const Field& field, const ParticleSystem& particles, cons
       append(feature_lines(field, particles, options, stats, ctx));
     }
   }
-  classify_visibility(field, particles, camera, drawing.lines, options, stats, ctx);
+  classify_visibility(field, particles, camera, drawing.lines, options, stats, ctx, lookup);
   return drawing;
 }
 

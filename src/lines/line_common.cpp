@@ -30,7 +30,7 @@ std::uint32_t DeltaLookup::nearest(const Vec3& p) const {
 
 double DeltaLookup::delta_at(const Vec3& p) const { return system_->particles[nearest(p)].delta; }
 
-LinePointHash::LinePointHash(double cell) : inv_cell_(1.0 / cell) {
+LinePointHash::LinePointHash(double cell) : inv_cell_(1.0 / cell), slots_(std::size_t{1} << 6) {
   if (!(cell > 0) || !std::isfinite(inv_cell_)) {
     throw InvalidArgument("lines: line point hash cell must be positive and finite");
   }
@@ -50,8 +50,39 @@ std::uint64_t LinePointHash::key(std::int64_t x, std::int64_t y, std::int64_t z)
 }
 
 void LinePointHash::insert(const Vec3& p, std::uint32_t line, std::int32_t index) {
+  if (entries_.size() >= kNone - 1) throw InvalidArgument("lines: too many line points");
+  if (2 * (used_ + 1) > slots_.size()) grow();
   const auto c = cell_of(p);
-  cells_[key(c[0], c[1], c[2])].push_back(Entry{p, line, index});
+  const std::uint64_t k = key(c[0], c[1], c[2]);
+  const auto e = static_cast<std::uint32_t>(entries_.size());
+  entries_.push_back(Entry{p, line, index, kNone});
+  const std::size_t mask = slots_.size() - 1;
+  for (std::size_t s = home(k);; s = (s + 1) & mask) {
+    Slot& slot = slots_[s];
+    if (slot.first == kNone) {
+      slot = Slot{k, e, e};
+      ++used_;
+      return;
+    }
+    if (slot.key == k) {
+      entries_[slot.last].next = e;
+      slot.last = e;
+      return;
+    }
+  }
+}
+
+void LinePointHash::grow() {
+  std::vector<Slot> old(slots_.size() * 2);
+  old.swap(slots_);
+  --shift_;
+  const std::size_t mask = slots_.size() - 1;
+  for (const Slot& slot : old) {
+    if (slot.first == kNone) continue;
+    std::size_t s = home(slot.key);
+    while (slots_[s].first != kNone) s = (s + 1) & mask;
+    slots_[s] = slot;
+  }
 }
 
 void project_to_surface(const Field& field, std::span<Vec3> points, std::span<const double> scale,
@@ -110,3 +141,18 @@ double angle_between(const Vec3& a, const Vec3& b) {
 }
 
 }  // namespace ramiform::detail
+
+namespace ramiform {
+
+ParticleLookup::ParticleLookup(const ParticleSystem& particles)
+    : impl_(std::make_unique<Impl>(particles)) {}
+
+ParticleLookup::~ParticleLookup() = default;
+
+void ParticleLookup::Impl::check(const ParticleSystem& particles) const {
+  if (&delta.system() != &particles || delta.positions().size() != particles.particles.size()) {
+    throw InvalidArgument("lines: the particle lookup was made for another particle system");
+  }
+}
+
+}  // namespace ramiform

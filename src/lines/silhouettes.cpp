@@ -35,7 +35,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <limits>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 #include "lines/line_common.h"
@@ -72,6 +74,10 @@ struct Correction {
   Vec3 hv = Vec3::Zero();  // H v̂: the derivative of ∇f along the unit view direction
   Vec3 grad = Vec3::Zero(), grad_g = Vec3::Zero();  // ∇f and ∇g at the final point
   double first_nv = 0;                              // |n·v| where the correction started
+  // The correction is given up (kFailed) when first_nv is at least this: a trace step whose
+  // predicted point has left the silhouette area (eq. 10) is refused whatever its correction
+  // gives, so its rounds would be wasted.
+  double give_up_nv = std::numeric_limits<double>::infinity();
   int round = 0;
   enum : std::uint8_t { kRunning, kDone, kFailed } state = kRunning;
 };
@@ -131,7 +137,13 @@ class Corrector {
     }
     const Vec3 n = -grad / gn;
     const double nv = n.dot(v);
-    if (c.round == 0) c.first_nv = std::abs(nv);
+    if (c.round == 0) {
+      c.first_nv = std::abs(nv);
+      if (c.first_nv >= c.give_up_nv) {
+        c.state = Correction::kFailed;
+        return;
+      }
+    }
     const Vec3 grad_g = dist * c.hv + grad;  // ∇(∇f·(x − eye))
     const double surface = (f - iso) / gn;
     if (std::abs(surface) <= detail::kLineSurfaceTolerance * c.delta &&
@@ -374,14 +386,21 @@ std::vector<Polyline> chain(std::vector<Polyline> pieces, const Camera& camera,
 
 std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& particles,
                                   const Camera& camera, const LineOptions& options,
-                                  LineStats* stats, const Context* ctx) {
+                                  LineStats* stats, const Context* ctx,
+                                  const ParticleLookup* particle_lookup) {
   const auto clock_start = std::chrono::steady_clock::now();
   validate(camera);
   validate(options);
   const std::uint64_t evals_start = field.evaluations();
   std::vector<Polyline> result;
   if (particles.particles.empty()) return result;
-  const DeltaLookup lookup(particles);
+  std::optional<DeltaLookup> own_lookup;
+  if (particle_lookup != nullptr) {
+    particle_lookup->impl().check(particles);
+  } else {
+    own_lookup.emplace(particles);
+  }
+  const DeltaLookup& lookup = own_lookup ? *own_lookup : particle_lookup->impl().delta;
   const Vec3 eye = camera.eye;
 
   // Seeds (eq. 9), best first.
@@ -416,8 +435,11 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
   LinePointHash hash(near_factor * mean_delta);
 
   std::vector<std::uint8_t> consumed(candidates.size(), 0);
+  // δ at each candidate, looked up once (a candidate waits through many rounds).
+  std::vector<double> candidate_delta(candidates.size(), -1.0);
   std::vector<Trace> traces;
   std::vector<Correction> steps;
+  std::vector<std::uint32_t> stepping;
   auto any_line_within = [&](const Vec3& p, double radius) {
     return hash.any_within(p, radius, [](std::uint32_t, std::int32_t) { return true; });
   };
@@ -433,7 +455,8 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       if (consumed[k]) continue;
       const Correction& c = jobs[candidates[k]];
-      const double delta = lookup.delta_at(c.q);
+      if (candidate_delta[k] < 0) candidate_delta[k] = lookup.delta_at(c.q);
+      const double delta = candidate_delta[k];
       const double clearance = k < first_gap_seed ? near_factor : kGapSeedClearance;
       if (any_line_within(c.q, clearance * delta)) {
         consumed[k] = 1;
@@ -496,6 +519,7 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
       });
       candidates.insert(candidates.end(), added.begin(), added.end());
       consumed.resize(candidates.size(), 0);
+      candidate_delta.resize(candidates.size(), -1.0);
       continue;
     }
     if (traces.empty()) break;
@@ -504,7 +528,7 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
     for (;;) {
       check_cancel(ctx);
       steps.clear();
-      std::vector<std::uint32_t> stepping;
+      stepping.clear();
       for (std::uint32_t k = 0; k < traces.size(); ++k) {
         const Trace& t = traces[k];
         if (t.finished) continue;
@@ -514,6 +538,7 @@ std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& part
         c.q = t.p + h * t.t;
         c.delta = t.delta;
         c.reach = kStepReach * h;
+        c.give_up_nv = options.k_c * options.k_e;
         steps.push_back(c);
         stepping.push_back(k);
       }

@@ -75,12 +75,14 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "field/mpu_rays.h"
 #include "field/point_kdtree.h"
+#include "lines/line_common.h"
 #include "lines/visibility_reference.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/parallel.h"
@@ -338,7 +340,7 @@ struct Disk {
   int x0 = 0, x1 = -1, y0 = 0, y1 = -1;  ///< covered pixels (inclusive), x0 > x1 when none
 };
 
-void classify_surfels(const ParticleSystem& particles, const detail::PointKdTree& tree,
+void classify_surfels(const ParticleSystem& particles, const std::vector<double>& radii,
                       const Camera& camera, const Points& pts, const LineOptions& options,
                       std::vector<std::uint8_t>& visible, const Context* ctx) {
   const CameraFrame frame = camera_frame(camera);
@@ -360,22 +362,9 @@ void classify_surfels(const ParticleSystem& particles, const detail::PointKdTree
   parallel::for_chunks(
       m, 256,
       [&](std::size_t b, std::size_t e) {
-        std::vector<std::pair<std::uint32_t, double>> near;
         for (std::size_t i = b; i < e; ++i) {
           const SurfaceParticle& sp = particles.particles[i];
-          // The radius: the distance to the kNeighbour-th nearest other particle (coincident
-          // ones do not count; with fewer, the farthest found, or δ for a lone particle).
-          double r = sp.delta;
-          for (std::size_t k = kNeighbour + 1;; k *= 2) {
-            tree.nearest(sp.position, k, near);
-            int found = 0;
-            for (const auto& [j, d2] : near) {
-              if (j == i || !(d2 > 0)) continue;
-              r = std::sqrt(d2);
-              if (++found == kNeighbour) break;
-            }
-            if (found == kNeighbour || near.size() < k) break;  // done, or no more particles
-          }
+          const double r = radii[i];
           Disk& d = disks[i];
           const Vec3 rel = sp.position - camera.eye;
           const double dist = rel.norm();
@@ -480,6 +469,36 @@ void classify_surfels(const ParticleSystem& particles, const detail::PointKdTree
 
 }  // namespace
 
+std::vector<double> detail::surfel_radii(const ParticleSystem& particles, const PointKdTree& tree,
+                                         const Context* ctx) {
+  const std::size_t m = particles.particles.size();
+  std::vector<double> radii(m);
+  parallel::for_chunks(
+      m, 256,
+      [&](std::size_t b, std::size_t e) {
+        std::vector<std::pair<std::uint32_t, double>> near;
+        for (std::size_t i = b; i < e; ++i) {
+          const SurfaceParticle& sp = particles.particles[i];
+          // The distance to the kNeighbour-th nearest other particle (coincident ones do not
+          // count; with fewer, the farthest found, or δ for a lone particle).
+          double r = sp.delta;
+          for (std::size_t k = kNeighbour + 1;; k *= 2) {
+            tree.nearest(sp.position, k, near);
+            int found = 0;
+            for (const auto& [j, d2] : near) {
+              if (j == i || !(d2 > 0)) continue;
+              r = std::sqrt(d2);
+              if (++found == kNeighbour) break;
+            }
+            if (found == kNeighbour || near.size() < k) break;  // done, or no more particles
+          }
+          radii[i] = r;
+        }
+      },
+      ctx);
+  return radii;
+}
+
 std::vector<std::uint8_t> detail::rays_visibility_exhaustive(
     const Field& field, const ParticleSystem& particles, const Camera& camera,
     std::span<const Polyline> lines, double occlusion_tolerance, const Context* ctx) {
@@ -502,7 +521,7 @@ std::vector<std::uint8_t> detail::rays_visibility_exhaustive(
 
 void classify_visibility(const Field& field, const ParticleSystem& particles, const Camera& camera,
                          std::span<Polyline> lines, const LineOptions& options, LineStats* stats,
-                         const Context* ctx) {
+                         const Context* ctx, const ParticleLookup* lookup) {
   const auto start = std::chrono::steady_clock::now();
   validate(camera);
   validate(options);
@@ -523,15 +542,21 @@ void classify_visibility(const Field& field, const ParticleSystem& particles, co
       throw InvalidArgument(
           "classify_visibility: no particles (δ at a line point is its nearest particle's)");
     }
-    std::vector<Vec3> positions(particles.particles.size());
-    for (std::size_t i = 0; i < positions.size(); ++i)
-      positions[i] = particles.particles[i].position;
-    const detail::PointKdTree tree(positions);
+    std::optional<detail::DeltaLookup> own;
+    if (lookup != nullptr) {
+      lookup->impl().check(particles);
+    } else {
+      own.emplace(particles);
+    }
+    const detail::PointKdTree& tree = own ? own->tree() : lookup->impl().delta.tree();
     const Points pts = gather(lines, particles, tree, ctx);
     if (options.visibility == Visibility::kRays) {
       evals = classify_rays(field, camera, pts, options.occlusion_tolerance, visible, ctx);
+    } else if (lookup != nullptr) {
+      classify_surfels(particles, lookup->impl().radii(ctx), camera, pts, options, visible, ctx);
     } else {
-      classify_surfels(particles, tree, camera, pts, options, visible, ctx);
+      classify_surfels(particles, detail::surfel_radii(particles, tree, ctx), camera, pts, options,
+                       visible, ctx);
     }
   }
   // Write the flags back; the hidden length gives each segment half to each end.

@@ -295,6 +295,42 @@ TEST(Silhouettes, SameBytesOnOneAndTwoThreads) {
   EXPECT_TRUE(same_bytes(a, b));
 }
 
+// A ParticleLookup made once and reused for several views gives every view's drawing, its
+// points and its visibility flags (both kinds of hidden lines), as drawn without it.
+TEST(Silhouettes, ParticleLookupDrawsTheSameViews) {
+  const FieldPtr f = capsule_blend();
+  const ParticleSystem ps = particles_on(*f, 2000);
+  const ParticleLookup lookup(ps);
+  const Context two(2);
+  for (const Visibility visibility : {Visibility::kSurfels, Visibility::kRays}) {
+    LineOptions o;
+    o.visibility = visibility;
+    o.features = false;
+    std::size_t hidden = 0;
+    for (const double azimuth : {-50.0, 20.0, 140.0}) {
+      const Camera cam = frame_box(f->bounds(), azimuth, 15);
+      const LineDrawing a = draw_lines(*f, ps, cam, o, nullptr, nullptr, &two);
+      const LineDrawing b = draw_lines(*f, ps, cam, o, nullptr, nullptr, &two, &lookup);
+      ASSERT_FALSE(a.lines.empty());
+      EXPECT_TRUE(same_bytes(a.lines, b.lines)) << azimuth;
+      for (std::size_t k = 0; k < a.lines.size() && k < b.lines.size(); ++k) {
+        EXPECT_EQ(a.lines[k].visible, b.lines[k].visible) << azimuth << " line " << k;
+        hidden += static_cast<std::size_t>(
+            std::count(a.lines[k].visible.begin(), a.lines[k].visible.end(), 0));
+      }
+    }
+    // The capsules cross: from some of these views lines pass behind the other capsule.
+    EXPECT_GT(hidden, 0u);
+  }
+  // A lookup belongs to its particle system: with a copy of it, the calls refuse.
+  const ParticleSystem copy = ps;
+  const Camera cam = frame_box(f->bounds(), 20, 15);
+  EXPECT_THROW((void)silhouettes(*f, copy, cam, {}, nullptr, nullptr, &lookup), InvalidArgument);
+  std::vector<Polyline> lines = silhouettes(*f, ps, cam);
+  EXPECT_THROW(classify_visibility(*f, copy, cam, lines, {}, nullptr, nullptr, &lookup),
+               InvalidArgument);
+}
+
 TEST(Silhouettes, LargerStepsStillOnTheContour) {
   const FieldPtr f = make_circle_field(Vec3::Zero(), Vec3::UnitZ(), 1.0, 0.35);
   const ParticleSystem ps = particles_on(*f, 2000);

@@ -3,6 +3,7 @@
 #include "studio/line_views.h"
 
 #include <fstream>
+#include <future>
 #include <iterator>
 #include <system_error>
 
@@ -22,6 +23,7 @@ struct LineViews::Entry {
   FieldPtr field;
   ParticleSystem particles;
   std::vector<Polyline> features;  // view-independent: found once
+  std::unique_ptr<ParticleLookup> lookup;  // the particles' k-d tree and surfel radii, made once
 };
 
 Vec3 from_page(const std::array<double, 3>& p) { return {p[0], -p[2], p[1]}; }
@@ -80,6 +82,47 @@ std::string LineViews::draw(const std::string& run, const std::string& shape, co
   camera.aspect = static_cast<double>(page.width) / page.height;
   validate(camera);
 
+  return on_worker([&] { return render(run, shape, field, page, options, camera, count); });
+}
+
+LineViews::~LineViews() {
+  {
+    std::lock_guard lock(queue_mutex_);
+    stopping_ = true;
+  }
+  queue_cv_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+std::string LineViews::on_worker(const std::function<std::string()>& work) {
+  std::packaged_task<std::string()> task(work);
+  std::future<std::string> result = task.get_future();
+  {
+    std::lock_guard lock(queue_mutex_);
+    if (!worker_.joinable()) worker_ = std::thread([this] { serve(); });
+    queue_.push_back(std::move(task));
+  }
+  queue_cv_.notify_one();
+  return result.get();  // the drawing's exception, if it threw
+}
+
+void LineViews::serve() {
+  for (;;) {
+    std::packaged_task<std::string()> task;
+    {
+      std::unique_lock lock(queue_mutex_);
+      queue_cv_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      if (queue_.empty()) return;  // stopping, every drawing asked for done
+      task = std::move(queue_.front());
+      queue_.pop_front();
+    }
+    task();
+  }
+}
+
+std::string LineViews::render(const std::string& run, const std::string& shape,
+                              const FieldPtr& field, const PageCamera& page,
+                              const LineOptions& options, const Camera& camera, std::size_t count) {
   std::uint64_t ticket = 0;
   {
     std::lock_guard lock(progress_mutex_);
@@ -115,11 +158,12 @@ std::string LineViews::draw(const std::string& run, const std::string& shape, co
     all.features = true;
     report(ticket, "lines: feature lines", 0.0);
     e->features = feature_lines(*field, e->particles, all, nullptr, &ctx);
+    e->lookup = std::make_unique<ParticleLookup>(e->particles);
     e->ready = true;
   }
   report(ticket, "lines: this camera", 0.0);
-  const LineDrawing drawing =
-      draw_lines(*e->field, e->particles, camera, options, &e->features, nullptr, &ctx);
+  const LineDrawing drawing = draw_lines(*e->field, e->particles, camera, options, &e->features,
+                                         nullptr, &ctx, e->lookup.get());
   DrawingStyle style;
   style.width = page.width;
   style.height = page.height;

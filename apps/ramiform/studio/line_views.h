@@ -6,22 +6,30 @@
 // page's camera, after Proença, Jorge & Costa Sousa 2008, "Suggestive Contours over Point-Set
 // Implicits" (GRAPP), §3 (drawings that follow the camera: the particles stay, only the
 // view-dependent lines are found again). The particles of (run, shape, count) are spread once
-// and kept, with the shape's feature lines (view-independent); every camera then only draws
+// and kept, with the shape's feature lines and the particles' k-d tree and surfel radii
+// (view-independent: a ParticleLookup); every camera then only draws
 // with ramiform's line drawing (lines/lines.h), the defaults of `ramiform draw`, hidden lines
 // removed by rays.
 
 #include <array>
 #include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <filesystem>
+#include <functional>
+#include <future>
 #include <list>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "ramiform/field/field.h"
+#include "ramiform/lines/camera.h"
+#include "ramiform/lines/lines.h"
 
 namespace ramiform::studio {
 
@@ -50,6 +58,10 @@ class LineViews {
   /// `max_memory`: the memory budget of each drawing (Context::set_max_memory; 0: what is
   /// available), which refuses particle counts that cannot fit.
   LineViews(std::filesystem::path scratch, int threads, std::uint64_t max_memory = 0);
+  /// Waits for the drawings asked for, then stops the drawing thread.
+  ~LineViews();
+  LineViews(const LineViews&) = delete;
+  LineViews& operator=(const LineViews&) = delete;
 
   /// The SVG drawing of `field` (shape `shape` of run `run`) for `camera` with the line kinds
   /// `kinds` ("silhouette", "suggestive", "feature"), from `count` particles. Throws
@@ -57,6 +69,10 @@ class LineViews {
   /// `surfels`: hidden lines by the paper's depth buffer of disks (tens of milliseconds, may
   /// hide bits of silhouettes) instead of exact rays (the page's quick drawing while the camera
   /// moves, followed by the exact one).
+  /// Drawings run one at a time, in the order asked for, on one thread of the views' own (the
+  /// skeleton field keeps its candidate lists per thread: drawn on whichever of the server's
+  /// request threads took the request, a camera of the studio's tree cost a third more); the
+  /// calling thread waits for its drawing.
   [[nodiscard]] std::string draw(const std::string& run, const std::string& shape,
                                  const FieldPtr& field, const PageCamera& camera,
                                  const std::vector<std::string>& kinds, std::size_t count,
@@ -70,6 +86,12 @@ class LineViews {
 
  private:
   std::shared_ptr<Entry> entry(const std::string& key);
+  // Runs `work` on the drawing thread (started on first use) and returns its result.
+  std::string on_worker(const std::function<std::string()>& work);
+  void serve();  // the drawing thread
+  std::string render(const std::string& run, const std::string& shape, const FieldPtr& field,
+                     const PageCamera& page, const LineOptions& options, const Camera& camera,
+                     std::size_t count);
   // Progress of drawing `ticket`; only the newest drawing's is kept.
   void report(std::uint64_t ticket, const std::string& stage, double fraction);
 
@@ -83,6 +105,11 @@ class LineViews {
   std::mutex mutex_;
   std::list<std::pair<std::string, std::shared_ptr<Entry>>> cache_;  // newest first
   std::size_t next_file_ = 0;
+  std::mutex queue_mutex_;
+  std::condition_variable queue_cv_;
+  std::deque<std::packaged_task<std::string()>> queue_;
+  bool stopping_ = false;
+  std::thread worker_;
 };
 
 /// The library's +Z-up point of a page (+Y-up) point: (x, y, z) -> (x, -z, y).

@@ -21,6 +21,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -182,6 +183,28 @@ struct LineStats {
                                                   LineStats* stats = nullptr,
                                                   const Context* ctx = nullptr);
 
+/// What every view of one particle system looks up the same way, made once: the particles'
+/// k-d tree (δ at a point is its nearest particle's, for the silhouette tracer and hidden lines)
+/// and, on first use, each particle's surfel radius (Visibility::kSurfels). Without one, every
+/// call builds these for itself; a caller drawing many views of the same particles (the
+/// studio's line mode) builds it once and passes it. The drawings are the same either way.
+/// Keeps a reference to `particles`, which must outlive it and stay unchanged; passing it with
+/// another particle system throws InvalidArgument. Thread-safe once made.
+class ParticleLookup {
+ public:
+  /// `particles` must not be empty (throws InvalidArgument).
+  explicit ParticleLookup(const ParticleSystem& particles);
+  ~ParticleLookup();
+  ParticleLookup(const ParticleLookup&) = delete;
+  ParticleLookup& operator=(const ParticleLookup&) = delete;
+
+  struct Impl;  ///< src/lines/line_common.h
+  [[nodiscard]] const Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
 /// Silhouettes (§6): seeds with |v·n| < k_c, each traced both ways by a predictor (along the
 /// contour generator's 3-D tangent ∇f × ∇(n·v), whose projection is the image tangent except at
 /// cusps; step silhouette_step·δ) and corrector (back onto f == iso and
@@ -189,11 +212,13 @@ struct LineStats {
 /// then a second pass seeds from particles with k_c ≤ |v·n| < k_c·k_e farther than 1.5 δ from
 /// every line, corrected onto the contour (the gaps where traces stopped on a bumpy rim);
 /// nearby ends chained. Points satisfy |f − iso| / |∇f| ≤ 1e-3 δ and |n·v| ≤ 1e-3.
+/// `lookup`: made for `particles` (ParticleLookup), or nullptr.
 [[nodiscard]] std::vector<Polyline> silhouettes(const Field& field, const ParticleSystem& particles,
                                                 const Camera& camera,
                                                 const LineOptions& options = {},
                                                 LineStats* stats = nullptr,
-                                                const Context* ctx = nullptr);
+                                                const Context* ctx = nullptr,
+                                                const ParticleLookup* lookup = nullptr);
 
 /// Suggestive contours (§5): particles where n·(eye − x) (n the particle's outward normal) is
 /// smaller than at x± = x ± k_d·δ_i·ŵ, ŵ the unit projection of the view vector on the tangent
@@ -224,9 +249,11 @@ struct LineStats {
 /// length / total length, each segment's length split half to each end) and adds to
 /// seconds_visibility and field_evals. Throws InvalidArgument for bad options or camera, a line
 /// point that is not finite, and lines with points but no particles (unless kNone).
+/// `lookup`: made for `particles` (ParticleLookup), or nullptr.
 void classify_visibility(const Field& field, const ParticleSystem& particles, const Camera& camera,
                          std::span<Polyline> lines, const LineOptions& options = {},
-                         LineStats* stats = nullptr, const Context* ctx = nullptr);
+                         LineStats* stats = nullptr, const Context* ctx = nullptr,
+                         const ParticleLookup* lookup = nullptr);
 
 /// A drawing: the lines of one view.
 struct LineDrawing {
@@ -237,10 +264,12 @@ struct LineDrawing {
 /// One view: the line kinds the options ask for, then classify_visibility(). `features`:
 /// feature lines computed earlier by feature_lines() for this field and particle system (they
 /// are view-independent and copied into the drawing); nullptr computes them when
-/// options.features is set.
+/// options.features is set. `lookup`: made for `particles` (ParticleLookup) and reused across
+/// views, or nullptr.
 [[nodiscard]] LineDrawing draw_lines(const Field& field, const ParticleSystem& particles,
                                      const Camera& camera, const LineOptions& options = {},
                                      const std::vector<Polyline>* features = nullptr,
-                                     LineStats* stats = nullptr, const Context* ctx = nullptr);
+                                     LineStats* stats = nullptr, const Context* ctx = nullptr,
+                                     const ParticleLookup* lookup = nullptr);
 
 }  // namespace ramiform
