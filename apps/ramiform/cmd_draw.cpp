@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include "commands.h"
@@ -118,11 +119,15 @@ int run_draw(DrawArgs& args) {
   // Every view's files are held until the last view is drawn: a failure in view k leaves no
   // drawing of the turntable on disk.
   HeldOutputs outputs;
+  // The particles' k-d tree and surfel radii do not depend on the view: made once for all.
+  const std::optional<ParticleLookup> lookup =
+      system.particles.empty() ? std::nullopt : std::make_optional<ParticleLookup>(system);
   for (int v = 0; v < args.views; ++v) {
     LineStats ls;
     const auto start = std::chrono::steady_clock::now();
-    const LineDrawing drawing = draw_lines(*in.field, system, cameras[static_cast<std::size_t>(v)],
-                                           lo, &features, &ls, &ctx);
+    const LineDrawing drawing =
+        draw_lines(*in.field, system, cameras[static_cast<std::size_t>(v)], lo, &features, &ls,
+                   &ctx, lookup ? &*lookup : nullptr);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     line_seconds += seconds;
