@@ -125,9 +125,8 @@ int run_draw(DrawArgs& args) {
   for (int v = 0; v < args.views; ++v) {
     LineStats ls;
     const auto start = std::chrono::steady_clock::now();
-    const LineDrawing drawing =
-        draw_lines(*in.field, system, cameras[static_cast<std::size_t>(v)], lo, &features, &ls,
-                   &ctx, lookup ? &*lookup : nullptr);
+    const LineDrawing drawing = draw_lines(*in.field, system, cameras[static_cast<std::size_t>(v)],
+                                           lo, &features, &ls, &ctx, lookup ? &*lookup : nullptr);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     line_seconds += seconds;
