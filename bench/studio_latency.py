@@ -20,13 +20,17 @@ examples/studio.rf) and measures, over HTTP on loopback:
      same for the Stanford bunny fitted by `mpu` when ../shared/data/models/bunny.ply exists
      (--bunny PATH).
 
+With --big, also full runs of the same script growing in steps half as long (about 4,900
+segments at 6,000 points): issue 22's "tree of a few thousand segments".
+
 usage: bench/studio_latency.py [--binary build/ramiform] [--edits 5] [--cameras 12]
-                               [--threads 0]
+                               [--threads 0] [--big]
 """
 import argparse
 import json
 import math
 import os
+import re
 import statistics
 import subprocess
 import sys
@@ -42,6 +46,8 @@ def main():
     ap.add_argument("--cameras", type=int, default=12)
     ap.add_argument("--threads", type=int, default=0)
     ap.add_argument("--count", type=int, default=10000)
+    ap.add_argument("--big", action="store_true",
+                    help="also edit a tree of a few thousand segments (full runs)")
     here = os.path.dirname(os.path.abspath(__file__))
     ap.add_argument("--bunny", default=os.path.join(here, "..", "..", "shared", "data", "models",
                                                       "bunny.ply"))
@@ -158,6 +164,25 @@ def main():
             orbit("bunny", [0, 0, -4.8], 24.0)
         else:
             print(f"lines of the bunny: skipped ({args.bunny} not found)")
+        if args.big:
+            # A tree of a few thousand segments: the same script growing in shorter steps.
+            big = script.replace("step=0.22 influence=1.4 kill=0.45",
+                                 "step=0.11 influence=0.9 kill=0.25")
+            if big == script:
+                sys.exit("--big: the studio script's grow line has changed; update this bench")
+            run({"points": "6000"}, text=big)  # grows the first big tree
+            walls, earlies = [], []
+            for k in range(args.edits):
+                rid, wall, _, log, _ = run({"points": str(5900 - 100 * k)}, text=big)
+                walls.append(wall)
+                if run.early is not None:
+                    earlies.append(run.early)
+            grown = [e for e in log if e["command"] == "grow"]
+            nodes = re.search(r"(\d+) nodes", grown[-1]["message"]).group(1)
+            print(f"param edit (points) of the few-thousand-segment tree ({nodes} nodes), "
+                  f"full runs: the new tree mesh from the early meshes median "
+                  f"{statistics.median(earlies):.3f} s (max {max(earlies):.3f}); run done median "
+                  f"{statistics.median(walls):.3f} s")
     finally:
         proc.terminate()
         proc.wait(timeout=30)
