@@ -347,13 +347,22 @@ class Improver {
     std::vector<char> decided(nb, 0);
     std::vector<std::uint32_t> open(nb);
     for (std::size_t i = 0; i < nb; ++i) open[i] = static_cast<std::uint32_t>(i);
+    std::vector<std::uint32_t> walk;
     for (int stage = 0; stage < kStages && !open.empty(); ++stage) {
       std::vector<Requests> slots(open.size());
+      // The triangles are looked at in index order, near each other in the mesh's arrays (in
+      // the order of their angles they jump across the whole mesh); their requests stay in the
+      // order of `open`.
+      walk.resize(open.size());
+      for (std::size_t j = 0; j < open.size(); ++j) walk[j] = static_cast<std::uint32_t>(j);
+      std::sort(walk.begin(), walk.end(),
+                [&](std::uint32_t x, std::uint32_t y) { return bad[open[x]] < bad[open[y]]; });
       parallel::for_chunks(
           open.size(), kOpGrain,
           [&](std::size_t b, std::size_t e) {
             Scratch scratch;
-            for (std::size_t j = b; j < e; ++j) {
+            for (std::size_t w = b; w < e; ++w) {
+              const std::uint32_t j = walk[w];
               const std::uint32_t i = open[j];
               bool missing = false;
               chosen[i].op = choose(bad[i], scratch, &slots[j], missing, chosen[i]);
