@@ -347,13 +347,22 @@ class Improver {
     std::vector<char> decided(nb, 0);
     std::vector<std::uint32_t> open(nb);
     for (std::size_t i = 0; i < nb; ++i) open[i] = static_cast<std::uint32_t>(i);
+    std::vector<std::uint32_t> walk;
     for (int stage = 0; stage < kStages && !open.empty(); ++stage) {
       std::vector<Requests> slots(open.size());
+      // The triangles are looked at in index order, near each other in the mesh's arrays (in
+      // the order of their angles they jump across the whole mesh); their requests stay in the
+      // order of `open`.
+      walk.resize(open.size());
+      for (std::size_t j = 0; j < open.size(); ++j) walk[j] = static_cast<std::uint32_t>(j);
+      std::sort(walk.begin(), walk.end(),
+                [&](std::uint32_t x, std::uint32_t y) { return bad[open[x]] < bad[open[y]]; });
       parallel::for_chunks(
           open.size(), kOpGrain,
           [&](std::size_t b, std::size_t e) {
             Scratch scratch;
-            for (std::size_t j = b; j < e; ++j) {
+            for (std::size_t w = b; w < e; ++w) {
+              const std::uint32_t j = walk[w];
               const std::uint32_t i = open[j];
               bool missing = false;
               chosen[i].op = choose(bad[i], scratch, &slots[j], missing, chosen[i]);
@@ -1368,26 +1377,44 @@ class Improver {
       const std::vector<double> rad = local_radii(skeleton_, at, threads_);
       for (std::size_t i = 0; i < r.radii.size(); ++i) radius_[r.radii[i]] = rad[i];
     }
-    const std::vector<double>& scale = r.scales;
     const double iso = field_.iso();
-    if (!r.midpoints.empty()) {
-      std::vector<double> value(r.midpoints.size());
-      std::vector<Vec3> grad(r.midpoints.size());
-      evaluate_field(r.midpoints, value, grad);
+    // Each point once: the operations of a stage ask for many of the same midpoints (the edges
+    // around a vertex, the same collapse seen from several bad triangles; 36-41 % of the
+    // requests on the 10,000- and 30,000-segment trees). The first request of a point makes
+    // its entry, as before the requests were merged (a projection's scale is its first one's).
+    std::vector<Vec3> points;
+    std::vector<Probe*> probes;
+    for (const Vec3& m : r.midpoints) {
+      const auto [it, fresh] = probe_.try_emplace(key_of(m));
+      if (!fresh) continue;
+      points.push_back(m);
+      probes.push_back(&it->second);
+    }
+    if (!points.empty()) {
+      std::vector<double> value(points.size());
+      std::vector<Vec3> grad(points.size());
+      evaluate_field(points, value, grad);
       for (std::size_t i = 0; i < value.size(); ++i) {
         const double g = grad[i].norm();
-        const double d = std::isfinite(value[i]) && g > 0 && std::isfinite(g)
-                             ? std::abs(value[i] - iso) / g
-                             : kInf;
-        Probe pr;
-        pr.distance = d;
+        Probe& pr = *probes[i];
+        pr.distance = std::isfinite(value[i]) && g > 0 && std::isfinite(g)
+                          ? std::abs(value[i] - iso) / g
+                          : kInf;
         if (g > 0 && std::isfinite(g)) pr.normal = -grad[i] / g;
-        probe_.emplace(key_of(r.midpoints[i]), pr);
       }
     }
-    if (!r.starts.empty()) {
-      const std::size_t n = r.starts.size();
-      std::vector<Vec3> z = r.starts;
+    std::vector<Vec3> z;
+    std::vector<double> scale;
+    std::vector<Projection*> projections;
+    for (std::size_t i = 0; i < r.starts.size(); ++i) {
+      const auto [it, fresh] = projection_.try_emplace(key_of(r.starts[i]));
+      if (!fresh) continue;
+      z.push_back(r.starts[i]);
+      scale.push_back(r.scales[i]);
+      projections.push_back(&it->second);
+    }
+    if (!z.empty()) {
+      const std::size_t n = z.size();
       std::vector<char> ok(n, 0);
       std::vector<double> d0(n, 0.0);
       std::vector<Vec3> normal(n, Vec3::Zero());
@@ -1421,13 +1448,12 @@ class Improver {
         active = std::move(next);
       }
       for (std::size_t i = 0; i < n; ++i) {
-        Projection pr;
+        Projection& pr = *projections[i];
         pr.z = z[i];
         pr.start_distance = d0[i];
         pr.at_z.normal = normal[i];
         pr.radius = scale[i];
         pr.ok = ok[i] != 0;
-        projection_.emplace(key_of(r.starts[i]), pr);
       }
     }
   }
