@@ -521,6 +521,23 @@ class Improver {
     return fresh.dot(src) > 0.5 * fresh.norm() * src.norm();
   }
 
+  // The smallest angle's sine over the kept triangles of the prepared disk (sc.kept) with their
+  // moving corner at `start`; -1 when `guard_sides` and a triangle not already below the hard
+  // angle turns over.
+  double fan_quality(const Vec3& start, const Scratch& sc, bool guard_sides) const {
+    double quality = 1.0;
+    for (const auto& [kt, kk] : sc.kept) {
+      const Tri& g = mesh_.triangles[kt];
+      std::array<Vec3, 3> q{pos(g[0]), pos(g[1]), pos(g[2])};
+      q[kk] = start;
+      if (guard_sides && sines_[kt] >= sin_hard_ && !keeps_side(normal_of(q), normal(g))) {
+        return -1;
+      }
+      quality = std::min(quality, sine_of(q));
+    }
+    return quality;
+  }
+
   // The projection of `start` onto the surface; null (asked for in `req`, with the smallest
   // local radius of `cluster` as its scale and the new vertex's radius) when not known yet.
   const Projection* projection(const Vec3& start, const std::vector<std::uint32_t>& cluster,
@@ -1100,19 +1117,9 @@ class Improver {
                                    : j == kNudgeDirections + 2 ? along
                                                                : Vec3(-along);
                   const Vec3 start = pos(w) + step * dir;
-                  double quality = 1.0;
-                  for (const auto& [kt, kk] : sc.kept) {
-                    const Tri& g = mesh_.triangles[kt];
-                    std::array<Vec3, 3> q{pos(g[0]), pos(g[1]), pos(g[2])};
-                    q[kk] = start;
-                    // (a step that turns a triangle over is no candidate: the sine of its
-                    // angle does not see it)
-                    if (sines_[kt] >= sin_hard_ && !keeps_side(normal_of(q), normal(g))) {
-                      quality = -1;
-                      break;
-                    }
-                    quality = std::min(quality, sine_of(q));
-                  }
+                  // (a step that turns a triangle over is no candidate: the sine of its angle
+                  // does not see it)
+                  const double quality = fan_quality(start, sc, true);
                   if (quality > sc.old_worst && quality > best_quality) {
                     best = w;
                     best_quality = quality;
@@ -1170,13 +1177,7 @@ class Improver {
                 reach = std::max(reach, (pos(x) - pos(w)).norm());
               cluster.assign(1, w);
               if (!prepare_disk(cluster, sc)) continue;
-              double quality = 1.0;
-              for (const auto& [kt, kk] : sc.kept) {
-                const Tri& g = mesh_.triangles[kt];
-                std::array<Vec3, 3> q{pos(g[0]), pos(g[1]), pos(g[2])};
-                q[kk] = start;
-                quality = std::min(quality, sine_of(q));
-              }
+              const double quality = fan_quality(start, sc, false);
               if (quality > sc.old_worst && quality > best_quality) {
                 best = w;
                 best_quality = quality;
