@@ -183,12 +183,14 @@ class SkeletonField final : public Field {
     if (order.empty()) {
       for (std::size_t b = 0; b < n; b += detail::kChunk) starts.push_back(b);
     } else {
+      // (Squared lengths: the chunks only need to stay small, and no value depends on them.)
+      const double split2 = split_diagonal_ * split_diagonal_;
       Aabb box;
       for (std::size_t k = 0; k < n; ++k) {
         Aabb grown = box;
         grown.extend(point_at(k));
         if (k == 0 || k - starts.back() == detail::kChunk ||
-            grown.diagonal().norm() > split_diagonal_) {
+            grown.diagonal().squaredNorm() > split2) {
           starts.push_back(k);
           box = Aabb(point_at(k), point_at(k));
         } else {
@@ -207,15 +209,22 @@ class SkeletonField final : public Field {
     std::vector<Aabb> chunk_boxes;
     if (prune_ && chunks >= 2) {
       chunk_boxes.resize(chunks);
+      parallel::for_each(
+          chunks, 64,
+          [&](std::size_t c) {
+            for (std::size_t k = starts[c]; k < starts[c + 1]; ++k) {
+              chunk_boxes[c].extend(point_at(k));
+            }
+          },
+          ctx);
       Aabb group_box;
       for (std::size_t c = 0; c < chunks; ++c) {
-        for (std::size_t k = starts[c]; k < starts[c + 1]; ++k) chunk_boxes[c].extend(point_at(k));
         Aabb grown = group_box;
         grown.extend(chunk_boxes[c]);
         const bool joins = c > 0 && c - group_starts.back() < kGroupChunks &&
                            starts[c + 1] - starts[c] > kCachedChunk &&
                            starts[c] - starts[c - 1] > kCachedChunk &&
-                           grown.diagonal().norm() <= 2 * split_diagonal_;
+                           grown.diagonal().squaredNorm() <= 4 * split_diagonal_ * split_diagonal_;
         if (joins) {
           group_box = grown;
         } else {
