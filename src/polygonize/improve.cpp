@@ -238,19 +238,30 @@ struct Op {
 
 // Where choose() resumes a triangle in the next evaluation stage: the levels before
 // `level` were decided (they lacked no data), `op` is the best of them.
+// A level's choice of one corner to move (the relaxation's, the nudge's): the best offer whose
+// fan beats both the fan's old worst triangle and the level's floor; kNone when none does.
+struct CornerChoice {
+  bool chosen = false;             // made (once per triangle; later stages reuse it)
+  std::uint32_t corner = kNone;
+  Vec3 start = Vec3::Zero();       // where the corner goes, before its projection
+  double within = 0;               // how far from `start` the projection may land
+  double quality = 0;              // the chosen fan's smallest-angle sine
+
+  void offer(std::uint32_t w, double q, const Vec3& at, double reach, double old_worst) {
+    if (q > old_worst && q > quality) {
+      corner = w;
+      quality = q;
+      start = at;
+      within = reach;
+    }
+  }
+};
+
 struct Resume {
   int level = 0;
   Op op;
-  // The relaxation level's choice of corner (kNone: none fits), once made.
-  bool relax_chosen = false;
-  std::uint32_t relax_corner = kNone;
-  Vec3 relax_start = Vec3::Zero();
-  double relax_reach = 0;
-  // The nudge level's choice of corner (kNone: none fits), start and step, once made.
-  bool nudge_chosen = false;
-  std::uint32_t nudge_corner = kNone;
-  Vec3 nudge_start = Vec3::Zero();
-  double nudge_step = 0;
+  CornerChoice relax;  // the relaxation level's choice
+  CornerChoice nudge;  // the nudge level's choice
 };
 // The moves choose() tries, in this order (kOrder): flips of the triangle's edges;
 // relaxation of a corner; the collapse of its shortest edge into an end point, into its
@@ -818,6 +829,19 @@ class Improver {
     return true;
   }
 
+  // Moving the corner a level chose (CornerChoice) to its start's projection onto the surface,
+  // when that lands within the choice's reach: try_replace() with the corner alone.
+  void try_corner(const CornerChoice& choice, std::vector<std::uint32_t>& cluster, Scratch& sc,
+                  Requests* req, bool& missing, Op& op) const {
+    if (choice.corner == kNone) return;
+    cluster.assign(1, choice.corner);
+    if (!prepare_disk(cluster, sc)) return;
+    if (const Projection* p = projection(choice.start, cluster, req, missing);
+        p != nullptr && p->lands_within(choice.start, choice.within)) {
+      try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
+    }
+  }
+
   // Replacing the vertices `cluster`, for which prepare_disk() holds (sc is as it left it), by
   // one new vertex at z of local radius rz (`on_surface`: the surface normal at z when z was
   // taken onto the surface, else null); fills `op` when it beats it.
@@ -1083,11 +1107,9 @@ class Improver {
           // tree, 2026-12-07: short edges of 5e-6 to 7e-4 against others of 0.01-0.07, in clusters
           // of near-coincident vertices).
           if (!sc.relaxed || op.kind != Op::Kind::kNone) break;
-          if (!resume.nudge_chosen) {
-            std::uint32_t best = kNone;
-            double best_quality = std::max(op.quality, 0.0);
-            Vec3 best_start = Vec3::Zero();
-            double best_step = 0;
+          CornerChoice& nudge = resume.nudge;
+          if (!nudge.chosen) {
+            nudge.quality = std::max(op.quality, 0.0);
             const double base = std::sqrt(longest) * sin_hard_;
             for (const std::uint32_t w : f) {
               cluster.assign(1, w);
@@ -1119,30 +1141,15 @@ class Improver {
                   const Vec3 start = pos(w) + step * dir;
                   // (a step that turns a triangle over is no candidate: the sine of its angle
                   // does not see it)
-                  const double quality = fan_quality(start, sc, true);
-                  if (quality > sc.old_worst && quality > best_quality) {
-                    best = w;
-                    best_quality = quality;
-                    best_start = start;
-                    best_step = step;
-                  }
+                  nudge.offer(w, fan_quality(start, sc, true), start, step, sc.old_worst);
                 }
               }
             }
-            resume.nudge_chosen = true;
-            resume.nudge_corner = best;
-            resume.nudge_start = best_start;
-            resume.nudge_step = best_step;
+            nudge.chosen = true;
           }
-          if (resume.nudge_corner == kNone) break;
-          cluster.assign(1, resume.nudge_corner);
-          if (!prepare_disk(cluster, sc)) break;
-          if (const Projection* p = projection(resume.nudge_start, cluster, req, missing);
-              p != nullptr && p->lands_within(resume.nudge_start, resume.nudge_step)) {
-            sc.nudging = true;
-            try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
-            sc.nudging = false;
-          }
+          sc.nudging = true;
+          try_corner(nudge, cluster, sc, req, missing, op);
+          sc.nudging = false;
           break;
         }
         case Move::kRelax: {
@@ -1151,12 +1158,10 @@ class Improver {
           // only a triangle below kHardAngleDeg tries it too. Only the corner whose move gives
           // the best fan before its projection onto the surface (which moves it along the
           // normal only) is projected and tried.
-          if (!resume.relax_chosen) {
+          CornerChoice& relax = resume.relax;
+          if (!relax.chosen) {
             std::vector<std::uint32_t>& around = sc.around;
-            std::uint32_t best = kNone;
-            double best_quality = std::max(op.quality, 0.0);
-            Vec3 best_start = Vec3::Zero();
-            double best_reach = 0;
+            relax.quality = std::max(op.quality, 0.0);
             for (const std::uint32_t w : f) {
               if (w == f[(k + 2) % 3] && !sc.relaxed) continue;
               // The centroid of the neighbours, in the tangent plane (the fan's area vector).
@@ -1177,29 +1182,11 @@ class Improver {
                 reach = std::max(reach, (pos(x) - pos(w)).norm());
               cluster.assign(1, w);
               if (!prepare_disk(cluster, sc)) continue;
-              const double quality = fan_quality(start, sc, false);
-              if (quality > sc.old_worst && quality > best_quality) {
-                best = w;
-                best_quality = quality;
-                best_start = start;
-                best_reach = reach;
-              }
+              relax.offer(w, fan_quality(start, sc, false), start, 0.5 * reach, sc.old_worst);
             }
-            resume.relax_chosen = true;
-            resume.relax_corner = best;
-            resume.relax_start = best_start;
-            resume.relax_reach = best_reach;
+            relax.chosen = true;
           }
-          const std::uint32_t best = resume.relax_corner;
-          const Vec3 best_start = resume.relax_start;
-          const double best_reach = resume.relax_reach;
-          if (best == kNone) break;
-          cluster.assign(1, best);
-          if (!prepare_disk(cluster, sc)) break;
-          if (const Projection* p = projection(best_start, cluster, req, missing);
-              p != nullptr && p->lands_within(best_start, 0.5 * best_reach)) {
-            try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
-          }
+          try_corner(relax, cluster, sc, req, missing, op);
           break;
         }
       }
