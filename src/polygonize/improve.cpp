@@ -241,11 +241,11 @@ struct Op {
 // A level's choice of one corner to move (the relaxation's, the nudge's): the best offer whose
 // fan beats both the fan's old worst triangle and the level's floor; kNone when none does.
 struct CornerChoice {
-  bool chosen = false;             // made (once per triangle; later stages reuse it)
+  bool chosen = false;  // made (once per triangle; later stages reuse it)
   std::uint32_t corner = kNone;
-  Vec3 start = Vec3::Zero();       // where the corner goes, before its projection
-  double within = 0;               // how far from `start` the projection may land
-  double quality = 0;              // the chosen fan's smallest-angle sine
+  Vec3 start = Vec3::Zero();  // where the corner goes, before its projection
+  double within = 0;          // how far from `start` the projection may land
+  double quality = 0;         // the chosen fan's smallest-angle sine
 
   void offer(std::uint32_t w, double q, const Vec3& at, double reach, double old_worst) {
     if (q > old_worst && q > quality) {
