@@ -246,13 +246,15 @@ class SkeletonField final : public Field {
       auto point_index = [&](std::size_t k) {
         return order.empty() ? begin + k : static_cast<std::size_t>(order[begin + k]);
       };
-      Aabb box;
+      // The chunk's box: made above when the chunks were grouped, else here.
+      const bool boxed = !chunk_boxes.empty();
+      Aabb box = boxed ? chunk_boxes[c] : Aabb();
       for (std::size_t k = 0; k < count; ++k) {
         const Vec3& p = points[point_index(k)];
         chunk.px[k] = p.x();
         chunk.py[k] = p.y();
         chunk.pz[k] = p.z();
-        box.extend(p);
+        if (!boxed) box.extend(p);
       }
       chunk.padded = (count + 15) / 16 * 16;
       chunk.count = count;
