@@ -8,6 +8,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -559,6 +560,28 @@ TEST(ConvolutionSurface, CauchyDistanceSurfaceLonePointHasExactRadius) {
 
 // ---------------------------------------------------------------------------------------------
 // Batch evaluation (SIMD over points) must give exactly the doubles of single evaluations.
+
+// Evaluates `pts` in one batch, with and without gradients, and asserts every value and gradient
+// equal (bit for bit) to the point's own single evaluation; `nonzero` receives how many values
+// are not 0. Call through ASSERT_NO_FATAL_FAILURE.
+void expect_batch_matches_single(const Field& f, const std::vector<Vec3>& pts,
+                                 const std::string& label, int& nonzero) {
+  std::vector<double> vals(pts.size()), vals_g(pts.size());
+  std::vector<Vec3> grads(pts.size());
+  f.evaluate(pts, vals);
+  f.evaluate(pts, vals_g, grads);
+  nonzero = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const double v = f.value(pts[i]);
+    const Vec3 g = f.gradient(pts[i]);
+    nonzero += v != 0;
+    ASSERT_EQ(std::memcmp(&v, &vals[i], sizeof v), 0)
+        << label << " i " << i << ": " << v << " vs " << vals[i];
+    ASSERT_TRUE(g == grads[i]) << label << " i " << i << ": " << g.transpose() << " vs "
+                               << grads[i].transpose();
+  }
+}
+
 TEST(SkeletonField, BatchIsBitIdenticalToSingle) {
   const Skeleton tree = test::random_tree(42, 201);  // 200 segments
   ASSERT_EQ(tree.edge_count(), 200U);
@@ -569,20 +592,9 @@ TEST(SkeletonField, BatchIsBitIdenticalToSingle) {
     for (std::size_t n : {1UL, 7UL, 64UL, 1000UL}) {
       std::vector<Vec3> pts(n);
       for (std::size_t i = 0; i < n; ++i) pts[i] = i % 3 == 0 ? random_point(rng, box) : point_near(tree, rng, 3.0);
-      std::vector<double> vals(n), vals_g(n);
-      std::vector<Vec3> grads(n);
-      f->evaluate(pts, vals);
-      f->evaluate(pts, vals_g, grads);
       int nonzero = 0;
-      for (std::size_t i = 0; i < n; ++i) {
-        const double v = f->value(pts[i]);
-        const Vec3 g = f->gradient(pts[i]);
-        nonzero += v != 0;
-        ASSERT_EQ(std::memcmp(&v, &vals[i], sizeof v), 0)
-            << name(o) << " batch " << n << " i " << i << ": " << v << " vs " << vals[i];
-        ASSERT_TRUE(g == grads[i]) << name(o) << " batch " << n << " i " << i << ": "
-                                   << g.transpose() << " vs " << grads[i].transpose();
-      }
+      ASSERT_NO_FATAL_FAILURE(
+          expect_batch_matches_single(*f, pts, name(o) + " batch " + std::to_string(n), nonzero));
       if (n >= 64) {
         EXPECT_GT(nonzero, static_cast<int>(n / 2)) << name(o);
       }
@@ -612,17 +624,8 @@ TEST(SkeletonField, DenseBatchIsBitIdenticalToSingle) {
     const FieldPtr f = make_skeleton_field(tree, o);
     std::vector<Vec3> pts(3000);
     for (auto& p : pts) p = point_near(tree, rng, 1.5);
-    std::vector<double> vals(pts.size());
-    std::vector<Vec3> grads(pts.size());
-    f->evaluate(pts, vals, grads);
     int nonzero = 0;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      const double v = f->value(pts[i]);
-      const Vec3 g = f->gradient(pts[i]);
-      nonzero += v != 0;
-      ASSERT_EQ(std::memcmp(&v, &vals[i], sizeof v), 0) << name(o) << " i " << i;
-      ASSERT_TRUE(g == grads[i]) << name(o) << " i " << i;
-    }
+    ASSERT_NO_FATAL_FAILURE(expect_batch_matches_single(*f, pts, name(o), nonzero));
     EXPECT_GT(nonzero, 2000) << name(o);
   }
 }

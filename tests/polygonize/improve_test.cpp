@@ -73,6 +73,17 @@ double largest_surface_distance(const TriMesh& m, const Field& f) {
   return worst;
 }
 
+// A tree's mesh after the improvement: closed, oriented and 2-manifold, in one piece, every
+// skeleton node inside, no triangle below 1 degree and fewer than 1 % below 10. Returns its report.
+MeshReport expect_whole_with_good_angles(const TriMesh& m, const Skeleton& s) {
+  const MeshReport r = test::expect_closed_manifold(m);
+  test::expect_components(m, 1);
+  EXPECT_EQ(test::nodes_outside(m, s), 0u);
+  EXPECT_EQ(r.triangles_below_1_deg, 0u) << test::describe(r);
+  EXPECT_LT(r.triangles_below_10_deg, r.triangles / 100);
+  return r;
+}
+
 TEST(ImproveTriangles, TreeMeshedToAToleranceMeetsTheAngleTargets) {
   const Skeleton s = test::twig_tree(150);  // 280 k triangles
   const FieldPtr f = make_skeleton_field(s);
@@ -84,14 +95,10 @@ TEST(ImproveTriangles, TreeMeshedToAToleranceMeetsTheAngleTargets) {
   ToleranceOptions on;
   ToleranceStats st;
   const TriMesh m = polygonize_to_tolerance(*f, s, on, nullptr, &st);
-  const MeshReport r = test::expect_closed_manifold(m);
-  test::expect_components(m, 1);
-  EXPECT_EQ(test::nodes_outside(m, s), 0u);
   // The base mesh and its refinement have bad triangles; the pass leaves none below 1 degree
   // and fewer than 1 % below 10.
   ASSERT_GT(r0.triangles_below_10_deg, 100u);
-  EXPECT_EQ(r.triangles_below_1_deg, 0u) << test::describe(r);
-  EXPECT_LT(r.triangles_below_10_deg, r.triangles / 100);
+  const MeshReport r = expect_whole_with_good_angles(m, s);
   EXPECT_LT(r.triangles_below_10_deg, r0.triangles_below_10_deg / 5);
   EXPECT_GT(r.min_angle_deg, 1.0);
   // The stats say so, and what was done.
@@ -154,13 +161,9 @@ TEST(ImproveTriangles, NoNeedleStaysOnAPinchedNeck) {
   ToleranceOptions o;
   ToleranceStats st;
   const TriMesh m = polygonize_to_tolerance(*f, s, o, nullptr, &st);
-  const MeshReport r = test::expect_closed_manifold(m);
-  test::expect_components(m, 1);
-  EXPECT_EQ(test::nodes_outside(m, s), 0u);
   ASSERT_GT(st.improve.below_1_deg_before, 0u);
-  EXPECT_EQ(r.triangles_below_1_deg, 0u) << test::describe(r);
+  const MeshReport r = expect_whole_with_good_angles(m, s);
   EXPECT_GT(r.min_angle_deg, 1.0);
-  EXPECT_LT(r.triangles_below_10_deg, r.triangles / 100);
   EXPECT_EQ(st.improve.below_1_deg_after, 0u);
   const DeviationReport d = measured(m, *f, s);
   EXPECT_EQ(d.samples.unresolved, 0u);
