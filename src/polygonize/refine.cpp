@@ -142,57 +142,6 @@ double share_beyond(double q) {
   return std::max(0.0, w - 2.0 * k * std::log((1.0 + w) / (1.0 - w)));
 }
 
-/// Takes each z[i] onto the surface by batched Newton steps along the gradient (at most 8), the
-/// first from `value` / `grad` when given (already known at z); returns per point whether it
-/// converged (it stays where the steps left it otherwise).
-std::vector<char> newton_to_surface(const Field& field, std::vector<Vec3>& z,
-                                    const std::vector<double>& zr, const double* value,
-                                    const Vec3* grad, Context* ctx) {
-  const double iso = field.iso();
-  const std::size_t n = z.size();
-  std::vector<char> ok(n, 0);
-  std::vector<std::size_t> active(n);
-  for (std::size_t i = 0; i < n; ++i) active[i] = i;
-  for (int step = 0; step < 8 && !active.empty(); ++step) {
-    std::vector<double> v(active.size());
-    std::vector<Vec3> g(active.size());
-    if (step == 0 && value != nullptr) {
-      for (std::size_t j = 0; j < active.size(); ++j) {
-        v[j] = value[active[j]];
-        g[j] = grad[active[j]];
-      }
-    } else {
-      std::vector<Vec3> pts(active.size());
-      for (std::size_t j = 0; j < active.size(); ++j) pts[j] = z[active[j]];
-      field.evaluate(pts, v, g, ctx);
-    }
-    std::vector<std::size_t> next;
-    for (std::size_t j = 0; j < active.size(); ++j) {
-      const std::size_t i = active[j];
-      const double gg = g[j].squaredNorm();
-      if (!std::isfinite(v[j]) || !(gg > 0.0) || !std::isfinite(gg)) continue;  // stays flat
-      const double dist = std::abs(v[j] - iso) / std::sqrt(gg);
-      if (dist <= 1e-7 * zr[i]) {
-        ok[i] = 1;
-        continue;
-      }
-      const Vec3 step_to = ((v[j] - iso) / gg) * g[j];
-      z[i] -= step_to;
-      // Newton converges quadratically: after a step this small the distance left is of the
-      // order of step^2 / radius (here about 1e-5 radii), far below any tolerance, and needs
-      // no further evaluation. From a midpoint 0.05 radii off the surface the second step is
-      // about 0.003 radii, so most splits take one evaluation besides the test's.
-      if (step_to.norm() <= kConvergedStep * zr[i]) {
-        ok[i] = 1;
-        continue;
-      }
-      next.push_back(i);
-    }
-    active = std::move(next);
-  }
-  return ok;
-}
-
 /// One round; returns the number of edges split (0: nothing to do or over budget). `fresh` marks
 /// the vertices made by the previous round (all in the first): an edge between two older
 /// vertices was measured then and not split, so only edges with a fresh end are evaluated, and
@@ -319,14 +268,47 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
     zmid[i] = z[i] = probe_points[split_candidate[i]];
     zr[i] = radius[split_candidate[i]];
   }
-  // The first step starts at the midpoint, whose value and gradient the test above has.
-  std::vector<double> zvalue(ns);
-  std::vector<Vec3> zgrad(ns);
-  for (std::size_t i = 0; i < ns; ++i) {
-    zvalue[i] = value[split_candidate[i]];
-    zgrad[i] = grad[split_candidate[i]];
+  std::vector<char> ok(ns, 0);
+  std::vector<std::size_t> active(ns);
+  for (std::size_t i = 0; i < ns; ++i) active[i] = i;
+  for (int step = 0; step < 8 && !active.empty(); ++step) {
+    std::vector<double> v(active.size());
+    std::vector<Vec3> g(active.size());
+    if (step == 0) {
+      // The first step starts at the midpoint, whose value and gradient the test above has.
+      for (std::size_t j = 0; j < active.size(); ++j) {
+        v[j] = value[split_candidate[active[j]]];
+        g[j] = grad[split_candidate[active[j]]];
+      }
+    } else {
+      std::vector<Vec3> pts(active.size());
+      for (std::size_t j = 0; j < active.size(); ++j) pts[j] = z[active[j]];
+      field.evaluate(pts, v, g, ctx);
+    }
+    std::vector<std::size_t> next;
+    for (std::size_t j = 0; j < active.size(); ++j) {
+      const std::size_t i = active[j];
+      const double gg = g[j].squaredNorm();
+      if (!std::isfinite(v[j]) || !(gg > 0.0) || !std::isfinite(gg)) continue;  // stays flat
+      const double dist = std::abs(v[j] - iso) / std::sqrt(gg);
+      if (dist <= 1e-7 * zr[i]) {
+        ok[i] = 1;
+        continue;
+      }
+      const Vec3 step = ((v[j] - iso) / gg) * g[j];
+      z[i] -= step;
+      // Newton converges quadratically: after a step this small the distance left is of the
+      // order of step^2 / radius (here about 1e-5 radii), far below any tolerance, and needs
+      // no further evaluation. From a midpoint 0.05 radii off the surface the second step is
+      // about 0.003 radii, so most splits take one evaluation besides the test's.
+      if (step.norm() <= kConvergedStep * zr[i]) {
+        ok[i] = 1;
+        continue;
+      }
+      next.push_back(i);
+    }
+    active = std::move(next);
   }
-  const std::vector<char> ok = newton_to_surface(field, z, zr, zvalue.data(), zgrad.data(), ctx);
   std::vector<char> moved(ns, 0);
   for (std::size_t i = 0; i < ns; ++i) {
     // A converged point not far from its midpoint (a step that jumped to another part of the
