@@ -33,7 +33,9 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 // The most inner control points of a curved edge (degree 16 curves are refused).
 constexpr std::size_t kMaxInnerControls = 14;
 
-void validate_curve(const EdgeCurve& c, std::size_t e, const std::string& source) {
+// `box`: the nodes' box; the curve's controls must keep the span within double precision too
+// (the straightened nodes lie in their hull).
+void validate_curve(const EdgeCurve& c, std::size_t e, const std::string& source, Aabb box) {
   if (c.controls.size() > kMaxInnerControls) {
     throw InputError(source, "edge", e,
                      std::to_string(c.controls.size()) + " control points (at most " +
@@ -43,6 +45,15 @@ void validate_curve(const EdgeCurve& c, std::size_t e, const std::string& source
   for (std::size_t k = 0; k < c.controls.size(); ++k) {
     if (!is_finite(c.controls[k])) {
       throw InputError(source, "edge", e, "control point " + std::to_string(k) + " is not finite");
+    }
+    box.extend(c.controls[k]);
+    if (!std::isfinite(box.diagonal().norm())) {
+      throw InputError(source, "edge", e,
+                       "control point " + std::to_string(k) +
+                           ": with it the coordinates span more than double precision can hold "
+                           "(from " +
+                           format_number(box.min().minCoeff()) + " to " +
+                           format_number(box.max().maxCoeff()) + ")");
     }
   }
   if (!c.radii.empty() && c.radii.size() != c.controls.size()) {
@@ -218,7 +229,7 @@ void validate(const Skeleton& skeleton, const std::string& source) {
       throw InputError(source, "edge", e,
                        "duplicate edge " + std::to_string(a) + "-" + std::to_string(b));
     }
-    if (!skeleton.curves.empty()) validate_curve(skeleton.curves[e], e, source);
+    if (!skeleton.curves.empty()) validate_curve(skeleton.curves[e], e, source, box);
     const double len = (skeleton.nodes[a].position - skeleton.nodes[b].position).norm();
     if (len <= tol::kCoincident * scale) {
       throw InputError(source, "edge", e,
