@@ -120,13 +120,12 @@ TEST_F(HostileInputs, GrowRefusesARootTooFarFromThePoints) {
 TEST_F(HostileInputs, CurvedEdgeWhoseControlsOverflowTheSpanIsRefused) {
   // Finite controls that, with the nodes, span more than a double: once named "<input>: node 2"
   // (a node of the straightened curve) instead of the file and the edge.
-  const std::string skel =
-      write("wide_curve.json",
-            R"({"nodes": [{"position": [0, 0, 0], "radius": 0.1},
+  const std::string skel = write("wide_curve.json",
+                                 R"({"nodes": [{"position": [0, 0, 0], "radius": 0.1},
                           {"position": [1, 0, 0], "radius": 0.1}],
                 "edges": [{"nodes": [0, 1], "controls": [[0.5, 1e308, 0]]}]})");
-  const CliRun r = run_bounded("mesh " + skel + " -o " + path("m.ply") + " --stats " +
-                               path("stats.json"));
+  const CliRun r =
+      run_bounded("mesh " + skel + " -o " + path("m.ply") + " --stats " + path("stats.json"));
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find(skel + ": edge 0: control point 0: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("span more than double precision can hold"), std::string::npos) << r.out;

@@ -82,8 +82,8 @@ TEST(CurvedEdges, ValidateNamesTheEdge) {
     expect_rejected(s, {"edge 0", "control point 1 is not finite"});
     // Finite, but with the nodes the span overflows: the straightened nodes would.
     s.curves[0].controls[1] = Vec3(0, -1e308, 0);
-    expect_rejected(s, {"sk.json", "edge 0", "control point 1",
-                        "span more than double precision can hold"});
+    expect_rejected(
+        s, {"sk.json", "edge 0", "control point 1", "span more than double precision can hold"});
   }
   {
     Skeleton s = curved();
