@@ -496,11 +496,22 @@ void validate(const BezierCurve& curve, const std::string& what) {
                           std::to_string(count));
   }
   double extent = 0;
+  Aabb box;
   for (std::size_t i = 0; i < count; ++i) {
     if (!curve.controls[i].allFinite()) {
       throw InvalidArgument(what + ": control " + std::to_string(i) + " is not finite");
     }
     extent = std::max(extent, curve.controls[i].cwiseAbs().maxCoeff());
+    // The rule of the point and skeleton readers: the span must fit a double (g's coefficients
+    // multiply coordinates, so they would overflow first).
+    box.extend(curve.controls[i]);
+    if (!std::isfinite(box.diagonal().norm())) {
+      throw InvalidArgument(what + ": control " + std::to_string(i) +
+                            ": with it the coordinates span more than double precision can hold "
+                            "(from " +
+                            format_number(box.min().minCoeff()) + " to " +
+                            format_number(box.max().maxCoeff()) + ")");
+    }
   }
   if (!curve.radii.empty() && curve.radii.size() != count) {
     throw InvalidArgument(what + ": " + std::to_string(curve.radii.size()) + " radii for " +

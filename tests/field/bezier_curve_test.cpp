@@ -161,6 +161,12 @@ TEST(BezierValidate, NamesTheProblemAndControlIndex) {
   EXPECT_NE(message(radii).find("radius of control 2"), std::string::npos) << message(radii);
   radii.radii = {1, std::numeric_limits<double>::infinity(), 1};
   EXPECT_NE(message(radii).find("radius of control 1"), std::string::npos) << message(radii);
+  BezierCurve wide = planar({{0, 0}, {1e308, 1}, {-1e308, 0}});
+  EXPECT_NE(message(wide).find("control 1: with it the coordinates span more than double"),
+            std::string::npos)
+      << message(wide);
+  BezierCurve far = planar({{1e150, 0}, {1e150 + 1e145, 1e145}, {1e150 + 2e145, 0}});
+  EXPECT_NO_THROW(validate(far, "x"));  // large, but its span fits
   BezierCurve point = planar({{5, 5}, {5, 5}, {5, 5 + 1e-13}});
   EXPECT_NE(message(point).find("degenerate"), std::string::npos) << message(point);
   BezierCurve almost = planar({{5, 5}, {5, 5}, {5, 5 + 1e-9}});
