@@ -433,6 +433,13 @@ SurfaceSkeleton::SurfaceSkeleton(std::shared_ptr<const ParametricSurface> surfac
   if (!sampled.min().allFinite() || !sampled.max().allFinite()) {
     throw InvalidArgument("surface skeleton: " + s.describe() + " is not finite");
   }
+  // The rule of the point and skeleton readers: distances on it must not overflow.
+  if (!std::isfinite(sampled.diagonal().norm())) {
+    throw InvalidArgument("surface skeleton: " + s.describe() +
+                          " spans more than double precision can hold (from " +
+                          format_number(sampled.min().minCoeff()) + " to " +
+                          format_number(sampled.max().maxCoeff()) + ")");
+  }
   const double zero = tol::kCoincident * std::max(sampled.diagonal().norm(), 1e-300);
 
   const auto add_triangle = [this](const Vec3& a, const Vec3& b, const Vec3& c, const Vec2& uva,
@@ -534,6 +541,11 @@ SurfaceSkeleton::SurfaceSkeleton(std::shared_ptr<const ParametricSurface> surfac
 SurfaceProjection SurfaceSkeleton::project(const Vec3& p) const {
   const std::uint32_t id = bvh_->tree.nearest(
       p, [&](std::uint32_t k) { return (closest_on(triangles_[k], p).q - p).squaredNorm(); });
+  if (id >= triangles_.size()) {
+    // Every distance overflowed (NaN): the point is too far for double precision.
+    throw InvalidArgument("surface skeleton: no distance from " + vec_text(p) + " to " +
+                          surface_->describe() + " fits a double");
+  }
   const Tri& t = triangles_[id];
   const Foot f = closest_on(t, p);
   const Vec2* uv[3] = {&t.uva, &t.uvb, &t.uvc};

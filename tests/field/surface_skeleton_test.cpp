@@ -414,5 +414,24 @@ TEST(SurfaceSkeleton, ValidationNamesTheProblem) {
   expect_invalid([&] { (void)sk.distance_range(Aabb()); }, "box");
 }
 
+TEST(SurfaceSkeleton, SpansAndPointsBeyondDoublePrecisionAreRefusedNotCrashed) {
+  // Both used to end in a segmentation fault (every distance NaN, no nearest triangle).
+  Superquadric q;
+  q.radii = Vec3::Constant(1e200);
+  const auto huge = make_superquadric_surface(q);
+  expect_invalid([&] { SurfaceSkeleton s(huge); }, "spans more than double precision can hold");
+  BicubicPatch p = curved_patch();
+  p.controls[3].x() = 1e308;
+  p.controls[15].x() = -1e308;
+  const auto wide = make_patch_surface(p);
+  expect_invalid([&] { SurfaceSkeleton s(wide); }, "spans more than double precision can hold");
+  q.radii = Vec3::Constant(1e150);  // large, but its distances fit
+  EXPECT_NO_THROW(SurfaceSkeleton s(make_superquadric_surface(q)));
+  const SurfaceSkeleton unit(make_superquadric_surface(Superquadric{}));
+  // Far points: a distance that overflows is +inf, never NaN or a missing triangle.
+  EXPECT_GT(unit.project(Vec3(1e300, -1e300, 1e300)).distance, 1e299);
+  EXPECT_NEAR(unit.project(Vec3(0, 0, 1e100)).distance, 1e100, 1e90);
+}
+
 }  // namespace
 }  // namespace ramiform
