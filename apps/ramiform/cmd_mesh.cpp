@@ -59,6 +59,14 @@ int run_mesh(MeshArgs& args) {
     if (result.written.size() > 1) out << " (" << result.written.size() << " files)";
   }
   out << '\n';
+  if (result.mesh.triangle_count() == 0) {
+    err << "ramiform: failure: " << args.out_path
+        << ": the mesh is empty: the polygonizer found no surface, the field stays below its iso "
+           "value everywhere it looked (a convolution surface hardly forms around edges much "
+           "shorter than their radius: --surface distance skins every edge at its radius; "
+           "--method mc misses a surface thinner than its cells: give a smaller --cell)\n";
+    return 3;
+  }
   // A coarse lattice (levels 0 and 1, or a coarse mc cell) can let a thin branch fall apart;
   // say so instead of leaving it to a later check.
   const auto components = stats.value("components", std::size_t{0});

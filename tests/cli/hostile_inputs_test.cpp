@@ -132,6 +132,26 @@ TEST_F(HostileInputs, CurvedEdgeWhoseControlsOverflowTheSpanIsRefused) {
   EXPECT_EQ(files_in_dir(), 1U);
 }
 
+TEST_F(HostileInputs, AnEmptyMeshIsAFailureWithTheRemedy) {
+  // One edge a billionth of its radius long: its convolution surface does not form, and the
+  // empty mesh used to be written with exit 0.
+  const std::string skel = write("speck.json",
+                                 R"({"nodes": [{"position": [0, 0, 0], "radius": 1},
+                                               {"position": [1e-9, 0, 0], "radius": 1}],
+                                     "edges": [[0, 1]]})");
+  const CliRun r = run_bounded("mesh " + skel + " -o " + path("m.ply"));
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("ramiform: failure: " + path("m.ply") + ": the mesh is empty"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("--surface distance"), std::string::npos) << r.out;
+  // The remedy works: the distance surface skins the edge at its radius.
+  const CliRun d = run_bounded("mesh " + skel + " -o " + path("m.ply") + " --surface distance");
+  EXPECT_EQ(d.code, 0) << d.out;
+  EXPECT_EQ(d.out.find("failure"), std::string::npos) << d.out;
+  EXPECT_NE(d.out.find(", watertight"), std::string::npos) << d.out;
+}
+
 TEST_F(HostileInputs, TheSameFilesWithinTheLimitsAreAccepted) {
   // Control: large coordinates whose span fits, and one vertex, are read and evaluated.
   const std::string skel = y_fork();
