@@ -306,6 +306,14 @@ CommandResult run_save_mesh(Call& c) {
           (c.session().options.draft ? " (draft)" : "");
   }
   if (levels.empty()) levels.push_back(std::move(mesh));
+  if (levels[0].triangles.empty()) {
+    // Nothing to write: say why instead of saving an empty file (ramiform mesh exits 3 here).
+    c.fail(c.arg(0), "the mesh of '" + c.arg(0).text + "' (" + how +
+                         ") is empty: the polygonizer found no surface, the field stays below "
+                         "its iso value everywhere it looked (a shape thinner than the cells: "
+                         "give a smaller cell=; a skeleton's edges much shorter than their "
+                         "radius: give its skeleton line surface=distance)");
+  }
   if (c.session().options.on_mesh && !sent) c.session().options.on_mesh(c.arg(0).text, levels[0]);
   // Each file gets normals (unless normals=no) and, by its format (uv=auto: .glb and .obj) or
   // as uv= says, bark UVs; the two variants are made once each.

@@ -268,5 +268,17 @@ TEST_F(HostileScripts, GrowExplainsPointsWithinKillOfTheRoot) {
   EXPECT_FALSE(contains(stalled.problem(), "smaller kill=")) << stalled.problem();
 }
 
+TEST_F(HostileScripts, AnEmptyMeshIsALocatedErrorNotAnEmptyFile) {
+  // A cone a 1e300 high: marching cubes' cells dwarf its width and find no surface. The script
+  // once wrote an empty mesh and succeeded.
+  const InputError e = error_of("cone c 1 1e300 top=0\nsave_mesh c m.ply\n");
+  EXPECT_EQ(e.line(), 2u);
+  EXPECT_EQ(e.column(), 11u);  // the shape's name
+  EXPECT_TRUE(contains(e.problem(), "save_mesh: the mesh of 'c' (mc, resolution 96) is empty"))
+      << e.problem();
+  EXPECT_TRUE(contains(e.problem(), "smaller cell=")) << e.problem();
+  EXPECT_FALSE(fs::exists(dir_ / "m.ply"));
+}
+
 }  // namespace
 }  // namespace ramiform::test
