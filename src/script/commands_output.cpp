@@ -306,8 +306,9 @@ CommandResult run_save_mesh(Call& c) {
           (c.session().options.draft ? " (draft)" : "");
   }
   if (levels.empty()) levels.push_back(std::move(mesh));
-  if (levels[0].triangles.empty()) {
-    // Nothing to write: say why instead of saving an empty file (ramiform mesh exits 3 here).
+  if (levels[0].triangles.empty() && !c.session().options.draft) {
+    // Nothing to write: say why instead of saving an empty file (ramiform mesh exits 3 here). A
+    // draft's coarse grid may miss what the full run finds: it goes on.
     c.fail(c.arg(0), "the mesh of '" + c.arg(0).text + "' (" + how +
                          ") is empty: the polygonizer found no surface, the field stays below "
                          "its iso value everywhere it looked (a shape thinner than the cells: "
