@@ -25,7 +25,12 @@ constexpr int kElementArrayBuffer = 34963;
 constexpr int kTriangles = 4;
 
 void append_u32(std::string& s, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) s.push_back(static_cast<char>((v >> (8 * i)) & 0xffu));
+  // Little-endian whatever the host's order, appended as one block (a glb of a million
+  // triangles is some 20 million bytes).
+  const char bytes[4] = {static_cast<char>(v & 0xffu), static_cast<char>((v >> 8) & 0xffu),
+                         static_cast<char>((v >> 16) & 0xffu),
+                         static_cast<char>((v >> 24) & 0xffu)};
+  s.append(bytes, 4);
 }
 
 void append_f32(std::string& s, float f) {
@@ -46,6 +51,7 @@ class GlbBuilder {
   std::size_t add(std::size_t count, int components, int component_type, int target,
                   const char* type, Put&& put, bool min_max = false) {
     const std::size_t offset = bin_.size();
+    bin_.reserve(offset + 4 * count * static_cast<std::size_t>(components));
     for (std::size_t i = 0; i < count; ++i) put(i, bin_);
     const std::size_t length = bin_.size() - offset;
     views_.push_back({{"buffer", 0},
