@@ -1063,6 +1063,28 @@ FieldPtr make_mpu_field(const PointSet& points, const MpuOptions& options, MpuSt
   for (const Vec3& p : pos) box.extend(p);
   const double diagonal = box.diagonal().norm();
   if (!(diagonal > 0)) throw InvalidArgument("mpu: all points coincide");
+  {
+    // Points on one line say nothing about a surface around it (their normals are arbitrary):
+    // refused rather than fitted to a blob.
+    const Vec3 mean = box.center();
+    Mat3 cov = Mat3::Zero();
+    for (const Vec3& p : pos) cov.noalias() += (p - mean) * (p - mean).transpose();
+    const Eigen::SelfAdjointEigenSolver<Mat3> eig(cov);
+    // The largest distance from the principal axis, measured directly (the middle eigenvalue
+    // cannot resolve a spread below about 1e-8 of the size).
+    const Vec3 axis = eig.eigenvectors().col(2);
+    double across = 0;
+    for (const Vec3& p : pos) {
+      const Vec3 d = p - mean;
+      across = std::max(across, (d - d.dot(axis) * axis).norm());
+    }
+    if (!(across > 1e-9 * diagonal)) {
+      throw InvalidArgument("mpu: the " + std::to_string(pos.size()) +
+                            " points lie on one line (the farthest is " +
+                            format_number(across) + " from it, for a box diagonal of " +
+                            format_number(diagonal) + "): no surface can be fitted");
+    }
+  }
   const double tolerance = options.tolerance * diagonal;
   const double edge = kRootScale * box.sizes().maxCoeff();
   const Aabb root(box.center() - Vec3::Constant(0.5 * edge),

@@ -315,6 +315,18 @@ TEST(Mpu, RejectsBadInput) {
   o = {};
   o.iso = std::nan("");
   expect_throw_with([&] { (void)make_mpu_field(good, o); }, "iso");
+  // Points on one line (here 1e-13 of the size off it): once fitted to a closed blob.
+  PointSet line;
+  for (int i = 0; i < 50; ++i) {
+    const double t = i / 49.0;
+    line.positions.emplace_back(t, 2 * t + (i % 2 == 0 ? 1e-13 : 0.0), -t);
+    line.normals.emplace_back(0, 0, 1);
+  }
+  expect_throw_with([&] { (void)make_mpu_field(line); }, "the 50 points lie on one line");
+  // Points a thousandth of the size off the line are a strip, a surface: accepted.
+  PointSet strip = line;
+  for (std::size_t i = 1; i < strip.positions.size(); i += 2) strip.positions[i].z() += 1e-3;
+  EXPECT_NO_THROW((void)make_mpu_field(strip));
 }
 
 // ---- shared models -----------------------------------------------------------------------------
