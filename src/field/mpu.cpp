@@ -1080,9 +1080,9 @@ FieldPtr make_mpu_field(const PointSet& points, const MpuOptions& options, MpuSt
     }
     if (!(across > 1e-9 * diagonal)) {
       throw InvalidArgument("mpu: the " + std::to_string(pos.size()) +
-                            " points lie on one line (the farthest is " +
-                            format_number(across) + " from it, for a box diagonal of " +
-                            format_number(diagonal) + "): no surface can be fitted");
+                            " points lie on one line (the farthest is " + format_number(across) +
+                            " from it, for a box diagonal of " + format_number(diagonal) +
+                            "): no surface can be fitted");
     }
   }
   const double tolerance = options.tolerance * diagonal;
