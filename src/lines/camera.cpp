@@ -61,6 +61,11 @@ void validate(const Camera& camera) {
   }
   const Vec3 view = camera.target - camera.eye;
   if (!(view.norm() > 0)) throw InvalidArgument("camera: the eye and the target coincide");
+  if (!std::isfinite(view.norm()) || !std::isfinite(camera.up.norm())) {
+    throw InvalidArgument(
+        "camera: the eye is too far from the target (or up too long) for double "
+        "precision: their distance overflows");
+  }
   if (!(camera.up.norm() > 0) || view.normalized().cross(camera.up.normalized()).norm() < 1e-9) {
     throw InvalidArgument("camera: up is zero or parallel to the view direction");
   }

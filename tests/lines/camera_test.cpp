@@ -93,6 +93,9 @@ TEST(Camera, RefusesBadTextNamingTheKey) {
   EXPECT_NE(message("fov=20;fov=30").find("given twice"), std::string::npos);
   EXPECT_NE(message("eye").find("not KEY=VALUE"), std::string::npos);
   EXPECT_NE(message("eye=0,0,0").find("coincide"), std::string::npos);
+  // Their distance overflows: once reported as "up is ... parallel to the view direction".
+  EXPECT_NE(message("eye=1e308,0,0;target=-1e308,0,0").find("too far"), std::string::npos)
+      << message("eye=1e308,0,0;target=-1e308,0,0");
   EXPECT_NE(message("up=0,0,-1").find("parallel"), std::string::npos);
   EXPECT_NE(message("fov=180").find("fov must be in"), std::string::npos);
 }
