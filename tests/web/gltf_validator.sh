@@ -14,13 +14,23 @@ run "$ramiform" mesh tree.json -o tree.glb >/dev/null
 #    components in one primitive), and an OBJ of it for the scene below.
 run "$ramiform" mesh tree.json -o tree_mc.glb --method mc --resolution 48 >/dev/null
 run "$ramiform" mesh tree.json -o tree.obj >/dev/null
-# 3. Scene scripts: a tiny mesh (a sphere on a 2-cell grid: 8 triangles), an empty one (on one
-#    cell, whose corners are all outside: no triangle), a CSG shape, a skeleton meshed by tets,
-#    and the OBJ above as a shape.
+# 3. An empty mesh: one edge a billionth of its radius long, whose convolution surface does not
+#    form; `mesh` writes the empty mesh and exits 3 (a script refuses to save one).
+cat > speck.json <<'JSON'
+{"nodes": [{"position": [0, 0, 0], "radius": 1}, {"position": [1e-9, 0, 0], "radius": 1}],
+ "edges": [[0, 1]]}
+JSON
+rc=0
+"$ramiform" mesh speck.json -o empty.glb >/dev/null 2>&1 || rc=$?
+if [ $rc -ne 3 ]; then
+  echo "FAIL: mesh of speck.json exited $rc, not 3 (the mesh is empty)"
+  exit 1
+fi
+# 4. Scene scripts: a tiny mesh (a sphere on a 2-cell grid: 8 triangles), a CSG shape, a
+#    skeleton meshed by tets, and the OBJ above as a shape.
 cat > scene.rf <<'RF'
 sphere ball 1
 save_mesh ball tiny.glb resolution=2
-save_mesh ball empty.glb resolution=1
 sphere s1 1
 line s2
 diff s1 s2 drilled
@@ -31,11 +41,11 @@ mesh_shape obj tree.obj
 save_mesh obj obj.glb resolution=32
 RF
 run "$ramiform" run scene.rf --out . --quiet
-# 4. The demo's tree (what `make run` writes), on fewer points than its default.
+# 5. The demo's tree (what `make run` writes), on fewer points than its default.
 run "$ramiform" demo --out demo --points 600 >/dev/null
 
 files=(tree.glb tree_mc.glb tiny.glb empty.glb drilled.glb fork.glb obj.glb demo/tree.glb)
-# 5. Levels of detail in one file (MSFT_lod: the validator reports it as the info
+# 6. Levels of detail in one file (MSFT_lod: the validator reports it as the info
 #    UNSUPPORTED_EXTENSION, and the coarser nodes, outside the scene, as UNUSED_OBJECT infos).
 if "$ramiform" mesh --help | grep -q -- '--lod'; then
   run "$ramiform" mesh tree.json -o tree_lod.glb --lod 0.05,0.15,0.4 >/dev/null
