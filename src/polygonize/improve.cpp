@@ -73,6 +73,7 @@ constexpr double kClusterEdge = 0.2;
 constexpr double kLastResortDeg = 1.0;
 constexpr double kSmallMove = 0.5;
 constexpr std::array<double, 3> kSmallSteps = {0.25, 0.5, 1.0};
+constexpr int kLastRounds = 2;
 
 void validate(const ImproveOptions& o) {
   if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) {
@@ -274,9 +275,9 @@ struct Resume {
 // relaxation of a corner; the collapse of its shortest edge into an end point, into its
 // midpoint on the surface; the collapse of the cluster of near-coincident vertices around that
 // edge into one of them, into their centroid on the surface; the collapse of the patch of bad
-// triangles around it; a nudge of a corner; a small move. Relaxation comes second: on archi_Tree_1 (fitted
-// radii), where most bad triangles are caps of 7-9 degrees that only a relaxation mends, that order
-// takes a quarter less time than collapses first, for the same result.
+// triangles around it; a nudge of a corner; a small move. Relaxation comes second: on archi_Tree_1
+// (fitted radii), where most bad triangles are caps of 7-9 degrees that only a relaxation mends,
+// that order takes a quarter less time than collapses first, for the same result.
 enum class Move {
   kFlip,
   kRelax,
@@ -288,15 +289,10 @@ enum class Move {
   kNudge,
   kSmallMove
 };
-constexpr std::array<Move, 9> kOrder = {Move::kFlip,
-                                        Move::kRelax,
-                                        Move::kEdgeToEnd,
-                                        Move::kEdgeToMidpoint,
-                                        Move::kClusterToVertex,
-                                        Move::kClusterToCentroid,
-                                        Move::kPatch,
-                                        Move::kNudge,
-                                        Move::kSmallMove};
+constexpr std::array<Move, 9> kOrder = {
+    Move::kFlip,           Move::kRelax,           Move::kEdgeToEnd,
+    Move::kEdgeToMidpoint, Move::kClusterToVertex, Move::kClusterToCentroid,
+    Move::kPatch,          Move::kNudge,           Move::kSmallMove};
 constexpr int kLevels = static_cast<int>(kOrder.size());
 
 class Improver {
@@ -334,6 +330,17 @@ class Improver {
   }
 
   Scan scan_all() { return scan(mesh_, &alive_, sin_bad_, threads_, &sines_); }
+
+  // The triangles left below kLastResortDeg, in index order; from now on they may take the
+  // small move (Move::kSmallMove).
+  std::vector<std::uint32_t> last_resort() {
+    small_moves_ = true;
+    std::vector<std::uint32_t> out;
+    for (std::size_t t = 0; t < sines_.size(); ++t) {
+      if (alive_[t] != 0 && sines_[t] < sin_last_) out.push_back(static_cast<std::uint32_t>(t));
+    }
+    return out;
+  }
 
   // The counts of scan() over the triangles left, from the sines kept up to date.
   Scan scan_kept() const {
@@ -1193,7 +1200,7 @@ class Improver {
           // triangle against it. Candidates: the shortest edge collapsed into an end or its
           // midpoint (when that is a small move), and each corner moved by kSmallSteps of its
           // bound in the nudge's directions; the best that passes is taken.
-          if (sines_[t] >= sin_last_ || op.kind != Op::Kind::kNone) break;
+          if (!small_moves_ || sines_[t] >= sin_last_ || op.kind != Op::Kind::kNone) break;
           std::array<double, 3> r{};
           bool lacking = false;
           for (int i = 0; i < 3; ++i) r[i] = radius(f[i], req, lacking);
@@ -1553,6 +1560,7 @@ class Improver {
   const ImproveOptions& o_;
   const Context* threads_;
   double sin_bad_, sin_hard_, sin_last_, cos_turn_;
+  bool small_moves_ = false;  // see last_resort()
   detail::BoxBvh nodes_;
   std::vector<char> alive_;
   std::vector<double> sines_;  // per triangle, min_angle_sine(), kept up to date
@@ -1610,6 +1618,17 @@ void improve_triangles(TriMesh& mesh, const Field& field, const Skeleton& skelet
     changes += done;
     ++st.rounds;
     if (ctx != nullptr) ctx->report("improve", static_cast<double>(round + 1) / options.max_rounds);
+  }
+  // The last resort: triangles still below kLastResortDeg get up to kLastRounds more rounds in
+  // which the small move is allowed (a mesh without such triangles stays as the rounds left it).
+  for (int round = 0; round < kLastRounds; ++round) {
+    if (ctx != nullptr && ctx->is_cancelled()) break;
+    bad = im.last_resort();
+    if (bad.empty()) break;
+    const std::size_t done = im.round(std::move(bad), next, st);
+    if (done == 0) break;
+    changes += done;
+    ++st.rounds;
   }
   if (changes > 0) {
     const Scan after = im.scan_kept();
