@@ -36,6 +36,19 @@
 ///     edge lies on a pinched neck of the mesh (a cycle of three edges that is no triangle, so
 ///     no collapse keeps it 2-manifold), where the triangles stand across the surface and any
 ///     larger move turns one of them against the gradient.
+///  7. below 1 degree, as a last resort (see Rounds): a **small move**, judged by the geometry
+///     alone. The triangle's shortest edge collapses into an end or its midpoint, or one of its
+///     corners moves a quarter, half or all of the bound in one of the nudge's directions, no
+///     vertex moving farther than half the tolerance times its local radius: every point of the
+///     mesh then moves by no more than that, so its distance to the surface changes by less.
+///     Of the conditions below, it meets the first, second and last; instead of the two tests
+///     of the field (follow the surface, stay on the surface), each new triangle turns by less
+///     than 60 degrees from the one it replaces (from a triangle below 1.5 degrees, whose
+///     normal is noise: not against the area vector of the fan), and the new vertex stays
+///     where the move puts it. It mends needles where the field's tests say little: next to
+///     vertices refinement left off the surface, whose edges lie 0.75 to 6.5 radii off by the
+///     first-order measure and every move puts one a hundredth of a radius farther, and where the
+///     gradient nearly vanishes.
 /// A collapse or a relaxation replaces a set of vertices (one, for a relaxation) by one new
 /// vertex: the triangles around them must form a disk (V - E + F = 1) whose interior vertices
 /// are exactly the set and whose boundary is one simple cycle with no chord; each disk triangle
@@ -69,7 +82,9 @@
 /// edges, Newton steps) in stages until every operation is decided, and then the operations
 /// are applied one by one, worst triangle first (ties by index), each decided again against
 /// the mesh as the earlier ones left it when they touched its neighbourhood. Rounds stop when
-/// nothing changes or after `max_rounds`; then removed triangles and unused vertices are
+/// nothing changes or after `max_rounds`; the triangles then still below 1 degree get up to two
+/// more rounds in which the small move (7) is allowed, so a mesh that has none is left as the
+/// rounds made it. Then removed triangles and unused vertices are
 /// dropped, the rest keeping their order (vertices made by the pass come last). The result
 /// depends only on the inputs, never on the thread count. A mesh the pass does not change is
 /// left as it is; a changed one loses its normals (as refine_to_surface() drops them).
@@ -99,11 +114,11 @@ struct ImproveOptions {
 
 /// What improve_triangles() did. Angle figures are over the whole mesh, before and after.
 struct ImproveStats {
-  int rounds = 0;             ///< rounds that changed the mesh
-  std::size_t flips = 0;      ///< edges flipped
+  int rounds = 0;         ///< rounds that changed the mesh (the small move's last rounds included)
+  std::size_t flips = 0;  ///< edges flipped
   std::size_t collapses = 0;  ///< edges and clusters collapsed into one vertex
   std::size_t clusters = 0;   ///< of which clusters of three or more vertices
-  std::size_t relaxed = 0;    ///< vertices moved
+  std::size_t relaxed = 0;    ///< vertices moved (by relaxations, nudges and small moves)
   std::size_t below_10_deg_before = 0, below_10_deg_after = 0;  ///< triangles under 10 degrees
   std::size_t below_1_deg_before = 0, below_1_deg_after = 0;    ///< triangles under 1 degree
   double min_angle_deg_before = 0, min_angle_deg_after = 0;     ///< smallest corner angle
