@@ -195,8 +195,8 @@ std::vector<T> gather_chunks(std::size_t n, Fill&& fill, const Context* ctx) {
 /// Orders `cost` by (cost, edge) as far as a walk that takes the cheapest items while their
 /// costs fit in `budget` can go: the smallest items are picked out by selection, growing their
 /// number until they add up to more than the budget (so the walk stops among them), and only
-/// they are sorted, in the order a full sort gives them; the others are dropped. A first pass
-/// over the benchmark tree takes about a twentieth of the items it could spare.
+/// they are sorted, in the order a full sort gives them; the others are dropped. (The first
+/// round on the 1,500-segment benchmark tree sorts 58 k of 232 k items and takes 18 k.)
 void cheapest_first(std::vector<std::pair<double, std::uint32_t>>& cost, double budget) {
   for (std::size_t head = std::max<std::size_t>(1024, cost.size() / 64);; head *= 4) {
     if (head >= cost.size()) {
@@ -363,45 +363,54 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
     zr[i] = radius[split_candidate[i]];
   }
   std::vector<char> ok(ns, 0);
-  std::vector<std::size_t> active(ns);
-  for (std::size_t i = 0; i < ns; ++i) active[i] = i;
+  std::vector<std::uint32_t> active(ns);
+  for (std::size_t i = 0; i < ns; ++i) active[i] = static_cast<std::uint32_t>(i);
+  Buffer<double> v;
+  Buffer<Vec3> g, pts;
   for (int step = 0; step < 8 && !active.empty(); ++step) {
-    std::vector<double> v(active.size());
-    std::vector<Vec3> g(active.size());
+    v.resize(active.size());
+    g.resize(active.size());
     if (step == 0) {
       // The first step starts at the midpoint, whose value and gradient the test above has.
-      for (std::size_t j = 0; j < active.size(); ++j) {
-        v[j] = value[split_candidate[active[j]]];
-        g[j] = grad[split_candidate[active[j]]];
-      }
+      parallel::for_each(
+          active.size(), kGrain,
+          [&](std::size_t j) {
+            v[j] = value[split_candidate[active[j]]];
+            g[j] = grad[split_candidate[active[j]]];
+          },
+          ctx);
     } else {
-      std::vector<Vec3> pts(active.size());
-      for (std::size_t j = 0; j < active.size(); ++j) pts[j] = z[active[j]];
+      pts.resize(active.size());
+      parallel::for_each(active.size(), kGrain, [&](std::size_t j) { pts[j] = z[active[j]]; }, ctx);
       field.evaluate(pts, v, g, ctx);
     }
-    std::vector<std::size_t> next;
-    for (std::size_t j = 0; j < active.size(); ++j) {
-      const std::size_t i = active[j];
-      const double gg = g[j].squaredNorm();
-      if (!std::isfinite(v[j]) || !(gg > 0.0) || !std::isfinite(gg)) continue;  // stays flat
-      const double dist = std::abs(v[j] - iso) / std::sqrt(gg);
-      if (dist <= 1e-7 * zr[i]) {
-        ok[i] = 1;
-        continue;
-      }
-      const Vec3 step = ((v[j] - iso) / gg) * g[j];
-      z[i] -= step;
-      // Newton converges quadratically: after a step this small the distance left is of the
-      // order of step^2 / radius (here about 1e-5 radii), far below any tolerance, and needs
-      // no further evaluation. From a midpoint 0.05 radii off the surface the second step is
-      // about 0.003 radii, so most splits take one evaluation besides the test's.
-      if (step.norm() <= kConvergedStep * zr[i]) {
-        ok[i] = 1;
-        continue;
-      }
-      next.push_back(i);
-    }
-    active = std::move(next);
+    active = gather_chunks<std::uint32_t>(
+        active.size(),
+        [&](std::size_t begin, std::size_t end, std::vector<std::uint32_t>& next) {
+          for (std::size_t j = begin; j < end; ++j) {
+            const std::uint32_t i = active[j];
+            const double gg = g[j].squaredNorm();
+            if (!std::isfinite(v[j]) || !(gg > 0.0) || !std::isfinite(gg)) continue;  // flat
+            const double dist = std::abs(v[j] - iso) / std::sqrt(gg);
+            if (dist <= 1e-7 * zr[i]) {
+              ok[i] = 1;
+              continue;
+            }
+            const Vec3 step = ((v[j] - iso) / gg) * g[j];
+            z[i] -= step;
+            // Newton converges quadratically: after a step this small the distance left is of
+            // the order of step^2 / radius (here about 1e-5 radii), far below any tolerance,
+            // and needs no further evaluation. From a midpoint 0.05 radii off the surface the
+            // second step is about 0.003 radii, so most splits take one evaluation besides the
+            // test's.
+            if (step.norm() <= kConvergedStep * zr[i]) {
+              ok[i] = 1;
+              continue;
+            }
+            next.push_back(i);
+          }
+        },
+        ctx);
   }
   std::vector<char> moved(ns, 0);
   for (std::size_t i = 0; i < ns; ++i) {
