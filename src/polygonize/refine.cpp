@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "field/bvh.h"
+#include "polygonize/cheapest_first.h"
 #include "polygonize/in_tetrahedron.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/memory.h"
@@ -24,6 +25,28 @@
 #include "ramiform/mesh/deviation.h"
 
 namespace ramiform {
+
+// (Declared in polygonize/cheapest_first.h.) The first round on the 1,500-segment benchmark
+// tree sorts 58 k of its 232 k items and takes 18 k.
+void detail::cheapest_first(std::vector<std::pair<double, std::uint32_t>>& cost, double budget) {
+  for (std::size_t head = std::max<std::size_t>(64, cost.size() / 64);; head *= 4) {
+    if (head >= cost.size()) {
+      std::sort(cost.begin(), cost.end());
+      return;
+    }
+    const auto mid = cost.begin() + static_cast<std::ptrdiff_t>(head);
+    std::nth_element(cost.begin(), mid, cost.end());
+    double sum = 0.0;
+    for (auto it = cost.begin(); it != mid; ++it) sum += it->first;
+    // Twice the budget: the walk's running subtraction rounds differently from this sum.
+    if (sum > 2.0 * budget) {
+      cost.resize(head);
+      std::sort(cost.begin(), cost.end());
+      return;
+    }
+  }
+}
+
 namespace {
 
 using detail::in_tetrahedron;
@@ -192,30 +215,6 @@ std::vector<T> gather_chunks(std::size_t n, Fill&& fill, const Context* ctx) {
   return all;
 }
 
-/// Orders `cost` by (cost, edge) as far as a walk that takes the cheapest items while their
-/// costs fit in `budget` can go: the smallest items are picked out by selection, growing their
-/// number until they add up to more than the budget (so the walk stops among them), and only
-/// they are sorted, in the order a full sort gives them; the others are dropped. (The first
-/// round on the 1,500-segment benchmark tree sorts 58 k of 232 k items and takes 18 k.)
-void cheapest_first(std::vector<std::pair<double, std::uint32_t>>& cost, double budget) {
-  for (std::size_t head = std::max<std::size_t>(1024, cost.size() / 64);; head *= 4) {
-    if (head >= cost.size()) {
-      std::sort(cost.begin(), cost.end());
-      return;
-    }
-    const auto mid = cost.begin() + static_cast<std::ptrdiff_t>(head);
-    std::nth_element(cost.begin(), mid, cost.end());
-    double sum = 0.0;
-    for (auto it = cost.begin(); it != mid; ++it) sum += it->first;
-    // Twice the budget: the walk's running subtraction rounds differently from this sum.
-    if (sum > 2.0 * budget) {
-      cost.resize(head);
-      std::sort(cost.begin(), cost.end());
-      return;
-    }
-  }
-}
-
 /// One round; returns the number of edges split (0: nothing to do or over budget). `fresh` marks
 /// the vertices made by the previous round (all in the first): an edge between two older
 /// vertices was measured then and not split, so only edges with a fresh end are evaluated, and
@@ -326,7 +325,7 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
               }
             },
             ctx);
-    cheapest_first(cost, spare);
+    detail::cheapest_first(cost, spare);
     for (const auto& [beyond, e] : cost) {
       if (beyond > spare) break;
       spare -= beyond;
