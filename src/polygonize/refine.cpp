@@ -578,8 +578,6 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
       ctx);
   const std::size_t nv_old = mesh.positions.size();
   mesh.positions.insert(mesh.positions.end(), z.begin(), z.end());
-  const std::vector<double> new_radius = local_radii(skeleton, z, ctx);
-  vradius.insert(vradius.end(), new_radius.begin(), new_radius.end());
   fresh.assign(mesh.positions.size(), 0);
   std::fill(fresh.begin() + static_cast<std::ptrdiff_t>(nv_old), fresh.end(), 1);
   // The old triangles give the parents' normals (their corners do not move); kept rather than
@@ -587,19 +585,31 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   // benchmark tree and was paged in afresh every round.
   const std::vector<std::array<std::uint32_t, 3>> old_triangles = std::move(mesh.triangles);
   mesh.triangles = std::move(tris);
-  // The fans of the new vertices (CSR), for the checks.
+  // The fans of the new vertices (CSR), for the checks, made by one thread while the others find
+  // the new vertices' local radii (for the next round; two tasks, one after the other on one
+  // thread).
+  std::vector<double> new_radius;
   std::vector<std::size_t> fan_start(ns + 1, 0);
-  for (const auto& t : mesh.triangles)
-    for (const auto v : t)
-      if (v >= nv_old) ++fan_start[v - nv_old + 1];
-  for (std::size_t i = 0; i < ns; ++i) fan_start[i + 1] += fan_start[i];
-  std::vector<std::uint32_t> fan(fan_start[ns]);
-  {
-    std::vector<std::size_t> fill(fan_start.begin(), fan_start.end() - 1);
-    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-      for (const auto v : mesh.triangles[t])
-        if (v >= nv_old) fan[fill[v - nv_old]++] = t;
-  }
+  std::vector<std::uint32_t> fan;
+  parallel::for_chunks(
+      2, 1,
+      [&](std::size_t task, std::size_t) {
+        if (task == 0) {
+          new_radius = local_radii(skeleton, z, ctx);
+          return;
+        }
+        for (const auto& t : mesh.triangles)
+          for (const auto v : t)
+            if (v >= nv_old) ++fan_start[v - nv_old + 1];
+        for (std::size_t i = 0; i < ns; ++i) fan_start[i + 1] += fan_start[i];
+        fan.resize(fan_start[ns]);
+        std::vector<std::size_t> fill(fan_start.begin(), fan_start.end() - 1);
+        for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+          for (const auto v : mesh.triangles[t])
+            if (v >= nv_old) fan[fill[v - nv_old]++] = t;
+      },
+      ctx);
+  vradius.insert(vradius.end(), new_radius.begin(), new_radius.end());
   const double cos_turn = pm::cos(o.max_turn_deg * std::numbers::pi / 180.0);
   // Revert moves, pass after pass, until no new triangle turns too far and no node is swept.
   // A pass checks the vertices whose fan changed in the pass before (at first all that moved):
@@ -801,7 +811,20 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
   for (const auto& n : skeleton.nodes) boxes.emplace_back(n.position, n.position);
   const detail::BoxBvh nodes(std::move(boxes));
   mesh.normals.clear();
-  std::vector<double> vradius = local_radii(skeleton, mesh.positions, ctx);
+  // The vertices' local radii beside the mesh's edges (sequential; two tasks, one after the
+  // other on one thread), which each round then keeps up to date.
+  std::vector<double> vradius;
+  Edges edges;
+  parallel::for_chunks(
+      2, 1,
+      [&](std::size_t task, std::size_t) {
+        if (task == 0) {
+          vradius = local_radii(skeleton, mesh.positions, ctx);
+        } else {
+          edges = mesh_edges(mesh);
+        }
+      },
+      ctx);
   std::vector<char> fresh(mesh.positions.size(), 1);
   // Per vertex: 1 where a split left it at its edge's midpoint, 2 half way to the surface.
   std::vector<char> off(mesh.positions.size(), 0);
@@ -816,7 +839,6 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
   if (const std::uint64_t budget = memory_budget(ctx); budget > 0) {
     o.max_triangles = std::min<std::size_t>(o.max_triangles, budget / kBytesPerTriangle);
   }
-  Edges edges = mesh_edges(mesh);  // then kept up to date by each round
   for (int round = 0; round < o.max_rounds; ++round) {
     const std::size_t split =
         refine_round(mesh, edges, vradius, fresh, off, spare, field, skeleton, nodes, o, ctx, st);
