@@ -380,7 +380,8 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
           ctx);
     } else {
       pts.resize(active.size());
-      parallel::for_each(active.size(), kGrain, [&](std::size_t j) { pts[j] = z[active[j]]; }, ctx);
+      parallel::for_each(
+          active.size(), kGrain, [&](std::size_t j) { pts[j] = z[active[j]]; }, ctx);
       field.evaluate(pts, v, g, ctx);
     }
     active = gather_chunks<std::uint32_t>(

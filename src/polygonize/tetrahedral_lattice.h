@@ -164,7 +164,7 @@ class Lattice {
   std::vector<std::uint32_t> inner_first_;
   std::vector<EdgeRef> edge_points_;  // every corner pair so far, sorted, with its first id
   std::vector<std::pair<std::uint32_t, Bary>> refs_;  // per point, (slot, barycentric)
-  std::uint32_t round_corners_end_ = 0;  // end of the current round's corners in refs_
+  std::uint32_t round_corners_end_ = 0;               // end of the current round's corners in refs_
   std::vector<Vec3> positions_;
   std::vector<double> values_;
   std::size_t evaluated_ = 0;
