@@ -10,9 +10,12 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "field/bvh.h"
+#include "polygonize/cheapest_first.h"
 #include "polygonize/in_tetrahedron.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/memory.h"
@@ -22,6 +25,28 @@
 #include "ramiform/mesh/deviation.h"
 
 namespace ramiform {
+
+// (Declared in polygonize/cheapest_first.h.) The first round on the 1,500-segment benchmark
+// tree sorts 58 k of its 232 k items and takes 18 k.
+void detail::cheapest_first(std::vector<std::pair<double, std::uint32_t>>& cost, double budget) {
+  for (std::size_t head = std::max<std::size_t>(64, cost.size() / 64);; head *= 4) {
+    if (head >= cost.size()) {
+      std::sort(cost.begin(), cost.end());
+      return;
+    }
+    const auto mid = cost.begin() + static_cast<std::ptrdiff_t>(head);
+    std::nth_element(cost.begin(), mid, cost.end());
+    double sum = 0.0;
+    for (auto it = cost.begin(); it != mid; ++it) sum += it->first;
+    // Twice the budget: the walk's running subtraction rounds differently from this sum.
+    if (sum > 2.0 * budget) {
+      cost.resize(head);
+      std::sort(cost.begin(), cost.end());
+      return;
+    }
+  }
+}
+
 namespace {
 
 using detail::in_tetrahedron;
@@ -48,6 +73,31 @@ constexpr double kConvergedStep = 3e-3;
 /// about 0.83-0.92 to 0.88-0.95 of the tolerance. A quarter of the 1 % saved 13 % on
 /// archi_Tree_1 but left its p99 at the tolerance.
 constexpr double kSpareShare = 5e-4;
+
+/// An allocator whose resize leaves new elements of trivial types uninitialized: the round's
+/// large arrays are then first written by the parallel loops that fill them, instead of being
+/// zeroed (and paged in) by one thread beforehand.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+  using value_type = T;
+  UninitializedAllocator() = default;
+  template <class U>
+  explicit UninitializedAllocator(const UninitializedAllocator<U>& /*other*/) {}
+  template <class U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  template <class U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <class T>
+using Buffer = std::vector<T, UninitializedAllocator<T>>;
 
 void validate(const RefineOptions& o) {
   if (!(o.edge_tolerance > 0.0) || !std::isfinite(o.edge_tolerance)) {
@@ -78,15 +128,15 @@ void validate(const RefineOptions& o) {
 /// The distinct edges of a mesh and, per triangle corner slot 3 t + k, the edge from corner k to
 /// corner k + 1.
 struct Edges {
-  std::vector<std::array<std::uint32_t, 2>> ends;
-  std::vector<std::uint32_t> of_slot;
+  Buffer<std::array<std::uint32_t, 2>> ends;
+  Buffer<std::uint32_t> of_slot;
   /// Per edge, its midpoint's first-order distance from the surface where it was evaluated,
   /// else a bound derived from the edges it came from (see refine_round), else infinity.
-  std::vector<double> sag;
+  Buffer<double> sag;
   /// Per edge, its midpoint's signed first-order distance (f - iso) / |grad f| where it was
   /// evaluated, else a prediction from the edges it came from (see refine_round), else NaN.
   /// Single precision: it only decides which edges to evaluate, and halves the memory.
-  std::vector<float> curve;
+  Buffer<float> curve;
 };
 
 Edges mesh_edges(const TriMesh& mesh) {
@@ -142,6 +192,29 @@ double share_beyond(double q) {
   return std::max(0.0, w - 2.0 * k * std::log((1.0 + w) / (1.0 - w)));
 }
 
+/// Runs `fill(begin, end, out)` on fixed chunks of [0, n) in parallel, each appending to its own
+/// list, and returns the lists joined in chunk order: what one pass over [0, n) would append.
+template <class T, class Fill>
+std::vector<T> gather_chunks(std::size_t n, Fill&& fill, const Context* ctx) {
+  const std::size_t chunks = (n + kGrain - 1) / kGrain;
+  std::vector<std::vector<T>> parts(chunks);
+  parallel::for_chunks(
+      n, kGrain, [&](std::size_t b, std::size_t e) { fill(b, e, parts[b / kGrain]); }, ctx);
+  std::vector<std::size_t> at(chunks + 1, 0);
+  for (std::size_t c = 0; c < chunks; ++c) at[c + 1] = at[c] + parts[c].size();
+  std::vector<T> all(at[chunks]);
+  parallel::for_chunks(
+      chunks, 1,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t c = b; c < e; ++c) {
+          std::copy(parts[c].begin(), parts[c].end(),
+                    all.begin() + static_cast<std::ptrdiff_t>(at[c]));
+        }
+      },
+      ctx);
+  return all;
+}
+
 /// One round; returns the number of edges split (0: nothing to do or over budget). `fresh` marks
 /// the vertices made by the previous round (all in the first): an edge between two older
 /// vertices was measured then and not split, so only edges with a fresh end are evaluated, and
@@ -152,29 +225,36 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
                          const Field& field, const Skeleton& skeleton, const detail::BoxBvh& nodes,
                          const RefineOptions& o, Context* ctx, RefineStats& st) {
   const std::size_t ne = edges.ends.size();
-  std::vector<std::uint32_t> candidates;
-  for (std::uint32_t e = 0; e < ne; ++e) {
-    const auto [a, b] = edges.ends[e];
-    if (fresh[a] == 0 && fresh[b] == 0) continue;
-    // A half of a split edge, or an edge inside a split triangle, whose bound (below) is within
-    // the tolerance.
-    if (edges.sag[e] <= o.edge_tolerance * std::min(vradius[a], vradius[b])) {
-      ++st.inherited;
-      continue;
-    }
-    // An end a split left off the surface (its move would fold the mesh or sweep a node): the
-    // edge's chord cannot be brought closer by splitting it, whose new vertex would meet the
-    // same fold. Splitting such edges anyway cascaded round after round around forks (4 % of
-    // the triangles of archi_Tree_1) without moving the surface there.
-    if (off[a] != 0 || off[b] != 0) continue;
-    candidates.push_back(e);
-  }
+  const std::size_t inherited_chunks = (ne + kGrain - 1) / kGrain;
+  std::vector<std::size_t> inherited(inherited_chunks, 0);
+  const std::vector<std::uint32_t> candidates = gather_chunks<std::uint32_t>(
+      ne,
+      [&](std::size_t begin, std::size_t end, std::vector<std::uint32_t>& out) {
+        for (auto e = static_cast<std::uint32_t>(begin); e < end; ++e) {
+          const auto [a, b] = edges.ends[e];
+          if (fresh[a] == 0 && fresh[b] == 0) continue;
+          // A half of a split edge, or an edge inside a split triangle, whose bound (below) is
+          // within the tolerance.
+          if (edges.sag[e] <= o.edge_tolerance * std::min(vradius[a], vradius[b])) {
+            ++inherited[begin / kGrain];
+            continue;
+          }
+          // An end a split left off the surface (its move would fold the mesh or sweep a node):
+          // the edge's chord cannot be brought closer by splitting it, whose new vertex would
+          // meet the same fold. Splitting such edges anyway cascaded round after round around
+          // forks (4 % of the triangles of archi_Tree_1) without moving the surface there.
+          if (off[a] != 0 || off[b] != 0) continue;
+          out.push_back(e);
+        }
+      },
+      ctx);
+  for (const std::size_t k : inherited) st.inherited += k;
   const std::size_t nc = candidates.size();
   // The candidates' midpoints and radii (an edge's radius: the smaller local radius of its end
   // points, the one whose tolerance is stricter, e.g. a twig's beside the branch it leaves),
   // indexed by candidate.
-  std::vector<double> radius(nc);
-  std::vector<Vec3> probe_points(nc);
+  Buffer<double> radius(nc);
+  Buffer<Vec3> probe_points(nc);
   parallel::for_each(
       nc, kGrain,
       [&](std::size_t c) {
@@ -183,12 +263,12 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
         radius[c] = std::min(vradius[a], vradius[b]);
       },
       ctx);
-  std::vector<double> value(nc);
-  std::vector<Vec3> grad(nc);
+  Buffer<double> value(nc);
+  Buffer<Vec3> grad(nc);
   field.evaluate(probe_points, value, grad, ctx);
   const double iso = field.iso();
   std::vector<char> split(ne, 0);
-  std::vector<double> estimate(nc, 0.0);
+  Buffer<double> estimate(nc);
   parallel::for_each(
       nc, kGrain,
       [&](std::size_t c) {
@@ -213,10 +293,17 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
     // The edges to split, cheapest first by the area they would leave beyond the tolerance
     // (the share of their triangles' area, ties by edge), stay unsplit while that area fits in
     // what is left of the spare area.
-    std::vector<double> area(nt), around(ne, 0.0);
+    Buffer<double> area(nt), around(ne);
     parallel::for_each(
         nt, kGrain,
         [&](std::size_t t) { area[t] = 0.5 * normal_of(mesh, mesh.triangles[t]).norm(); }, ctx);
+    parallel::for_chunks(
+        ne, kGrain,
+        [&](std::size_t b, std::size_t e) {
+          std::fill(around.begin() + static_cast<std::ptrdiff_t>(b),
+                    around.begin() + static_cast<std::ptrdiff_t>(e), 0.0);
+        },
+        ctx);
     for (std::size_t t = 0; t < nt; ++t) {
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t e = edges.of_slot[3 * t + k];
@@ -225,14 +312,20 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
     }
     // (An edge costing more than the whole spare area is never spared: only the others are
     // sorted.)
-    std::vector<std::pair<double, std::uint32_t>> cost;
-    for (std::uint32_t c = 0; c < nc; ++c) {
-      const std::uint32_t e = candidates[c];
-      if (split[e] == 0) continue;
-      const double beyond = share_beyond(estimate[c] / (o.edge_tolerance * radius[c])) * around[e];
-      if (beyond <= spare) cost.emplace_back(beyond, e);
-    }
-    std::sort(cost.begin(), cost.end());
+    std::vector<std::pair<double, std::uint32_t>> cost =
+        gather_chunks<std::pair<double, std::uint32_t>>(
+            nc,
+            [&](std::size_t begin, std::size_t end, auto& part) {
+              for (std::size_t c = begin; c < end; ++c) {
+                const std::uint32_t e = candidates[c];
+                if (split[e] == 0) continue;
+                const double beyond =
+                    share_beyond(estimate[c] / (o.edge_tolerance * radius[c])) * around[e];
+                if (beyond <= spare) part.emplace_back(beyond, e);
+              }
+            },
+            ctx);
+    detail::cheapest_first(cost, spare);
     for (const auto& [beyond, e] : cost) {
       if (beyond > spare) break;
       spare -= beyond;
@@ -269,45 +362,55 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
     zr[i] = radius[split_candidate[i]];
   }
   std::vector<char> ok(ns, 0);
-  std::vector<std::size_t> active(ns);
-  for (std::size_t i = 0; i < ns; ++i) active[i] = i;
+  std::vector<std::uint32_t> active(ns);
+  for (std::size_t i = 0; i < ns; ++i) active[i] = static_cast<std::uint32_t>(i);
+  Buffer<double> v;
+  Buffer<Vec3> g, pts;
   for (int step = 0; step < 8 && !active.empty(); ++step) {
-    std::vector<double> v(active.size());
-    std::vector<Vec3> g(active.size());
+    v.resize(active.size());
+    g.resize(active.size());
     if (step == 0) {
       // The first step starts at the midpoint, whose value and gradient the test above has.
-      for (std::size_t j = 0; j < active.size(); ++j) {
-        v[j] = value[split_candidate[active[j]]];
-        g[j] = grad[split_candidate[active[j]]];
-      }
+      parallel::for_each(
+          active.size(), kGrain,
+          [&](std::size_t j) {
+            v[j] = value[split_candidate[active[j]]];
+            g[j] = grad[split_candidate[active[j]]];
+          },
+          ctx);
     } else {
-      std::vector<Vec3> pts(active.size());
-      for (std::size_t j = 0; j < active.size(); ++j) pts[j] = z[active[j]];
+      pts.resize(active.size());
+      parallel::for_each(
+          active.size(), kGrain, [&](std::size_t j) { pts[j] = z[active[j]]; }, ctx);
       field.evaluate(pts, v, g, ctx);
     }
-    std::vector<std::size_t> next;
-    for (std::size_t j = 0; j < active.size(); ++j) {
-      const std::size_t i = active[j];
-      const double gg = g[j].squaredNorm();
-      if (!std::isfinite(v[j]) || !(gg > 0.0) || !std::isfinite(gg)) continue;  // stays flat
-      const double dist = std::abs(v[j] - iso) / std::sqrt(gg);
-      if (dist <= 1e-7 * zr[i]) {
-        ok[i] = 1;
-        continue;
-      }
-      const Vec3 step = ((v[j] - iso) / gg) * g[j];
-      z[i] -= step;
-      // Newton converges quadratically: after a step this small the distance left is of the
-      // order of step^2 / radius (here about 1e-5 radii), far below any tolerance, and needs
-      // no further evaluation. From a midpoint 0.05 radii off the surface the second step is
-      // about 0.003 radii, so most splits take one evaluation besides the test's.
-      if (step.norm() <= kConvergedStep * zr[i]) {
-        ok[i] = 1;
-        continue;
-      }
-      next.push_back(i);
-    }
-    active = std::move(next);
+    active = gather_chunks<std::uint32_t>(
+        active.size(),
+        [&](std::size_t begin, std::size_t end, std::vector<std::uint32_t>& next) {
+          for (std::size_t j = begin; j < end; ++j) {
+            const std::uint32_t i = active[j];
+            const double gg = g[j].squaredNorm();
+            if (!std::isfinite(v[j]) || !(gg > 0.0) || !std::isfinite(gg)) continue;  // flat
+            const double dist = std::abs(v[j] - iso) / std::sqrt(gg);
+            if (dist <= 1e-7 * zr[i]) {
+              ok[i] = 1;
+              continue;
+            }
+            const Vec3 step = ((v[j] - iso) / gg) * g[j];
+            z[i] -= step;
+            // Newton converges quadratically: after a step this small the distance left is of
+            // the order of step^2 / radius (here about 1e-5 radii), far below any tolerance,
+            // and needs no further evaluation. From a midpoint 0.05 radii off the surface the
+            // second step is about 0.003 radii, so most splits take one evaluation besides the
+            // test's.
+            if (step.norm() <= kConvergedStep * zr[i]) {
+              ok[i] = 1;
+              continue;
+            }
+            next.push_back(i);
+          }
+        },
+        ctx);
   }
   std::vector<char> moved(ns, 0);
   for (std::size_t i = 0; i < ns; ++i) {
@@ -327,113 +430,155 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   // halves (numbered in the old edges' order), and the edges inside a split triangle (from a new
   // vertex to the opposite corner, between new vertices, a quadrilateral's diagonal) follow in
   // triangle order; each lies inside one old triangle, so no two triangles make the same one.
-  std::vector<std::uint32_t> first_edge(ne);
-  std::uint32_t next_edge = 0;
-  for (std::size_t e = 0; e < ne; ++e) {
-    first_edge[e] = next_edge;
-    next_edge += new_id[e] != kNone ? 2 : 1;
+  // Per triangle with c of its edges split: 1 + c new triangles, c inner edges, and a median or
+  // diagonal when c is 1 or 2. Chunks of triangles count theirs, then write them from their
+  // offsets in parallel, in triangle order as one pass would.
+  const std::size_t chunks = (nt + kGrain - 1) / kGrain;
+  std::vector<std::size_t> split_at(chunks + 1, 0), median_at(chunks + 1, 0);
+  parallel::for_chunks(
+      nt, kGrain,
+      [&](std::size_t b, std::size_t e) {
+        std::size_t splits = 0, medians = 0;
+        for (std::size_t t = b; t < e; ++t) {
+          int count = 0;
+          for (int k = 0; k < 3; ++k) count += new_id[edges.of_slot[3 * t + k]] != kNone ? 1 : 0;
+          splits += static_cast<std::size_t>(count);
+          medians += count == 1 || count == 2 ? 1 : 0;
+        }
+        split_at[b / kGrain + 1] = splits;
+        median_at[b / kGrain + 1] = medians;
+      },
+      ctx);
+  for (std::size_t c = 0; c < chunks; ++c) {
+    split_at[c + 1] += split_at[c];
+    median_at[c + 1] += median_at[c];
   }
+  // An old edge e becomes edge first_edge[e] (e plus the split edges before it, which ascend),
+  // and a split one also the next.
+  Buffer<std::uint32_t> first_edge(ne);
+  const auto next_edge = static_cast<std::uint32_t>(ne + ns);
   Edges out;
-  out.ends.resize(next_edge);
-  out.sag.assign(next_edge, std::numeric_limits<double>::infinity());
-  out.curve.assign(next_edge, std::numeric_limits<float>::quiet_NaN());
+  out.ends.resize(next_edge + split_at[chunks]);
+  out.sag.resize(out.ends.size());
+  out.curve.resize(out.ends.size());
   out.of_slot.resize(3 * (nt + added));
-  for (std::size_t e = 0; e < ne; ++e) {
-    const auto [a, b] = edges.ends[e];
-    if (new_id[e] == kNone) {
-      out.ends[first_edge[e]] = {a, b};
-      out.sag[first_edge[e]] = edges.sag[e];
-      out.curve[first_edge[e]] = edges.curve[e];
-    } else {
-      out.ends[first_edge[e]] = {a, new_id[e]};  // new vertices come after all old ones
-      out.ends[first_edge[e] + 1] = {b, new_id[e]};
-    }
-  }
-  std::vector<std::array<std::uint32_t, 3>> tris;
-  std::vector<std::uint32_t> parent;
-  tris.reserve(nt + added);
-  parent.reserve(nt + added);
-  // Triangle a, b, c with edges ab, bc, ca.
-  auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t ab,
-                  std::uint32_t bc, std::uint32_t ca, std::size_t t) {
-    const std::size_t slot = 3 * tris.size();
-    out.of_slot[slot] = ab;
-    out.of_slot[slot + 1] = bc;
-    out.of_slot[slot + 2] = ca;
-    tris.push_back({a, b, c});
-    parent.push_back(static_cast<std::uint32_t>(t));
-  };
+  parallel::for_chunks(
+      ne, kGrain,
+      [&](std::size_t begin, std::size_t end) {
+        auto before = static_cast<std::uint32_t>(
+            std::lower_bound(split_edges.begin(), split_edges.end(), begin) - split_edges.begin());
+        for (std::size_t e = begin; e < end; ++e) {
+          const std::uint32_t f = static_cast<std::uint32_t>(e) + before;
+          first_edge[e] = f;
+          const auto [a, b] = edges.ends[e];
+          if (new_id[e] == kNone) {
+            out.ends[f] = {a, b};
+            out.sag[f] = edges.sag[e];
+            out.curve[f] = edges.curve[e];
+          } else {
+            out.ends[f] = {a, new_id[e]};  // new vertices come after all old ones
+            out.ends[f + 1] = {b, new_id[e]};
+            out.sag[f] = out.sag[f + 1] = std::numeric_limits<double>::infinity();
+            out.curve[f] = out.curve[f + 1] = std::numeric_limits<float>::quiet_NaN();
+            ++before;
+          }
+        }
+      },
+      ctx);
+  std::vector<std::array<std::uint32_t, 3>> tris(nt + added);
+  Buffer<std::uint32_t> parent(nt + added);
   // A new inner edge; its sag bound comes from the old edge it is parallel to (below), kNone
   // for none.
-  std::vector<std::uint32_t> inner_from;
+  Buffer<std::uint32_t> inner_from(split_at[chunks]);
   // Medians and diagonals: the new edge, then the old edges of its triangle: the two from its
   // corner, then the split one whose midpoint it ends at.
-  std::vector<std::array<std::uint32_t, 4>> median_of;
-  auto inner = [&](std::uint32_t a, std::uint32_t b, std::uint32_t parallel) {
-    out.ends.push_back({std::min(a, b), std::max(a, b)});
-    inner_from.push_back(parallel);
-    return static_cast<std::uint32_t>(out.ends.size() - 1);
-  };
-  for (std::size_t t = 0; t < nt; ++t) {
-    const auto& v = mesh.triangles[t];
-    std::array<std::uint32_t, 3> m{}, old{};
-    int count = 0;
-    for (int k = 0; k < 3; ++k) {
-      old[k] = edges.of_slot[3 * t + k];  // v[k] -> v[k + 1]
-      m[k] = new_id[old[k]];
-      count += m[k] != kNone ? 1 : 0;
-    }
-    // The edge of slot k whole, or the half of its split at corner `at`.
-    auto whole = [&](int k) { return first_edge[old[k % 3]]; };
-    auto half = [&](int k, std::uint32_t at) {
-      const std::uint32_t e = old[k % 3];
-      return first_edge[e] + (edges.ends[e][0] == at ? 0 : 1);
-    };
-    if (count == 0) {
-      emit(v[0], v[1], v[2], whole(0), whole(1), whole(2), t);
-    } else if (count == 3) {
-      // Each joins the midpoints of two edges, parallel to the third.
-      const std::uint32_t i01 = inner(m[0], m[1], old[2]);
-      const std::uint32_t i12 = inner(m[1], m[2], old[0]);
-      const std::uint32_t i20 = inner(m[2], m[0], old[1]);
-      emit(v[0], m[0], m[2], half(0, v[0]), i20, half(2, v[0]), t);
-      emit(m[0], v[1], m[1], half(0, v[1]), half(1, v[1]), i01, t);
-      emit(m[1], v[2], m[2], half(1, v[2]), half(2, v[2]), i12, t);
-      emit(m[0], m[1], m[2], i01, i12, i20, t);
-    } else if (count == 1) {
-      const int k = m[0] != kNone ? 0 : (m[1] != kNone ? 1 : 2);
-      const std::uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
-      const std::uint32_t mc = inner(m[k], c, kNone);
-      median_of.push_back({mc, old[(k + 2) % 3], old[(k + 1) % 3], old[k]});
-      emit(a, m[k], c, half(k, a), mc, whole(k + 2), t);
-      emit(m[k], b, c, half(k, b), whole(k + 1), mc, t);
-    } else {
-      // The unsplit edge a -> b; m1 on b -> c, m2 on c -> a; cycle a, b, m1, c, m2.
-      const int k = m[0] == kNone ? 0 : (m[1] == kNone ? 1 : 2);
-      const std::uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
-      const std::uint32_t m1 = m[(k + 1) % 3], m2 = m[(k + 2) % 3];
-      const std::uint32_t i12 = inner(m1, m2, old[k]);
-      emit(m1, c, m2, half(k + 1, c), half(k + 2, c), i12, t);
-      auto pos = [&](std::uint32_t id) {
-        return id < mesh.positions.size() ? mesh.positions[id] : z[id - mesh.positions.size()];
-      };
-      if ((pos(a) - pos(m1)).squaredNorm() <= (pos(b) - pos(m2)).squaredNorm()) {
-        const std::uint32_t d = inner(a, m1, kNone);
-        median_of.push_back({d, old[k], old[(k + 2) % 3], old[(k + 1) % 3]});
-        emit(a, b, m1, whole(k), half(k + 1, b), d, t);
-        emit(a, m1, m2, d, i12, half(k + 2, a), t);
-      } else {
-        const std::uint32_t d = inner(b, m2, kNone);
-        median_of.push_back({d, old[k], old[(k + 1) % 3], old[(k + 2) % 3]});
-        emit(a, b, m2, whole(k), d, half(k + 2, a), t);
-        emit(b, m1, m2, half(k + 1, b), i12, d, t);
-      }
-    }
-  }
+  Buffer<std::array<std::uint32_t, 4>> median_of(median_at[chunks]);
+  parallel::for_chunks(
+      nt, kGrain,
+      [&](std::size_t begin, std::size_t end) {
+        std::size_t next_tri = begin + split_at[begin / kGrain];
+        std::size_t next_inner = split_at[begin / kGrain];
+        std::size_t next_median = median_at[begin / kGrain];
+        // Triangle a, b, c with edges ab, bc, ca.
+        auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t ab,
+                        std::uint32_t bc, std::uint32_t ca, std::size_t t) {
+          const std::size_t slot = 3 * next_tri;
+          out.of_slot[slot] = ab;
+          out.of_slot[slot + 1] = bc;
+          out.of_slot[slot + 2] = ca;
+          tris[next_tri] = {a, b, c};
+          parent[next_tri++] = static_cast<std::uint32_t>(t);
+        };
+        auto inner = [&](std::uint32_t a, std::uint32_t b, std::uint32_t parallel) {
+          const std::size_t e = next_edge + next_inner;
+          out.ends[e] = {std::min(a, b), std::max(a, b)};
+          out.sag[e] = std::numeric_limits<double>::infinity();
+          out.curve[e] = std::numeric_limits<float>::quiet_NaN();
+          inner_from[next_inner++] = parallel;
+          return static_cast<std::uint32_t>(e);
+        };
+        auto median = [&](const std::array<std::uint32_t, 4>& m) { median_of[next_median++] = m; };
+        for (std::size_t t = begin; t < end; ++t) {
+          const auto& v = mesh.triangles[t];
+          std::array<std::uint32_t, 3> m{}, old{};
+          int count = 0;
+          for (int k = 0; k < 3; ++k) {
+            old[k] = edges.of_slot[3 * t + k];  // v[k] -> v[k + 1]
+            m[k] = new_id[old[k]];
+            count += m[k] != kNone ? 1 : 0;
+          }
+          // The edge of slot k whole, or the half of its split at corner `at`.
+          auto whole = [&](int k) { return first_edge[old[k % 3]]; };
+          auto half = [&](int k, std::uint32_t at) {
+            const std::uint32_t e = old[k % 3];
+            return first_edge[e] + (edges.ends[e][0] == at ? 0 : 1);
+          };
+          if (count == 0) {
+            emit(v[0], v[1], v[2], whole(0), whole(1), whole(2), t);
+          } else if (count == 3) {
+            // Each joins the midpoints of two edges, parallel to the third.
+            const std::uint32_t i01 = inner(m[0], m[1], old[2]);
+            const std::uint32_t i12 = inner(m[1], m[2], old[0]);
+            const std::uint32_t i20 = inner(m[2], m[0], old[1]);
+            emit(v[0], m[0], m[2], half(0, v[0]), i20, half(2, v[0]), t);
+            emit(m[0], v[1], m[1], half(0, v[1]), half(1, v[1]), i01, t);
+            emit(m[1], v[2], m[2], half(1, v[2]), half(2, v[2]), i12, t);
+            emit(m[0], m[1], m[2], i01, i12, i20, t);
+          } else if (count == 1) {
+            const int k = m[0] != kNone ? 0 : (m[1] != kNone ? 1 : 2);
+            const std::uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
+            const std::uint32_t mc = inner(m[k], c, kNone);
+            median({mc, old[(k + 2) % 3], old[(k + 1) % 3], old[k]});
+            emit(a, m[k], c, half(k, a), mc, whole(k + 2), t);
+            emit(m[k], b, c, half(k, b), whole(k + 1), mc, t);
+          } else {
+            // The unsplit edge a -> b; m1 on b -> c, m2 on c -> a; cycle a, b, m1, c, m2.
+            const int k = m[0] == kNone ? 0 : (m[1] == kNone ? 1 : 2);
+            const std::uint32_t a = v[k], b = v[(k + 1) % 3], c = v[(k + 2) % 3];
+            const std::uint32_t m1 = m[(k + 1) % 3], m2 = m[(k + 2) % 3];
+            const std::uint32_t i12 = inner(m1, m2, old[k]);
+            emit(m1, c, m2, half(k + 1, c), half(k + 2, c), i12, t);
+            auto pos = [&](std::uint32_t id) {
+              return id < mesh.positions.size() ? mesh.positions[id]
+                                                : z[id - mesh.positions.size()];
+            };
+            if ((pos(a) - pos(m1)).squaredNorm() <= (pos(b) - pos(m2)).squaredNorm()) {
+              const std::uint32_t d = inner(a, m1, kNone);
+              median({d, old[k], old[(k + 2) % 3], old[(k + 1) % 3]});
+              emit(a, b, m1, whole(k), half(k + 1, b), d, t);
+              emit(a, m1, m2, d, i12, half(k + 2, a), t);
+            } else {
+              const std::uint32_t d = inner(b, m2, kNone);
+              median({d, old[k], old[(k + 1) % 3], old[(k + 2) % 3]});
+              emit(a, b, m2, whole(k), d, half(k + 2, a), t);
+              emit(b, m1, m2, half(k + 1, b), i12, d, t);
+            }
+          }
+        }
+      },
+      ctx);
   const std::size_t nv_old = mesh.positions.size();
   mesh.positions.insert(mesh.positions.end(), z.begin(), z.end());
-  const std::vector<double> new_radius = local_radii(skeleton, z, ctx);
-  vradius.insert(vradius.end(), new_radius.begin(), new_radius.end());
   fresh.assign(mesh.positions.size(), 0);
   std::fill(fresh.begin() + static_cast<std::ptrdiff_t>(nv_old), fresh.end(), 1);
   // The old triangles give the parents' normals (their corners do not move); kept rather than
@@ -441,19 +586,31 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   // benchmark tree and was paged in afresh every round.
   const std::vector<std::array<std::uint32_t, 3>> old_triangles = std::move(mesh.triangles);
   mesh.triangles = std::move(tris);
-  // The fans of the new vertices (CSR), for the checks.
+  // The fans of the new vertices (CSR), for the checks, made by one thread while the others find
+  // the new vertices' local radii (for the next round; two tasks, one after the other on one
+  // thread).
+  std::vector<double> new_radius;
   std::vector<std::size_t> fan_start(ns + 1, 0);
-  for (const auto& t : mesh.triangles)
-    for (const auto v : t)
-      if (v >= nv_old) ++fan_start[v - nv_old + 1];
-  for (std::size_t i = 0; i < ns; ++i) fan_start[i + 1] += fan_start[i];
-  std::vector<std::uint32_t> fan(fan_start[ns]);
-  {
-    std::vector<std::size_t> fill(fan_start.begin(), fan_start.end() - 1);
-    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-      for (const auto v : mesh.triangles[t])
-        if (v >= nv_old) fan[fill[v - nv_old]++] = t;
-  }
+  std::vector<std::uint32_t> fan;
+  parallel::for_chunks(
+      2, 1,
+      [&](std::size_t task, std::size_t) {
+        if (task == 0) {
+          new_radius = local_radii(skeleton, z, ctx);
+          return;
+        }
+        for (const auto& t : mesh.triangles)
+          for (const auto v : t)
+            if (v >= nv_old) ++fan_start[v - nv_old + 1];
+        for (std::size_t i = 0; i < ns; ++i) fan_start[i + 1] += fan_start[i];
+        fan.resize(fan_start[ns]);
+        std::vector<std::size_t> fill(fan_start.begin(), fan_start.end() - 1);
+        for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+          for (const auto v : mesh.triangles[t])
+            if (v >= nv_old) fan[fill[v - nv_old]++] = t;
+      },
+      ctx);
+  vradius.insert(vradius.end(), new_radius.begin(), new_radius.end());
   const double cos_turn = pm::cos(o.max_turn_deg * std::numbers::pi / 180.0);
   // Revert moves, pass after pass, until no new triangle turns too far and no node is swept.
   // A pass checks the vertices whose fan changed in the pass before (at first all that moved):
@@ -583,33 +740,40 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   // Each bound is taken twice over (kHalfSag = 2 x 1/4), for the first-order distance and
   // curvature that varies; an edge at a vertex not taken onto the surface gets none.
   off.resize(mesh.positions.size(), 0);
-  out.sag.resize(out.ends.size(), std::numeric_limits<double>::infinity());
-  out.curve.resize(out.ends.size(), std::numeric_limits<float>::quiet_NaN());
-  for (std::size_t i = 0; i < ns; ++i) {
-    if (moved[i] != 1) continue;
-    const double half = kHalfSag * estimate[split_candidate[i]];
-    out.sag[first_edge[split_edges[i]]] = half;
-    out.sag[first_edge[split_edges[i]] + 1] = half;
-    const float quarter = edges.curve[split_edges[i]] / 4;
-    out.curve[first_edge[split_edges[i]]] = quarter;
-    out.curve[first_edge[split_edges[i]] + 1] = quarter;
-  }
+  parallel::for_each(
+      ns, kGrain,
+      [&](std::size_t i) {
+        if (moved[i] != 1) return;
+        const std::uint32_t f = first_edge[split_edges[i]];
+        const double half = kHalfSag * estimate[split_candidate[i]];
+        out.sag[f] = out.sag[f + 1] = half;
+        const float quarter = edges.curve[split_edges[i]] / 4;
+        out.curve[f] = out.curve[f + 1] = quarter;
+      },
+      ctx);
   auto on_surface = [&](std::uint32_t v) { return v < nv_old || moved[v - nv_old] == 1; };
-  for (std::size_t k = 0; k < inner_from.size(); ++k) {
-    const std::size_t e = next_edge + k;
-    const std::uint32_t p = inner_from[k];
-    if (p == kNone || !on_surface(out.ends[e][0]) || !on_surface(out.ends[e][1])) continue;
-    out.sag[e] = kHalfSag * edges.sag[p];
-    out.curve[e] = edges.curve[p] / 4;
-  }
-  for (const auto& [me, s1, s2, sp] : median_of) {
-    if (!on_surface(out.ends[me][0]) || !on_surface(out.ends[me][1])) continue;
-    const double c1 = edges.curve[s1], c2 = edges.curve[s2], c3 = edges.curve[sp];  // widened
-    const double p = (2 * c1 + 2 * c2 - c3) / 4;
-    if (std::isnan(p)) continue;
-    out.curve[me] = static_cast<float>(p);
-    out.sag[me] = kMedianSag * std::abs(p);
-  }
+  parallel::for_each(
+      inner_from.size(), kGrain,
+      [&](std::size_t k) {
+        const std::size_t e = next_edge + k;
+        const std::uint32_t p = inner_from[k];
+        if (p == kNone || !on_surface(out.ends[e][0]) || !on_surface(out.ends[e][1])) return;
+        out.sag[e] = kHalfSag * edges.sag[p];
+        out.curve[e] = edges.curve[p] / 4;
+      },
+      ctx);
+  parallel::for_each(
+      median_of.size(), kGrain,
+      [&](std::size_t k) {
+        const auto& [me, s1, s2, sp] = median_of[k];
+        if (!on_surface(out.ends[me][0]) || !on_surface(out.ends[me][1])) return;
+        const double c1 = edges.curve[s1], c2 = edges.curve[s2], c3 = edges.curve[sp];  // widened
+        const double p = (2 * c1 + 2 * c2 - c3) / 4;
+        if (std::isnan(p)) return;
+        out.curve[me] = static_cast<float>(p);
+        out.sag[me] = kMedianSag * std::abs(p);
+      },
+      ctx);
   edges = std::move(out);
   for (std::size_t i = 0; i < ns; ++i) {
     off[nv_old + i] = moved[i] == 0 ? 1 : (moved[i] == 2 ? 2 : 0);
@@ -648,7 +812,20 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
   for (const auto& n : skeleton.nodes) boxes.emplace_back(n.position, n.position);
   const detail::BoxBvh nodes(std::move(boxes));
   mesh.normals.clear();
-  std::vector<double> vradius = local_radii(skeleton, mesh.positions, ctx);
+  // The vertices' local radii beside the mesh's edges (sequential; two tasks, one after the
+  // other on one thread), which each round then keeps up to date.
+  std::vector<double> vradius;
+  Edges edges;
+  parallel::for_chunks(
+      2, 1,
+      [&](std::size_t task, std::size_t) {
+        if (task == 0) {
+          vradius = local_radii(skeleton, mesh.positions, ctx);
+        } else {
+          edges = mesh_edges(mesh);
+        }
+      },
+      ctx);
   std::vector<char> fresh(mesh.positions.size(), 1);
   // Per vertex: 1 where a split left it at its edge's midpoint, 2 half way to the surface.
   std::vector<char> off(mesh.positions.size(), 0);
@@ -663,7 +840,6 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
   if (const std::uint64_t budget = memory_budget(ctx); budget > 0) {
     o.max_triangles = std::min<std::size_t>(o.max_triangles, budget / kBytesPerTriangle);
   }
-  Edges edges = mesh_edges(mesh);  // then kept up to date by each round
   for (int round = 0; round < o.max_rounds; ++round) {
     const std::size_t split =
         refine_round(mesh, edges, vradius, fresh, off, spare, field, skeleton, nodes, o, ctx, st);

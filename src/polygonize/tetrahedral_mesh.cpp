@@ -11,7 +11,8 @@
 namespace ramiform::detail::tets {
 namespace {
 
-constexpr std::size_t kBucketsPerCancelCheck = std::size_t{1} << 16;
+// Buckets (lattice points) per parallel task of unique_crossings().
+constexpr std::size_t kBucketsPerChunk = std::size_t{1} << 14;
 
 // The distinct crossing edges: their end points and values, and per record its edge.
 struct CrossingEdges {
@@ -32,23 +33,54 @@ CrossingEdges unique_crossings(const std::vector<std::uint64_t>& records, const 
         return records[x] < records[y] || (records[x] == records[y] && x < y);
       },
       ctx, &bucket_start);
+  // Chunks of buckets count their distinct edges, then write them from their offsets, in
+  // parallel: the numbering is that of one pass over the buckets.
+  const std::size_t buckets = bucket_start.empty() ? 0 : bucket_start.size() - 1;
+  const std::size_t chunks = (buckets + kBucketsPerChunk - 1) / kBucketsPerChunk;
+  auto is_new = [&](std::size_t in, auto it) {
+    return it == by_inside.begin() + bucket_start[in] || records[*it] != records[*(it - 1)];
+  };
+  std::vector<std::size_t> edge_at(chunks, 0);
+  parallel::for_chunks(
+      buckets, kBucketsPerChunk,
+      [&](std::size_t b, std::size_t e) {
+        std::size_t count = 0;
+        for (std::size_t in = b; in < e; ++in) {
+          const auto last = by_inside.begin() + bucket_start[in + 1];
+          for (auto it = by_inside.begin() + bucket_start[in]; it != last; ++it) {
+            count += is_new(in, it) ? 1 : 0;
+          }
+        }
+        edge_at[b / kBucketsPerChunk] = count;
+      },
+      ctx);
+  const std::size_t edges = parallel::exclusive_scan(edge_at);
   CrossingEdges ce;
   ce.edge_of.resize(records.size());
-  for (std::size_t in = 0; in + 1 < bucket_start.size(); ++in) {
-    if (in % kBucketsPerCancelCheck == 0) check_cancel(ctx);  // serial, seconds on big trees
-    const auto first = by_inside.begin() + bucket_start[in];
-    const auto last = by_inside.begin() + bucket_start[in + 1];
-    for (auto it = first; it != last; ++it) {
-      if (it == first || records[*it] != records[*(it - 1)]) {
-        const auto out = static_cast<std::uint32_t>(records[*it] & 0xffffffffU);
-        ce.inside.push_back(lattice.position(static_cast<std::uint32_t>(in)));
-        ce.outside.push_back(lattice.position(out));
-        ce.f_inside.push_back(lattice.value(static_cast<std::uint32_t>(in)));
-        ce.f_outside.push_back(lattice.value(out));
-      }
-      ce.edge_of[*it] = static_cast<std::uint32_t>(ce.inside.size() - 1);
-    }
-  }
+  ce.inside.resize(edges);
+  ce.outside.resize(edges);
+  ce.f_inside.resize(edges);
+  ce.f_outside.resize(edges);
+  parallel::for_chunks(
+      buckets, kBucketsPerChunk,
+      [&](std::size_t b, std::size_t e) {
+        std::size_t next = edge_at[b / kBucketsPerChunk];
+        for (std::size_t in = b; in < e; ++in) {
+          const auto last = by_inside.begin() + bucket_start[in + 1];
+          for (auto it = by_inside.begin() + bucket_start[in]; it != last; ++it) {
+            if (is_new(in, it)) {
+              const auto out = static_cast<std::uint32_t>(records[*it] & 0xffffffffU);
+              ce.inside[next] = lattice.position(static_cast<std::uint32_t>(in));
+              ce.outside[next] = lattice.position(out);
+              ce.f_inside[next] = lattice.value(static_cast<std::uint32_t>(in));
+              ce.f_outside[next] = lattice.value(out);
+              ++next;
+            }
+            ce.edge_of[*it] = static_cast<std::uint32_t>(next - 1);
+          }
+        }
+      },
+      ctx);
   return ce;
 }
 

@@ -9,10 +9,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <utility>
 #include <vector>
 
+#include "polygonize/cheapest_first.h"
 #include "ramiform/core/context.h"
 #include "ramiform/core/errors.h"
+#include "ramiform/core/random.h"
 #include "ramiform/field/skeleton_field.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/mesh/deviation.h"
@@ -196,6 +200,44 @@ TEST(RefineToSurface, SpareAreaLeavesEdgesUnsplitWithinItsShare) {
   test::expect_closed_manifold(b);
   const DeviationSummary da = measured(a, *f, s), db = measured(b, *f, s);
   EXPECT_LE(db.p99, all.edge_tolerance) << "without spare " << da.p99;
+}
+
+// The spared edges are taken cheapest first while they fit in the spare area: the partly sorted
+// list gives the walk the same items, in the same order, as a full sort, ties (equal costs)
+// broken by edge, for budgets that stop it early, late or never.
+TEST(RefineToSurface, SpareOrderIsTheFullSortAsFarAsTheWalkReaches) {
+  using Cost = std::vector<std::pair<double, std::uint32_t>>;
+  auto walk = [](const Cost& cost, double budget) {
+    std::vector<std::uint32_t> taken;
+    for (const auto& [c, e] : cost) {
+      if (c > budget) break;
+      budget -= c;
+      taken.push_back(e);
+    }
+    return std::make_pair(taken, budget);
+  };
+  Rng rng(5);
+  for (const std::size_t n : {0, 10, 64, 65, 1000, 20000}) {
+    Cost cost(n);
+    double total = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double c = i % 11 == 0 ? 0.0 : (i % 7 == 0 ? 0.25 : rng.uniform());
+      cost[i] = {c, static_cast<std::uint32_t>(n - i)};
+      total += c;
+    }
+    Cost full = cost;
+    std::sort(full.begin(), full.end());
+    for (const double share : {0.0, 1e-3, 0.05, 0.3, 1.0, 2.0}) {
+      Cost head = cost;
+      detail::cheapest_first(head, share * total);
+      ASSERT_LE(head.size(), full.size());
+      EXPECT_TRUE(std::equal(head.begin(), head.end(), full.begin())) << n << " " << share;
+      const auto [taken, left] = walk(head, share * total);
+      EXPECT_EQ(std::make_pair(taken, left), walk(full, share * total)) << n << " " << share;
+      // A shortened list holds the item the walk stops at.
+      if (head.size() < full.size()) EXPECT_LT(taken.size(), head.size());
+    }
+  }
 }
 
 TEST(RefineToSurface, BadOptionsAreRefused) {
