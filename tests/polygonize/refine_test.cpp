@@ -235,7 +235,9 @@ TEST(RefineToSurface, SpareOrderIsTheFullSortAsFarAsTheWalkReaches) {
       const auto [taken, left] = walk(head, share * total);
       EXPECT_EQ(std::make_pair(taken, left), walk(full, share * total)) << n << " " << share;
       // A shortened list holds the item the walk stops at.
-      if (head.size() < full.size()) EXPECT_LT(taken.size(), head.size());
+      if (head.size() < full.size()) {
+        EXPECT_LT(taken.size(), head.size());
+      }
     }
   }
 }
