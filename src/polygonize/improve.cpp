@@ -884,6 +884,23 @@ class Improver {
     });
   }
 
+  // The smallest sine of the kept triangles of the disk (prepare_disk() holds) with their
+  // cluster corner at z, or -1 as soon as one of them does not beat both the disk's old worst
+  // and `quality`, or `accept(t, corners)` refuses it.
+  template <class Accept>
+  double worst_sine_with(const Vec3& z, const Scratch& sc, double quality, Accept&& accept) const {
+    double worst = 1.0;
+    for (const auto& [t, k] : sc.kept) {
+      const Tri& f = mesh_.triangles[t];
+      std::array<Vec3, 3> p{pos(f[0]), pos(f[1]), pos(f[2])};
+      p[k] = z;
+      const double s = sine_of(p);
+      if (!(s > sc.old_worst) || !(s > quality) || !accept(t, p)) return -1.0;
+      worst = std::min(worst, s);
+    }
+    return worst;
+  }
+
   // A small move (Move::kSmallMove): replacing the vertices `cluster` (prepare_disk() holds, sc
   // is as it left it; none farther from z than the move's bound) by one new vertex at z of
   // local radius rz, judged by the geometry alone: the smallest angle rises, no skeleton node
@@ -894,18 +911,13 @@ class Improver {
                       Scratch& sc, Op& op) const {
     Vec3 area = Vec3::Zero();
     for (const Vec3& n : sc.old_normals) area += n;
-    double new_worst = 1.0;
-    for (const auto& [t, k] : sc.kept) {
-      const Tri& f = mesh_.triangles[t];
-      std::array<Vec3, 3> p{pos(f[0]), pos(f[1]), pos(f[2])};
-      p[k] = z;
-      const double s = sine_of(p);
-      if (!(s > sc.old_worst) || !(s > op.quality)) return;
-      const Vec3 n = normal_of(p);
-      if (sines_[t] >= sin_hard_ ? !keeps_side(n, normal(f)) : !(n.dot(area) > 0)) return;
-      new_worst = std::min(new_worst, s);
-    }
-    if (sweeps_node_to(cluster, z, sc)) return;
+    const double new_worst =
+        worst_sine_with(z, sc, op.quality, [&](std::uint32_t t, const std::array<Vec3, 3>& p) {
+          const Vec3 n = normal_of(p);
+          return sines_[t] >= sin_hard_ ? keeps_side(n, normal(mesh_.triangles[t]))
+                                        : n.dot(area) > 0;
+        });
+    if (new_worst < 0 || sweeps_node_to(cluster, z, sc)) return;
     op = Op{};
     op.kind = Op::Kind::kReplace;
     std::copy(cluster.begin(), cluster.end(), op.s.begin());
@@ -925,16 +937,9 @@ class Improver {
     const auto& boundary = sc.boundary;
     const std::size_t nb = boundary.size();
     // The smallest angle must rise.
-    double new_worst = 1.0;
-    for (const auto& [t, k] : sc.kept) {
-      const Tri& f = mesh_.triangles[t];
-      std::array<Vec3, 3> p{pos(f[0]), pos(f[1]), pos(f[2])};
-      p[k] = z;
-      const double s = sine_of(p);
-      if (!(s > sc.old_worst) || !(s > op.quality)) return;
-      new_worst = std::min(new_worst, s);
-    }
-    if (sweeps_node_to(cluster, z, sc)) return;
+    const double new_worst = worst_sine_with(
+        z, sc, op.quality, [](std::uint32_t, const std::array<Vec3, 3>&) { return true; });
+    if (new_worst < 0 || sweeps_node_to(cluster, z, sc)) return;
     // Every new edge z-w stays within the tolerance, or no farther than the edges from the
     // cluster to w it replaces (an edge from a cluster vertex that stays where it is, z, is
     // no new edge), and every new triangle (w, w', z) on the boundary edge w -> w' follows the
