@@ -18,7 +18,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <span>
 
 #include "polygonize/tetrahedral_checks.h"
 #include "polygonize/tetrahedral_cleanup.h"
@@ -28,7 +27,6 @@
 #include "polygonize/tetrahedral_points.h"
 #include "polygonize/tetrahedral_region.h"
 #include "ramiform/core/errors.h"
-#include "ramiform/core/parallel.h"
 
 namespace ramiform {
 namespace {
@@ -48,14 +46,10 @@ class StageClock {
 };
 
 // Step 1, then the tetrahedralization of step 2; `node_points` gets the index of every node's
-// own point, `point_values` the field at every bounding point. The insertion of the
-// tetrahedralization is sequential, so the field is evaluated beside it, on the other threads:
-// the bounding points are the corners of the lattice that step 3 evaluates (on the
-// 1,500-segment benchmark tree a sixth of its level-1 points).
+// own point.
 detail::tets::Tetrahedralization tetrahedralize_bounding_points(
-    const Field& field, const Skeleton& skeleton, const TetrahedralOptions& options, Context* ctx,
-    StageClock& clock, TetrahedralStats& st, std::vector<std::uint32_t>& node_points,
-    std::vector<double>& point_values) {
+    const Skeleton& skeleton, const TetrahedralOptions& options, Context* ctx, StageClock& clock,
+    TetrahedralStats& st, std::vector<std::uint32_t>& node_points) {
   detail::tets::BoundingPoints set = detail::tets::bounding_points(skeleton, options);
   detail::tets::check_memory(set.points.size(), options, ctx);
   const std::size_t real_points = set.points.size();
@@ -63,21 +57,8 @@ detail::tets::Tetrahedralization tetrahedralize_bounding_points(
   st.polyhedron_points = real_points;
   st.seconds_polyhedron = clock.lap();
   check_cancel(ctx);
-  const std::span<const Vec3> bounding(points.data(), real_points);
-  point_values.assign(real_points, 0.0);
-  detail::tets::Tetrahedralization tz;
-  // Two tasks: the same work and the same results on one thread (one after the other) as on
-  // several (side by side).
-  parallel::for_chunks(
-      2, 1,
-      [&](std::size_t task, std::size_t) {
-        if (task == 0) {
-          tz = detail::tets::tetrahedralize(points, real_points, set.axis_pairs, ctx, st);
-        } else {
-          field.evaluate(bounding, point_values, {}, ctx);
-        }
-      },
-      ctx);
+  detail::tets::Tetrahedralization tz =
+      detail::tets::tetrahedralize(std::move(points), real_points, set.axis_pairs, ctx, st);
   st.seconds_tetrahedralize = clock.lap();
   check_cancel(ctx);
   node_points = std::move(set.node_points);
@@ -106,11 +87,10 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
   TetrahedralStats st;
   StageClock clock;
   std::vector<std::uint32_t> node_points;
-  std::vector<double> point_values;
-  const detail::tets::Tetrahedralization tz = tetrahedralize_bounding_points(
-      field, skeleton, options, ctx, clock, st, node_points, point_values);
+  const detail::tets::Tetrahedralization tz =
+      tetrahedralize_bounding_points(skeleton, options, ctx, clock, st, node_points);
   std::vector<char> keep = region_of(skeleton, tz, node_points, options, ctx, clock, st);
-  detail::tets::Lattice lattice(tz, options.levels, point_values);
+  detail::tets::Lattice lattice(tz, options.levels);
   detail::tets::Extraction extraction =
       detail::tets::extract_surface(field, tz, keep, lattice, options, ctx, st);
   st.seconds_subdivide = clock.lap();

@@ -10,11 +10,10 @@
 
 namespace ramiform::detail::tets {
 
-Lattice::Lattice(const Tetrahedralization& tz, int levels, const std::vector<double>& point_values)
+Lattice::Lattice(const Tetrahedralization& tz, int levels)
     : pts_(tz.points),
       tets_(tz.tets),
       neighbor_(tz.neighbors),
-      point_values_(point_values),
       m_(1 << levels),
       side_(static_cast<std::size_t>(m_) + 1),
       vertex_(tz.points.size(), kNone),
@@ -62,7 +61,6 @@ void Lattice::add_corner_points(const Round& round) {
       refs_.emplace_back(slot, w);
     }
   }
-  round_corners_end_ = static_cast<std::uint32_t>(refs_.size());
 }
 
 // The new slots' corner pairs, sorted; equal pairs share their points, and a pair seen in an
@@ -155,9 +153,7 @@ void Lattice::add_inner_points(const Round& round) {
   }
 }
 
-// Positions and values of the points from `first_point` on: the round's corners on points with
-// a given value take it; the other corners and the rest are evaluated, each group in one batch
-// (a point's value does not depend on the batch it is in).
+// Positions and one batch evaluation of the points from `first_point` on.
 void Lattice::evaluate_from(const Field& field, std::size_t first_point, const Context* ctx) {
   const std::size_t count = refs_.size() - first_point;
   positions_.resize(refs_.size());
@@ -173,29 +169,8 @@ void Lattice::evaluate_from(const Field& field, std::size_t first_point, const C
         }
       },
       ctx);
-  const std::size_t corners_end = round_corners_end_;
-  std::vector<std::uint32_t> unknown;  // corners without a given value
-  for (std::size_t i = first_point; i < corners_end; ++i) {
-    const Tet& t = tets_[slot_tet_[refs_[i].first]];
-    const Bary& w = refs_[i].second;
-    int k = 0;
-    while (w[k] == 0) ++k;
-    if (t[k] < point_values_.size()) {
-      values_[i] = point_values_[t[k]];
-    } else {
-      unknown.push_back(static_cast<std::uint32_t>(i));
-    }
-  }
-  if (!unknown.empty()) {
-    std::vector<Vec3> at(unknown.size());
-    std::vector<double> v(unknown.size());
-    for (std::size_t j = 0; j < unknown.size(); ++j) at[j] = positions_[unknown[j]];
-    field.evaluate(at, v, {}, ctx);
-    for (std::size_t j = 0; j < unknown.size(); ++j) values_[unknown[j]] = v[j];
-  }
-  field.evaluate(std::span<const Vec3>(positions_).subspan(corners_end, refs_.size() - corners_end),
-                 std::span<double>(values_).subspan(corners_end, refs_.size() - corners_end), {},
-                 ctx);
+  field.evaluate(std::span<const Vec3>(positions_).subspan(first_point, count),
+                 std::span<double>(values_).subspan(first_point, count), {}, ctx);
   evaluated_ += count;
 }
 

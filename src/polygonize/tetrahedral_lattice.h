@@ -59,14 +59,10 @@ using BaryTet = std::array<Bary, 4>;
 /// lattice_point() on the corners of the first tetrahedron that holds the point, which is
 /// bit-identical to what the others would compute.
 ///
-/// Holds references to `tz` and `point_values`, which must outlive it.
+/// Holds references to `tz`, which must outlive it.
 class Lattice {
  public:
-  /// `point_values`: the field at tz.points[i] for i below its size (computed beforehand, e.g.
-  /// beside the tetrahedralization); a corner on such a point takes its value from there
-  /// instead of being evaluated again. A corner's position is its point's, bit for bit
-  /// (lattice_point() with one weight 2^levels), so the value is the same.
-  Lattice(const Tetrahedralization& tz, int levels, const std::vector<double>& point_values);
+  Lattice(const Tetrahedralization& tz, int levels);
 
   /// Adds the tetrahedra `list` (indices into tz.tets; live[r] == 1: extracted, others only
   /// take a slot) as slots [slots(), slots() + list.size()), then positions their new lattice
@@ -111,8 +107,7 @@ class Lattice {
   [[nodiscard]] std::size_t slots() const { return slot_tet_.size(); }
   /// How many lattice points there are (global ids are below this).
   [[nodiscard]] std::size_t size() const { return values_.size(); }
-  /// How many lattice points were valued (each once; corners on points with a value given to
-  /// the constructor count too).
+  /// How many lattice points were evaluated (each once).
   [[nodiscard]] std::size_t evaluated() const { return evaluated_; }
 
  private:
@@ -148,7 +143,6 @@ class Lattice {
   const std::vector<Vec3>& pts_;
   const std::vector<Tet>& tets_;
   const std::vector<std::uint32_t>& neighbor_;
-  const std::vector<double>& point_values_;
   int m_;
   std::size_t side_;
   std::array<int, 16> edge_of_{};
@@ -164,7 +158,6 @@ class Lattice {
   std::vector<std::uint32_t> inner_first_;
   std::vector<EdgeRef> edge_points_;  // every corner pair so far, sorted, with its first id
   std::vector<std::pair<std::uint32_t, Bary>> refs_;  // per point, (slot, barycentric)
-  std::uint32_t round_corners_end_ = 0;               // end of the current round's corners in refs_
   std::vector<Vec3> positions_;
   std::vector<double> values_;
   std::size_t evaluated_ = 0;

@@ -133,7 +133,7 @@ void mark_node_tetrahedra(const Skeleton& s, const Tetrahedralization& tz,
 // gets Steiner points on the axis until it is (measured: 36 of 8,698 pairs on the 1,500-segment
 // benchmark tree, 551 of 7,856 on archi_Tree_1, which came apart into 62 pieces at level 0
 // without them).
-Tetrahedralization tetrahedralize(const std::vector<Vec3>& points, std::size_t real_points,
+Tetrahedralization tetrahedralize(std::vector<Vec3> points, std::size_t real_points,
                                   const std::vector<std::array<std::uint32_t, 2>>& axis_pairs,
                                   const Context* ctx, TetrahedralStats& st) {
   DelaunayResult delaunay = delaunay_tetrahedralize(points, axis_pairs, ctx);
@@ -142,9 +142,7 @@ Tetrahedralization tetrahedralize(const std::vector<Vec3>& points, std::size_t r
                   " bounding points coincide");
   }
   Tetrahedralization tz;
-  // Copied only now, when the insertion's own copy and cells are freed.
-  tz.points.reserve(points.size() + delaunay.steiner_points.size());
-  tz.points = points;
+  tz.points = std::move(points);
   tz.real_points = real_points;
   // Steiner points follow the far box's corners, which keep their numbers.
   tz.points.insert(tz.points.end(), delaunay.steiner_points.begin(), delaunay.steiner_points.end());

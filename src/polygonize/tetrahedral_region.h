@@ -20,12 +20,11 @@ namespace ramiform::detail::tets {
 
 /// Delaunay tetrahedralization of `points` (`real_points` bounding points, then the far box's
 /// 8 corners) in which every pair of `axis_pairs` is joined by edges: a pair that is not an
-/// edge gets Steiner points on the axis, appended to the points (the result's copy of them;
-/// `points` is only read, so other threads may read it meanwhile). Fills the stats'
+/// edge gets Steiner points on the axis, appended to the points. Fills the stats'
 /// `axis_points_added`, `axis_edges_missing` and `delaunay_tets`. Throws Failure when bounding
 /// points coincide (the jitter makes them distinct, so this means a skeleton the checks missed).
 [[nodiscard]] Tetrahedralization tetrahedralize(
-    const std::vector<Vec3>& points, std::size_t real_points,
+    std::vector<Vec3> points, std::size_t real_points,
     const std::vector<std::array<std::uint32_t, 2>>& axis_pairs, const Context* ctx,
     TetrahedralStats& stats);
 
