@@ -884,6 +884,20 @@ class Improver {
     });
   }
 
+  // The operation replacing the vertices `cluster` by one new vertex at z of local radius rz,
+  // leaving `quality` as the smallest sine around it.
+  static Op replace_op(const std::vector<std::uint32_t>& cluster, const Vec3& z, double rz,
+                       double quality) {
+    Op op;
+    op.kind = Op::Kind::kReplace;
+    std::copy(cluster.begin(), cluster.end(), op.s.begin());
+    op.ns = cluster.size();
+    op.z = z;
+    op.z_radius = rz;
+    op.quality = quality;
+    return op;
+  }
+
   // The smallest sine of the kept triangles of the disk (prepare_disk() holds) with their
   // cluster corner at z, or -1 as soon as one of them does not beat both the disk's old worst
   // and `quality`, or `accept(t, corners)` refuses it.
@@ -918,13 +932,7 @@ class Improver {
                                         : n.dot(area) > 0;
         });
     if (new_worst < 0 || sweeps_node_to(cluster, z, sc)) return;
-    op = Op{};
-    op.kind = Op::Kind::kReplace;
-    std::copy(cluster.begin(), cluster.end(), op.s.begin());
-    op.ns = cluster.size();
-    op.z = z;
-    op.z_radius = rz;
-    op.quality = new_worst;
+    op = replace_op(cluster, z, rz, new_worst);
   }
 
   // Replacing the vertices `cluster`, for which prepare_disk() holds (sc is as it left it), by
@@ -1024,13 +1032,7 @@ class Improver {
       missing = true;
       return;
     }
-    op = Op{};
-    op.kind = Op::Kind::kReplace;
-    std::copy(cluster.begin(), cluster.end(), op.s.begin());
-    op.ns = cluster.size();
-    op.z = z;
-    op.z_radius = rz;
-    op.quality = new_worst;
+    op = replace_op(cluster, z, rz, new_worst);
   }
 
   // The operation for the bad triangle t, by levels: flips of its edges; the collapse of its
