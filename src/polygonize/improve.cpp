@@ -65,6 +65,8 @@ constexpr double kShortEdge = 0.25;
 // the shortest edge, both ways).
 constexpr std::array<double, 4> kNudgeSteps = {0.5, 1.0, 2.0, 4.0};
 constexpr int kNudgeDirections = 12;
+// The directions of a corner move (Improver::move_directions()).
+using MoveDirections = std::array<Vec3, kNudgeDirections + 4>;
 // A cluster: vertices joined by edges shorter than this times the bad triangle's longest edge.
 constexpr double kClusterEdge = 0.2;
 // The small move (see Move::kSmallMove): for a triangle below kLastResortDeg that nothing else
@@ -1170,13 +1172,8 @@ class Improver {
             nudge.quality = std::max(op.quality, 0.0);
             const double base = std::sqrt(longest) * sin_hard_;
             for (const std::uint32_t w : f) {
-              cluster.assign(1, w);
-              if (!prepare_disk(cluster, sc)) continue;
-              Vec3 area = Vec3::Zero();
-              for (const Vec3& n : sc.old_normals) area += n;
-              const double an = area.norm();
-              if (!(an > 0)) continue;
-              const auto dirs = move_directions(f, k, area / an);
+              MoveDirections dirs;
+              if (!corner_moves(w, f, k, cluster, sc, dirs)) continue;
               for (std::size_t si = 0; si < 2 * kNudgeSteps.size(); ++si) {
                 const double step = kNudgeSteps[si % kNudgeSteps.size()] *
                                     (si < kNudgeSteps.size() ? base : std::sqrt(shortest));
@@ -1227,13 +1224,8 @@ class Improver {
           }
           for (int i = 0; i < 3; ++i) {
             const std::uint32_t w = f[i];
-            cluster.assign(1, w);
-            if (!prepare_disk(cluster, sc)) continue;
-            Vec3 area = Vec3::Zero();
-            for (const Vec3& n : sc.old_normals) area += n;
-            const double an = area.norm();
-            if (!(an > 0)) continue;
-            const auto dirs = move_directions(f, k, area / an);
+            MoveDirections dirs;
+            if (!corner_moves(w, f, k, cluster, sc, dirs)) continue;
             for (const double step : kSmallSteps) {
               for (const Vec3& dir : dirs) {
                 try_small_move(cluster, pos(w) + step * kSmallMove * o_.tolerance * r[i] * dir,
@@ -1291,11 +1283,26 @@ class Improver {
     return op;
   }
 
+  // The disk of corner w of the bad triangle f alone (`cluster` = {w}, prepare_disk()) and the
+  // directions a move of w takes there (move_directions() about the disk's area vector); false
+  // when the disk cannot be prepared or has no area.
+  bool corner_moves(std::uint32_t w, const Tri& f, int k, std::vector<std::uint32_t>& cluster,
+                    Scratch& sc, MoveDirections& dirs) const {
+    cluster.assign(1, w);
+    if (!prepare_disk(cluster, sc)) return false;
+    Vec3 area = Vec3::Zero();
+    for (const Vec3& n : sc.old_normals) area += n;
+    const double an = area.norm();
+    if (!(an > 0)) return false;
+    dirs = move_directions(f, k, area / an);
+    return true;
+  }
+
   // The directions in which a nudge or a small move takes a corner of the bad triangle f
   // (shortest edge k -> k + 1) whose fan has the unit area vector n: kNudgeDirections in the
   // tangent plane, from the triangle's longest edge (or any, when that lies along n), then n
   // and the shortest edge, both ways.
-  std::array<Vec3, kNudgeDirections + 4> move_directions(const Tri& f, int k, const Vec3& n) const {
+  MoveDirections move_directions(const Tri& f, int k, const Vec3& n) const {
     Vec3 e1 = pos(f[(k + 1) % 3]) - pos(f[(k + 2) % 3]);
     if (!((e1 - e1.dot(n) * n).squaredNorm() > 1e-6 * e1.squaredNorm())) {
       e1 = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
