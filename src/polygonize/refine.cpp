@@ -592,24 +592,19 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   std::vector<double> new_radius;
   std::vector<std::size_t> fan_start(ns + 1, 0);
   std::vector<std::uint32_t> fan;
-  parallel::for_chunks(
-      2, 1,
-      [&](std::size_t task, std::size_t) {
-        if (task == 0) {
-          new_radius = local_radii(skeleton, z, ctx);
-          return;
-        }
-        for (const auto& t : mesh.triangles)
-          for (const auto v : t)
-            if (v >= nv_old) ++fan_start[v - nv_old + 1];
-        for (std::size_t i = 0; i < ns; ++i) fan_start[i + 1] += fan_start[i];
-        fan.resize(fan_start[ns]);
-        std::vector<std::size_t> fill(fan_start.begin(), fan_start.end() - 1);
-        for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-          for (const auto v : mesh.triangles[t])
-            if (v >= nv_old) fan[fill[v - nv_old]++] = t;
-      },
-      ctx);
+  parallel::both([&] { new_radius = local_radii(skeleton, z, ctx); },
+                 [&] {
+                   for (const auto& t : mesh.triangles)
+                     for (const auto v : t)
+                       if (v >= nv_old) ++fan_start[v - nv_old + 1];
+                   for (std::size_t i = 0; i < ns; ++i) fan_start[i + 1] += fan_start[i];
+                   fan.resize(fan_start[ns]);
+                   std::vector<std::size_t> fill(fan_start.begin(), fan_start.end() - 1);
+                   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+                     for (const auto v : mesh.triangles[t])
+                       if (v >= nv_old) fan[fill[v - nv_old]++] = t;
+                 },
+                 ctx);
   vradius.insert(vradius.end(), new_radius.begin(), new_radius.end());
   const double cos_turn = pm::cos(o.max_turn_deg * std::numbers::pi / 180.0);
   // Revert moves, pass after pass, until no new triangle turns too far and no node is swept.
@@ -816,16 +811,8 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
   // other on one thread), which each round then keeps up to date.
   std::vector<double> vradius;
   Edges edges;
-  parallel::for_chunks(
-      2, 1,
-      [&](std::size_t task, std::size_t) {
-        if (task == 0) {
-          vradius = local_radii(skeleton, mesh.positions, ctx);
-        } else {
-          edges = mesh_edges(mesh);
-        }
-      },
-      ctx);
+  parallel::both([&] { vradius = local_radii(skeleton, mesh.positions, ctx); },
+                 [&] { edges = mesh_edges(mesh); }, ctx);
   std::vector<char> fresh(mesh.positions.size(), 1);
   // Per vertex: 1 where a split left it at its edge's midpoint, 2 half way to the surface.
   std::vector<char> off(mesh.positions.size(), 0);

@@ -72,6 +72,28 @@ TEST(Parallel, ForEachCoversEveryIndexOnce) {
   for (auto& h : hits) EXPECT_EQ(h.load(), 1);
 }
 
+TEST(Parallel, BothRunsEachTaskOnceOnAnyThreadCount) {
+  for (const int threads : {1, 2}) {
+    Context ctx(threads);
+    std::atomic<int> first{0}, second{0};
+    std::vector<int> a, b;
+    parallel::both(
+        [&] {
+          ++first;
+          a.assign(1000, 1);
+        },
+        [&] {
+          ++second;
+          b.assign(2000, 2);
+        },
+        &ctx);
+    EXPECT_EQ(first.load(), 1) << threads;
+    EXPECT_EQ(second.load(), 1) << threads;
+    EXPECT_EQ(a, std::vector<int>(1000, 1));
+    EXPECT_EQ(b, std::vector<int>(2000, 2));
+  }
+}
+
 TEST(Parallel, ReduceIsBitIdenticalForAnyThreadCount) {
   // Values of wildly different magnitudes so that the summation order matters.
   Rng rng(31);

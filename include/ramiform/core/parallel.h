@@ -35,6 +35,22 @@ void for_each(std::size_t n, std::size_t grain, Fn&& body, const Context* ctx = 
       ctx);
 }
 
+/// Runs `first()` and `second()` side by side (as two chunks of for_chunks; one after the other
+/// on one thread). Neither may depend on the other's results.
+template <class First, class Second>
+void both(First&& first, Second&& second, const Context* ctx = nullptr) {
+  for_chunks(
+      2, 1,
+      [&](std::size_t task, std::size_t) {
+        if (task == 0) {
+          first();
+        } else {
+          second();
+        }
+      },
+      ctx);
+}
+
 /// Deterministic map-reduce: `map(begin, end)` computes a partial result for each fixed chunk,
 /// then the partials are folded left to right with `combine(acc, partial)` starting at `init`.
 template <class T, class Map, class Combine>
