@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/bernstein.h"
+#include "core/extent_check.h"
 #include "field/bezier_curve_simd.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/tolerances.h"
@@ -496,21 +497,14 @@ void validate(const BezierCurve& curve, const std::string& what) {
                           std::to_string(count));
   }
   double extent = 0;
-  Aabb box;
+  detail::ExtentCheck span;  // g's coefficients multiply coordinates: they would overflow first
   for (std::size_t i = 0; i < count; ++i) {
     if (!curve.controls[i].allFinite()) {
       throw InvalidArgument(what + ": control " + std::to_string(i) + " is not finite");
     }
     extent = std::max(extent, curve.controls[i].cwiseAbs().maxCoeff());
-    // The rule of the point and skeleton readers: the span must fit a double (g's coefficients
-    // multiply coordinates, so they would overflow first).
-    box.extend(curve.controls[i]);
-    if (!std::isfinite(box.diagonal().norm())) {
-      throw InvalidArgument(what + ": control " + std::to_string(i) +
-                            ": with it the coordinates span more than double precision can hold "
-                            "(from " +
-                            format_number(box.min().minCoeff()) + " to " +
-                            format_number(box.max().maxCoeff()) + ")");
+    if (!span.add(curve.controls[i])) {
+      throw InvalidArgument(what + ": control " + std::to_string(i) + ": " + span.problem("it"));
     }
   }
   if (!curve.radii.empty() && curve.radii.size() != count) {

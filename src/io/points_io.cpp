@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "core/extent_check.h"
 #include "io/ply_format.h"
 #include "io/text_scan.h"
 #include "ramiform/core/errors.h"
@@ -38,28 +39,6 @@ void check_writable(const PointSet& points) {
 
 constexpr std::string_view kNames[] = {"x", "y", "z", "nx", "ny", "nz"};
 
-// The extent rule of skeleton validate(), shared by the text and PLY readers: the bounding box's
-// diagonal must have a finite length. Beyond it (e.g. points at +-1e308, where max - min is
-// inf) every distance downstream (fields, grids) is inf or NaN. The box grows point by point so
-// that the message can name the first point that breaks the rule.
-class ExtentCheck {
- public:
-  /// Adds `p`; false when the coordinates seen so far span more than a double can hold.
-  bool add(const Vec3& p) {
-    box_.extend(p);
-    return std::isfinite(box_.diagonal().norm());
-  }
-  /// The problem text for the point whose add() returned false.
-  [[nodiscard]] std::string problem() const {
-    return "with this point the coordinates span more than double precision can hold (from " +
-           format_number(box_.min().minCoeff()) + " to " + format_number(box_.max().maxCoeff()) +
-           ")";
-  }
-
- private:
-  Aabb box_;
-};
-
 }  // namespace
 
 PointSet parse_points_text(std::string_view text, const std::string& source_name) {
@@ -74,7 +53,7 @@ PointSet parse_points_text(std::string_view text, const std::string& source_name
   std::vector<std::string_view> f;
   std::size_t columns = 0;
   std::size_t first_line = 0;
-  ExtentCheck extent;
+  detail::ExtentCheck extent;
   while (cursor.next(line)) {
     const std::size_t ln = cursor.line_number();
     if (!split_fields(strip_comment(line), f, true)) {
@@ -103,7 +82,8 @@ PointSet parse_points_text(std::string_view text, const std::string& source_name
     double v[6];
     for (std::size_t c = 0; c < columns; ++c) v[c] = to_double(f[c], source, ln, kNames[c]);
     points.positions.emplace_back(v[0], v[1], v[2]);
-    if (!extent.add(points.positions.back())) throw InputError(source, ln, extent.problem());
+    if (!extent.add(points.positions.back()))
+      throw InputError(source, ln, extent.problem("this point"));
     if (columns == 6) {
       points.normals.emplace_back(v[3], v[4], v[5]);
       if (points.normals.back() == Vec3::Zero()) throw InputError(source, ln, kZeroNormal);
@@ -128,11 +108,12 @@ PointSet parse_points_ply(std::string_view bytes, const std::string& source_name
   PointSet points;
   points.positions.resize(data[0].count);
   if (cols == 6) points.normals.resize(data[0].count);
-  ExtentCheck extent;
+  detail::ExtentCheck extent;
   for (std::size_t i = 0; i < data[0].count; ++i) {
     const double* row = &data[0].scalars[i * cols];
     points.positions[i] = Vec3(row[0], row[1], row[2]);
-    if (!extent.add(points.positions[i])) throw InputError(source, "vertex", i, extent.problem());
+    if (!extent.add(points.positions[i]))
+      throw InputError(source, "vertex", i, extent.problem("this point"));
     if (cols == 6) {
       points.normals[i] = Vec3(row[3], row[4], row[5]);
       if (points.normals[i] == Vec3::Zero()) throw InputError(source, "vertex", i, kZeroNormal);

@@ -9,6 +9,7 @@
 #include <unordered_set>
 
 #include "core/bernstein.h"
+#include "core/extent_check.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/core/tolerances.h"
 
@@ -33,9 +34,10 @@ std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t i) {
 // The most inner control points of a curved edge (degree 16 curves are refused).
 constexpr std::size_t kMaxInnerControls = 14;
 
-// `box`: the nodes' box; the curve's controls must keep the span within double precision too
+// `extent`: the nodes'; the curve's controls must keep the span within double precision too
 // (the straightened nodes lie in their hull).
-void validate_curve(const EdgeCurve& c, std::size_t e, const std::string& source, Aabb box) {
+void validate_curve(const EdgeCurve& c, std::size_t e, const std::string& source,
+                    detail::ExtentCheck extent) {
   if (c.controls.size() > kMaxInnerControls) {
     throw InputError(source, "edge", e,
                      std::to_string(c.controls.size()) + " control points (at most " +
@@ -46,14 +48,9 @@ void validate_curve(const EdgeCurve& c, std::size_t e, const std::string& source
     if (!is_finite(c.controls[k])) {
       throw InputError(source, "edge", e, "control point " + std::to_string(k) + " is not finite");
     }
-    box.extend(c.controls[k]);
-    if (!std::isfinite(box.diagonal().norm())) {
+    if (!extent.add(c.controls[k])) {
       throw InputError(source, "edge", e,
-                       "control point " + std::to_string(k) +
-                           ": with it the coordinates span more than double precision can hold "
-                           "(from " +
-                           format_number(box.min().minCoeff()) + " to " +
-                           format_number(box.max().maxCoeff()) + ")");
+                       "control point " + std::to_string(k) + ": " + extent.problem("it"));
     }
   }
   if (!c.radii.empty() && c.radii.size() != c.controls.size()) {
@@ -188,7 +185,7 @@ void validate(const Skeleton& skeleton, const std::string& source) {
                      std::to_string(skeleton.open_ends.size()) + " open-end flags for " +
                          std::to_string(skeleton.nodes.size()) + " nodes (need none or one each)");
   }
-  Aabb box;
+  detail::ExtentCheck extent;
   for (std::size_t i = 0; i < skeleton.nodes.size(); ++i) {
     const auto& n = skeleton.nodes[i];
     if (!is_finite(n.position)) throw InputError(source, "node", i, "position is not finite");
@@ -196,23 +193,14 @@ void validate(const Skeleton& skeleton, const std::string& source) {
     if (n.radius <= 0.0) {
       throw InputError(source, "node", i, "radius must be > 0, got " + fmt(n.radius));
     }
-    // The box grows node by node so that the message names the first node that makes the
-    // span overflow (the rule of the point readers).
-    box.extend(n.position);
-    if (!std::isfinite(box.diagonal().norm())) {
-      throw InputError(source, "node", i,
-                       "with this node the coordinates span more than double precision can hold "
-                       "(from " +
-                           format_number(box.min().minCoeff()) + " to " +
-                           format_number(box.max().maxCoeff()) + ")");
-    }
+    if (!extent.add(n.position)) throw InputError(source, "node", i, extent.problem("this node"));
   }
   if (!skeleton.curves.empty() && skeleton.curves.size() != skeleton.edges.size()) {
     throw InputError(source, 0,
                      std::to_string(skeleton.curves.size()) + " edge curves for " +
                          std::to_string(skeleton.edges.size()) + " edges (need none or one each)");
   }
-  const double scale = std::max(box.diagonal().norm(), 1.0);
+  const double scale = std::max(extent.box().diagonal().norm(), 1.0);
   std::unordered_set<std::uint64_t> seen;
   seen.reserve(skeleton.edges.size() * 2);
   const auto count = static_cast<std::uint32_t>(skeleton.nodes.size());
@@ -229,7 +217,7 @@ void validate(const Skeleton& skeleton, const std::string& source) {
       throw InputError(source, "edge", e,
                        "duplicate edge " + std::to_string(a) + "-" + std::to_string(b));
     }
-    if (!skeleton.curves.empty()) validate_curve(skeleton.curves[e], e, source, box);
+    if (!skeleton.curves.empty()) validate_curve(skeleton.curves[e], e, source, extent);
     const double len = (skeleton.nodes[a].position - skeleton.nodes[b].position).norm();
     if (len <= tol::kCoincident * scale) {
       throw InputError(source, "edge", e,
