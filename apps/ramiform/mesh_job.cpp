@@ -175,6 +175,7 @@ void polygonize_tets(const Field& field, const Skeleton& skeleton, const MeshJob
                        {"unprojected", st.refine.unprojected},
                        {"reverted", st.refine.reverted},
                        {"halfway", st.refine.halfway},
+                       {"reprojected", st.refine.reprojected},
                        {"inherited", st.refine.inherited},
                        {"spared", st.refine.spared},
                        {"triangles_before", st.refine.triangles_before},

@@ -35,6 +35,9 @@
 ///     follows the surface is kept however far it turned: its parent stood across the surface),
 ///     or when the move would carry a protected point (the skeleton's nodes) across the surface
 ///     (the point lies in one of the tetrahedra swept by the vertex's fan).
+///  5. after the rounds (`reproject`), the vertices step 4 left off the surface go onto it where
+///     their fan, refined around them by the later rounds, now lets them (reproject_off_surface
+///     in refine.cpp).
 /// Rounds stop when no edge is split, after `max_rounds`, or when the next round would exceed
 /// `max_triangles`. Deterministic: the result depends only on the inputs, never on the thread
 /// count.
@@ -75,6 +78,13 @@ struct RefineOptions {
   /// within it, as long as the area they leave beyond it (estimated from their midpoints'
   /// distances) fits in what is left of this share. 0 splits every edge beyond the tolerance.
   double spare_area = 0.0;
+  /// After the rounds, take the new vertices that step 4 left off the surface onto it where
+  /// their fan, refined around them by the later rounds, now lets them go: each triangle of the
+  /// fan facing outward and no worse than now against the surface's normal at its centroid
+  /// (within max_normal_deg, or no farther than now from it), its centroid no farther from the
+  /// surface, no node swept; the whole way, else half of it, in passes (two vertices of one fan
+  /// never in the same pass). false leaves them, as the paper-style refinement did.
+  bool reproject = true;
 };
 
 /// What refine_to_surface() did.
@@ -85,6 +95,9 @@ struct RefineStats {
   std::size_t unprojected = 0;       ///< the Newton steps did not converge close by
   std::size_t reverted = 0;          ///< a fold or a protected point sent back
   std::size_t halfway = 0;           ///< new vertices left half way to the surface
+  /// Of those left off the surface (flat or half way), the ones `reproject` took onto it once
+  /// the rounds had refined their neighbourhood.
+  std::size_t reprojected = 0;
   /// Edges not evaluated: halves of an edge whose first-order distance was small enough that
   /// theirs (taken as half of it) is within the tolerance.
   std::size_t inherited = 0;
