@@ -137,7 +137,10 @@ CommandResult run_param(Call& c) {
   }
   s.param_list.push_back(std::move(info));
   return {c.spec().name,
-          name + " = " + head + (set != s.options.params.end() ? " (from --set)" : ""), false};
+          name + " = " + head + (set != s.options.params.end() ? " (from --set)" : ""),
+          false,
+          {},
+          {}};
 }
 
 std::string count_text(std::size_t n) {
@@ -372,7 +375,9 @@ CommandResult run_save_mesh(Call& c) {
   CommandResult result{c.spec().name,
                        files + ": " + counts + " (" + how + "), " + closed + ", " +
                            std::to_string(report.components) + " component(s)",
-                       true};
+                       true,
+                       {},
+                       {}};
   result.facts = {{"vertices", static_cast<double>(levels[0].vertex_count())},
                   {"triangles", static_cast<double>(report.triangles)},
                   {"components", static_cast<double>(report.components)},
@@ -410,7 +415,7 @@ CommandResult run_deviation(Call& c) {
   if (unresolved > 0) {
     text += "; " + count_text(unresolved) + " point(s) without surface within the search distance";
   }
-  return {c.spec().name, text, true};
+  return {c.spec().name, text, true, {}, {}};
 }
 
 std::string value_line(const Field& f, const Vec3& p) {
@@ -425,7 +430,7 @@ CommandResult run_eval(Call& c) {
   c.expect_count(4, 4, "NAME X Y Z");
   const Object& obj = c.object(0, ObjectKind::kShape);
   const Vec3 p(c.number(1, "x"), c.number(2, "y"), c.number(3, "z"));
-  return {c.spec().name, value_line(*obj.field, p), true};
+  return {c.spec().name, value_line(*obj.field, p), true, {}, {}};
 }
 
 CommandResult run_eval_points(Call& c) {
@@ -447,7 +452,9 @@ CommandResult run_eval_points(Call& c) {
   return {c.spec().name,
           c.arg(2).text + ": " + std::to_string(values.size()) + " values, " +
               std::to_string(inside) + " inside",
-          true};
+          true,
+          {},
+          {}};
 }
 
 CommandResult run_info(Call& c) {
@@ -461,7 +468,7 @@ CommandResult run_info(Call& c) {
     text += "; iso " + format_number(o.field->iso());
     if (!b.isEmpty()) text += "; bounds " + format_vec3(b.min()) + " to " + format_vec3(b.max());
   }
-  return {c.spec().name, text, true};
+  return {c.spec().name, text, true, {}, {}};
 }
 
 CommandResult run_list(Call& c) {
@@ -476,14 +483,14 @@ CommandResult run_list(Call& c) {
     text += (text.empty() ? "" : "\n") + name + " (" + kind_name(o.kind) + "): " + summary_text(o);
   }
   if (text.empty()) text = "no objects yet";
-  return {c.spec().name, text, true};
+  return {c.spec().name, text, true, {}, {}};
 }
 
 CommandResult run_help(Call& c) {
   c.expect_count(0, 1, "[COMMAND]");
   if (c.count() == 1) {
     try {
-      return {c.spec().name, ScriptSession::command_help(c.arg(0).text), true};
+      return {c.spec().name, ScriptSession::command_help(c.arg(0).text), true, {}, {}};
     } catch (const InvalidArgument& e) {
       c.fail(c.arg(0), e.what());
     }
@@ -492,7 +499,7 @@ CommandResult run_help(Call& c) {
   for (const std::string& name : ScriptSession::command_names()) {
     text += "\n  " + command_table().at(name)->synopsis;
   }
-  return {c.spec().name, text, true};
+  return {c.spec().name, text, true, {}, {}};
 }
 
 }  // namespace
