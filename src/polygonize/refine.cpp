@@ -802,6 +802,37 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   return ns;
 }
 
+/// The vertices a refinement left off the surface (ascending), their fans (CSR by their index in
+/// `vertices`, which `rank` gives per mesh vertex, else kNone): built once for all passes of
+/// reproject_off_surface(), which moves vertices but changes no triangle.
+struct OffFans {
+  std::vector<std::uint32_t> vertices;
+  std::vector<std::uint32_t> rank;
+  std::vector<std::size_t> start;
+  std::vector<std::uint32_t> fan;
+};
+
+OffFans off_fans(const TriMesh& mesh, const std::vector<char>& off) {
+  OffFans f;
+  const std::size_t nv = mesh.positions.size();
+  for (std::uint32_t v = 0; v < nv; ++v)
+    if (off[v] != 0) f.vertices.push_back(v);
+  if (f.vertices.empty()) return f;
+  f.rank.assign(nv, kNone);
+  for (std::uint32_t k = 0; k < f.vertices.size(); ++k) f.rank[f.vertices[k]] = k;
+  f.start.assign(f.vertices.size() + 1, 0);
+  for (const auto& t : mesh.triangles)
+    for (const auto v : t)
+      if (f.rank[v] != kNone) ++f.start[f.rank[v] + 1];
+  for (std::size_t k = 0; k < f.vertices.size(); ++k) f.start[k + 1] += f.start[k];
+  f.fan.resize(f.start.back());
+  std::vector<std::size_t> fill(f.start.begin(), f.start.end() - 1);
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    for (const auto v : mesh.triangles[t])
+      if (f.rank[v] != kNone) f.fan[fill[f.rank[v]]++] = t;
+  return f;
+}
+
 /// After the rounds: moves the vertices that splits left off the surface (`off`: at their
 /// edge's midpoint or half way) `fraction` of the way onto it (1: onto it, counted in `reached`;
 /// less: still off) where their fan, as the later rounds refined it around them, now lets them
@@ -813,34 +844,21 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
 /// centroid would lie farther from the surface (first-order) than the farthest does now, and the
 /// move sweeps no skeleton node. Two vertices of one fan do not move in the same pass (the later
 /// waits for the next). Returns the number of vertices moved.
-std::size_t reproject_off_surface(TriMesh& mesh, std::vector<char>& off,
+std::size_t reproject_off_surface(TriMesh& mesh, std::vector<char>& off, const OffFans& fans,
                                   const std::vector<double>& vradius, const Field& field,
                                   const Skeleton& skeleton, const detail::BoxBvh& nodes,
                                   const RefineOptions& o, double fraction, std::size_t& reached,
                                   Context* ctx) {
-  const std::size_t nv = mesh.positions.size();
   std::vector<std::uint32_t> pending;
-  for (std::uint32_t v = 0; v < nv; ++v)
+  for (const std::uint32_t v : fans.vertices)
     if (off[v] != 0) pending.push_back(v);
   if (pending.empty()) return 0;
-  // The fans of the pending vertices (CSR, by their rank in `pending`).
-  std::vector<std::uint32_t> rank(nv, kNone);
-  for (std::uint32_t k = 0; k < pending.size(); ++k) rank[pending[k]] = k;
-  std::vector<std::size_t> fan_start(pending.size() + 1, 0);
-  for (const auto& t : mesh.triangles)
-    for (const auto v : t)
-      if (rank[v] != kNone) ++fan_start[rank[v] + 1];
-  for (std::size_t k = 0; k < pending.size(); ++k) fan_start[k + 1] += fan_start[k];
-  std::vector<std::uint32_t> fan(fan_start.back());
-  {
-    std::vector<std::size_t> fill(fan_start.begin(), fan_start.end() - 1);
-    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-      for (const auto v : mesh.triangles[t])
-        if (rank[v] != kNone) fan[fill[rank[v]]++] = t;
-  }
+  const std::vector<std::uint32_t>& rank = fans.rank;
+  const std::vector<std::size_t>& fan_start = fans.start;
+  const std::vector<std::uint32_t>& fan = fans.fan;
   const double cos_normal = pm::cos(o.max_normal_deg * std::numbers::pi / 180.0);
   std::size_t moved_count = 0;
-  std::vector<char> taken(pending.size(), 0);
+  std::vector<char> taken(fans.vertices.size(), 0);
   while (!pending.empty()) {
     // This pass: the pending vertices with no earlier pending vertex of this pass in their fan.
     std::vector<std::uint32_t> now, later;
@@ -1032,11 +1050,12 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
   // neighbour's move), the whole way and else half of it. Doing this after every round instead,
   // so that the next round splits the edges at the vertices moved, gave 0.2-0.5 % more
   // triangles and no smaller deviations on six generated trees.
-  for (int pass = 0; pass < kReprojectPasses && o.reproject; ++pass) {
-    const std::size_t moved = reproject_off_surface(mesh, off, vradius, field, skeleton, nodes, o,
-                                                    1.0, st.reprojected, ctx) +
-                              reproject_off_surface(mesh, off, vradius, field, skeleton, nodes, o,
-                                                    0.5, st.reprojected, ctx);
+  const OffFans fans = o.reproject ? off_fans(mesh, off) : OffFans{};
+  for (int pass = 0; pass < kReprojectPasses && !fans.vertices.empty(); ++pass) {
+    const std::size_t moved = reproject_off_surface(mesh, off, fans, vradius, field, skeleton,
+                                                    nodes, o, 1.0, st.reprojected, ctx) +
+                              reproject_off_surface(mesh, off, fans, vradius, field, skeleton,
+                                                    nodes, o, 0.5, st.reprojected, ctx);
     if (moved == 0) break;
   }
   st.triangles_after = mesh.triangles.size();
