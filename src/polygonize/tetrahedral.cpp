@@ -55,6 +55,7 @@ detail::tets::Tetrahedralization tetrahedralize_bounding_points(
   const std::size_t real_points = set.points.size();
   std::vector<Vec3> points = detail::tets::jitter_and_enclose(set, skeleton);
   st.polyhedron_points = real_points;
+  st.gap_points = set.gap_points;
   st.seconds_polyhedron = clock.lap();
   check_cancel(ctx);
   detail::tets::Tetrahedralization tz =

@@ -3,9 +3,16 @@
 #include "polygonize/tetrahedral_points.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <map>
 #include <numbers>
+#include <queue>
 
+#include "field/bvh.h"
 #include "ramiform/core/portable_math.h"
 #include "ramiform/core/random.h"
 
@@ -157,6 +164,156 @@ void add_edge_stations(BoundingPoints& pb, const Skeleton& s, const TetrahedralO
   }
 }
 
+// Points in the narrow gaps between branches the skeleton does not join. Where two edges that
+// share no node pass close to each other's tube (a twig's tip or side beside another branch),
+// the level-1 lattice has tetrahedron edges from inside the one tube to inside the other that
+// meet no root, and the mesh bridges the gap with a handle the surface does not have (its
+// vertices 1-3 twig radii off the surface: the largest deviations of generated trees). So
+// along the thinner edge, at stations two of its radii apart, wherever the gap between the
+// tubes (axis distance less both radii) is open but narrower than kGapRadii thinner radii or
+// kGapThick thicker ones (the thick branch's lattice is coarse), five points are placed across
+// the gap half way: a cross spaced by the thinner radius or half the gap, whichever is more;
+// a cross centred within half a radius of an earlier one of the same scale is left out. (One
+// point per station left a bridge on one of four trees; a 3 x 3 grid gave no smaller deviations
+// than the cross for twice its extra triangles, 6 % instead of 3 %.)
+constexpr double kGapRadii = 3.0;
+constexpr double kGapThick = 1.5;
+constexpr int kGapMaxStations = 64;
+// Edges closer than this many times the sum of their largest radii along the skeleton are one
+// branch, not two.
+constexpr double kGapPath = 4.0;
+void add_gap_points(BoundingPoints& pb, const Skeleton& s, const TetrahedralOptions& o) {
+  const std::size_t ne = s.edges.size();
+  if (ne < 2) return;
+  auto radius_at = [&](std::size_t e, double t) {
+    return (1 - t) * s.nodes[s.edges[e][0]].radius + t * s.nodes[s.edges[e][1]].radius;
+  };
+  auto rmax = [&](std::size_t e) {
+    return std::max(s.nodes[s.edges[e][0]].radius, s.nodes[s.edges[e][1]].radius);
+  };
+  std::vector<Aabb> boxes(ne);
+  for (std::size_t e = 0; e < ne; ++e) {
+    const Vec3& a = s.nodes[s.edges[e][0]].position;
+    const Vec3& b = s.nodes[s.edges[e][1]].position;
+    boxes[e] = Aabb(a.cwiseMin(b), a.cwiseMax(b));
+    boxes[e].min().array() -= (1 + kGapRadii) * rmax(e);
+    boxes[e].max().array() += (1 + kGapRadii) * rmax(e);
+  }
+  const BoxBvh bvh(boxes);
+  std::map<std::array<std::int64_t, 4>, std::vector<Vec3>> placed;
+  auto place = [&](const Vec3& mid, const Vec3& dir, double r, double gap) {
+    const int level = static_cast<int>(std::floor(std::log2(r)));
+    const double cell = std::ldexp(1.0, level);
+    const Vec3 at = (mid / cell).array().floor();
+    const std::array<std::int64_t, 4> key{level, static_cast<std::int64_t>(at.x()),
+                                          static_cast<std::int64_t>(at.y()),
+                                          static_cast<std::int64_t>(at.z())};
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = placed.find({key[0], key[1] + dx, key[2] + dy, key[3] + dz});
+          if (it == placed.end()) continue;
+          for (const Vec3& c : it->second)
+            if ((c - mid).norm() < 0.5 * r) return;
+        }
+    placed[key].push_back(mid);
+    pb.gap_points += 5;
+    Vec3 e1, e2;
+    frame(dir, e1, e2);
+    const double step = std::max(r, 0.5 * gap);
+    const double half = 0.5 * o.section_scale * r;
+    add(pb, mid, half);
+    for (const Vec3& side : {e1, e2}) {
+      add(pb, mid + step * side, half);
+      add(pb, mid - step * side, half);
+    }
+  };
+  // The shortest path along the skeleton from an end of one edge to an end of the other, or
+  // infinity beyond `limit` (a Dijkstra search cut there).
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> next(s.nodes.size());
+  for (const auto& [a, b] : s.edges) {
+    const double l = (s.nodes[a].position - s.nodes[b].position).norm();
+    next[a].emplace_back(b, l);
+    next[b].emplace_back(a, l);
+  }
+  std::vector<double> dist(s.nodes.size(), std::numeric_limits<double>::infinity());
+  std::vector<std::uint32_t> seen;
+  auto path_length = [&](std::uint32_t a0, std::uint32_t a1, std::uint32_t b0, std::uint32_t b1,
+                         double limit) {
+    using Item = std::pair<double, std::uint32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+    for (const std::uint32_t a : {a0, a1}) {
+      dist[a] = 0;
+      seen.push_back(a);
+      queue.emplace(0.0, a);
+    }
+    double found = std::numeric_limits<double>::infinity();
+    while (!queue.empty()) {
+      const auto [d, n] = queue.top();
+      queue.pop();
+      if (d > dist[n]) continue;
+      if (n == b0 || n == b1) {
+        found = d;
+        break;
+      }
+      for (const auto& [m, l] : next[n]) {
+        const double dm = d + l;
+        if (dm > limit || dm >= dist[m]) continue;
+        if (std::isinf(dist[m])) seen.push_back(m);
+        dist[m] = dm;
+        queue.emplace(dm, m);
+      }
+    }
+    for (const std::uint32_t n : seen) dist[n] = std::numeric_limits<double>::infinity();
+    seen.clear();
+    return found;
+  };
+  std::vector<std::uint32_t> ids;
+  for (std::uint32_t e = 0; e < ne; ++e) {
+    ids.clear();
+    bvh.query(boxes[e], ids);
+    std::sort(ids.begin(), ids.end());
+    for (const std::uint32_t f : ids) {
+      if (f <= e) continue;
+      const auto [ea, eb] = s.edges[e];
+      const auto [fa, fb] = s.edges[f];
+      if (ea == fa || ea == fb || eb == fa || eb == fb) continue;
+      // Two edges a short way apart along the skeleton (within kGapPath times the sum of their
+      // largest radii: a bend, a chain of short cylinders) are one branch: the surface between
+      // them is its own. (Found once a station needs it.)
+      double along = -1.0;
+      // Walk the thinner edge (th), measuring against the other (ot).
+      const bool e_thin = radius_at(e, 0.5) <= radius_at(f, 0.5);
+      const std::uint32_t th = e_thin ? e : f, ot = e_thin ? f : e;
+      const Vec3& p0 = s.nodes[s.edges[th][0]].position;
+      const Vec3& p1 = s.nodes[s.edges[th][1]].position;
+      const Vec3& q0 = s.nodes[s.edges[ot][0]].position;
+      const Vec3& q1 = s.nodes[s.edges[ot][1]].position;
+      const double len = (p1 - p0).norm();
+      const double r_thin =
+          std::min(s.nodes[s.edges[th][0]].radius, s.nodes[s.edges[th][1]].radius);
+      const int stations =
+          std::clamp(static_cast<int>(std::ceil(len / (2 * r_thin))), 1, kGapMaxStations);
+      for (int k = 0; k <= stations; ++k) {
+        const double t = static_cast<double>(k) / stations;
+        const Vec3 c = p0 + t * (p1 - p0);
+        const Vec3 dq = q1 - q0;
+        const double qq = dq.squaredNorm();
+        const double v = qq > 0 ? std::clamp((c - q0).dot(dq) / qq, 0.0, 1.0) : 0.0;
+        const Vec3 q = q0 + v * dq;
+        const double d = (q - c).norm();
+        const double rp = radius_at(th, t), rq = radius_at(ot, v);
+        const double gap = d - rp - rq;
+        if (!(gap > 0.0) || gap > std::max(kGapRadii * rp, kGapThick * rq)) continue;
+        if (along < 0.0) along = path_length(ea, eb, fa, fb, kGapPath * (rmax(e) + rmax(f)));
+        if (std::isfinite(along)) break;
+        const Vec3 dir = (q - c) / d;
+        place(c + (rp + 0.5 * gap) * dir, dir, std::min(rp, rq), gap);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 BoundingPoints bounding_points(const Skeleton& s, const TetrahedralOptions& o) {
@@ -173,6 +330,7 @@ BoundingPoints bounding_points(const Skeleton& s, const TetrahedralOptions& o) {
     if (section[i] != 0) add_node_section(pb, s, adjacent, i, half);
   }
   add_edge_stations(pb, s, o);
+  add_gap_points(pb, s, o);
   return pb;
 }
 

@@ -21,6 +21,7 @@
 #include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/mesh/cleanup.h"
+#include "ramiform/mesh/deviation.h"
 #include "ramiform/mesh/winding.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/skeleton/generate.h"
@@ -351,6 +352,29 @@ TEST(Tetrahedral, LevelOneKeepsBranchesConnected) {
     EXPECT_EQ(r.euler, 2) << test::describe(r);
     expect_nodes_inside(m, s);
   }
+}
+
+TEST(Tetrahedral, NoBridgeAcrossANarrowGapBetweenBranches) {
+  // A twig turning back to end 0.08 (four twig radii) from the side of the branch it left: the
+  // surfaces stay apart (the field half way across the gap is 0.75 of iso), but a level-1
+  // lattice without the gap points joined them by a handle (Euler characteristic 0) whose
+  // vertices lay up to 3.3 twig radii off the surface.
+  Skeleton s;
+  s.nodes = {{Vec3(0, 0, -1), 0.15},
+             {Vec3(0, 0, 0), 0.15},
+             {Vec3(0, 0, 2), 0.12},
+             {Vec3(1, 0, 0.5), 0.05},
+             {Vec3(0.135 + 0.02 + 0.08, 0, 1.2), 0.02}};
+  s.edges = {{0, 1}, {1, 2}, {1, 3}, {3, 4}};
+  const FieldPtr field = make_skeleton_field(s);
+  ASSERT_LT(field->value(Vec3(0.135 + 0.02 + 0.04, 0, 1.2)), field->iso());
+  const TriMesh m = polygonize_tetrahedral(*field, s, at_levels(1));
+  const MeshReport r = expect_closed(m, 1);
+  EXPECT_EQ(r.euler, 2) << test::describe(r);
+  expect_nodes_inside(m, s);
+  DeviationOptions o;
+  o.samples = 20000;
+  EXPECT_LT(measure_deviation(m, *field, &s, o).samples.max, 0.75);
 }
 
 TEST(Tetrahedral, CleanupRaisesTheSmallestAngleAndKeepsTheSurfaceClosed) {

@@ -72,6 +72,9 @@ struct TetrahedralOptions {
 /// What the polygonizer did; counts and per-stage seconds.
 struct TetrahedralStats {
   std::size_t polyhedron_points = 0;  ///< points of the bounding point set
+  /// Of those, the points placed across narrow gaps between branches the skeleton does not join
+  /// (five per place), so that no lattice edge spans the gap inside-to-inside.
+  std::size_t gap_points = 0;
   std::size_t delaunay_tets = 0;      ///< tetrahedra of the Delaunay tetrahedralization
   std::size_t axis_points_added = 0;  ///< Steiner points that make consecutive axis points
                                       ///< edges of the tetrahedralization
