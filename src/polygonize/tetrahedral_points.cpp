@@ -205,6 +205,9 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const TetrahedralOpti
     const int level = static_cast<int>(std::floor(std::log2(r)));
     const double cell = std::ldexp(1.0, level);
     const Vec3 at = (mid / cell).array().floor();
+    // (A cell index beyond 2^60 — a radius far below the model's extent — cannot key the table;
+    // such a gap is left without points.)
+    if (!(at.cwiseAbs().maxCoeff() < 0x1p60)) return;
     const std::array<std::int64_t, 4> key{level, static_cast<std::int64_t>(at.x()),
                                           static_cast<std::int64_t>(at.y()),
                                           static_cast<std::int64_t>(at.z())};
