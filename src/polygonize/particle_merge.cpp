@@ -182,8 +182,8 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
                                      const std::vector<double>& edge_radius,
                                      const std::vector<double>& edge_spacing,
                                      const std::vector<std::uint8_t>& open_end,
-                                     const std::vector<std::uint8_t>& force,
-                                     const Field* field, const Context* ctx) {
+                                     const std::vector<std::uint8_t>& force, const Field* field,
+                                     const Context* ctx) {
   MergedSkeleton out;
   out.skeleton.nodes = skeleton.nodes;
   out.skeleton.edges = skeleton.edges;
@@ -303,7 +303,7 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
       std::uint32_t target;
       double s, t;  // parameters on the source edge (edges only) and on the target
       Vec3 from, to;
-      double least = 0;     // the least field value along it
+      double least = 0;          // the least field value along it
       Vec3 neck = Vec3::Zero();  // where it is least
     };
     // The least field value along each bridge and where it is, all in one batch.
@@ -431,7 +431,8 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   std::vector<std::vector<std::pair<double, std::uint32_t>>> inner(edges);
   for (const Split& sp : splits) inner[sp.edge].emplace_back(sp.s, sp.node);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> unite;  // source, target node
-  std::vector<const Join*> unite_join;  // per pair of `unite`, its join
+  // Per pair of `unite`, its join.
+  std::vector<const Join*> unite_join;
   std::sort(joins.begin(), joins.end(), [](const Join& x, const Join& y) {
     return x.target != y.target ? x.target < y.target
                                 : (x.t != y.t ? x.t < y.t : x.source < y.source);

@@ -147,8 +147,8 @@ TEST(JoinMergingBranches, TipBesideAThickerBranchWhereTheSurfacesMergeIsJoinedAt
   thin.nodes[3].radius = thin.nodes[4].radius = 0.1;
   const std::vector<double> thin_radius = mean_radii(thin);
   const Equipotential thin_eq = make_equipotential(thin);
-  const detail::MergedSkeleton apart = detail::join_merging_branches(
-      thin, thin_radius, spacing, {}, {}, thin_eq.field.get(), &ctx);
+  const detail::MergedSkeleton apart =
+      detail::join_merging_branches(thin, thin_radius, spacing, {}, {}, thin_eq.field.get(), &ctx);
   EXPECT_EQ(apart.joins, 0U);
   EXPECT_EQ(apart.skeleton.edges, thin.edges);
 }
