@@ -34,6 +34,19 @@ constexpr double kEndZone = 1.5;
 // A node the mesh left outside (the mesher's repair) joins a thicker edge of another branch
 // whose axis lies within kForceReach R_g of it.
 constexpr double kForceReach = 3.0;
+// With the field (ours): a node, or an edge's closest approach, beside a thicker edge g (outside
+// its tube, but the tubes overlap: axes within R_g + R_own) joins g when their surfaces merge
+// there broadly: the field is above kMerged times its iso value all along the segment between
+// the two axes (at kBridgeSamples points evenly inside it). For two parallel lines of the
+// equipotential radii mode, whose potential falls like r^-(alpha - 2), the least value between
+// axes D apart is iso (D_m / D)^(alpha - 2), D_m = (R_g^(p/(p+1)) + R_own^(p/(p+1)))^((p+1)/p)
+// with p = alpha - 2 the distance at which they start to merge; kMerged 2 asks for D <= 0.71
+// D_m at alpha 4, which for alike radii is R_g + R_own (so overlapping tubes is implied there).
+// Joins that touch the surface only by a thin neck (kMerged 1) folded more than they removed.
+// Every join (but the repair's forced ones) then puts its joined node at the neck, the sample
+// of least value along that segment, instead of on the thicker axis.
+constexpr int kBridgeSamples = 8;
+constexpr double kMerged = 2.0;
 
 struct Segment {
   Vec3 a, b;
@@ -157,6 +170,10 @@ struct Join {
   std::uint32_t target = 0;
   double t = 0;
   std::uint32_t source = 0;
+  // With the field: the joined node goes to `place`, the neck between the two axes (before, the
+  // joining point of the source's axis).
+  bool at_neck = false;
+  Vec3 place = Vec3::Zero();
 };
 
 }  // namespace
@@ -165,7 +182,8 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
                                      const std::vector<double>& edge_radius,
                                      const std::vector<double>& edge_spacing,
                                      const std::vector<std::uint8_t>& open_end,
-                                     const std::vector<std::uint8_t>& force) {
+                                     const std::vector<std::uint8_t>& force, const Field* field,
+                                     const Context* ctx) {
   MergedSkeleton out;
   out.skeleton.nodes = skeleton.nodes;
   out.skeleton.edges = skeleton.edges;
@@ -232,7 +250,7 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
     const bool forced = mode == kJoinNearby;
     const std::uint32_t g = find_target(s.nodes[v].position, node_r[v], v, v, {v}, forced, t);
     if (g == kNone) continue;
-    joins.push_back({g, t, v});
+    joins.push_back({g, t, v, false, s.nodes[v].position});
     joined[v] = 1;
   }
   // Edges passing through a thicker tube between their nodes: split at the closest approach.
@@ -272,8 +290,131 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
     }
     if (best == kNone) continue;
     splits.push_back({e, best_s, next_node});
-    joins.push_back({best, best_t, next_node});
+    joins.push_back({best, best_t, next_node, false, seg[e].a + best_s * (seg[e].b - seg[e].a)});
     ++next_node;
+  }
+
+  // With the field: the place of each join, and joins beside the thicker tube.
+  if (field != nullptr) {
+    // A bridge: the segment from a point of the joining branch's axis to the nearest point of
+    // the thicker axis (`target` at t).
+    struct Bridge {
+      std::uint32_t source;  // a node, an edge, or a join (an index into `joins`)
+      std::uint32_t target;
+      double s, t;  // parameters on the source edge (edges only) and on the target
+      Vec3 from, to;
+      double least = 0;          // the least field value along it
+      Vec3 neck = Vec3::Zero();  // where it is least
+    };
+    // The least field value along each bridge and where it is, all in one batch.
+    const auto measure = [&](std::vector<Bridge>& bridges) {
+      std::vector<Vec3> points;
+      points.reserve(bridges.size() * kBridgeSamples);
+      for (const Bridge& b : bridges) {
+        for (int k = 1; k <= kBridgeSamples; ++k) {
+          const double u = static_cast<double>(k) / (kBridgeSamples + 1);
+          points.push_back(b.from + u * (b.to - b.from));
+        }
+      }
+      std::vector<double> values(points.size());
+      field->evaluate(points, values, {}, ctx);
+      for (std::size_t i = 0; i < bridges.size(); ++i) {
+        const auto first = values.begin() + static_cast<std::ptrdiff_t>(i * kBridgeSamples);
+        const auto least = std::min_element(first, first + kBridgeSamples);
+        bridges[i].least = *least;
+        bridges[i].neck = points[i * kBridgeSamples + static_cast<std::size_t>(least - first)];
+      }
+    };
+    // Per source (bridges grouped by source), the merged bridge with the largest least value;
+    // calls take(bridge) for it.
+    const auto choose = [&](std::vector<Bridge>& bridges, auto&& take) {
+      measure(bridges);
+      for (std::size_t i = 0; i < bridges.size();) {
+        std::size_t best = bridges.size();
+        std::size_t j = i;
+        for (; j < bridges.size() && bridges[j].source == bridges[i].source; ++j) {
+          if (!(bridges[j].least > kMerged * field->iso())) continue;
+          if (best == bridges.size() || bridges[j].least > bridges[best].least) best = j;
+        }
+        if (best != bridges.size()) take(bridges[best]);
+        i = j;
+      }
+    };
+
+    // The joins into the tube take their necks (the repair's forced ones keep the axis).
+    {
+      std::vector<Bridge> bridges;
+      for (std::uint32_t k = 0; k < joins.size(); ++k) {
+        const Join& j = joins[k];
+        if (j.source < nodes && !force.empty() && force[j.source] == kJoinNearby) continue;
+        const Vec3 q = seg[j.target].a + j.t * (seg[j.target].b - seg[j.target].a);
+        bridges.push_back({k, j.target, 0, j.t, j.place, q});
+      }
+      measure(bridges);
+      for (const Bridge& b : bridges) {
+        joins[b.source].at_neck = true;
+        joins[b.source].place = b.neck;
+      }
+    }
+
+    // Nodes beside a thicker tube.
+    std::vector<Bridge> bridges;
+    for (std::uint32_t v = 0; v < nodes; ++v) {
+      if (graph.adjacent[v].empty() || joined[v] != 0) continue;
+      if (!force.empty() && force[v] == kJoinNever) continue;
+      const Vec3& p = s.nodes[v].position;
+      const double r = node_r[v];
+      const Vec3 margin = Vec3::Constant(max_r + r);
+      for (const std::uint32_t g : grid.near(p - margin, p + margin)) {
+        const auto [a, b] = s.edges[g];
+        if (a == v || b == v) continue;
+        const double rg = edge_radius[g];
+        if (rg < r) continue;
+        const double t = closest_t(seg[g].a, seg[g].b, p);
+        const Vec3 q = seg[g].a + t * (seg[g].b - seg[g].a);
+        const double d = (q - p).norm();
+        if (d > rg + r) continue;
+        if (!another_branch(graph, s, seg, {v}, g, std::max(rg, d) + kNear * r)) continue;
+        bridges.push_back({v, g, 0, t, p, q});
+      }
+    }
+    choose(bridges, [&](const Bridge& b) {
+      joins.push_back({b.target, b.t, b.source, true, b.neck});
+      joined[b.source] = 1;
+    });
+
+    // Edges beside a thicker tube (none of whose nodes is joined, and not split yet).
+    bridges.clear();
+    std::vector<std::uint8_t> split(edges, 0);
+    for (const Split& sp : splits) split[sp.edge] = 1;
+    for (std::uint32_t e = 0; e < edges; ++e) {
+      const auto [u, w] = s.edges[e];
+      if (split[e] != 0 || joined[u] != 0 || joined[w] != 0) continue;
+      const double re = edge_radius[e];
+      const double length = (seg[e].b - seg[e].a).norm();
+      const Vec3 margin = Vec3::Constant(max_r + re);
+      const Vec3 lo = seg[e].a.cwiseMin(seg[e].b) - margin;
+      const Vec3 hi = seg[e].a.cwiseMax(seg[e].b) + margin;
+      for (const std::uint32_t g : grid.near(lo, hi)) {
+        const auto [a, b] = s.edges[g];
+        if (a == u || a == w || b == u || b == w) continue;
+        const double rg = edge_radius[g];
+        if (rg < re || (rg == re && g > e)) continue;
+        const auto [ps, pt] = closest_pair(seg[e].a, seg[e].b, seg[g].a, seg[g].b);
+        if (ps * length < rg + re || (1 - ps) * length < rg + re) continue;  // the node's test
+        const Vec3 p = seg[e].a + ps * (seg[e].b - seg[e].a);
+        const Vec3 q = seg[g].a + pt * (seg[g].b - seg[g].a);
+        const double d = (q - p).norm();
+        if (d > rg + re) continue;
+        if (!another_branch(graph, s, seg, {u, w}, g, std::max(rg, d) + kNear * re)) continue;
+        bridges.push_back({e, g, ps, pt, p, q});
+      }
+    }
+    choose(bridges, [&](const Bridge& b) {
+      splits.push_back({b.source, b.s, next_node});
+      joins.push_back({b.target, b.t, next_node, true, b.neck});
+      ++next_node;
+    });
   }
   if (joins.empty()) return out;
 
@@ -290,6 +431,8 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   std::vector<std::vector<std::pair<double, std::uint32_t>>> inner(edges);
   for (const Split& sp : splits) inner[sp.edge].emplace_back(sp.s, sp.node);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> unite;  // source, target node
+  // Per pair of `unite`, its join.
+  std::vector<const Join*> unite_join;
   std::sort(joins.begin(), joins.end(), [](const Join& x, const Join& y) {
     return x.target != y.target ? x.target < y.target
                                 : (x.t != y.t ? x.t < y.t : x.source < y.source);
@@ -319,7 +462,10 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
       new_r.push_back(rg);
       inner[g].emplace_back(t, point);
     }
-    for (std::size_t k = i; k < j; ++k) unite.emplace_back(joins[k].source, point);
+    for (std::size_t k = i; k < j; ++k) {
+      unite.emplace_back(joins[k].source, point);
+      unite_join.push_back(&joins[k]);
+    }
     i = j;
   }
 
@@ -400,6 +546,33 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   }
   for (std::size_t i = 0; i < merged.nodes.size(); ++i) {
     merged.nodes[i].position /= static_cast<double>(ties[i]);
+  }
+  // With the field, a class whose joins all have necks lies at their mean, between the axes,
+  // so that the junction's sphere and the rings of both branches around it enclose the merged
+  // surface's waist (on the thicker axis, the rings of a thinner branch beside it would start
+  // on the far side of its own axis). A class with a forced join, or with a node marked
+  // kJoinNever, stays at its thickest member.
+  {
+    std::vector<std::uint32_t> on_axis(merged.nodes.size(), 0);
+    std::vector<std::uint32_t> at_necks(merged.nodes.size(), 0);
+    std::vector<Vec3> necks(merged.nodes.size(), Vec3::Zero());
+    for (std::size_t k = 0; k < unite.size(); ++k) {
+      const std::uint32_t i = index[uf.find(unite[k].first)];
+      if (unite_join[k]->at_neck) {
+        ++at_necks[i];
+        necks[i] += unite_join[k]->place;
+      } else {
+        ++on_axis[i];
+      }
+    }
+    for (std::uint32_t v = 0; v < force.size(); ++v) {
+      if (force[v] == kJoinNever) ++on_axis[index[uf.find(v)]];
+    }
+    for (std::size_t i = 0; i < merged.nodes.size(); ++i) {
+      if (at_necks[i] != 0 && on_axis[i] == 0) {
+        merged.nodes[i].position = necks[i] / static_cast<double>(at_necks[i]);
+      }
+    }
   }
   // Edges in the order of the pieces, without self-loops and repeats.
   MergedSkeleton result;

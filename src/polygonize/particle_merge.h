@@ -10,14 +10,20 @@
 // that is not its neighbour in the skeleton (a node of it, or its closest approach, inside the
 // thicker tube) and joins the two there: the thicker edge is split at the nearest point of its
 // axis and the thinner branch's node (or a new node at its closest approach) is moved onto that
-// point. The layout then builds a junction there as at any fork, so the mesh has the merged
-// surface's topology (each join adds a handle, or joins two components). Only the layout's
-// skeleton changes; the field is built on the original one.
+// point. Given the surface's field (ours), it also joins a branch that passes beside a thicker
+// one, outside its tube, where their tubes overlap and the field stays above twice its iso value
+// all along the segment between the two axes (the surfaces merge broadly there), and it puts
+// every joined node at that segment's neck (its point of least field value) instead of on the
+// thicker axis, so that the junction lies in the merged surface's waist. The layout then builds
+// a junction there as at any fork, so the mesh has the merged surface's topology (each join adds
+// a handle, or joins two components). Only the layout's skeleton changes; the field is built on
+// the original one.
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "ramiform/field/field.h"
 #include "ramiform/skeleton/skeleton.h"
 
 namespace ramiform::detail {
@@ -47,13 +53,18 @@ struct MergedSkeleton {
 /// edge; `open_end`: one per node or empty. `force`: one per node or empty, for the particle
 /// mesher's repair of nodes its mesh left outside: a node marked kJoinNearby is joined to the
 /// nearest thicker edge of another branch whose axis lies within 3 R of it (R that edge's),
-/// even when it lies outside that edge's tube; a node marked kJoinNever is not moved by a join
-/// of its own (it may still be a join's target). Without joins the result is the input.
-/// Deterministic.
+/// even when it lies outside that edge's tube (on that edge's axis, not at a neck); a node
+/// marked kJoinNever is not moved by a join of its own, and a join into it (it may still be a
+/// join's target) leaves it in place when it is the thickest there. `field`: the surface's
+/// field (f > iso inside), or null for the tube rules alone, on the thicker axes; it is
+/// evaluated on `ctx`'s threads. Without joins the result is the input. Deterministic (the
+/// field's values do not depend on the batch or the thread count).
 [[nodiscard]] MergedSkeleton join_merging_branches(const Skeleton& skeleton,
                                                    const std::vector<double>& edge_radius,
                                                    const std::vector<double>& edge_spacing,
                                                    const std::vector<std::uint8_t>& open_end,
-                                                   const std::vector<std::uint8_t>& force = {});
+                                                   const std::vector<std::uint8_t>& force = {},
+                                                   const Field* field = nullptr,
+                                                   const Context* ctx = nullptr);
 
 }  // namespace ramiform::detail

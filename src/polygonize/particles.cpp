@@ -571,8 +571,8 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
   std::optional<Attempt> best;
   for (int attempt = 0;; ++attempt) {
     const auto t_build = Clock::now();
-    detail::MergedSkeleton joined =
-        detail::join_merging_branches(skeleton, base_radius, base_spacing, open, force);
+    detail::MergedSkeleton joined = detail::join_merging_branches(
+        skeleton, base_radius, base_spacing, open, force, &field, ctx);
     input.skeleton = &joined.skeleton;
     input.edge_radius = joined.edge_radius;
     input.edge_spacing = joined.edge_spacing;

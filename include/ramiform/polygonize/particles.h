@@ -23,12 +23,14 @@
 /// not cross rings. And a closed leaf whose edge plus cap lies inside its junction's sphere gets
 /// no particles: the sphere's cover its bulge. gamma applies only to cycles of degree-two nodes.
 /// Branches that run into a thicker branch the skeleton does not join them to (a node, or an
-/// edge's closest approach, inside its tube; two alike branches whose tubes overlap) are joined
-/// to it for the layout first (polygonize/particle_merge.h): its edge is split at the nearest
-/// axis point, which becomes an ordinary junction, so the mesh takes the merged surface's
-/// topology (stats joined_branches). The triangles are a 2-manifold by construction: closed
-/// where every leaf is closed, with one boundary loop (the leaf's ring) per open end, one
-/// component per connected component of the joined skeleton.
+/// edge's closest approach, inside its tube; two alike branches whose tubes overlap; or beside
+/// it, the tubes overlapping, where the field stays above twice the iso value between the two
+/// axes) are joined to it for the layout first (polygonize/particle_merge.h): its edge is split
+/// at the nearest axis point, and the joined node, placed at the neck between the axes (the
+/// least field value on the segment between them), becomes an ordinary junction, so the mesh
+/// takes the merged surface's topology (stats joined_branches). The triangles are a 2-manifold
+/// by construction: closed where every leaf is closed, with one boundary loop (the leaf's ring)
+/// per open end, one component per connected component of the joined skeleton.
 ///
 /// Movement (§3.5, our variant): every round evaluates all particles not yet converged in one
 /// batch (values and gradients) and moves each along the normalized gradient by the Newton step
@@ -48,12 +50,13 @@
 ///
 /// Folds: the triangles come from the (joined) skeleton's structure, so where the surface's
 /// topology departs from it, the mesh folds over itself: where the surfaces of two branches
-/// that are not joined merge (a thin twig beside a thicker branch, within the blend but outside
-/// its tube; crowded crowns), the rings of both land on the merged surface, and no
-/// triangulation with that connectivity can lie on it without crossing itself. Junctions closer
-/// together than their spheres (scanned trees) fold a little too. The folded triangles face into
-/// the surface; they are counted in the stats (inverted_triangles). The tetrahedral polygonizer
-/// meshes the same field without folds.
+/// that are not joined merge (a thin twig beside a thicker branch, within the blend but where
+/// the field between them is below twice the iso value; crowded crowns; the rest of a long
+/// stretch along which two branches merge, joined at one point), the rings of both land on the
+/// merged surface, and no triangulation with that connectivity can lie on it without crossing
+/// itself. Junctions closer together than their spheres (scanned trees) fold a little too. The
+/// folded triangles face into the surface; they are counted in the stats (inverted_triangles).
+/// The tetrahedral polygonizer meshes the same field without folds.
 ///
 /// Every skeleton node (open leaves aside) is kept inside the mesh: after the movement, the
 /// nodes the mesh leaves outside (generalized winding number, mesh/winding.h, tested on the
