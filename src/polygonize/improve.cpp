@@ -12,7 +12,6 @@
 #include <numbers>
 #include <span>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -162,12 +161,81 @@ PointKey key_of(const Vec3& p) {
   return {{std::bit_cast<std::uint64_t>(p.x()), std::bit_cast<std::uint64_t>(p.y()),
            std::bit_cast<std::uint64_t>(p.z())}};
 }
-struct PointKeyHash {
-  std::size_t operator()(const PointKey& k) const {
-    std::uint64_t h = 0x9E3779B97F4A7C15ull;
-    for (const std::uint64_t b : k.bits) h = (h ^ b) * 0x100000001B3ull + (h >> 29);
-    return static_cast<std::size_t>(h);
+std::uint64_t hash_of(const PointKey& k) {
+  std::uint64_t h = k.bits[0] * 0x9E3779B97F4A7C15ull;
+  h = (h ^ (h >> 29) ^ k.bits[1]) * 0xBF58476D1CE4E5B9ull;
+  h = (h ^ (h >> 31) ^ k.bits[2]) * 0x94D049BB133111EBull;
+  return h ^ (h >> 32);
+}
+
+// The field data per point: an open-addressing table (linear probing, power-of-two size, at
+// most half full) of 8-byte slots, a tag of the point's hash and the index of its entry (the
+// point and its value, in the order they were made). A lookup reads one slot and one entry;
+// the node-based std::unordered_map it replaces read three scattered places (the bucket, the
+// node before, the node), and its lookups were most of the operations' own time on
+// archi_Tree_1 (2026-12-07, perf). Lookups run in parallel, insertions only between them.
+template <class Value>
+class PointCache {
+ public:
+  // The value at p, or null.
+  [[nodiscard]] const Value* find(const Vec3& p) const {
+    if (entries_.empty()) return nullptr;
+    const PointKey k = key_of(p);
+    const std::uint64_t h = hash_of(k);
+    const auto tag = static_cast<std::uint32_t>(h);
+    for (std::size_t i = h >> shift_;; i = (i + 1) & mask_) {
+      const Slot s = slots_[i];
+      if (s.index == kNone) return nullptr;
+      if (s.tag == tag && entries_[s.index].key == k) return &entries_[s.index].value;
+    }
   }
+  // The index of p's entry, made (its value default) when new; `fresh` says whether it was.
+  std::uint32_t insert(const Vec3& p, bool& fresh) {
+    if (2 * (entries_.size() + 1) > slots_.size()) grow();
+    const PointKey k = key_of(p);
+    const std::uint64_t h = hash_of(k);
+    const auto tag = static_cast<std::uint32_t>(h);
+    std::size_t i = h >> shift_;
+    for (;; i = (i + 1) & mask_) {
+      const Slot s = slots_[i];
+      if (s.index == kNone) break;
+      if (s.tag == tag && entries_[s.index].key == k) {
+        fresh = false;
+        return s.index;
+      }
+    }
+    fresh = true;
+    const auto index = static_cast<std::uint32_t>(entries_.size());
+    slots_[i] = {tag, index};
+    entries_.push_back({k, Value{}});
+    return index;
+  }
+  Value& operator[](std::uint32_t index) { return entries_[index].value; }
+
+ private:
+  struct Slot {
+    std::uint32_t tag = 0, index = kNone;
+  };
+  struct Entry {
+    PointKey key;
+    Value value;
+  };
+  void grow() {
+    const std::size_t size = std::max<std::size_t>(1024, 2 * slots_.size());
+    slots_.assign(size, Slot{});
+    mask_ = size - 1;
+    shift_ = 64 - std::countr_zero(size);
+    for (std::uint32_t e = 0; e < entries_.size(); ++e) {
+      const std::uint64_t h = hash_of(entries_[e].key);
+      std::size_t i = h >> shift_;
+      while (slots_[i].index != kNone) i = (i + 1) & mask_;
+      slots_[i] = {static_cast<std::uint32_t>(h), e};
+    }
+  }
+  std::vector<Slot> slots_;
+  std::vector<Entry> entries_;
+  std::size_t mask_ = 0;
+  int shift_ = 64;
 };
 
 // The field at an edge's midpoint: the first-order distance to the surface (model units) and
@@ -509,13 +577,12 @@ class Improver {
   // The field at the midpoint of p-q; null (asked for in `req`) when not known yet.
   const Probe* probe(const Vec3& p, const Vec3& q, Requests* req, bool& missing) const {
     const Vec3 m = 0.5 * (p + q);
-    const auto it = probe_.find(key_of(m));
-    if (it == probe_.end()) {
+    const Probe* pr = probe_.find(m);
+    if (pr == nullptr) {
       missing = true;
       if (req != nullptr) req->midpoints.push_back(m);
-      return nullptr;
     }
-    return &it->second;
+    return pr;
   }
 
   // The first-order distance of the midpoint of p-q to the surface, relative to the smaller of
@@ -572,8 +639,7 @@ class Improver {
   // local radius of `cluster` as its scale and the new vertex's radius) when not known yet.
   const Projection* projection(const Vec3& start, const std::vector<std::uint32_t>& cluster,
                                Requests* req, bool& missing) const {
-    const auto it = projection_.find(key_of(start));
-    if (it != projection_.end()) return &it->second;
+    if (const Projection* p = projection_.find(start); p != nullptr) return p;
     missing = true;
     double scale = kInf;
     bool lacking = false;
@@ -1493,12 +1559,13 @@ class Improver {
     // requests on the 10,000- and 30,000-segment trees). The first request of a point makes
     // its entry, as before the requests were merged (a projection's scale is its first one's).
     std::vector<Vec3> points;
-    std::vector<Probe*> probes;
+    std::vector<std::uint32_t> probes;
     for (const Vec3& m : r.midpoints) {
-      const auto [it, fresh] = probe_.try_emplace(key_of(m));
+      bool fresh = false;
+      const std::uint32_t e = probe_.insert(m, fresh);
       if (!fresh) continue;
       points.push_back(m);
-      probes.push_back(&it->second);
+      probes.push_back(e);
     }
     if (!points.empty()) {
       std::vector<double> value(points.size());
@@ -1506,7 +1573,7 @@ class Improver {
       evaluate_field(points, value, grad);
       for (std::size_t i = 0; i < value.size(); ++i) {
         const double g = grad[i].norm();
-        Probe& pr = *probes[i];
+        Probe& pr = probe_[probes[i]];
         pr.distance = std::isfinite(value[i]) && g > 0 && std::isfinite(g)
                           ? std::abs(value[i] - iso) / g
                           : kInf;
@@ -1515,13 +1582,14 @@ class Improver {
     }
     std::vector<Vec3> z;
     std::vector<double> scale;
-    std::vector<Projection*> projections;
+    std::vector<std::uint32_t> projections;
     for (std::size_t i = 0; i < r.starts.size(); ++i) {
-      const auto [it, fresh] = projection_.try_emplace(key_of(r.starts[i]));
+      bool fresh = false;
+      const std::uint32_t e = projection_.insert(r.starts[i], fresh);
       if (!fresh) continue;
       z.push_back(r.starts[i]);
       scale.push_back(r.scales[i]);
-      projections.push_back(&it->second);
+      projections.push_back(e);
     }
     if (!z.empty()) {
       const std::size_t n = z.size();
@@ -1558,7 +1626,7 @@ class Improver {
         active = std::move(next);
       }
       for (std::size_t i = 0; i < n; ++i) {
-        Projection& pr = *projections[i];
+        Projection& pr = projection_[projections[i]];
         pr.z = z[i];
         pr.start_distance = d0[i];
         pr.at_z.normal = normal[i];
@@ -1583,8 +1651,8 @@ class Improver {
   std::vector<std::uint32_t> head_, next_;
   std::vector<double> radius_;  // local radius per vertex, NaN until asked for
   std::vector<char> touched_;
-  std::unordered_map<PointKey, Probe, PointKeyHash> probe_;  // at edge midpoints
-  std::unordered_map<PointKey, Projection, PointKeyHash> projection_;
+  PointCache<Probe> probe_;  // at edge midpoints
+  PointCache<Projection> projection_;
 };
 
 }  // namespace
