@@ -155,7 +155,9 @@ Scan scan(const TriMesh& mesh, const std::vector<char>* alive, double sin_bad, c
 // from the same end points has the same bits.
 struct PointKey {
   std::array<std::uint64_t, 3> bits;
-  bool operator==(const PointKey&) const = default;
+  bool operator==(const PointKey& o) const {
+    return ((bits[0] ^ o.bits[0]) | (bits[1] ^ o.bits[1]) | (bits[2] ^ o.bits[2])) == 0;
+  }
 };
 PointKey key_of(const Vec3& p) {
   return {{std::bit_cast<std::uint64_t>(p.x()), std::bit_cast<std::uint64_t>(p.y()),
@@ -287,6 +289,7 @@ struct Scratch {
   std::vector<std::array<std::uint32_t, 2>> kept;  // in the order of `boundary`
   std::vector<std::array<std::uint32_t, 2>> moved_kept, moved_boundary;  // scratch
   std::vector<std::size_t> order;
+  std::vector<std::pair<double, std::size_t>> candidates;  // (sine, index), see choose()
   // The cluster prepare_disk() last looked at in choose() call `call`, and its answer.
   std::vector<std::uint32_t> prepared;
   bool prepared_ok = false;
@@ -441,6 +444,7 @@ class Improver {
     // Ask, evaluate, ask again: each stage evaluates what the operations could not decide on;
     // a triangle that lacked nothing is decided and leaves the stages.
     const std::size_t nb = bad.size();
+    prefetch_radii(bad);
     std::vector<Resume> chosen(nb);
     std::vector<char> decided(nb, 0);
     std::vector<std::uint32_t> open(nb);
@@ -516,6 +520,29 @@ class Improver {
     std::sort(next_bad.begin(), next_bad.end());
     next_bad.erase(std::unique(next_bad.begin(), next_bad.end()), next_bad.end());
     return done;
+  }
+
+  // The local radii of the corners of the triangles `bad` and of their neighbours, in one batch
+  // before the stages: the flips and the relaxation need them before they can ask for a
+  // projection or judge an edge, and asking for them as they came cost a stage (the corners'
+  // neighbours are the disks' boundaries of a flip and a relaxation). touched_ marks the
+  // vertices listed, and is cleared again.
+  void prefetch_radii(const std::vector<std::uint32_t>& bad) {
+    Requests pre;
+    for (const std::uint32_t t : bad) {
+      for (const std::uint32_t x : mesh_.triangles[t]) {
+        for (std::uint32_t c = head_[x]; c != kNone; c = next_[c]) {
+          for (const std::uint32_t w : mesh_.triangles[c / 3]) {
+            if (touched_[w] == 0 && std::isnan(radius_[w])) {
+              touched_[w] = 1;
+              pre.radii.push_back(w);
+            }
+          }
+        }
+      }
+    }
+    for (const std::uint32_t w : pre.radii) touched_[w] = 0;
+    evaluate(pre);
   }
 
   // Drops removed triangles and unused vertices, keeping the order of the rest.
@@ -669,11 +696,13 @@ class Improver {
     return false;
   }
 
-  // Whether a new edge p-q (end radii rp, rq) may replace edges as far as `old` (a function
-  // returning their largest relative distance, or NaN while lacking): within the tolerance, or
-  // no farther than them (when `check_distance`); and whether the new triangles on it, of
-  // normals `normals`, follow the surface there. The old edges are looked at only when the
-  // new one is beyond the tolerance. False while lacking data (then `lacking` is set).
+  // Whether a new edge p-q (end radii rp, rq) may replace edges as far as `old` (a function of
+  // the new edge's relative distance d returning a bound on the old edges' that is at least d
+  // exactly when their largest is, so that it may stop looking once it knows; its flag is set
+  // while lacking): within the tolerance, or no farther than them (when `check_distance`); and
+  // whether the new triangles on it, of normals `normals`, follow the surface there. The old
+  // edges are looked at only when the new one is beyond the tolerance. False while lacking data
+  // (then `lacking` is set).
   template <class Fold, class Old>
   bool edge_fits(const Vec3& p, const Vec3& q, double rp, double rq, Fold&& fold_ok,
                  bool check_distance, Requests* req, bool& lacking, Old&& old) const {
@@ -688,7 +717,7 @@ class Improver {
     if (!check_distance) return true;
     const double d = r > 0 ? pr->distance / r : kInf;
     if (d <= o_.tolerance) return true;
-    const double before = old(missing);
+    const double before = old(d, missing);
     if (missing) {
       lacking = true;
       return false;
@@ -734,12 +763,14 @@ class Improver {
     const double rc = radius(c, req, lacking), rd = radius(d, req, lacking);
     const std::array<Vec3, 2> fresh{n1, n2}, old{normal(f1), normal(f2)};
     auto fold_ok = [&](const Probe& pr) { return follows(fresh, old, pr, sc.relaxed); };
-    const bool fits = edge_fits(pos(c), pos(d), rc, rd, fold_ok, true, req, lacking, [&](bool& m) {
+    auto bound = [&](double dist, bool& m) {
       const double ra = radius(a, req, m), rb = radius(b, req, m);
       double before = edge_distance(pos(a), pos(b), ra, rb, req, m);
       if (sc.relaxed) {
         // Below kHardAngleDeg: as far as the farthest edge of the pair, plus kSlack of the
-        // tolerance (as try_replace()).
+        // tolerance (as try_replace()); the pair's other edges are asked for only when the
+        // flipped edge does not do.
+        if (m || dist <= before + kSlack * o_.tolerance) return before + kSlack * o_.tolerance;
         for (const auto& [x, y] :
              {std::pair{a, c}, std::pair{b, c}, std::pair{a, d}, std::pair{b, d}}) {
           before = std::max(
@@ -748,7 +779,8 @@ class Improver {
         before += kSlack * o_.tolerance;
       }
       return before;
-    });
+    };
+    const bool fits = edge_fits(pos(c), pos(d), rc, rd, fold_ok, true, req, lacking, bound);
     if (lacking) {
       missing = true;
       return;
@@ -1061,7 +1093,8 @@ class Improver {
       auto fold_ok = [&](const Probe& pr) {
         return !moved || intrinsic || follows(fresh, sc.old_normals, pr, sc.relaxed);
       };
-      const bool ok = edge_fits(z, pos(w), rz, rw, fold_ok, !same, req, m, [&](bool& mm) {
+      const bool ok = edge_fits(z, pos(w), rz, rw, fold_ok, !same, req, m, [&](double dist,
+                                                                               bool& mm) {
         // An end point moving by |z - x| moves the midpoint by half that: an old edge beyond
         // the tolerance may get that much farther, up to kSlack of the tolerance (the
         // near-coincident vertices of a cluster).
@@ -1074,8 +1107,10 @@ class Improver {
             before = std::max(before, edge_distance(pos(x), pos(w), rx, rw, req, mm) + slack);
           }
         }
-        // Below kHardAngleDeg: as far as the farthest edge of the disk.
+        // Below kHardAngleDeg: as far as the farthest edge of the disk (asked for only when the
+        // edges from the cluster to w do not do: a patch's disk has dozens).
         if (sc.relaxed) {
+          if (mm || dist <= before + kSlack * o_.tolerance) return before + kSlack * o_.tolerance;
           auto widen = [&](std::uint32_t x, std::uint32_t y) {
             before =
                 std::max(before, edge_distance(pos(std::min(x, y)), pos(std::max(x, y)),
@@ -1172,9 +1207,31 @@ class Improver {
           std::sort(cluster.begin(), cluster.end());
           if (!prepare_disk(cluster, sc)) break;
           if (move == Move::kClusterToVertex) {
+            // The best of the candidates that pass is the first that passes in the order of
+            // their smallest angles (ties by vertex): in the evaluation stages the field is
+            // asked for one candidate at a time, the next only once the one before failed (a
+            // cluster has up to kMaxCluster candidates, and asking for all of them at once was
+            // a third of the pass's field points on a 30,000-segment tree).
+            auto& order = sc.candidates;
+            order.clear();
             for (std::size_t i = 0; i < cluster.size(); ++i) {
+              const double q = worst_sine_with(pos(cluster[i]), sc, op.quality,
+                                               [](std::uint32_t, const std::array<Vec3, 3>&) {
+                                                 return true;
+                                               });
+              if (q >= 0) order.push_back({q, i});
+            }
+            std::sort(order.begin(), order.end(), [](const auto& x, const auto& y) {
+              return x.first > y.first || (x.first == y.first && x.second < y.second);
+            });
+            for (const auto& [q, i] : order) {
               const std::uint32_t x = cluster[i];  // (try_replace reads the cluster, not x)
-              try_replace(cluster, pos(x), radius(x, req, missing), nullptr, sc, req, missing, op);
+              bool lacking = false;
+              try_replace(cluster, pos(x), radius(x, req, lacking), nullptr, sc, req, lacking, op);
+              if (lacking) {
+                missing = true;
+                if (req != nullptr) break;
+              }
             }
             break;
           }
