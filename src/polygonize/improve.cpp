@@ -341,6 +341,10 @@ struct CornerChoice {
 struct Resume {
   int level = 0;
   Op op;
+  // The candidates of `level` found not to fit (bit i: flip i, end point i, cluster vertex i):
+  // the mesh and the data they read stay as they are through the stages, and the bar they
+  // failed only rises, so the next stages pass over them.
+  std::uint32_t failed = 0;
   CornerChoice relax;  // the relaxation level's choice
   CornerChoice nudge;  // the nudge level's choice
 };
@@ -1160,19 +1164,39 @@ class Improver {
     }
     const std::uint32_t u = f[k], v = f[(k + 1) % 3];
     std::vector<std::uint32_t>& cluster = sc.cluster;
+    // Tries candidate `bit` of the current level, run(lacking), unless an earlier stage found
+    // it not to fit (Resume::failed); returns whether it lacked data.
+    auto attempt = [&](int bit, auto&& run) {
+      if (((resume.failed >> bit) & 1u) != 0) return false;
+      bool lacking = false;
+      const double before = op.quality;
+      run(lacking);
+      if (lacking) {
+        missing = true;
+        return true;
+      }
+      if (!(op.quality > before)) resume.failed |= 1u << bit;
+      return false;
+    };
     for (int level = resume.level; level < kLevels; ++level) {
       const Move move = kOrder[level];
       switch (move) {
         case Move::kFlip:
-          for (int e = 0; e < 3; ++e) try_flip(t, e, sc, req, missing, op);
+          for (int e = 0; e < 3; ++e) {
+            attempt(e, [&](bool& lacking) { try_flip(t, e, sc, req, lacking, op); });
+          }
           break;
         case Move::kEdgeToEnd:
         case Move::kEdgeToMidpoint: {
           cluster = {std::min(u, v), std::max(u, v)};
           if (!prepare_disk(cluster, sc)) break;
           if (move == Move::kEdgeToEnd) {
-            try_replace(cluster, pos(u), radius(u, req, missing), nullptr, sc, req, missing, op);
-            try_replace(cluster, pos(v), radius(v, req, missing), nullptr, sc, req, missing, op);
+            for (int e = 0; e < 2; ++e) {
+              const std::uint32_t x = e == 0 ? u : v;
+              attempt(e, [&](bool& lacking) {
+                try_replace(cluster, pos(x), radius(x, req, lacking), nullptr, sc, req, lacking, op);
+              });
+            }
             break;
           }
           const Vec3 mid = 0.5 * (pos(u) + pos(v));
@@ -1226,12 +1250,10 @@ class Improver {
             });
             for (const auto& [q, i] : order) {
               const std::uint32_t x = cluster[i];  // (try_replace reads the cluster, not x)
-              bool lacking = false;
-              try_replace(cluster, pos(x), radius(x, req, lacking), nullptr, sc, req, lacking, op);
-              if (lacking) {
-                missing = true;
-                if (req != nullptr) break;
-              }
+              const bool lacked = attempt(static_cast<int>(i), [&](bool& lacking) {
+                try_replace(cluster, pos(x), radius(x, req, lacking), nullptr, sc, req, lacking, op);
+              });
+              if (lacked && req != nullptr) break;
             }
             break;
           }
@@ -1400,6 +1422,7 @@ class Improver {
       // it (they are tried only when this one cannot make the triangle good).
       if (missing) return op;
       resume.level = level + 1;
+      resume.failed = 0;
       resume.op = op;
       if (op.quality >= sin_bad_) return op;
     }
