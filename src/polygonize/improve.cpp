@@ -268,6 +268,10 @@ struct Requests {
   std::vector<Vec3> midpoints;       // first-order distance to the surface
   std::vector<Vec3> starts;          // Newton projections
   std::vector<double> scales;        // their local radii
+  // Per start, the vertices around what the new vertex replaces (the disk's boundary, a run of
+  // around_count[i] in `around`): the midpoints of its new edges to them are evaluated in the
+  // stage of the projection, which saves the operation a stage.
+  std::vector<std::uint32_t> around, around_count;
   std::vector<std::uint32_t> radii;  // local radii of vertices
   [[nodiscard]] bool empty() const { return midpoints.empty() && starts.empty() && radii.empty(); }
 };
@@ -485,6 +489,9 @@ class Improver {
         all.midpoints.insert(all.midpoints.end(), r.midpoints.begin(), r.midpoints.end());
         all.starts.insert(all.starts.end(), r.starts.begin(), r.starts.end());
         all.scales.insert(all.scales.end(), r.scales.begin(), r.scales.end());
+        all.around.insert(all.around.end(), r.around.begin(), r.around.end());
+        all.around_count.insert(all.around_count.end(), r.around_count.begin(),
+                                r.around_count.end());
         all.radii.insert(all.radii.end(), r.radii.begin(), r.radii.end());
       }
       open = std::move(still);
@@ -667,9 +674,10 @@ class Improver {
   }
 
   // The projection of `start` onto the surface; null (asked for in `req`, with the smallest
-  // local radius of `cluster` as its scale and the new vertex's radius) when not known yet.
+  // local radius of `cluster` as its scale and the new vertex's radius, and the boundary of
+  // the disk prepare_disk() left in `sc`) when not known yet.
   const Projection* projection(const Vec3& start, const std::vector<std::uint32_t>& cluster,
-                               Requests* req, bool& missing) const {
+                               const Scratch* sc, Requests* req, bool& missing) const {
     if (const Projection* p = projection_.find(start); p != nullptr) return p;
     missing = true;
     double scale = kInf;
@@ -678,6 +686,12 @@ class Improver {
     if (req != nullptr && !lacking) {
       req->starts.push_back(start);
       req->scales.push_back(scale);
+      std::uint32_t count = 0;
+      if (sc != nullptr) {
+        for (const auto& edge : sc->boundary) req->around.push_back(edge[0]);
+        count = static_cast<std::uint32_t>(sc->boundary.size());
+      }
+      req->around_count.push_back(count);
     }
     return nullptr;
   }
@@ -957,7 +971,7 @@ class Improver {
     if (choice.corner == kNone) return;
     cluster.assign(1, choice.corner);
     if (!prepare_disk(cluster, sc)) return;
-    if (const Projection* p = projection(choice.start, cluster, req, missing);
+    if (const Projection* p = projection(choice.start, cluster, &sc, req, missing);
         p != nullptr && p->lands_within(choice.start, choice.within)) {
       try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
     }
@@ -1200,7 +1214,7 @@ class Improver {
             break;
           }
           const Vec3 mid = 0.5 * (pos(u) + pos(v));
-          if (const Projection* p = projection(mid, cluster, req, missing);
+          if (const Projection* p = projection(mid, cluster, nullptr, req, missing);
               p != nullptr && p->ok && p->lands_within(mid, std::sqrt(shortest))) {
             try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
           }
@@ -1257,7 +1271,7 @@ class Improver {
             }
             break;
           }
-          if (const Projection* p = projection(centroid, cluster, req, missing);
+          if (const Projection* p = projection(centroid, cluster, nullptr, req, missing);
               p != nullptr && p->ok && p->lands_within(centroid, std::sqrt(reach2))) {
             try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
           }
@@ -1291,7 +1305,7 @@ class Improver {
           for (const std::uint32_t x : cluster) reach = std::max(reach, (pos(x) - centroid).norm());
           std::sort(cluster.begin(), cluster.end());
           if (!prepare_disk(cluster, sc)) break;
-          if (const Projection* p = projection(centroid, cluster, req, missing);
+          if (const Projection* p = projection(centroid, cluster, nullptr, req, missing);
               p != nullptr && p->ok && p->lands_within(centroid, reach)) {
             try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
           }
@@ -1634,42 +1648,26 @@ class Improver {
       for (std::size_t i = 0; i < r.radii.size(); ++i) radius_[r.radii[i]] = rad[i];
     }
     const double iso = field_.iso();
-    // Each point once: the operations of a stage ask for many of the same midpoints (the edges
-    // around a vertex, the same collapse seen from several bad triangles; 36-41 % of the
-    // requests on the 10,000- and 30,000-segment trees). The first request of a point makes
-    // its entry, as before the requests were merged (a projection's scale is its first one's).
-    std::vector<Vec3> points;
-    std::vector<std::uint32_t> probes;
-    for (const Vec3& m : r.midpoints) {
-      bool fresh = false;
-      const std::uint32_t e = probe_.insert(m, fresh);
-      if (!fresh) continue;
-      points.push_back(m);
-      probes.push_back(e);
-    }
-    if (!points.empty()) {
-      std::vector<double> value(points.size());
-      std::vector<Vec3> grad(points.size());
-      evaluate_field(points, value, grad);
-      for (std::size_t i = 0; i < value.size(); ++i) {
-        const double g = grad[i].norm();
-        Probe& pr = probe_[probes[i]];
-        pr.distance = std::isfinite(value[i]) && g > 0 && std::isfinite(g)
-                          ? std::abs(value[i] - iso) / g
-                          : kInf;
-        if (g > 0 && std::isfinite(g)) pr.normal = -grad[i] / g;
-      }
-    }
+    // The projections first: the midpoints of each new vertex's edges to the vertices around
+    // it join the stage's midpoints (as try_replace() will ask for them: not the edges short
+    // enough to need no test).
+    std::vector<Vec3> follow;
     std::vector<Vec3> z;
     std::vector<double> scale;
     std::vector<std::uint32_t> projections;
+    std::vector<std::size_t> around_begin, around_end;
+    std::size_t at = 0;
     for (std::size_t i = 0; i < r.starts.size(); ++i) {
+      const std::size_t begin = at;
+      at += r.around_count[i];
       bool fresh = false;
       const std::uint32_t e = projection_.insert(r.starts[i], fresh);
       if (!fresh) continue;
       z.push_back(r.starts[i]);
       scale.push_back(r.scales[i]);
       projections.push_back(e);
+      around_begin.push_back(begin);
+      around_end.push_back(at);
     }
     if (!z.empty()) {
       const std::size_t n = z.size();
@@ -1712,6 +1710,40 @@ class Improver {
         pr.at_z.normal = normal[i];
         pr.radius = scale[i];
         pr.ok = ok[i] != 0;
+        if (!pr.ok) continue;
+        for (std::size_t k = around_begin[i]; k < around_end[i]; ++k) {
+          const std::uint32_t w = r.around[k];
+          const double rw = radius_[w];
+          if ((z[i] - pos(w)).norm() <= kShortEdge * std::min(scale[i], rw)) continue;
+          follow.push_back(0.5 * (z[i] + pos(w)));
+        }
+      }
+    }
+    // Each point once: the operations of a stage ask for many of the same midpoints (the edges
+    // around a vertex, the same collapse seen from several bad triangles; 36-41 % of the
+    // requests on the 10,000- and 30,000-segment trees).
+    std::vector<Vec3> points;
+    std::vector<std::uint32_t> probes;
+    auto ask = [&](const Vec3& m) {
+      bool fresh = false;
+      const std::uint32_t e = probe_.insert(m, fresh);
+      if (!fresh) return;
+      points.push_back(m);
+      probes.push_back(e);
+    };
+    for (const Vec3& m : r.midpoints) ask(m);
+    for (const Vec3& m : follow) ask(m);
+    if (!points.empty()) {
+      std::vector<double> value(points.size());
+      std::vector<Vec3> grad(points.size());
+      evaluate_field(points, value, grad);
+      for (std::size_t i = 0; i < value.size(); ++i) {
+        const double g = grad[i].norm();
+        Probe& pr = probe_[probes[i]];
+        pr.distance = std::isfinite(value[i]) && g > 0 && std::isfinite(g)
+                          ? std::abs(value[i] - iso) / g
+                          : kInf;
+        if (g > 0 && std::isfinite(g)) pr.normal = -grad[i] / g;
       }
     }
   }
