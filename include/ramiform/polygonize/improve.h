@@ -83,7 +83,8 @@
 /// triangles' corners and their neighbours first, in one batch; of a cluster's vertices as
 /// targets, one at a time, best angle first; the widened bound of a triangle below 1.5 degrees
 /// only when the edges it directly replaces do not do; candidates found not to fit are not
-/// looked at again in the round's later stages), and then the operations
+/// looked at again in the round's later stages; a relaxation's projection brings the midpoints
+/// of the new vertex's edges with it), and then the operations
 /// are applied one by one, worst triangle first (ties by index), each decided again against
 /// the mesh as the earlier ones left it when they touched its neighbourhood. Rounds stop when
 /// nothing changes or after `max_rounds`; the triangles then still below 1 degree get up to two
