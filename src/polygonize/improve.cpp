@@ -265,9 +265,9 @@ struct Projection {
 
 // The field data an operation asked for and did not find.
 struct Requests {
-  std::vector<Vec3> midpoints;       // first-order distance to the surface
-  std::vector<Vec3> starts;          // Newton projections
-  std::vector<double> scales;        // their local radii
+  std::vector<Vec3> midpoints;  // first-order distance to the surface
+  std::vector<Vec3> starts;     // Newton projections
+  std::vector<double> scales;   // their local radii
   // Per start, the vertices around what the new vertex replaces (the disk's boundary, a run of
   // around_count[i] in `around`): the midpoints of its new edges to them are evaluated in the
   // stage of the projection, which saves the operation a stage.
@@ -674,8 +674,8 @@ class Improver {
   }
 
   // The projection of `start` onto the surface; null (asked for in `req`, with the smallest
-  // local radius of `cluster` as its scale and the new vertex's radius, and the boundary of
-  // the disk prepare_disk() left in `sc`) when not known yet.
+  // local radius of `cluster` as its scale and the new vertex's radius; for a corner's move,
+  // `sc` not null, with the boundary of the disk prepare_disk() left in it) when not known yet.
   const Projection* projection(const Vec3& start, const std::vector<std::uint32_t>& cluster,
                                const Scratch* sc, Requests* req, bool& missing) const {
     if (const Projection* p = projection_.find(start); p != nullptr) return p;
@@ -1111,37 +1111,38 @@ class Improver {
       auto fold_ok = [&](const Probe& pr) {
         return !moved || intrinsic || follows(fresh, sc.old_normals, pr, sc.relaxed);
       };
-      const bool ok = edge_fits(z, pos(w), rz, rw, fold_ok, !same, req, m, [&](double dist,
-                                                                               bool& mm) {
-        // An end point moving by |z - x| moves the midpoint by half that: an old edge beyond
-        // the tolerance may get that much farther, up to kSlack of the tolerance (the
-        // near-coincident vertices of a cluster).
-        double before = 0;
-        for (const std::uint32_t x : cluster) {
-          if (std::binary_search(edges.begin(), edges.end(), edge_key(x, w))) {
-            const double rx = radius(x, req, mm);
-            const double slack =
-                std::min(0.5 * (z - pos(x)).norm() / std::min(rx, rw), kSlack * o_.tolerance);
-            before = std::max(before, edge_distance(pos(x), pos(w), rx, rw, req, mm) + slack);
-          }
-        }
-        // Below kHardAngleDeg: as far as the farthest edge of the disk (asked for only when the
-        // edges from the cluster to w do not do: a patch's disk has dozens).
-        if (sc.relaxed) {
-          if (mm || dist <= before + kSlack * o_.tolerance) return before + kSlack * o_.tolerance;
-          auto widen = [&](std::uint32_t x, std::uint32_t y) {
-            before =
-                std::max(before, edge_distance(pos(std::min(x, y)), pos(std::max(x, y)),
-                                               radius(x, req, mm), radius(y, req, mm), req, mm));
-          };
-          for (const std::uint64_t e : edges) {
-            widen(static_cast<std::uint32_t>(e >> 32), static_cast<std::uint32_t>(e));
-          }
-          for (const auto& [x, y] : boundary) widen(x, y);
-          before += kSlack * o_.tolerance;
-        }
-        return before;
-      });
+      const bool ok =
+          edge_fits(z, pos(w), rz, rw, fold_ok, !same, req, m, [&](double dist, bool& mm) {
+            // An end point moving by |z - x| moves the midpoint by half that: an old edge beyond
+            // the tolerance may get that much farther, up to kSlack of the tolerance (the
+            // near-coincident vertices of a cluster).
+            double before = 0;
+            for (const std::uint32_t x : cluster) {
+              if (std::binary_search(edges.begin(), edges.end(), edge_key(x, w))) {
+                const double rx = radius(x, req, mm);
+                const double slack =
+                    std::min(0.5 * (z - pos(x)).norm() / std::min(rx, rw), kSlack * o_.tolerance);
+                before = std::max(before, edge_distance(pos(x), pos(w), rx, rw, req, mm) + slack);
+              }
+            }
+            // Below kHardAngleDeg: as far as the farthest edge of the disk (asked for only when the
+            // edges from the cluster to w do not do: a patch's disk has dozens).
+            if (sc.relaxed) {
+              if (mm || dist <= before + kSlack * o_.tolerance)
+                return before + kSlack * o_.tolerance;
+              auto widen = [&](std::uint32_t x, std::uint32_t y) {
+                before = std::max(before,
+                                  edge_distance(pos(std::min(x, y)), pos(std::max(x, y)),
+                                                radius(x, req, mm), radius(y, req, mm), req, mm));
+              };
+              for (const std::uint64_t e : edges) {
+                widen(static_cast<std::uint32_t>(e >> 32), static_cast<std::uint32_t>(e));
+              }
+              for (const auto& [x, y] : boundary) widen(x, y);
+              before += kSlack * o_.tolerance;
+            }
+            return before;
+          });
       if (m) {
         lacking = true;
       } else if (!ok) {
@@ -1208,7 +1209,8 @@ class Improver {
             for (int e = 0; e < 2; ++e) {
               const std::uint32_t x = e == 0 ? u : v;
               attempt(e, [&](bool& lacking) {
-                try_replace(cluster, pos(x), radius(x, req, lacking), nullptr, sc, req, lacking, op);
+                try_replace(cluster, pos(x), radius(x, req, lacking), nullptr, sc, req, lacking,
+                            op);
               });
             }
             break;
@@ -1253,10 +1255,9 @@ class Improver {
             auto& order = sc.candidates;
             order.clear();
             for (std::size_t i = 0; i < cluster.size(); ++i) {
-              const double q = worst_sine_with(pos(cluster[i]), sc, op.quality,
-                                               [](std::uint32_t, const std::array<Vec3, 3>&) {
-                                                 return true;
-                                               });
+              const double q =
+                  worst_sine_with(pos(cluster[i]), sc, op.quality,
+                                  [](std::uint32_t, const std::array<Vec3, 3>&) { return true; });
               if (q >= 0) order.push_back({q, i});
             }
             std::sort(order.begin(), order.end(), [](const auto& x, const auto& y) {
@@ -1265,7 +1266,8 @@ class Improver {
             for (const auto& [q, i] : order) {
               const std::uint32_t x = cluster[i];  // (try_replace reads the cluster, not x)
               const bool lacked = attempt(static_cast<int>(i), [&](bool& lacking) {
-                try_replace(cluster, pos(x), radius(x, req, lacking), nullptr, sc, req, lacking, op);
+                try_replace(cluster, pos(x), radius(x, req, lacking), nullptr, sc, req, lacking,
+                            op);
               });
               if (lacked && req != nullptr) break;
             }
