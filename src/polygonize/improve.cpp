@@ -12,7 +12,6 @@
 #include <numbers>
 #include <span>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -156,18 +155,89 @@ Scan scan(const TriMesh& mesh, const std::vector<char>* alive, double sin_bad, c
 // from the same end points has the same bits.
 struct PointKey {
   std::array<std::uint64_t, 3> bits;
-  bool operator==(const PointKey&) const = default;
+  bool operator==(const PointKey& o) const {
+    return ((bits[0] ^ o.bits[0]) | (bits[1] ^ o.bits[1]) | (bits[2] ^ o.bits[2])) == 0;
+  }
 };
 PointKey key_of(const Vec3& p) {
   return {{std::bit_cast<std::uint64_t>(p.x()), std::bit_cast<std::uint64_t>(p.y()),
            std::bit_cast<std::uint64_t>(p.z())}};
 }
-struct PointKeyHash {
-  std::size_t operator()(const PointKey& k) const {
-    std::uint64_t h = 0x9E3779B97F4A7C15ull;
-    for (const std::uint64_t b : k.bits) h = (h ^ b) * 0x100000001B3ull + (h >> 29);
-    return static_cast<std::size_t>(h);
+std::uint64_t hash_of(const PointKey& k) {
+  std::uint64_t h = k.bits[0] * 0x9E3779B97F4A7C15ull;
+  h = (h ^ (h >> 29) ^ k.bits[1]) * 0xBF58476D1CE4E5B9ull;
+  h = (h ^ (h >> 31) ^ k.bits[2]) * 0x94D049BB133111EBull;
+  return h ^ (h >> 32);
+}
+
+// The field data per point: an open-addressing table (linear probing, power-of-two size, at
+// most half full) of 8-byte slots, a tag of the point's hash and the index of its entry (the
+// point and its value, in the order they were made). A lookup reads one slot and one entry;
+// the node-based std::unordered_map it replaces read three scattered places (the bucket, the
+// node before, the node), and its lookups were most of the operations' own time on
+// archi_Tree_1 (2026-12-07, perf). Lookups run in parallel, insertions only between them.
+template <class Value>
+class PointCache {
+ public:
+  // The value at p, or null.
+  [[nodiscard]] const Value* find(const Vec3& p) const {
+    if (entries_.empty()) return nullptr;
+    const PointKey k = key_of(p);
+    const std::uint64_t h = hash_of(k);
+    const auto tag = static_cast<std::uint32_t>(h);
+    for (std::size_t i = h >> shift_;; i = (i + 1) & mask_) {
+      const Slot s = slots_[i];
+      if (s.index == kNone) return nullptr;
+      if (s.tag == tag && entries_[s.index].key == k) return &entries_[s.index].value;
+    }
   }
+  // The index of p's entry, made (its value default) when new; `fresh` says whether it was.
+  std::uint32_t insert(const Vec3& p, bool& fresh) {
+    if (2 * (entries_.size() + 1) > slots_.size()) grow();
+    const PointKey k = key_of(p);
+    const std::uint64_t h = hash_of(k);
+    const auto tag = static_cast<std::uint32_t>(h);
+    std::size_t i = h >> shift_;
+    for (;; i = (i + 1) & mask_) {
+      const Slot s = slots_[i];
+      if (s.index == kNone) break;
+      if (s.tag == tag && entries_[s.index].key == k) {
+        fresh = false;
+        return s.index;
+      }
+    }
+    fresh = true;
+    const auto index = static_cast<std::uint32_t>(entries_.size());
+    slots_[i] = {tag, index};
+    entries_.push_back({k, Value{}});
+    return index;
+  }
+  Value& operator[](std::uint32_t index) { return entries_[index].value; }
+
+ private:
+  struct Slot {
+    std::uint32_t tag = 0, index = kNone;
+  };
+  struct Entry {
+    PointKey key;
+    Value value;
+  };
+  void grow() {
+    const std::size_t size = std::max<std::size_t>(1024, 2 * slots_.size());
+    slots_.assign(size, Slot{});
+    mask_ = size - 1;
+    shift_ = 64 - std::countr_zero(size);
+    for (std::uint32_t e = 0; e < entries_.size(); ++e) {
+      const std::uint64_t h = hash_of(entries_[e].key);
+      std::size_t i = h >> shift_;
+      while (slots_[i].index != kNone) i = (i + 1) & mask_;
+      slots_[i] = {static_cast<std::uint32_t>(h), e};
+    }
+  }
+  std::vector<Slot> slots_;
+  std::vector<Entry> entries_;
+  std::size_t mask_ = 0;
+  int shift_ = 64;
 };
 
 // The field at an edge's midpoint: the first-order distance to the surface (model units) and
@@ -195,9 +265,13 @@ struct Projection {
 
 // The field data an operation asked for and did not find.
 struct Requests {
-  std::vector<Vec3> midpoints;       // first-order distance to the surface
-  std::vector<Vec3> starts;          // Newton projections
-  std::vector<double> scales;        // their local radii
+  std::vector<Vec3> midpoints;  // first-order distance to the surface
+  std::vector<Vec3> starts;     // Newton projections
+  std::vector<double> scales;   // their local radii
+  // Per start, the vertices around what the new vertex replaces (the disk's boundary, a run of
+  // around_count[i] in `around`): the midpoints of its new edges to them are evaluated in the
+  // stage of the projection, which saves the operation a stage.
+  std::vector<std::uint32_t> around, around_count;
   std::vector<std::uint32_t> radii;  // local radii of vertices
   [[nodiscard]] bool empty() const { return midpoints.empty() && starts.empty() && radii.empty(); }
 };
@@ -219,6 +293,7 @@ struct Scratch {
   std::vector<std::array<std::uint32_t, 2>> kept;  // in the order of `boundary`
   std::vector<std::array<std::uint32_t, 2>> moved_kept, moved_boundary;  // scratch
   std::vector<std::size_t> order;
+  std::vector<std::pair<double, std::size_t>> candidates;  // (sine, index), see choose()
   // The cluster prepare_disk() last looked at in choose() call `call`, and its answer.
   std::vector<std::uint32_t> prepared;
   bool prepared_ok = false;
@@ -270,6 +345,10 @@ struct CornerChoice {
 struct Resume {
   int level = 0;
   Op op;
+  // The candidates of `level` found not to fit (bit i: flip i, end point i, cluster vertex i):
+  // the mesh and the data they read stay as they are through the stages, and the bar they
+  // failed only rises, so the next stages pass over them.
+  std::uint32_t failed = 0;
   CornerChoice relax;  // the relaxation level's choice
   CornerChoice nudge;  // the nudge level's choice
 };
@@ -373,6 +452,7 @@ class Improver {
     // Ask, evaluate, ask again: each stage evaluates what the operations could not decide on;
     // a triangle that lacked nothing is decided and leaves the stages.
     const std::size_t nb = bad.size();
+    prefetch_radii(bad);
     std::vector<Resume> chosen(nb);
     std::vector<char> decided(nb, 0);
     std::vector<std::uint32_t> open(nb);
@@ -409,6 +489,9 @@ class Improver {
         all.midpoints.insert(all.midpoints.end(), r.midpoints.begin(), r.midpoints.end());
         all.starts.insert(all.starts.end(), r.starts.begin(), r.starts.end());
         all.scales.insert(all.scales.end(), r.scales.begin(), r.scales.end());
+        all.around.insert(all.around.end(), r.around.begin(), r.around.end());
+        all.around_count.insert(all.around_count.end(), r.around_count.begin(),
+                                r.around_count.end());
         all.radii.insert(all.radii.end(), r.radii.begin(), r.radii.end());
       }
       open = std::move(still);
@@ -448,6 +531,29 @@ class Improver {
     std::sort(next_bad.begin(), next_bad.end());
     next_bad.erase(std::unique(next_bad.begin(), next_bad.end()), next_bad.end());
     return done;
+  }
+
+  // The local radii of the corners of the triangles `bad` and of their neighbours, in one batch
+  // before the stages: the flips and the relaxation need them before they can ask for a
+  // projection or judge an edge, and asking for them as they came cost a stage (the corners'
+  // neighbours are the disks' boundaries of a flip and a relaxation). touched_ marks the
+  // vertices listed, and is cleared again.
+  void prefetch_radii(const std::vector<std::uint32_t>& bad) {
+    Requests pre;
+    for (const std::uint32_t t : bad) {
+      for (const std::uint32_t x : mesh_.triangles[t]) {
+        for (std::uint32_t c = head_[x]; c != kNone; c = next_[c]) {
+          for (const std::uint32_t w : mesh_.triangles[c / 3]) {
+            if (touched_[w] == 0 && std::isnan(radius_[w])) {
+              touched_[w] = 1;
+              pre.radii.push_back(w);
+            }
+          }
+        }
+      }
+    }
+    for (const std::uint32_t w : pre.radii) touched_[w] = 0;
+    evaluate(pre);
   }
 
   // Drops removed triangles and unused vertices, keeping the order of the rest.
@@ -509,13 +615,12 @@ class Improver {
   // The field at the midpoint of p-q; null (asked for in `req`) when not known yet.
   const Probe* probe(const Vec3& p, const Vec3& q, Requests* req, bool& missing) const {
     const Vec3 m = 0.5 * (p + q);
-    const auto it = probe_.find(key_of(m));
-    if (it == probe_.end()) {
+    const Probe* pr = probe_.find(m);
+    if (pr == nullptr) {
       missing = true;
       if (req != nullptr) req->midpoints.push_back(m);
-      return nullptr;
     }
-    return &it->second;
+    return pr;
   }
 
   // The first-order distance of the midpoint of p-q to the surface, relative to the smaller of
@@ -569,11 +674,11 @@ class Improver {
   }
 
   // The projection of `start` onto the surface; null (asked for in `req`, with the smallest
-  // local radius of `cluster` as its scale and the new vertex's radius) when not known yet.
+  // local radius of `cluster` as its scale and the new vertex's radius; for a corner's move,
+  // `sc` not null, with the boundary of the disk prepare_disk() left in it) when not known yet.
   const Projection* projection(const Vec3& start, const std::vector<std::uint32_t>& cluster,
-                               Requests* req, bool& missing) const {
-    const auto it = projection_.find(key_of(start));
-    if (it != projection_.end()) return &it->second;
+                               const Scratch* sc, Requests* req, bool& missing) const {
+    if (const Projection* p = projection_.find(start); p != nullptr) return p;
     missing = true;
     double scale = kInf;
     bool lacking = false;
@@ -581,6 +686,12 @@ class Improver {
     if (req != nullptr && !lacking) {
       req->starts.push_back(start);
       req->scales.push_back(scale);
+      std::uint32_t count = 0;
+      if (sc != nullptr) {
+        for (const auto& edge : sc->boundary) req->around.push_back(edge[0]);
+        count = static_cast<std::uint32_t>(sc->boundary.size());
+      }
+      req->around_count.push_back(count);
     }
     return nullptr;
   }
@@ -603,11 +714,13 @@ class Improver {
     return false;
   }
 
-  // Whether a new edge p-q (end radii rp, rq) may replace edges as far as `old` (a function
-  // returning their largest relative distance, or NaN while lacking): within the tolerance, or
-  // no farther than them (when `check_distance`); and whether the new triangles on it, of
-  // normals `normals`, follow the surface there. The old edges are looked at only when the
-  // new one is beyond the tolerance. False while lacking data (then `lacking` is set).
+  // Whether a new edge p-q (end radii rp, rq) may replace edges as far as `old` (a function of
+  // the new edge's relative distance d returning a bound on the old edges' that is at least d
+  // exactly when their largest is, so that it may stop looking once it knows; its flag is set
+  // while lacking): within the tolerance, or no farther than them (when `check_distance`); and
+  // whether the new triangles on it, of normals `normals`, follow the surface there. The old
+  // edges are looked at only when the new one is beyond the tolerance. False while lacking data
+  // (then `lacking` is set).
   template <class Fold, class Old>
   bool edge_fits(const Vec3& p, const Vec3& q, double rp, double rq, Fold&& fold_ok,
                  bool check_distance, Requests* req, bool& lacking, Old&& old) const {
@@ -622,7 +735,7 @@ class Improver {
     if (!check_distance) return true;
     const double d = r > 0 ? pr->distance / r : kInf;
     if (d <= o_.tolerance) return true;
-    const double before = old(missing);
+    const double before = old(d, missing);
     if (missing) {
       lacking = true;
       return false;
@@ -668,12 +781,14 @@ class Improver {
     const double rc = radius(c, req, lacking), rd = radius(d, req, lacking);
     const std::array<Vec3, 2> fresh{n1, n2}, old{normal(f1), normal(f2)};
     auto fold_ok = [&](const Probe& pr) { return follows(fresh, old, pr, sc.relaxed); };
-    const bool fits = edge_fits(pos(c), pos(d), rc, rd, fold_ok, true, req, lacking, [&](bool& m) {
+    auto bound = [&](double dist, bool& m) {
       const double ra = radius(a, req, m), rb = radius(b, req, m);
       double before = edge_distance(pos(a), pos(b), ra, rb, req, m);
       if (sc.relaxed) {
         // Below kHardAngleDeg: as far as the farthest edge of the pair, plus kSlack of the
-        // tolerance (as try_replace()).
+        // tolerance (as try_replace()); the pair's other edges are asked for only when the
+        // flipped edge does not do.
+        if (m || dist <= before + kSlack * o_.tolerance) return before + kSlack * o_.tolerance;
         for (const auto& [x, y] :
              {std::pair{a, c}, std::pair{b, c}, std::pair{a, d}, std::pair{b, d}}) {
           before = std::max(
@@ -682,7 +797,8 @@ class Improver {
         before += kSlack * o_.tolerance;
       }
       return before;
-    });
+    };
+    const bool fits = edge_fits(pos(c), pos(d), rc, rd, fold_ok, true, req, lacking, bound);
     if (lacking) {
       missing = true;
       return;
@@ -855,7 +971,7 @@ class Improver {
     if (choice.corner == kNone) return;
     cluster.assign(1, choice.corner);
     if (!prepare_disk(cluster, sc)) return;
-    if (const Projection* p = projection(choice.start, cluster, req, missing);
+    if (const Projection* p = projection(choice.start, cluster, &sc, req, missing);
         p != nullptr && p->lands_within(choice.start, choice.within)) {
       try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
     }
@@ -995,34 +1111,38 @@ class Improver {
       auto fold_ok = [&](const Probe& pr) {
         return !moved || intrinsic || follows(fresh, sc.old_normals, pr, sc.relaxed);
       };
-      const bool ok = edge_fits(z, pos(w), rz, rw, fold_ok, !same, req, m, [&](bool& mm) {
-        // An end point moving by |z - x| moves the midpoint by half that: an old edge beyond
-        // the tolerance may get that much farther, up to kSlack of the tolerance (the
-        // near-coincident vertices of a cluster).
-        double before = 0;
-        for (const std::uint32_t x : cluster) {
-          if (std::binary_search(edges.begin(), edges.end(), edge_key(x, w))) {
-            const double rx = radius(x, req, mm);
-            const double slack =
-                std::min(0.5 * (z - pos(x)).norm() / std::min(rx, rw), kSlack * o_.tolerance);
-            before = std::max(before, edge_distance(pos(x), pos(w), rx, rw, req, mm) + slack);
-          }
-        }
-        // Below kHardAngleDeg: as far as the farthest edge of the disk.
-        if (sc.relaxed) {
-          auto widen = [&](std::uint32_t x, std::uint32_t y) {
-            before =
-                std::max(before, edge_distance(pos(std::min(x, y)), pos(std::max(x, y)),
-                                               radius(x, req, mm), radius(y, req, mm), req, mm));
-          };
-          for (const std::uint64_t e : edges) {
-            widen(static_cast<std::uint32_t>(e >> 32), static_cast<std::uint32_t>(e));
-          }
-          for (const auto& [x, y] : boundary) widen(x, y);
-          before += kSlack * o_.tolerance;
-        }
-        return before;
-      });
+      const bool ok =
+          edge_fits(z, pos(w), rz, rw, fold_ok, !same, req, m, [&](double dist, bool& mm) {
+            // An end point moving by |z - x| moves the midpoint by half that: an old edge beyond
+            // the tolerance may get that much farther, up to kSlack of the tolerance (the
+            // near-coincident vertices of a cluster).
+            double before = 0;
+            for (const std::uint32_t x : cluster) {
+              if (std::binary_search(edges.begin(), edges.end(), edge_key(x, w))) {
+                const double rx = radius(x, req, mm);
+                const double slack =
+                    std::min(0.5 * (z - pos(x)).norm() / std::min(rx, rw), kSlack * o_.tolerance);
+                before = std::max(before, edge_distance(pos(x), pos(w), rx, rw, req, mm) + slack);
+              }
+            }
+            // Below kHardAngleDeg: as far as the farthest edge of the disk (asked for only when the
+            // edges from the cluster to w do not do: a patch's disk has dozens).
+            if (sc.relaxed) {
+              if (mm || dist <= before + kSlack * o_.tolerance)
+                return before + kSlack * o_.tolerance;
+              auto widen = [&](std::uint32_t x, std::uint32_t y) {
+                before = std::max(before,
+                                  edge_distance(pos(std::min(x, y)), pos(std::max(x, y)),
+                                                radius(x, req, mm), radius(y, req, mm), req, mm));
+              };
+              for (const std::uint64_t e : edges) {
+                widen(static_cast<std::uint32_t>(e >> 32), static_cast<std::uint32_t>(e));
+              }
+              for (const auto& [x, y] : boundary) widen(x, y);
+              before += kSlack * o_.tolerance;
+            }
+            return before;
+          });
       if (m) {
         lacking = true;
       } else if (!ok) {
@@ -1059,23 +1179,44 @@ class Improver {
     }
     const std::uint32_t u = f[k], v = f[(k + 1) % 3];
     std::vector<std::uint32_t>& cluster = sc.cluster;
+    // Tries candidate `bit` of the current level, run(lacking), unless an earlier stage found
+    // it not to fit (Resume::failed); returns whether it lacked data.
+    auto attempt = [&](int bit, auto&& run) {
+      if (((resume.failed >> bit) & 1u) != 0) return false;
+      bool lacking = false;
+      const double before = op.quality;
+      run(lacking);
+      if (lacking) {
+        missing = true;
+        return true;
+      }
+      if (!(op.quality > before)) resume.failed |= 1u << bit;
+      return false;
+    };
     for (int level = resume.level; level < kLevels; ++level) {
       const Move move = kOrder[level];
       switch (move) {
         case Move::kFlip:
-          for (int e = 0; e < 3; ++e) try_flip(t, e, sc, req, missing, op);
+          for (int e = 0; e < 3; ++e) {
+            attempt(e, [&](bool& lacking) { try_flip(t, e, sc, req, lacking, op); });
+          }
           break;
         case Move::kEdgeToEnd:
         case Move::kEdgeToMidpoint: {
           cluster = {std::min(u, v), std::max(u, v)};
           if (!prepare_disk(cluster, sc)) break;
           if (move == Move::kEdgeToEnd) {
-            try_replace(cluster, pos(u), radius(u, req, missing), nullptr, sc, req, missing, op);
-            try_replace(cluster, pos(v), radius(v, req, missing), nullptr, sc, req, missing, op);
+            for (int e = 0; e < 2; ++e) {
+              const std::uint32_t x = e == 0 ? u : v;
+              attempt(e, [&](bool& lacking) {
+                try_replace(cluster, pos(x), radius(x, req, lacking), nullptr, sc, req, lacking,
+                            op);
+              });
+            }
             break;
           }
           const Vec3 mid = 0.5 * (pos(u) + pos(v));
-          if (const Projection* p = projection(mid, cluster, req, missing);
+          if (const Projection* p = projection(mid, cluster, nullptr, req, missing);
               p != nullptr && p->ok && p->lands_within(mid, std::sqrt(shortest))) {
             try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
           }
@@ -1106,13 +1247,33 @@ class Improver {
           std::sort(cluster.begin(), cluster.end());
           if (!prepare_disk(cluster, sc)) break;
           if (move == Move::kClusterToVertex) {
+            // The best of the candidates that pass is the first that passes in the order of
+            // their smallest angles (ties by vertex): in the evaluation stages the field is
+            // asked for one candidate at a time, the next only once the one before failed (a
+            // cluster has up to kMaxCluster candidates, and asking for all of them at once was
+            // a third of the pass's field points on a 30,000-segment tree).
+            auto& order = sc.candidates;
+            order.clear();
             for (std::size_t i = 0; i < cluster.size(); ++i) {
+              const double q =
+                  worst_sine_with(pos(cluster[i]), sc, op.quality,
+                                  [](std::uint32_t, const std::array<Vec3, 3>&) { return true; });
+              if (q >= 0) order.push_back({q, i});
+            }
+            std::sort(order.begin(), order.end(), [](const auto& x, const auto& y) {
+              return x.first > y.first || (x.first == y.first && x.second < y.second);
+            });
+            for (const auto& [q, i] : order) {
               const std::uint32_t x = cluster[i];  // (try_replace reads the cluster, not x)
-              try_replace(cluster, pos(x), radius(x, req, missing), nullptr, sc, req, missing, op);
+              const bool lacked = attempt(static_cast<int>(i), [&](bool& lacking) {
+                try_replace(cluster, pos(x), radius(x, req, lacking), nullptr, sc, req, lacking,
+                            op);
+              });
+              if (lacked && req != nullptr) break;
             }
             break;
           }
-          if (const Projection* p = projection(centroid, cluster, req, missing);
+          if (const Projection* p = projection(centroid, cluster, nullptr, req, missing);
               p != nullptr && p->ok && p->lands_within(centroid, std::sqrt(reach2))) {
             try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
           }
@@ -1146,7 +1307,7 @@ class Improver {
           for (const std::uint32_t x : cluster) reach = std::max(reach, (pos(x) - centroid).norm());
           std::sort(cluster.begin(), cluster.end());
           if (!prepare_disk(cluster, sc)) break;
-          if (const Projection* p = projection(centroid, cluster, req, missing);
+          if (const Projection* p = projection(centroid, cluster, nullptr, req, missing);
               p != nullptr && p->ok && p->lands_within(centroid, reach)) {
             try_replace(cluster, p->z, p->radius, &p->at_z, sc, req, missing, op);
           }
@@ -1277,6 +1438,7 @@ class Improver {
       // it (they are tried only when this one cannot make the triangle good).
       if (missing) return op;
       resume.level = level + 1;
+      resume.failed = 0;
       resume.op = op;
       if (op.quality >= sin_bad_) return op;
     }
@@ -1488,40 +1650,26 @@ class Improver {
       for (std::size_t i = 0; i < r.radii.size(); ++i) radius_[r.radii[i]] = rad[i];
     }
     const double iso = field_.iso();
-    // Each point once: the operations of a stage ask for many of the same midpoints (the edges
-    // around a vertex, the same collapse seen from several bad triangles; 36-41 % of the
-    // requests on the 10,000- and 30,000-segment trees). The first request of a point makes
-    // its entry, as before the requests were merged (a projection's scale is its first one's).
-    std::vector<Vec3> points;
-    std::vector<Probe*> probes;
-    for (const Vec3& m : r.midpoints) {
-      const auto [it, fresh] = probe_.try_emplace(key_of(m));
-      if (!fresh) continue;
-      points.push_back(m);
-      probes.push_back(&it->second);
-    }
-    if (!points.empty()) {
-      std::vector<double> value(points.size());
-      std::vector<Vec3> grad(points.size());
-      evaluate_field(points, value, grad);
-      for (std::size_t i = 0; i < value.size(); ++i) {
-        const double g = grad[i].norm();
-        Probe& pr = *probes[i];
-        pr.distance = std::isfinite(value[i]) && g > 0 && std::isfinite(g)
-                          ? std::abs(value[i] - iso) / g
-                          : kInf;
-        if (g > 0 && std::isfinite(g)) pr.normal = -grad[i] / g;
-      }
-    }
+    // The projections first: the midpoints of each new vertex's edges to the vertices around
+    // it join the stage's midpoints (as try_replace() will ask for them: not the edges short
+    // enough to need no test).
+    std::vector<Vec3> follow;
     std::vector<Vec3> z;
     std::vector<double> scale;
-    std::vector<Projection*> projections;
+    std::vector<std::uint32_t> projections;
+    std::vector<std::size_t> around_begin, around_end;
+    std::size_t at = 0;
     for (std::size_t i = 0; i < r.starts.size(); ++i) {
-      const auto [it, fresh] = projection_.try_emplace(key_of(r.starts[i]));
+      const std::size_t begin = at;
+      at += r.around_count[i];
+      bool fresh = false;
+      const std::uint32_t e = projection_.insert(r.starts[i], fresh);
       if (!fresh) continue;
       z.push_back(r.starts[i]);
       scale.push_back(r.scales[i]);
-      projections.push_back(&it->second);
+      projections.push_back(e);
+      around_begin.push_back(begin);
+      around_end.push_back(at);
     }
     if (!z.empty()) {
       const std::size_t n = z.size();
@@ -1558,12 +1706,46 @@ class Improver {
         active = std::move(next);
       }
       for (std::size_t i = 0; i < n; ++i) {
-        Projection& pr = *projections[i];
+        Projection& pr = projection_[projections[i]];
         pr.z = z[i];
         pr.start_distance = d0[i];
         pr.at_z.normal = normal[i];
         pr.radius = scale[i];
         pr.ok = ok[i] != 0;
+        if (!pr.ok) continue;
+        for (std::size_t k = around_begin[i]; k < around_end[i]; ++k) {
+          const std::uint32_t w = r.around[k];
+          const double rw = radius_[w];
+          if ((z[i] - pos(w)).norm() <= kShortEdge * std::min(scale[i], rw)) continue;
+          follow.push_back(0.5 * (z[i] + pos(w)));
+        }
+      }
+    }
+    // Each point once: the operations of a stage ask for many of the same midpoints (the edges
+    // around a vertex, the same collapse seen from several bad triangles; 36-41 % of the
+    // requests on the 10,000- and 30,000-segment trees).
+    std::vector<Vec3> points;
+    std::vector<std::uint32_t> probes;
+    auto ask = [&](const Vec3& m) {
+      bool fresh = false;
+      const std::uint32_t e = probe_.insert(m, fresh);
+      if (!fresh) return;
+      points.push_back(m);
+      probes.push_back(e);
+    };
+    for (const Vec3& m : r.midpoints) ask(m);
+    for (const Vec3& m : follow) ask(m);
+    if (!points.empty()) {
+      std::vector<double> value(points.size());
+      std::vector<Vec3> grad(points.size());
+      evaluate_field(points, value, grad);
+      for (std::size_t i = 0; i < value.size(); ++i) {
+        const double g = grad[i].norm();
+        Probe& pr = probe_[probes[i]];
+        pr.distance = std::isfinite(value[i]) && g > 0 && std::isfinite(g)
+                          ? std::abs(value[i] - iso) / g
+                          : kInf;
+        if (g > 0 && std::isfinite(g)) pr.normal = -grad[i] / g;
       }
     }
   }
@@ -1583,8 +1765,8 @@ class Improver {
   std::vector<std::uint32_t> head_, next_;
   std::vector<double> radius_;  // local radius per vertex, NaN until asked for
   std::vector<char> touched_;
-  std::unordered_map<PointKey, Probe, PointKeyHash> probe_;  // at edge midpoints
-  std::unordered_map<PointKey, Projection, PointKeyHash> projection_;
+  PointCache<Probe> probe_;  // at edge midpoints
+  PointCache<Projection> projection_;
 };
 
 }  // namespace

@@ -79,7 +79,12 @@
 /// Rounds: the bad triangles are found (after the first round only next to a change), every
 /// operation they might take is evaluated against the current mesh in parallel, the field is
 /// evaluated in batches at the points those operations need (midpoints of new and replaced
-/// edges, Newton steps) in stages until every operation is decided, and then the operations
+/// edges, Newton steps) in stages until every operation is decided (the local radii of the bad
+/// triangles' corners and their neighbours first, in one batch; of a cluster's vertices as
+/// targets, one at a time, best angle first; the widened bound of a triangle below 1.5 degrees
+/// only when the edges it directly replaces do not do; candidates found not to fit are not
+/// looked at again in the round's later stages; a relaxation's projection brings the midpoints
+/// of the new vertex's edges with it), and then the operations
 /// are applied one by one, worst triangle first (ties by index), each decided again against
 /// the mesh as the earlier ones left it when they touched its neighbourhood. Rounds stop when
 /// nothing changes or after `max_rounds`; the triangles then still below 1 degree get up to two
