@@ -504,6 +504,17 @@ Meshed mesh_equipotential(const Skeleton& s, const EquipotentialOptions& eo = {}
   return run;
 }
 
+/// The mesh of `s` on one thread has the same bytes as `mesh` (made on two).
+void expect_same_on_one_thread(const Equipotential& eq, const Skeleton& s, const TriMesh& mesh) {
+  Context one(1);
+  const TriMesh single = polygonize_particles(eq, s, {}, &one);
+  ASSERT_EQ(single.positions.size(), mesh.positions.size());
+  EXPECT_EQ(std::memcmp(single.positions.data(), mesh.positions.data(),
+                        mesh.positions.size() * sizeof(Vec3)),
+            0);
+  EXPECT_EQ(single.triangles, mesh.triangles);
+}
+
 TEST(ParticleMeshEquipotential, SingleEdgeAndYFork) {
   (void)mesh_equipotential(test::single_segment());
   (void)mesh_equipotential(test::y_fork());
@@ -560,14 +571,7 @@ TEST(ParticleMeshEquipotential, BranchesThatMergeAreJoinedWithoutFolds) {
     // Folds independently of the mesher's count: no triangle faces along the field's gradient
     // (into the surface).
     EXPECT_EQ(test::triangles_facing_inwards(mesh, *eq.field), 0U);
-    // The same bytes on one thread.
-    Context one(1);
-    const TriMesh single = polygonize_particles(eq, s, {}, &one);
-    ASSERT_EQ(single.positions.size(), mesh.positions.size());
-    EXPECT_EQ(std::memcmp(single.positions.data(), mesh.positions.data(),
-                          mesh.positions.size() * sizeof(Vec3)),
-              0);
-    EXPECT_EQ(single.triangles, mesh.triangles);
+    expect_same_on_one_thread(eq, s, mesh);
   }
 }
 
@@ -592,13 +596,7 @@ TEST(ParticleMeshEquipotential, ThinForkBesideAThickerBranchHasEveryNodeInside) 
     const std::size_t folds = test::triangles_facing_inwards(run.mesh, *eq.field);
     EXPECT_EQ(folds, run.stats.inverted_triangles);
     EXPECT_LT(folds, run.mesh.triangles.size() / (larger ? 40 : 10));
-    Context one(1);
-    const TriMesh single = polygonize_particles(eq, s, {}, &one);
-    ASSERT_EQ(single.positions.size(), run.mesh.positions.size());
-    EXPECT_EQ(std::memcmp(single.positions.data(), run.mesh.positions.data(),
-                          run.mesh.positions.size() * sizeof(Vec3)),
-              0);
-    EXPECT_EQ(single.triangles, run.mesh.triangles);
+    expect_same_on_one_thread(eq, s, run.mesh);
   }
 }
 
@@ -618,13 +616,7 @@ TEST(ParticleMeshEquipotential, ThinBranchBesideAThickerOneIsJoinedAtTheNeck) {
     const std::size_t folds = test::triangles_facing_inwards(run.mesh, *eq.field);
     EXPECT_EQ(folds, run.stats.inverted_triangles);
     EXPECT_LT(500 * folds, run.mesh.triangles.size());  // under 0.2 %
-    Context one(1);
-    const TriMesh single = polygonize_particles(eq, s, {}, &one);
-    ASSERT_EQ(single.positions.size(), run.mesh.positions.size());
-    EXPECT_EQ(std::memcmp(single.positions.data(), run.mesh.positions.data(),
-                          run.mesh.positions.size() * sizeof(Vec3)),
-              0);
-    EXPECT_EQ(single.triangles, run.mesh.triangles);
+    expect_same_on_one_thread(eq, s, run.mesh);
   }
 }
 
