@@ -300,8 +300,9 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const TetrahedralOpti
       const double len = (p1 - p0).norm();
       const double r_thin =
           std::min(s.nodes[s.edges[th][0]].radius, s.nodes[s.edges[th][1]].radius);
-      const int stations =
-          std::clamp(static_cast<int>(std::ceil(len / (kGapStation * r_thin))), 1, kGapMaxStations);
+      // (Clamped before the conversion: an edge 1e300 radii long must not overflow the int.)
+      const int stations = static_cast<int>(
+          std::clamp(std::ceil(len / (kGapStation * r_thin)), 1.0, double{kGapMaxStations}));
       for (int k = 0; k <= stations; ++k) {
         const double t = static_cast<double>(k) / stations;
         const Vec3 c = p0 + t * (p1 - p0);
