@@ -218,6 +218,45 @@ std::vector<T> gather_chunks(std::size_t n, Fill&& fill, const Context* ctx) {
   return all;
 }
 
+/// The fans (the triangles around each vertex) of the vertices that `slot` numbers 0..count - 1
+/// (kNone for the others), as CSR: `start` (count + 1 offsets) into `fan`, in triangle order.
+template <class Slot>
+void fans_of(const TriMesh& mesh, std::size_t count, Slot&& slot, std::vector<std::size_t>& start,
+             std::vector<std::uint32_t>& fan) {
+  start.assign(count + 1, 0);
+  for (const auto& t : mesh.triangles)
+    for (const auto v : t)
+      if (const std::uint32_t k = slot(v); k != kNone) ++start[k + 1];
+  for (std::size_t k = 0; k < count; ++k) start[k + 1] += start[k];
+  fan.resize(start[count]);
+  std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    for (const auto v : mesh.triangles[t])
+      if (const std::uint32_t k = slot(v); k != kNone) fan[fill[k]++] = t;
+}
+
+/// Whether moving vertex `vid` between `a` and `b` sweeps a skeleton node: the node lies in the
+/// tetrahedron of a, b and the other two corners of a triangle of its fan (`fan[first, last)`).
+/// `box` holds a, b and the fan's corners.
+bool sweeps_node(const TriMesh& mesh, const std::vector<std::uint32_t>& fan, std::size_t first,
+                 std::size_t last, std::uint32_t vid, const Vec3& a, const Vec3& b, const Aabb& box,
+                 const Skeleton& skeleton, const detail::BoxBvh& nodes) {
+  thread_local std::vector<std::uint32_t> hits;
+  hits.clear();
+  nodes.query(box, hits);
+  for (const std::uint32_t h : hits) {
+    const Vec3& p = skeleton.nodes[h].position;
+    for (std::size_t f = first; f < last; ++f) {
+      std::array<Vec3, 2> other;
+      int k = 0;
+      for (const auto v : mesh.triangles[fan[f]])
+        if (v != vid) other[k++ % 2] = mesh.positions[v];
+      if (in_tetrahedron(p, a, b, other[0], other[1])) return true;
+    }
+  }
+  return false;
+}
+
 /// Newton steps along the gradient (at most 8, batched) that take each point z[i] onto the
 /// surface; `first_value` and `first_grad` are the field at the starting points. ok[i] becomes 1
 /// where a point converged: within 1e-7 local radii zr[i] of the surface by the first-order
@@ -614,19 +653,16 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
   // the new vertices' local radii (for the next round; two tasks, one after the other on one
   // thread).
   std::vector<double> new_radius;
-  std::vector<std::size_t> fan_start(ns + 1, 0);
+  std::vector<std::size_t> fan_start;
   std::vector<std::uint32_t> fan;
   parallel::both([&] { new_radius = local_radii(skeleton, z, ctx); },
                  [&] {
-                   for (const auto& t : mesh.triangles)
-                     for (const auto v : t)
-                       if (v >= nv_old) ++fan_start[v - nv_old + 1];
-                   for (std::size_t i = 0; i < ns; ++i) fan_start[i + 1] += fan_start[i];
-                   fan.resize(fan_start[ns]);
-                   std::vector<std::size_t> fill(fan_start.begin(), fan_start.end() - 1);
-                   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-                     for (const auto v : mesh.triangles[t])
-                       if (v >= nv_old) fan[fill[v - nv_old]++] = t;
+                   fans_of(
+                       mesh, ns,
+                       [&](std::uint32_t v) {
+                         return v >= nv_old ? static_cast<std::uint32_t>(v - nv_old) : kNone;
+                       },
+                       fan_start, fan);
                  },
                  ctx);
   vradius.insert(vradius.end(), new_radius.begin(), new_radius.end());
@@ -669,22 +705,9 @@ std::size_t refine_round(TriMesh& mesh, Edges& edges, std::vector<double>& vradi
             if (n.dot(np) < cos_turn * nn) turned[i] = 1;
             for (const auto v : t) box.extend(mesh.positions[v]);
           }
-          thread_local std::vector<std::uint32_t> hits;
-          hits.clear();
-          nodes.query(box, hits);
-          for (const std::uint32_t h : hits) {
-            const Vec3& p = skeleton.nodes[h].position;
-            for (std::size_t f = fan_start[i]; f < fan_start[i + 1]; ++f) {
-              const auto& t = mesh.triangles[fan[f]];
-              std::array<Vec3, 2> other;
-              int k = 0;
-              for (const auto v : t)
-                if (v != vid) other[k++ % 2] = mesh.positions[v];
-              if (in_tetrahedron(p, zmid[i], mesh.positions[vid], other[0], other[1])) {
-                revert[i] = 1;
-                return;
-              }
-            }
+          if (sweeps_node(mesh, fan, fan_start[i], fan_start[i + 1], vid, zmid[i],
+                          mesh.positions[vid], box, skeleton, nodes)) {
+            revert[i] = 1;
           }
         },
         ctx);
@@ -820,16 +843,8 @@ OffFans off_fans(const TriMesh& mesh, const std::vector<char>& off) {
   if (f.vertices.empty()) return f;
   f.rank.assign(nv, kNone);
   for (std::uint32_t k = 0; k < f.vertices.size(); ++k) f.rank[f.vertices[k]] = k;
-  f.start.assign(f.vertices.size() + 1, 0);
-  for (const auto& t : mesh.triangles)
-    for (const auto v : t)
-      if (f.rank[v] != kNone) ++f.start[f.rank[v] + 1];
-  for (std::size_t k = 0; k < f.vertices.size(); ++k) f.start[k + 1] += f.start[k];
-  f.fan.resize(f.start.back());
-  std::vector<std::size_t> fill(f.start.begin(), f.start.end() - 1);
-  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-    for (const auto v : mesh.triangles[t])
-      if (f.rank[v] != kNone) f.fan[fill[f.rank[v]]++] = t;
+  fans_of(
+      mesh, f.vertices.size(), [&](std::uint32_t v) { return f.rank[v]; }, f.start, f.fan);
   return f;
 }
 
@@ -924,22 +939,9 @@ std::size_t reproject_off_surface(TriMesh& mesh, std::vector<char>& off, const O
             centroid[m + k] = (c[0] + c[1] + c[2]) / 3.0;
             if (!(normal[m + k].norm() > 0.0)) ok[i] = 0;
           }
-          if (ok[i] == 0) return;
-          thread_local std::vector<std::uint32_t> hits;
-          hits.clear();
-          nodes.query(box, hits);
-          for (const std::uint32_t h : hits) {
-            const Vec3& p = skeleton.nodes[h].position;
-            for (std::size_t f = fan_start[rank[vid]]; f < fan_start[rank[vid] + 1]; ++f) {
-              std::array<Vec3, 2> other;
-              int q = 0;
-              for (const auto u : mesh.triangles[fan[f]])
-                if (u != vid) other[q++ % 2] = mesh.positions[u];
-              if (in_tetrahedron(p, from[i], z[i], other[0], other[1])) {
-                ok[i] = 0;
-                return;
-              }
-            }
+          if (ok[i] != 0 && sweeps_node(mesh, fan, fan_start[rank[vid]], fan_start[rank[vid] + 1],
+                                        vid, from[i], z[i], box, skeleton, nodes)) {
+            ok[i] = 0;
           }
         },
         ctx);
