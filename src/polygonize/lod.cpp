@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "core/segment.h"
 #include "ramiform/core/errors.h"
 #include "ramiform/mesh/deviation.h"
 #include "ramiform/polygonize/coarsen.h"
@@ -76,12 +77,11 @@ void keep_span(const Skeleton& sk, const std::vector<std::uint32_t>& chain, std:
   const Vec3 b = sk.nodes[chain[last]].position;
   const double ra = sk.nodes[chain[first]].radius, rb = sk.nodes[chain[last]].radius;
   const Vec3 d = b - a;
-  const double len2 = d.squaredNorm();
   double worst = -1;
   std::size_t at = first;
   for (std::size_t k = first + 1; k < last; ++k) {
     const SkeletonNode& n = sk.nodes[chain[k]];
-    const double t = len2 > 0 ? std::clamp((n.position - a).dot(d) / len2, 0.0, 1.0) : 0.0;
+    const double t = detail::segment_parameter(n.position, a, b);
     const double r_line = ra + t * (rb - ra);
     const double off = (n.position - (a + t * d)).norm() / std::min(ra, rb);
     const double taper = std::abs(n.radius - r_line) / r_line;  // radius off the straight taper

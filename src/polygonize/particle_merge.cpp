@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "core/segment.h"
 #include "core/union_find.h"
 #include "ramiform/core/errors.h"
 
@@ -51,13 +52,6 @@ constexpr double kMerged = 2.0;
 struct Segment {
   Vec3 a, b;
 };
-
-// Closest point parameter on segment [a, b] to p.
-double closest_t(const Vec3& a, const Vec3& b, const Vec3& p) {
-  const Vec3 d = b - a;
-  const double dd = d.squaredNorm();
-  return dd > 0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
-}
 
 // Closest parameters (s on [p0, p1], t on [q0, q1]) of two segments.
 std::pair<double, double> closest_pair(const Vec3& p0, const Vec3& p1, const Vec3& q0,
@@ -140,7 +134,7 @@ bool another_branch(const Graph& graph, const Skeleton& s, const std::vector<Seg
   const std::array<std::uint32_t, 2> ends = s.edges[g];
   const auto inside = [&](std::uint32_t v) {
     const Vec3& p = s.nodes[v].position;
-    const double t = closest_t(seg[g].a, seg[g].b, p);
+    const double t = segment_parameter(p, seg[g].a, seg[g].b);
     return (seg[g].a + t * (seg[g].b - seg[g].a) - p).norm() <= reach;
   };
   std::vector<std::uint32_t> stack;
@@ -225,7 +219,7 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
       if (a == skip_a || a == skip_b || b == skip_a || b == skip_b) continue;
       const double rg = edge_radius[g];
       if (rg < r) continue;
-      const double t = closest_t(seg[g].a, seg[g].b, p);
+      const double t = segment_parameter(p, seg[g].a, seg[g].b);
       const double d = (seg[g].a + t * (seg[g].b - seg[g].a) - p).norm();
       // > 0: p is within reach
       const double excess = forced ? kForceReach - d / rg : (rg == r ? rg + kReach * r : rg) - d;
@@ -370,7 +364,7 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
         if (a == v || b == v) continue;
         const double rg = edge_radius[g];
         if (rg < r) continue;
-        const double t = closest_t(seg[g].a, seg[g].b, p);
+        const double t = segment_parameter(p, seg[g].a, seg[g].b);
         const Vec3 q = seg[g].a + t * (seg[g].b - seg[g].a);
         const double d = (q - p).norm();
         if (d > rg + r) continue;

@@ -12,6 +12,7 @@
 #include <numbers>
 #include <queue>
 
+#include "core/segment.h"
 #include "field/bvh.h"
 #include "ramiform/core/portable_math.h"
 #include "ramiform/core/random.h"
@@ -306,10 +307,8 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const TetrahedralOpti
       for (int k = 0; k <= stations; ++k) {
         const double t = static_cast<double>(k) / stations;
         const Vec3 c = p0 + t * (p1 - p0);
-        const Vec3 dq = q1 - q0;
-        const double qq = dq.squaredNorm();
-        const double v = qq > 0 ? std::clamp((c - q0).dot(dq) / qq, 0.0, 1.0) : 0.0;
-        const Vec3 q = q0 + v * dq;
+        const double v = segment_parameter(c, q0, q1);
+        const Vec3 q = q0 + v * (q1 - q0);
         const double d = (q - c).norm();
         const double rp = radius_at(th, t), rq = radius_at(ot, v);
         const double gap = d - rp - rq;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/segment.h"
 #include "field/bvh.h"
 #include "polygonize/delaunay.h"
 #include "ramiform/core/errors.h"
@@ -15,10 +16,8 @@ namespace ramiform::detail::tets {
 namespace {
 
 double segment_distance(const Vec3& p, const Vec3& a, const Vec3& b, double& t) {
-  const Vec3 ab = b - a;
-  const double l2 = ab.squaredNorm();
-  t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * ab)).norm();
+  t = segment_parameter(p, a, b);
+  return (p - (a + t * (b - a))).norm();
 }
 
 // The skeleton as capsules: every edge, and every node without one (as a capsule from the node
