@@ -188,7 +188,8 @@ constexpr double kGapApart = 1.5;
 // Edges closer than this many times the sum of their largest radii along the skeleton are one
 // branch, not two.
 constexpr double kGapPath = 4.0;
-void add_gap_points(BoundingPoints& pb, const Skeleton& s, const TetrahedralOptions& o) {
+void add_gap_points(BoundingPoints& pb, const Skeleton& s, const Adjacency& adjacent,
+                    const TetrahedralOptions& o) {
   const std::size_t ne = s.edges.size();
   if (ne < 2) return;
   auto radius_at = [&](std::size_t e, double t) {
@@ -239,12 +240,6 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const TetrahedralOpti
   };
   // The shortest path along the skeleton from an end of one edge to an end of the other, or
   // infinity beyond `limit` (a Dijkstra search cut there).
-  std::vector<std::vector<std::pair<std::uint32_t, double>>> next(s.nodes.size());
-  for (const auto& [a, b] : s.edges) {
-    const double l = (s.nodes[a].position - s.nodes[b].position).norm();
-    next[a].emplace_back(b, l);
-    next[b].emplace_back(a, l);
-  }
   std::vector<double> dist(s.nodes.size(), std::numeric_limits<double>::infinity());
   std::vector<std::uint32_t> seen;
   auto path_length = [&](std::uint32_t a0, std::uint32_t a1, std::uint32_t b0, std::uint32_t b1,
@@ -265,8 +260,8 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const TetrahedralOpti
         found = d;
         break;
       }
-      for (const auto& [m, l] : next[n]) {
-        const double dm = d + l;
+      for (const std::uint32_t m : adjacent[n]) {
+        const double dm = d + (s.nodes[m].position - s.nodes[n].position).norm();
         if (dm > limit || dm >= dist[m]) continue;
         if (std::isinf(dist[m])) seen.push_back(m);
         dist[m] = dm;
@@ -338,7 +333,7 @@ BoundingPoints bounding_points(const Skeleton& s, const TetrahedralOptions& o) {
     if (section[i] != 0) add_node_section(pb, s, adjacent, i, half);
   }
   add_edge_stations(pb, s, o);
-  add_gap_points(pb, s, o);
+  add_gap_points(pb, s, adjacent, o);
   return pb;
 }
 
