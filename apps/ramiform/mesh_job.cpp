@@ -130,6 +130,7 @@ void put_tets_stats(const TetrahedralOptions& o, const TetrahedralStats& st, Mes
   r.stats["polyhedron_points"] = st.polyhedron_points;
   r.stats["axis_points_added"] = st.axis_points_added;
   r.stats["gap_points"] = st.gap_points;
+  r.stats["crotch_points"] = st.crotch_points;
   r.stats["axis_edges_missing"] = st.axis_edges_missing;
   r.stats["delaunay_tets"] = st.delaunay_tets;
   r.stats["region_tets"] = st.region_tets;

@@ -56,6 +56,7 @@ detail::tets::Tetrahedralization tetrahedralize_bounding_points(
   std::vector<Vec3> points = detail::tets::jitter_and_enclose(set, skeleton);
   st.polyhedron_points = real_points;
   st.gap_points = set.gap_points;
+  st.crotch_points = set.crotch_points;
   st.seconds_polyhedron = clock.lap();
   check_cancel(ctx);
   detail::tets::Tetrahedralization tz =

@@ -31,6 +31,7 @@ struct BoundingPoints {
   /// next node's point), for every edge: they must be joined by edges of the tetrahedralization.
   std::vector<std::array<std::uint32_t, 2>> axis_pairs;
   std::size_t gap_points = 0;  ///< of `points`, the ones placed in gaps between branches
+  std::size_t crotch_points = 0;  ///< of `points`, the ones placed in forks' crotches
 };
 
 /// The tetrahedralization of step 2 over the (jittered) bounding points.

@@ -75,6 +75,9 @@ struct TetrahedralStats {
   /// Of those, the points placed across narrow gaps between branches the skeleton does not join
   /// (five per place), so that no lattice edge spans the gap inside-to-inside.
   std::size_t gap_points = 0;
+  /// The points placed in the crotch between two branches leaving a fork at less than 110°
+  /// (three per pair), so that the lattice there is as fine as the saddle the surface makes.
+  std::size_t crotch_points = 0;
   std::size_t delaunay_tets = 0;      ///< tetrahedra of the Delaunay tetrahedralization
   std::size_t axis_points_added = 0;  ///< Steiner points that make consecutive axis points
                                       ///< edges of the tetrahedralization
