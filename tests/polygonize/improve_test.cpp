@@ -150,14 +150,16 @@ TEST(ImproveTriangles, SameMeshOnAnyThreadCount) {
 
 TEST(ImproveTriangles, NoNeedleStaysOnAPinchedNeck) {
   // The tree of `ramiform generate --segments 200 --tip-radius 0.004 --trunk-length 1 --seed
-  // 4` (338 k triangles): without the nudge one needle of 0.77 degrees stayed, its short edge on
-  // a cycle of three edges that is no triangle (no collapse keeps the mesh 2-manifold there)
-  // and every larger move of its corners turned a triangle against the gradient.
+  // 5` (347 k triangles, 25 needles below 1 degree before the improvement). Seed 4 was the
+  // fixture of the nudge: one needle of 0.77 degrees whose short edge lay on a cycle of three
+  // edges that is no triangle (no collapse keeps the mesh 2-manifold there) and every larger
+  // move of its corners turned a triangle against the gradient; since the crotch points its
+  // base mesh has no needle below 1 degree at all.
   BranchingTreeOptions g;
   g.segments = 200;
   g.tip_radius = 0.004;
   g.trunk_length = 1;
-  g.seed = 4;
+  g.seed = 5;
   const Skeleton s = branching_tree(g);
   const FieldPtr f = make_skeleton_field(s);
   ToleranceOptions o;
