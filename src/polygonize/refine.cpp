@@ -1091,7 +1091,9 @@ TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,
     return std::chrono::duration<double>(Clock::now() - t).count();
   };
   auto t0 = Clock::now();
-  TriMesh mesh = polygonize_tetrahedral(field, skeleton, options.tets, ctx, &st.tets);
+  TetrahedralOptions base = options.tets;
+  base.crotch_points = true;  // they keep the refinement's splits in crotches on the surface
+  TriMesh mesh = polygonize_tetrahedral(field, skeleton, base, ctx, &st.tets);
   st.seconds_tets = since(t0);
   RefineOptions ro;
   ro.edge_tolerance = options.tolerance;

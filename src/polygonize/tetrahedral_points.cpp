@@ -108,7 +108,7 @@ std::vector<char> section_nodes(const Skeleton& s, const Adjacency& adjacent,
 // and 1.4 of the distance removed no larger deviations for twice the extra triangles, 8 %.)
 constexpr double kCrotchDeg = 110.0;
 void add_fork_points(BoundingPoints& pb, const Skeleton& s, const std::vector<std::uint32_t>& adj,
-                     const Vec3& p, double radius, double half) {
+                     const Vec3& p, double radius, double half, bool crotch) {
   const double cos_crotch = pm::cos(kCrotchDeg * std::numbers::pi / 180.0);
   for (std::size_t a = 0; a < adj.size(); ++a) {
     for (std::size_t b = a + 1; b < adj.size(); ++b) {
@@ -123,7 +123,7 @@ void add_fork_points(BoundingPoints& pb, const Skeleton& s, const std::vector<st
       const Vec3 da = ua.normalized();
       const Vec3 db = ub.normalized();
       const double cos_ab = da.dot(db);
-      if (!(cos_ab > cos_crotch)) continue;
+      if (!crotch || !(cos_ab > cos_crotch)) continue;
       // sin(theta / 2) from the half-angle identity; the cross product above is not zero, so
       // theta > 0.
       const double sin_half = std::sqrt(0.5 * (1.0 - cos_ab));
@@ -142,7 +142,7 @@ void add_fork_points(BoundingPoints& pb, const Skeleton& s, const std::vector<st
 // a square across the mean direction of its edges, with a second square and a cap beyond a tip
 // and the auxiliary points around a fork.
 void add_node_section(BoundingPoints& pb, const Skeleton& s, const Adjacency& adjacent,
-                      std::uint32_t i, double half) {
+                      std::uint32_t i, double half, bool crotch) {
   const Vec3& p = s.nodes[i].position;
   const auto& adj = adjacent[i];
   if (adj.empty()) {
@@ -165,7 +165,7 @@ void add_node_section(BoundingPoints& pb, const Skeleton& s, const Adjacency& ad
     add_square(pb, p + out * half, out, half);
     add(pb, p + out * (2 * half), half);
   }
-  if (adj.size() >= 3) add_fork_points(pb, s, adj, p, s.nodes[i].radius, half);
+  if (adj.size() >= 3) add_fork_points(pb, s, adj, p, s.nodes[i].radius, half, crotch);
 }
 
 // Intermediate stations along long edges, each a square and its centre on the skeleton, and
@@ -358,7 +358,7 @@ BoundingPoints bounding_points(const Skeleton& s, const TetrahedralOptions& o) {
     pb.node_points.push_back(static_cast<std::uint32_t>(pb.points.size()));
     const double half = half_scale * s.nodes[i].radius;
     add(pb, s.nodes[i].position, half);
-    if (section[i] != 0) add_node_section(pb, s, adjacent, i, half);
+    if (section[i] != 0) add_node_section(pb, s, adjacent, i, half, o.crotch_points);
   }
   add_edge_stations(pb, s, o);
   add_gap_points(pb, s, adjacent, o);
