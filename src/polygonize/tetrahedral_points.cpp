@@ -267,12 +267,16 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const Adjacency& adja
       add(pb, mid - step * side, half);
     }
   };
-  // The shortest path along the skeleton from an end of one edge to an end of the other, or
-  // infinity beyond `limit` (a Dijkstra search cut there). `dist` is all infinity on entry and
-  // left so; `seen` is scratch.
-  auto path_length = [&](std::uint32_t a0, std::uint32_t a1, std::uint32_t b0, std::uint32_t b1,
-                         double limit, std::vector<double>& dist,
-                         std::vector<std::uint32_t>& seen) {
+  // The shortest paths along the skeleton from the nearer of a0 and a1 to every node within
+  // `limit` of them (a Dijkstra search cut there) into `dist`, the nodes reached into `seen`
+  // (`dist` all infinity on entry outside `seen`; forget() restores it). Searched once per
+  // edge and reused for each of its pairs (again with a longer limit when a pair needs one):
+  // a distance within a limit is the same whatever longer limit the search had, as no path
+  // through a node beyond it comes back shorter. (One search per pair, cut at the pair's other
+  // end, was most of step 1 at 100,000 generated segments, where a thick branch has thousands
+  // of twigs beside it.)
+  auto search_from = [&](std::uint32_t a0, std::uint32_t a1, double limit,
+                         std::vector<double>& dist, std::vector<std::uint32_t>& seen) {
     using Item = std::pair<double, std::uint32_t>;
     std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
     for (const std::uint32_t a : {a0, a1}) {
@@ -280,15 +284,10 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const Adjacency& adja
       seen.push_back(a);
       queue.emplace(0.0, a);
     }
-    double found = std::numeric_limits<double>::infinity();
     while (!queue.empty()) {
       const auto [d, n] = queue.top();
       queue.pop();
       if (d > dist[n]) continue;
-      if (n == b0 || n == b1) {
-        found = d;
-        break;
-      }
       for (const std::uint32_t m : adjacent[n]) {
         const double dm = d + (s.nodes[m].position - s.nodes[n].position).norm();
         if (dm > limit || dm >= dist[m]) continue;
@@ -297,9 +296,10 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const Adjacency& adja
         queue.emplace(dm, m);
       }
     }
+  };
+  auto forget = [](std::vector<double>& dist, std::vector<std::uint32_t>& seen) {
     for (const std::uint32_t n : seen) dist[n] = std::numeric_limits<double>::infinity();
     seen.clear();
-    return found;
   };
   // The crosses to place, found per edge in parallel (chunks of kGapGrain edges, each its
   // requests in the order of the sequential scan), then placed one after the other in edge
@@ -322,6 +322,7 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const Adjacency& adja
         std::vector<std::uint32_t> seen, ids;
         std::vector<Request> pending;
         for (auto e = static_cast<std::uint32_t>(begin); e < end; ++e) {
+          double searched = -1.0;  // the limit of the search from e's ends in dist (none: < 0)
           ids.clear();
           bvh.query(boxes[e], ids);
           std::sort(ids.begin(), ids.end());
@@ -367,11 +368,17 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const Adjacency& adja
             // Two edges a short way apart along the skeleton (within kGapPath times the sum of
             // their largest radii: a bend, a chain of short cylinders) are one branch: the
             // surface between them is its own. (Searched only for a pair with a gap.)
-            if (pending.empty() || std::isfinite(path_length(
-                                       ea, eb, fa, fb, kGapPath * (rmax(e) + rmax(f)), dist, seen)))
-              continue;
+            if (pending.empty()) continue;
+            const double limit = kGapPath * (rmax(e) + rmax(f));
+            if (limit > searched) {
+              forget(dist, seen);
+              search_from(ea, eb, limit, dist, seen);
+              searched = limit;
+            }
+            if (std::min(dist[fa], dist[fb]) <= limit) continue;
             out.insert(out.end(), pending.begin(), pending.end());
           }
+          forget(dist, seen);
         }
       },
       ctx);
