@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "polygonize/delaunay.h"
+#include "polygonize/tetrahedral_points.h"
 #include "ramiform/core/random.h"
 #include "ramiform/field/equipotential.h"
 #include "ramiform/field/skeleton_field.h"
@@ -102,8 +103,28 @@ void BM_Delaunay(benchmark::State& state) {
   state.counters["tets"] = static_cast<double>(tets);
 }
 
+// Step 1 of the tetrahedral polygonizer alone (the bounding points with the gap points between
+// branches the skeleton does not join) on `ramiform generate --segments N` trees (seed 1). Its
+// crown keeps its size as N grows, so the close pairs of edges, and the gap points, grow faster
+// than N (docs/benchmarks.md, "Scale").
+void BM_BoundingPoints(benchmark::State& state) {
+  BranchingTreeOptions tree;
+  tree.segments = static_cast<std::size_t>(state.range(0));
+  const Skeleton s = branching_tree(tree);
+  const TetrahedralOptions o;
+  std::size_t points = 0, gap = 0;
+  for (auto _ : state) {
+    const detail::tets::BoundingPoints set = detail::tets::bounding_points(s, o);
+    points = set.points.size();
+    gap = set.gap_points;
+  }
+  state.counters["points"] = static_cast<double>(points);
+  state.counters["gap_points"] = static_cast<double>(gap);
+}
+
 }  // namespace
 
+BENCHMARK(BM_BoundingPoints)->Arg(10000)->Arg(30000)->Arg(100000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Delaunay)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Particles)->Args({0, 4})->Args({0, 6})->Args({1, 200})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Tetrahedral)->ArgsProduct({{200, 1000}, {2, 3}})->Unit(benchmark::kMillisecond);

@@ -50,7 +50,7 @@ class StageClock {
 detail::tets::Tetrahedralization tetrahedralize_bounding_points(
     const Skeleton& skeleton, const TetrahedralOptions& options, Context* ctx, StageClock& clock,
     TetrahedralStats& st, std::vector<std::uint32_t>& node_points) {
-  detail::tets::BoundingPoints set = detail::tets::bounding_points(skeleton, options);
+  detail::tets::BoundingPoints set = detail::tets::bounding_points(skeleton, options, ctx);
   detail::tets::check_memory(set.points.size(), options, ctx);
   const std::size_t real_points = set.points.size();
   std::vector<Vec3> points = detail::tets::jitter_and_enclose(set, skeleton);

@@ -14,6 +14,7 @@
 
 #include "core/segment.h"
 #include "field/bvh.h"
+#include "ramiform/core/parallel.h"
 #include "ramiform/core/portable_math.h"
 #include "ramiform/core/random.h"
 
@@ -216,8 +217,36 @@ constexpr double kGapApart = 1.5;
 // Edges closer than this many times the sum of their largest radii along the skeleton are one
 // branch, not two.
 constexpr double kGapPath = 4.0;
+// Edges per parallel task of the gap search.
+constexpr std::size_t kGapGrain = 512;
+
+// A lower bound of the distance between the segments p0p1 and q0q1: their exact distance
+// (Ericson 2005, "Real-Time Collision Detection", §5.1.9) where the segments are far from
+// parallel, else the distance from the middle of p0p1 to q0q1 less its half length (whose
+// error does not grow as the segments turn parallel).
+double segment_distance_below(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1) {
+  const Vec3 mid = 0.5 * (p0 + p1);
+  const double half = 0.5 * (p1 - p0).norm();
+  const double coarse = (mid - (q0 + segment_parameter(mid, q0, q1) * (q1 - q0))).norm() - half;
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), b = d1.dot(d2);
+  const double denom = a * e - b * b;
+  if (!(denom > 1e-6 * a * e)) return coarse;  // parallel within 0.06 degrees, or degenerate
+  const double c = d1.dot(r), f = d2.dot(r);
+  double sp = std::clamp((b * f - c * e) / denom, 0.0, 1.0);
+  double tq = (b * sp + f) / e;
+  if (tq < 0) {
+    tq = 0;
+    sp = std::clamp(-c / a, 0.0, 1.0);
+  } else if (tq > 1) {
+    tq = 1;
+    sp = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  return std::max(coarse, ((p0 + sp * d1) - (q0 + tq * d2)).norm());
+}
+
 void add_gap_points(BoundingPoints& pb, const Skeleton& s, const Adjacency& adjacent,
-                    const TetrahedralOptions& o) {
+                    const TetrahedralOptions& o, const Context* ctx) {
   const std::size_t ne = s.edges.size();
   if (ne < 2) return;
   auto radius_at = [&](std::size_t e, double t) {
@@ -266,12 +295,16 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const Adjacency& adja
       add(pb, mid - step * side, half);
     }
   };
-  // The shortest path along the skeleton from an end of one edge to an end of the other, or
-  // infinity beyond `limit` (a Dijkstra search cut there).
-  std::vector<double> dist(s.nodes.size(), std::numeric_limits<double>::infinity());
-  std::vector<std::uint32_t> seen;
-  auto path_length = [&](std::uint32_t a0, std::uint32_t a1, std::uint32_t b0, std::uint32_t b1,
-                         double limit) {
+  // The shortest paths along the skeleton from the nearer of a0 and a1 to every node within
+  // `limit` of them (a Dijkstra search cut there) into `dist`, the nodes reached into `seen`
+  // (`dist` all infinity on entry outside `seen`; forget() restores it). Searched once per
+  // edge and reused for each of its pairs (again with a longer limit when a pair needs one):
+  // a distance within a limit is the same whatever longer limit the search had, as no path
+  // through a node beyond it comes back shorter. (One search per pair, cut at the pair's other
+  // end, was most of step 1 at 100,000 generated segments, where a thick branch has thousands
+  // of twigs beside it.)
+  auto search_from = [&](std::uint32_t a0, std::uint32_t a1, double limit,
+                         std::vector<double>& dist, std::vector<std::uint32_t>& seen) {
     using Item = std::pair<double, std::uint32_t>;
     std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
     for (const std::uint32_t a : {a0, a1}) {
@@ -279,15 +312,10 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const Adjacency& adja
       seen.push_back(a);
       queue.emplace(0.0, a);
     }
-    double found = std::numeric_limits<double>::infinity();
     while (!queue.empty()) {
       const auto [d, n] = queue.top();
       queue.pop();
       if (d > dist[n]) continue;
-      if (n == b0 || n == b1) {
-        found = d;
-        break;
-      }
       for (const std::uint32_t m : adjacent[n]) {
         const double dm = d + (s.nodes[m].position - s.nodes[n].position).norm();
         if (dm > limit || dm >= dist[m]) continue;
@@ -296,58 +324,100 @@ void add_gap_points(BoundingPoints& pb, const Skeleton& s, const Adjacency& adja
         queue.emplace(dm, m);
       }
     }
+  };
+  auto forget = [](std::vector<double>& dist, std::vector<std::uint32_t>& seen) {
     for (const std::uint32_t n : seen) dist[n] = std::numeric_limits<double>::infinity();
     seen.clear();
-    return found;
   };
-  std::vector<std::uint32_t> ids;
-  for (std::uint32_t e = 0; e < ne; ++e) {
-    ids.clear();
-    bvh.query(boxes[e], ids);
-    std::sort(ids.begin(), ids.end());
-    for (const std::uint32_t f : ids) {
-      if (f <= e) continue;
-      const auto [ea, eb] = s.edges[e];
-      const auto [fa, fb] = s.edges[f];
-      if (ea == fa || ea == fb || eb == fa || eb == fb) continue;
-      // Two edges a short way apart along the skeleton (within kGapPath times the sum of their
-      // largest radii: a bend, a chain of short cylinders) are one branch: the surface between
-      // them is its own. (Found once a station needs it.)
-      double along = -1.0;
-      // Walk the thinner edge (th), measuring against the other (ot).
-      const bool e_thin = radius_at(e, 0.5) <= radius_at(f, 0.5);
-      const std::uint32_t th = e_thin ? e : f, ot = e_thin ? f : e;
-      const Vec3& p0 = s.nodes[s.edges[th][0]].position;
-      const Vec3& p1 = s.nodes[s.edges[th][1]].position;
-      const Vec3& q0 = s.nodes[s.edges[ot][0]].position;
-      const Vec3& q1 = s.nodes[s.edges[ot][1]].position;
-      const double len = (p1 - p0).norm();
-      const double r_thin =
-          std::min(s.nodes[s.edges[th][0]].radius, s.nodes[s.edges[th][1]].radius);
-      // (Clamped before the conversion: an edge 1e300 radii long must not overflow the int.)
-      const int stations = static_cast<int>(
-          std::clamp(std::ceil(len / (kGapStation * r_thin)), 1.0, double{kGapMaxStations}));
-      for (int k = 0; k <= stations; ++k) {
-        const double t = static_cast<double>(k) / stations;
-        const Vec3 c = p0 + t * (p1 - p0);
-        const double v = segment_parameter(c, q0, q1);
-        const Vec3 q = q0 + v * (q1 - q0);
-        const double d = (q - c).norm();
-        const double rp = radius_at(th, t), rq = radius_at(ot, v);
-        const double gap = d - rp - rq;
-        if (!(gap > 0.0) || gap > std::max(kGapRadii * rp, kGapThick * rq)) continue;
-        if (along < 0.0) along = path_length(ea, eb, fa, fb, kGapPath * (rmax(e) + rmax(f)));
-        if (std::isfinite(along)) break;
-        const Vec3 dir = (q - c) / d;
-        place(c + (rp + 0.5 * gap) * dir, dir, std::min(rp, rq), gap);
-      }
-    }
+  // The crosses to place, found per edge in parallel (chunks of kGapGrain edges, each its
+  // requests in the order of the sequential scan), then placed one after the other in edge
+  // order, so the set does not depend on the thread count.
+  struct Request {
+    Vec3 mid, dir;
+    double r, gap;
+  };
+  const std::size_t chunks = (ne + kGapGrain - 1) / kGapGrain;
+  std::vector<std::vector<Request>> requests(chunks);
+  parallel::for_chunks(
+      ne, kGapGrain,
+      [&](std::size_t begin, std::size_t end) {
+        std::vector<Request>& out = requests[begin / kGapGrain];
+        // The path search's distances, all infinity between searches (per thread: a skeleton's
+        // worth of doubles per chunk would cost more than the search).
+        thread_local std::vector<double> dist;
+        if (dist.size() != s.nodes.size())
+          dist.assign(s.nodes.size(), std::numeric_limits<double>::infinity());
+        std::vector<std::uint32_t> seen, ids;
+        std::vector<Request> pending;
+        for (auto e = static_cast<std::uint32_t>(begin); e < end; ++e) {
+          double searched = -1.0;  // the limit of the search from e's ends in dist (none: < 0)
+          ids.clear();
+          bvh.query(boxes[e], ids);
+          std::sort(ids.begin(), ids.end());
+          for (const std::uint32_t f : ids) {
+            if (f <= e) continue;
+            const auto [ea, eb] = s.edges[e];
+            const auto [fa, fb] = s.edges[f];
+            if (ea == fa || ea == fb || eb == fa || eb == fb) continue;
+            // Walk the thinner edge (th), measuring against the other (ot).
+            const bool e_thin = radius_at(e, 0.5) <= radius_at(f, 0.5);
+            const std::uint32_t th = e_thin ? e : f, ot = e_thin ? f : e;
+            const Vec3& p0 = s.nodes[s.edges[th][0]].position;
+            const Vec3& p1 = s.nodes[s.edges[th][1]].position;
+            const Vec3& q0 = s.nodes[s.edges[ot][0]].position;
+            const Vec3& q1 = s.nodes[s.edges[ot][1]].position;
+            // A station's gap d - rp - rq is at most max(kGapRadii rp, kGapThick rq), so its
+            // axis distance d at most (1 + kGapRadii) rmax(th) + (1 + kGapThick) rmax(ot): a
+            // pair whose segments lie farther apart than that (with a thousandth to spare for
+            // rounding) has no station to look at. In a dense crown most pairs whose boxes
+            // meet are such (the boxes are loose around slanted edges).
+            const double reach = (1 + kGapRadii) * rmax(th) + (1 + kGapThick) * rmax(ot);
+            if (segment_distance_below(p0, p1, q0, q1) > 1.001 * reach) continue;
+            const double len = (p1 - p0).norm();
+            const double r_thin =
+                std::min(s.nodes[s.edges[th][0]].radius, s.nodes[s.edges[th][1]].radius);
+            // (Clamped before the conversion: an edge 1e300 radii long must not overflow the
+            // int.)
+            const int stations = static_cast<int>(
+                std::clamp(std::ceil(len / (kGapStation * r_thin)), 1.0, double{kGapMaxStations}));
+            pending.clear();
+            for (int k = 0; k <= stations; ++k) {
+              const double t = static_cast<double>(k) / stations;
+              const Vec3 c = p0 + t * (p1 - p0);
+              const double v = segment_parameter(c, q0, q1);
+              const Vec3 q = q0 + v * (q1 - q0);
+              const double d = (q - c).norm();
+              const double rp = radius_at(th, t), rq = radius_at(ot, v);
+              const double gap = d - rp - rq;
+              if (!(gap > 0.0) || gap > std::max(kGapRadii * rp, kGapThick * rq)) continue;
+              const Vec3 dir = (q - c) / d;
+              pending.push_back({c + (rp + 0.5 * gap) * dir, dir, std::min(rp, rq), gap});
+            }
+            // Two edges a short way apart along the skeleton (within kGapPath times the sum of
+            // their largest radii: a bend, a chain of short cylinders) are one branch: the
+            // surface between them is its own. (Searched only for a pair with a gap.)
+            if (pending.empty()) continue;
+            const double limit = kGapPath * (rmax(e) + rmax(f));
+            if (limit > searched) {
+              forget(dist, seen);
+              search_from(ea, eb, limit, dist, seen);
+              searched = limit;
+            }
+            if (std::min(dist[fa], dist[fb]) <= limit) continue;
+            out.insert(out.end(), pending.begin(), pending.end());
+          }
+          forget(dist, seen);
+        }
+      },
+      ctx);
+  for (const auto& chunk : requests) {
+    for (const Request& r : chunk) place(r.mid, r.dir, r.r, r.gap);
   }
 }
 
 }  // namespace
 
-BoundingPoints bounding_points(const Skeleton& s, const TetrahedralOptions& o) {
+BoundingPoints bounding_points(const Skeleton& s, const TetrahedralOptions& o, const Context* ctx) {
   BoundingPoints pb;
   const Adjacency adjacent = adjacency(s);
   const double half_scale = 0.5 * o.section_scale;
@@ -361,7 +431,7 @@ BoundingPoints bounding_points(const Skeleton& s, const TetrahedralOptions& o) {
     if (section[i] != 0) add_node_section(pb, s, adjacent, i, half, o.crotch_points);
   }
   add_edge_stations(pb, s, o);
-  add_gap_points(pb, s, adjacent, o);
+  add_gap_points(pb, s, adjacent, o, ctx);
   return pb;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "polygonize/tetrahedral_types.h"
+#include "ramiform/core/context.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/skeleton/skeleton.h"
 
@@ -20,8 +21,10 @@ namespace ramiform::detail::tets {
 /// square and a cap point beyond every tip; the auxiliary points of §5 on both sides of the
 /// plane of every pair of branches at a fork; and a square with its centre every
 /// `station_spacing` radii along each edge. Points are numbered node by node, then edge by edge.
+/// The gap points are searched in parallel on ctx's threads (the set does not depend on them).
 [[nodiscard]] BoundingPoints bounding_points(const Skeleton& skeleton,
-                                             const TetrahedralOptions& options);
+                                             const TetrahedralOptions& options,
+                                             const Context* ctx = nullptr);
 
 /// Moves every point by a deterministic pseudo-random offset of at most kJitter of its local
 /// cross-section half size per axis (fixed seed), so that Delaunay sees no cospherical sets (the
