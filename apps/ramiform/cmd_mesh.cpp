@@ -84,6 +84,19 @@ int run_mesh(MeshArgs& args) {
            "skeleton that merge, or sharp bends along runs of edges shorter than their radius; "
            "--method tets meshes the same surface without folds)\n";
   }
+  if (const auto outside = stats.value("nodes_outside", std::size_t{0}); outside > 0) {
+    err << "ramiform: warning: " << args.out_path << ": " << outside
+        << " skeleton node(s) lie outside the particle mesh (at";
+    std::size_t shown = 0;
+    for (const auto& q : stats["outside_nodes"]) {
+      if (shown++ == 5) break;
+      err << " (" << format_number(q[0].get<double>()) << ", " << format_number(q[1].get<double>())
+          << ", " << format_number(q[2].get<double>()) << ")";
+    }
+    err << (outside > 5 ? " ..." : "")
+        << "): a fold where branches not joined in the skeleton merge covers them (--method tets "
+           "keeps every node inside)\n";
+  }
   if (args.job.method == "particles" &&
       stats.value("converged", std::size_t{0}) < stats.value("particles", std::size_t{0})) {
     const std::size_t left =

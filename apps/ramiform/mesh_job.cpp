@@ -462,6 +462,12 @@ MeshJobResult mesh_skeleton(const Skeleton& skeleton, const SkeletonFieldOptions
     r.stats["joined_branches"] = st.joined_branches;
     r.stats["repaired_nodes"] = st.repaired_nodes;
     r.stats["nodes_outside"] = st.nodes_outside;
+    nlohmann::json outside_at = nlohmann::json::array();
+    for (const std::uint32_t i : st.outside_nodes) {
+      const Vec3& q = meshed.nodes[i].position;
+      outside_at.push_back({q.x(), q.y(), q.z()});
+    }
+    r.stats["outside_nodes"] = outside_at;
     r.stats["unrelaxed"] = st.unrelaxed;
     r.stats["seconds_layout"] = st.seconds_layout;
     r.stats["seconds_move"] = st.seconds_move;

@@ -567,6 +567,7 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     detail::ParticleLayout layout;
     Particles particles;
     std::size_t outside = 0;
+    std::vector<std::uint32_t> outside_nodes;
   };
   std::optional<Attempt> best;
   for (int attempt = 0;; ++attempt) {
@@ -645,7 +646,7 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     const bool better = !best || outside.size() < best->outside;
     if (attempt == 0) first_outside = outside.size();
     if (better) {
-      best = Attempt{std::move(joined), std::move(layout), {}, outside.size()};
+      best = Attempt{std::move(joined), std::move(layout), {}, outside.size(), outside};
     }
     if (outside.empty() || attempt == kMaxRepairs) {
       if (better) best->particles = std::move(p);
@@ -717,6 +718,9 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     s.joined_branches = joined.joins;
     s.repaired_nodes = first_outside - outside;
     s.nodes_outside = outside;
+    s.outside_nodes = best->outside_nodes;
+    std::sort(s.outside_nodes.begin(), s.outside_nodes.end());
+    if (s.outside_nodes.size() > kMaxListed) s.outside_nodes.resize(kMaxListed);
     s.unrelaxed = unrelaxed;
     s.open_loops = layout.open_loops.size();
     s.evaluations = evaluations;
