@@ -93,7 +93,11 @@ TriMesh particle_mesh(const Call& c, const Object& obj, std::string& how, std::s
         (st.inverted_triangles > 0
              ? ", " + count_text(st.inverted_triangles) +
                    " triangles folded (facing into the surface; method=tets has no folds)"
-             : std::string());
+             : std::string()) +
+        (st.nodes_outside > 0 ? ", " + count_text(st.nodes_outside) +
+                                    " skeleton nodes outside the mesh, under a fold (method=tets "
+                                    "keeps every node inside)"
+                              : std::string());
   open_loops = st.open_loops;
   return mesh;
 }
