@@ -19,7 +19,8 @@ namespace ramiform::detail::tets {
 /// of edge `section_scale` x radius at forks, tips, isolated nodes (a cube there) and at the
 /// nodes of a chain where it bends, changes radius or runs `station_spacing` radii; a second
 /// square and a cap point beyond every tip; the auxiliary points of §5 on both sides of the
-/// plane of every pair of branches at a fork; and a square with its centre every
+/// plane of every pair of branches at a fork (with `options.crotch_points`, three more in the
+/// crotch of every pair meeting at less than 110°); and a square with its centre every
 /// `station_spacing` radii along each edge. Points are numbered node by node, then edge by edge.
 /// The gap points are searched in parallel on ctx's threads (the set does not depend on them).
 [[nodiscard]] BoundingPoints bounding_points(const Skeleton& skeleton,
