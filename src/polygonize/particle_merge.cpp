@@ -53,30 +53,6 @@ struct Segment {
   Vec3 a, b;
 };
 
-// Closest parameters (s on [p0, p1], t on [q0, q1]) of two segments.
-std::pair<double, double> closest_pair(const Vec3& p0, const Vec3& p1, const Vec3& q0,
-                                       const Vec3& q1) {
-  const Vec3 d1 = p1 - p0;
-  const Vec3 d2 = q1 - q0;
-  const Vec3 r = p0 - q0;
-  const double a = d1.squaredNorm();
-  const double e = d2.squaredNorm();
-  const double f = d2.dot(r);
-  const double c = d1.dot(r);
-  const double b = d1.dot(d2);
-  const double denom = a * e - b * b;
-  double s = denom > 1e-12 * a * e ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-  double t = (b * s + f) / e;
-  if (t < 0) {
-    t = 0;
-    s = std::clamp(-c / a, 0.0, 1.0);
-  } else if (t > 1) {
-    t = 1;
-    s = std::clamp((b - c) / a, 0.0, 1.0);
-  }
-  return {s, t};
-}
-
 // A spatial hash of the edges' boxes (widened by twice their radius) in cubes of side h.
 class EdgeGrid {
  public:
@@ -269,7 +245,7 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
       if (a == u || a == w || b == u || b == w) continue;
       const double rg = edge_radius[g];
       if (rg < re || (rg == re && g > e)) continue;  // of two alike, the first takes the other
-      const auto [ps, pt] = closest_pair(seg[e].a, seg[e].b, seg[g].a, seg[g].b);
+      const auto [ps, pt] = closest_parameters(seg[e].a, seg[e].b, seg[g].a, seg[g].b);
       // Near a node of e, the node's own test decides.
       if (ps * length < rg + re || (1 - ps) * length < rg + re) continue;
       const Vec3 p = seg[e].a + ps * (seg[e].b - seg[e].a);
@@ -394,7 +370,7 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
         if (a == u || a == w || b == u || b == w) continue;
         const double rg = edge_radius[g];
         if (rg < re || (rg == re && g > e)) continue;
-        const auto [ps, pt] = closest_pair(seg[e].a, seg[e].b, seg[g].a, seg[g].b);
+        const auto [ps, pt] = closest_parameters(seg[e].a, seg[e].b, seg[g].a, seg[g].b);
         if (ps * length < rg + re || (1 - ps) * length < rg + re) continue;  // the node's test
         const Vec3 p = seg[e].a + ps * (seg[e].b - seg[e].a);
         const Vec3 q = seg[g].a + pt * (seg[g].b - seg[g].a);

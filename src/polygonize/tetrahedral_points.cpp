@@ -229,20 +229,11 @@ double segment_distance_below(const Vec3& p0, const Vec3& p1, const Vec3& q0, co
   const Vec3 mid = 0.5 * (p0 + p1);
   const double half = 0.5 * (p1 - p0).norm();
   const double coarse = (mid - (q0 + segment_parameter(mid, q0, q1) * (q1 - q0))).norm() - half;
-  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0;
   const double a = d1.squaredNorm(), e = d2.squaredNorm(), b = d1.dot(d2);
-  const double denom = a * e - b * b;
-  if (!(denom > 1e-6 * a * e)) return coarse;  // parallel within 0.06 degrees, or degenerate
-  const double c = d1.dot(r), f = d2.dot(r);
-  double sp = std::clamp((b * f - c * e) / denom, 0.0, 1.0);
-  double tq = (b * sp + f) / e;
-  if (tq < 0) {
-    tq = 0;
-    sp = std::clamp(-c / a, 0.0, 1.0);
-  } else if (tq > 1) {
-    tq = 1;
-    sp = std::clamp((b - c) / a, 0.0, 1.0);
-  }
+  if (!(a * e - b * b > 1e-6 * a * e))
+    return coarse;  // parallel within 0.06 degrees, or degenerate
+  const auto [sp, tq] = closest_parameters(p0, p1, q0, q1);
   return std::max(coarse, ((p0 + sp * d1) - (q0 + tq * d2)).norm());
 }
 
