@@ -549,6 +549,7 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
   // nearby when no join moved it, left in its place when one did (the joined layout, built
   // around the new place, missed the old one).
   std::vector<std::uint8_t> force;
+  std::vector<std::uint8_t> tried;  // per node, a bit per force value its layouts have had
   detail::ParticleLayoutInput input;
   std::uint64_t evaluations = 0;
   int iterations = 0;
@@ -653,16 +654,25 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
       break;
     }
     // A node left where it was is joined to a thicker branch nearby; one a join moved (whose
-    // own place the joined layout missed) stays where it is. Each node gets each change once.
-    if (force.empty()) force.assign(nodes, detail::kJoinAsFound);
+    // own place the joined layout missed) stays where it is. Where that leaves it outside too,
+    // it takes the way not tried yet (a node joined at the neck, then left in place, is joined
+    // on the thicker axis: 1 of 5,001 nodes of a 5,000-segment tree). Each node tries each way
+    // once.
+    if (force.empty()) {
+      force.assign(nodes, detail::kJoinAsFound);
+      tried.assign(nodes, 0);
+    }
     std::size_t changed = 0;
     const std::vector<std::uint8_t>& moved_nodes = better ? best->joined.moved : joined.moved;
     for (const std::uint32_t v : outside) {
       const bool moved = !moved_nodes.empty() && moved_nodes[v] != 0;
-      if (moved && force[v] != detail::kJoinNever) {
-        force[v] = detail::kJoinNever;
-      } else if (!moved && force[v] == detail::kJoinAsFound) {
-        force[v] = detail::kJoinNearby;
+      tried[v] |= static_cast<std::uint8_t>(1U << force[v]);
+      const std::uint8_t first = moved ? detail::kJoinNever : detail::kJoinNearby;
+      const std::uint8_t second = moved ? detail::kJoinNearby : detail::kJoinNever;
+      if ((tried[v] & (1U << first)) == 0) {
+        force[v] = first;
+      } else if ((tried[v] & (1U << second)) == 0) {
+        force[v] = second;
       } else {
         continue;
       }

@@ -25,6 +25,7 @@
 #include "ramiform/core/errors.h"
 #include "ramiform/field/equipotential.h"
 #include "ramiform/field/skeleton_field.h"
+#include "ramiform/io/skeleton_io.h"
 #include "ramiform/mesh/checks.h"
 #include "ramiform/mesh/winding.h"
 #include "ramiform/skeleton/generate.h"
@@ -590,7 +591,9 @@ TEST(ParticleMeshEquipotential, ThinForkBesideAThickerBranchHasEveryNodeInside) 
     const Skeleton s = twig_beside_thicker_branch(larger);
     const Meshed run = mesh_equipotential(s);
     EXPECT_EQ(run.stats.nodes_outside, 0U);
-    if (larger) EXPECT_GT(run.stats.unrelaxed, 0U);
+    if (larger) {
+      EXPECT_GT(run.stats.unrelaxed, 0U);
+    }
     // Few folds: the branches' surfaces merge here, so some remain (about 9 % and 1.6 %).
     const Equipotential eq = make_equipotential(s);
     const std::size_t folds = test::triangles_facing_inwards(run.mesh, *eq.field);
@@ -618,6 +621,29 @@ TEST(ParticleMeshEquipotential, ThinBranchBesideAThickerOneIsJoinedAtTheNeck) {
     EXPECT_LT(500 * folds, run.mesh.triangles.size());  // under 0.2 %
     expect_same_on_one_thread(eq, s, run.mesh);
   }
+}
+
+// A 117-node piece of the crown of `ramiform generate --segments 5000 --seed 44` (coordinates to
+// 6 digits, data/neck_fold_crown.json), meshed with that tree's lambda: node 62, a twig's node
+// (radius 0.028) 0.31 from a branch of 0.23, is left outside when a join puts it at the neck
+// between the axes, and again when the rebuilt layout leaves it in place (a fold of the merged
+// surface covers it); the third layout joins it on the thicker axis and it is inside. Before
+// that third way was tried, the mesher stopped after the second layout with the node outside.
+TEST(ParticleMeshEquipotential, NodeLeftOutsideByTheNeckAndInPlaceIsJoinedOnTheAxis) {
+  const Skeleton s = read_skeleton(std::string(RAMIFORM_SOURCE_DIR) +
+                                   "/tests/polygonize/data/neck_fold_crown.json");
+  ASSERT_EQ(s.nodes.size(), 117U);
+  EXPECT_LT((s.nodes[62].position - Vec3(0.326674, 5.98210, 6.94725)).norm(), 1e-5);
+  EquipotentialOptions eo;
+  eo.lambda = 2.6045555780258614;
+  const Meshed run = mesh_equipotential(s, eo);  // every node's winding number above 0.5
+  EXPECT_EQ(run.stats.nodes_outside, 0U);
+  EXPECT_TRUE(run.stats.outside_nodes.empty());
+  EXPECT_EQ(run.stats.repaired_nodes, 1U);
+  const WindingNumber winding(run.mesh);
+  EXPECT_GT(winding(s.nodes[62].position), 0.5);
+  const Equipotential eq = make_equipotential(s, eo);
+  expect_same_on_one_thread(eq, s, run.mesh);
 }
 
 TEST(ParticleMeshEquipotential, OpenEnds) {

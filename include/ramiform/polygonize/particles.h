@@ -62,7 +62,8 @@
 /// nodes the mesh leaves outside (generalized winding number, mesh/winding.h, tested on the
 /// nodes a join moved or a triangle swept on its way to the surface) are repaired by a
 /// rebuilt layout, at most three times (a node no join moved is joined to a thicker branch
-/// nearby, a join that moved one is undone; polygonize/particle_merge.h), every particle that
+/// nearby, a join that moved one is undone, and a node still outside then takes the way it
+/// has not tried; polygonize/particle_merge.h), every particle that
 /// starts where it did before taking its earlier projection; and relaxation moves that would
 /// carry a triangle across a node are undone, which keeps the winding number at every node.
 ///
