@@ -636,6 +636,29 @@ TEST(BezierProject, BatchedPathEqualsOneByOneBitForBit) {
   EXPECT_EQ(different, 0);
 }
 
+TEST(BezierProject, PointsOnTheCurveAtArcEndsAreAtDistanceZero) {
+  // A query on the curve at a dyadic parameter (the arcs' ends are at multiples of 1/64) lies on
+  // an arc's bounding sphere (the end is the control farthest from its centre) while the first
+  // visit's ends bound the distance by 0: the arc holding the root was once pruned by a
+  // rounding (the loop below at t = 1/4 and 3/8 gave t = 1 at distance 1.89 and 2.27).
+  Rng rng(6464);
+  std::vector<BezierCurve> curves = {planar({{0, 0}, {3, 3}, {-1, 3}, {2, 0}}),
+                                     planar({{0, 0}, {2, 2}, {0, 2}, {2, 0}})};
+  for (const int degree : {2, 3, 3, 4, 5, 6, 7}) curves.push_back(random_curve(rng, degree));
+  for (std::size_t ci = 0; ci < curves.size(); ++ci) {
+    const BezierProjector proj(curves[ci]);
+    std::vector<Vec3> points;
+    for (int j = 0; j <= 64; ++j) points.push_back(bezier_point(proj.curve(), j / 64.0));
+    std::vector<BezierProjection> batch(points.size());
+    proj.project(points, batch);
+    for (std::size_t j = 0; j < points.size(); ++j) {
+      const double scale = 1e-13 * (1 + points[j].norm());
+      EXPECT_LE(batch[j].distance, scale) << "curve " << ci << " t " << j << "/64";
+      EXPECT_LE(proj.project(points[j]).distance, scale) << "curve " << ci << " t " << j << "/64";
+    }
+  }
+}
+
 // A guard for any shortcut in the arc path (pruning by bounds, a cheaper first arc, early
 // outs): points placed where a wrong rejection of an arc would show. On a medial axis (the
 // midpoint of two curve points, nudged by 1e-12 .. 1e-4 towards either: two arcs nearly equally
