@@ -704,7 +704,11 @@ void BezierProjector::build_arcs() {
                    arc.g.w_error.data());
     arcs_.push_back(arc);
     centres.push_back(centre);
-    radii.push_back(radius);
+    // Inflated for rounding (as the group spheres are): a query at the arc's control farthest
+    // from the centre (the arc's end, where the nearest point may be) lies on the exact sphere,
+    // and the sphere test against a zero bound (a query on an arc end: the first visit's ends
+    // give best2 = 0) would otherwise reject the arc that holds the root by one rounding.
+    radii.push_back(radius * (1 + kReachMargin) + 1e-12 * (centre.cwiseAbs().maxCoeff() + radius));
     {
       // The arc lies in the convex hull of its controls, and the distance to the chord segment
       // is convex: the arc is within max_j dist(Q_j, chord) of the chord.

@@ -36,7 +36,8 @@ inline constexpr double kBezierNearTie = 1e-9;
 struct BezierArcTable {
   int degree = 0;  ///< N, 1..7
   int count = 0;   ///< K, the number of arcs
-  // Per arc (K entries): bounding sphere, parameter range, certificate and Newton constants.
+  // Per arc (K entries): bounding sphere (radius inflated for rounding: 1e-9 relative and 1e-12
+  // of the coordinates), parameter range, certificate and Newton constants.
   std::vector<double> cx, cy, cz, radius;
   /// Chord (end - start), 1 / |chord|² (0 for a closed arc), largest distance of the arc from
   /// the chord segment (inflated): a second lower bound of the distance to the arc.

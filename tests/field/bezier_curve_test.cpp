@@ -636,6 +636,139 @@ TEST(BezierProject, BatchedPathEqualsOneByOneBitForBit) {
   EXPECT_EQ(different, 0);
 }
 
+TEST(BezierProject, PointsOnTheCurveAtArcEndsAreAtDistanceZero) {
+  // A query on the curve at a dyadic parameter (the arcs' ends are at multiples of 1/64) lies on
+  // an arc's bounding sphere (the end is the control farthest from its centre) while the first
+  // visit's ends bound the distance by 0: the arc holding the root was once pruned by a
+  // rounding (the loop below at t = 1/4 and 3/8 gave t = 1 at distance 1.89 and 2.27).
+  Rng rng(6464);
+  std::vector<BezierCurve> curves = {planar({{0, 0}, {3, 3}, {-1, 3}, {2, 0}}),
+                                     planar({{0, 0}, {2, 2}, {0, 2}, {2, 0}})};
+  for (const int degree : {2, 3, 3, 4, 5, 6, 7}) curves.push_back(random_curve(rng, degree));
+  for (std::size_t ci = 0; ci < curves.size(); ++ci) {
+    const BezierProjector proj(curves[ci]);
+    std::vector<Vec3> points;
+    for (int j = 0; j <= 64; ++j) points.push_back(bezier_point(proj.curve(), j / 64.0));
+    std::vector<BezierProjection> batch(points.size());
+    proj.project(points, batch);
+    for (std::size_t j = 0; j < points.size(); ++j) {
+      const double scale = 1e-13 * (1 + points[j].norm());
+      EXPECT_LE(batch[j].distance, scale) << "curve " << ci << " t " << j << "/64";
+      EXPECT_LE(proj.project(points[j]).distance, scale) << "curve " << ci << " t " << j << "/64";
+    }
+  }
+}
+
+// A guard for any shortcut in the arc path (pruning by bounds, a cheaper first arc, early
+// outs): points placed where a wrong rejection of an arc would show. On a medial axis (the
+// midpoint of two curve points, nudged by 1e-12 .. 1e-4 towards either: two arcs nearly equally
+// near, the bound that prunes one found on the other), at centres of curvature (the evolute:
+// many arcs at about the same distance, uncertified arcs), on the curve and along its normal at
+// dyadic parameters (the arcs' ends, where two arcs share the nearest point), at the double
+// point of a loop (distance 0 on two arcs), near the seam of a closed curve, at a circle's
+// centre (every point of the arc equally near) and far away. Batched (project(points, out),
+// every tie rule) and one by one, against the dense reference (1e-9 relative) and the
+// whole-curve isolation (never farther).
+TEST(BezierProject, AdversarialPointsAgainstDenseSamplingBatchedAndOneByOne) {
+  Rng rng(16016);
+  const double k = 4.0 / 3.0 * (std::sqrt(2.0) - 1);
+  std::vector<BezierCurve> curves = {
+      planar({{1, 0}, {1, k}, {k, 1}, {0, 1}}),             // a quarter circle (centre: the origin)
+      planar({{0, 0}, {3, 3}, {-1, 3}, {2, 0}}),            // a loop crossing itself
+      planar({{0, 0}, {2, 2}, {-2, 2}, {0, 0}}),            // closed: its ends meet
+      planar({{0, 0}, {2, 2}, {0, 2}, {2, 0}}),             // a cusp
+      planar({{0, 0}, {1, 2}, {2, -2}, {3, 0}}),            // an S (inflection)
+      planar({{-2, 0}, {-1, 4}, {0, -4}, {1, 4}, {2, 0}}),  // a symmetric M (degree 4)
+  };
+  for (const int degree : {3, 3, 5, 5, 7}) curves.push_back(random_curve(rng, degree));
+  int checked = 0;
+  for (std::size_t ci = 0; ci < curves.size(); ++ci) {
+    const BezierProjector proj(curves[ci]);
+    const BezierCurve& c = proj.curve();
+    std::vector<Vec3> points;
+    // Medial axis: equidistant from two curve points, and nudged towards either.
+    for (int j = 0; j < 10; ++j) {
+      const double t1 = rng.uniform(0.0, 0.45), t2 = rng.uniform(0.55, 1.0);
+      const Vec3 a = bezier_point(c, t1), b = bezier_point(c, t2);
+      const Vec3 mid = 0.5 * (a + b);
+      const Vec3 side = Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+      const Vec3 lift = side - side.dot(b - a) / std::max((b - a).squaredNorm(), 1e-300) * (b - a);
+      for (const double nudge : {0.0, 1e-12, -1e-12, 1e-6, -1e-6, 1e-4}) {
+        points.push_back(mid + nudge * (b - a) + 0.1 * (j % 3) * lift);
+      }
+    }
+    // Centres of curvature, and 1e-9 .. 1e-5 off them.
+    for (int j = 0; j < 6; ++j) {
+      const double t0 = rng.uniform(0.02, 0.98);
+      const Vec3 d1 = bezier_derivative(c, t0), d2 = bezier_second_derivative(c, t0);
+      if (!(d1.squaredNorm() > 1e-12)) continue;
+      const Vec3 normal_acc = d2 - d2.dot(d1) / d1.squaredNorm() * d1;
+      const double kappa = normal_acc.norm() / d1.squaredNorm();
+      if (!(kappa > 1e-3)) continue;
+      const Vec3 centre = bezier_point(c, t0) + normal_acc.normalized() / kappa;
+      for (const double shift : {0.0, 1e-9, -1e-7, 1e-5}) {
+        points.push_back(centre + shift * normal_acc.normalized());
+      }
+    }
+    // On the curve and off it along the normal at dyadic parameters (where arcs meet).
+    for (int j = 0; j <= 64; j += 3) {
+      const double t = j / 64.0;
+      const Vec3 on = bezier_point(c, t);
+      points.push_back(on);
+      const Vec3 d1 = bezier_derivative(c, t);
+      Vec3 normal = d1.cross(Vec3(0, 0, 1));
+      if (!(normal.squaredNorm() > 1e-20)) normal = d1.cross(Vec3(1, 0, 0));
+      if (normal.squaredNorm() > 1e-20) {
+        points.push_back(on + 0.05 * normal.normalized());
+        points.push_back(on - 0.3 * normal.normalized());
+      }
+    }
+    // The circle's centre, the loop's double point (found on the dense samples), the seam, far.
+    points.emplace_back(0, 0, 0);
+    points.emplace_back(1e-9, -1e-9, 0);
+    points.push_back(c.controls.front() + Vec3(1e-7, -1e-7, 0));
+    points.push_back(1e3 * Vec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)));
+    points.push_back(c.controls.back() + 10 * (c.controls.back() - c.controls.front()));
+    if (ci == 1) {
+      // The loop's double point: C(t1) = C(t2) for t1 != t2, by symmetry on x = 1 (the loop's
+      // axis), refined by bisection on the x coordinate of the first branch.
+      double lo = 0.0, hi = 0.5;
+      for (int it = 0; it < 200; ++it) {
+        const double m = 0.5 * (lo + hi);
+        (bezier_point(c, m).x() < 1.0 ? lo : hi) = m;
+      }
+      const Vec3 crossing = bezier_point(c, lo);
+      points.push_back(crossing);
+      points.push_back(crossing + Vec3(0, 1e-9, 0));
+      points.push_back(crossing + Vec3(0, -1e-6, 0));
+    }
+
+    const DenseReference reference(c);
+    std::vector<double> ref(points.size()), whole(points.size());
+    for (std::size_t j = 0; j < points.size(); ++j) {
+      ref[j] = reference.distance(points[j]);
+      whole[j] = nearest_by_isolation(proj, points[j]);
+    }
+    for (const TieRule rule : {TieRule::kFirst, TieRule::kLast}) {
+      std::vector<BezierProjection> batch(points.size());
+      proj.project(points, batch, rule);
+      for (std::size_t j = 0; j < points.size(); ++j) {
+        const Vec3& p = points[j];
+        for (const BezierProjection& r : {batch[j], proj.project(p, rule)}) {
+          ASSERT_NEAR(r.distance, ref[j], 1e-9 * ref[j] + 1e-12)
+              << "curve " << ci << " point " << j << " at " << p.transpose() << " t " << r.t;
+          ASSERT_LE(r.distance, whole[j] * (1 + 1e-10) + 1e-14) << "curve " << ci << " point " << j;
+          ASSERT_LE((r.point - bezier_point(c, r.t)).norm(), 1e-12) << "curve " << ci;
+          ASSERT_NEAR((r.point - p).norm(), r.distance, 1e-12 * (1 + r.distance));
+          ++checked;
+        }
+      }
+    }
+  }
+  EXPECT_GE(checked, 6000);
+  RecordProperty("checked", checked);
+}
+
 TEST(BezierProject, NeverFartherThanNewtonAndCountsNewtonMisses) {
   Rng rng(99);
   int misses = 0, total = 0;
