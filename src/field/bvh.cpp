@@ -17,6 +17,8 @@ BoxBvh::BoxBvh(std::vector<Aabb> boxes) : boxes_(std::move(boxes)) {
     nodes_.reserve(2 * boxes_.size() / kLeafSize + 2);
     build(0, static_cast<std::uint32_t>(boxes_.size()));
   }
+  leaf_boxes_.resize(boxes_.size());
+  for (std::size_t i = 0; i < order_.size(); ++i) leaf_boxes_[i] = boxes_[order_[i]];
 }
 
 std::uint32_t BoxBvh::build(std::uint32_t begin, std::uint32_t end) {
@@ -53,19 +55,28 @@ std::uint32_t BoxBvh::build(std::uint32_t begin, std::uint32_t end) {
 
 void BoxBvh::query(const Aabb& q, std::vector<std::uint32_t>& out) const {
   if (nodes_.empty() || q.isEmpty()) return;
+  // Children are tested before they are pushed, and a leaf's boxes lie side by side
+  // (leaf_boxes_): the same nodes and items are visited in the same order as when every node
+  // was tested on being popped, so the ids come out in the same order.
+  const double lo0 = q.min().x(), lo1 = q.min().y(), lo2 = q.min().z();
+  const double hi0 = q.max().x(), hi1 = q.max().y(), hi2 = q.max().z();
+  const auto meets = [&](const Aabb& b) {
+    return b.min().x() <= hi0 && lo0 <= b.max().x() && b.min().y() <= hi1 && lo1 <= b.max().y() &&
+           b.min().z() <= hi2 && lo2 <= b.max().z();
+  };
+  if (!meets(nodes_[0].box)) return;
   std::uint32_t stack[64];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const Node& n = nodes_[stack[--top]];
-    if (!n.box.intersects(q)) continue;
     if (n.count > 0) {
       for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
-        if (boxes_[order_[i]].intersects(q)) out.push_back(order_[i]);
+        if (meets(leaf_boxes_[i])) out.push_back(order_[i]);
       }
     } else {
-      stack[top++] = n.first;
-      stack[top++] = n.right;
+      if (meets(nodes_[n.first].box)) stack[top++] = n.first;
+      if (meets(nodes_[n.right].box)) stack[top++] = n.right;
     }
   }
 }
