@@ -85,7 +85,7 @@ class BoxBvh {
     std::uint32_t count = 0;  ///< leaf: number of items; inner: 0 (right child = first + 1 ... )
     std::uint32_t right = 0;  ///< inner: right child
   };
-  std::uint32_t build(std::uint32_t begin, std::uint32_t end);
+  std::uint32_t build(std::uint32_t begin, std::uint32_t end, const std::vector<Vec3>& sums);
 
   std::vector<Aabb> boxes_;
   std::vector<std::uint32_t> order_;
