@@ -31,16 +31,24 @@ class BoxBvh {
     std::uint32_t best = UINT32_MAX;
     double best_value = std::numeric_limits<double>::infinity();
     if (!nodes_.empty()) {
-      std::uint32_t stack[64];
+      // Each node goes on the stack with its box's squared distance, computed once (when its
+      // parent orders its children); the nodes visited and the answer are those of testing
+      // every node's box again when it is popped.
+      struct Entry {
+        std::uint32_t node;
+        double d2;
+      };
+      Entry stack[64];
       int top = 0;
-      stack[top++] = 0;
+      stack[top++] = {0, squared_distance(nodes_[0].box, p)};
       while (top > 0) {
-        const Node& n = nodes_[stack[--top]];
-        if (squared_distance(n.box, p) > best_value) continue;
+        const Entry e = stack[--top];
+        if (e.d2 > best_value) continue;
+        const Node& n = nodes_[e.node];
         if (n.count > 0) {
           for (std::uint32_t i = n.first; i < n.first + n.count; ++i) {
+            if (squared_distance(leaf_boxes_[i], p) > best_value) continue;
             const std::uint32_t id = order_[i];
-            if (squared_distance(boxes_[id], p) > best_value) continue;
             const double d2 = distance2(id);
             if (d2 < best_value || (d2 == best_value && id < best)) {
               best_value = d2;
@@ -52,11 +60,11 @@ class BoxBvh {
           const double dl = squared_distance(nodes_[n.first].box, p);
           const double dr = squared_distance(nodes_[n.right].box, p);
           if (dl <= dr) {
-            stack[top++] = n.right;
-            stack[top++] = n.first;
+            stack[top++] = {n.right, dr};
+            stack[top++] = {n.first, dl};
           } else {
-            stack[top++] = n.first;
-            stack[top++] = n.right;
+            stack[top++] = {n.first, dl};
+            stack[top++] = {n.right, dr};
           }
         }
       }
@@ -77,10 +85,11 @@ class BoxBvh {
     std::uint32_t count = 0;  ///< leaf: number of items; inner: 0 (right child = first + 1 ... )
     std::uint32_t right = 0;  ///< inner: right child
   };
-  std::uint32_t build(std::uint32_t begin, std::uint32_t end);
+  std::uint32_t build(std::uint32_t begin, std::uint32_t end, const std::vector<Vec3>& sums);
 
   std::vector<Aabb> boxes_;
   std::vector<std::uint32_t> order_;
+  std::vector<Aabb> leaf_boxes_;  ///< boxes_[order_[i]] at i: the leaves' boxes side by side
   std::vector<Node> nodes_;
 };
 

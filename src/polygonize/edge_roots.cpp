@@ -46,7 +46,8 @@ std::optional<double> log_secant(const RootBracket& r) {
 std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Vec3>& a,
                                         const std::vector<Vec3>& d, std::vector<double> fa,
                                         std::vector<double> fb, int steps,
-                                        std::uint64_t& evaluations, const Context* ctx) {
+                                        std::uint64_t& evaluations, const Context* ctx,
+                                        const RootStop& stop) {
   const std::size_t n = a.size();
   const double iso = field.iso();
   // Work on the parameter t in [0, 1] of each edge. Where the field is positive at both ends
@@ -94,7 +95,7 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
   for (int step = 0; step < steps && !active.empty(); ++step) {
     std::size_t keep = 0;
     for (const std::uint32_t e : active) {
-      if (brackets[e].width() > tol::kRootFinding) active[keep++] = e;
+      if (brackets[e].width() > stop.width) active[keep++] = e;
     }
     active.resize(keep);
     if (active.empty()) break;
@@ -117,8 +118,7 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
         active.size(), kGrain,
         [&](std::size_t q) {
           const std::uint32_t e = active[q];
-          if (std::isnan(values[q]) ||
-              std::abs(values[q] - iso) <= tol::kRootValue * std::abs(iso)) {
+          if (std::isnan(values[q]) || std::abs(values[q] - iso) <= stop.value * std::abs(iso)) {
             brackets[e].collapse(t[e]);  // on the surface
           } else {
             brackets[e].update(t[e], g_of(e, values[q]));
@@ -135,10 +135,11 @@ std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Ve
 std::vector<Vec3> find_edge_roots(const Field& field, const std::vector<Vec3>& a,
                                   const std::vector<Vec3>& b, std::vector<double> fa,
                                   std::vector<double> fb, int steps, std::uint64_t& evaluations,
-                                  const Context* ctx) {
+                                  const Context* ctx, const RootStop& stop) {
   std::vector<Vec3> d(a.size());
   for (std::size_t e = 0; e < a.size(); ++e) d[e] = b[e] - a[e];
-  return find_edge_roots_along(field, a, d, std::move(fa), std::move(fb), steps, evaluations, ctx);
+  return find_edge_roots_along(field, a, d, std::move(fa), std::move(fb), steps, evaluations, ctx,
+                               stop);
 }
 
 }  // namespace ramiform::detail

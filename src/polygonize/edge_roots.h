@@ -7,10 +7,17 @@
 #include <cstdint>
 #include <vector>
 
+#include "ramiform/core/tolerances.h"
 #include "ramiform/core/types.h"
 #include "ramiform/field/field.h"
 
 namespace ramiform::detail {
+
+/// When the root finding of an edge stops (find_edge_roots_along).
+struct RootStop {
+  double width = tol::kRootFinding;  ///< the bracket in t (0..1 along the edge) at most this
+  double value = tol::kRootValue;    ///< or |f - iso| at the last point at most this times |iso|
+};
 
 /// For every edge e, the segment a[e] + t d[e] with t in [0, 1] (field values fa[e] at t = 0,
 /// fb[e] at t = 1), where exactly one end is inside (f > iso), returns the point where f = iso,
@@ -20,18 +27,20 @@ namespace ramiform::detail {
 /// all edges at once; see the .cpp); every round
 /// evaluates all unconverged edges in one batch and an edge stops once its bracket in t is at
 /// most tol::kRootFinding or |f - iso| at the last point is at most tol::kRootValue |iso|.
-/// Steps = 0 gives linear interpolation. A NaN value counts as on the surface. Adds the
-/// evaluations made to `evaluations`. `d`, `fa` and `fb` have the size of `a`. Runs on
-/// `ctx`'s threads and checks it for cancellation (nullptr: all cores, never cancelled).
+/// Steps = 0 gives linear interpolation. A NaN value counts as on the surface. `stop` may
+/// loosen both stopping rules (the tetrahedral polygonizer's do, see tetrahedral_mesh.cpp). Adds
+/// the evaluations made to `evaluations`. `d`, `fa` and `fb` have the size of `a`. Runs on `ctx`'s
+/// threads and checks it for cancellation (nullptr: all cores, never cancelled).
 std::vector<Vec3> find_edge_roots_along(const Field& field, const std::vector<Vec3>& a,
                                         const std::vector<Vec3>& d, std::vector<double> fa,
                                         std::vector<double> fb, int steps,
-                                        std::uint64_t& evaluations, const Context* ctx = nullptr);
+                                        std::uint64_t& evaluations, const Context* ctx = nullptr,
+                                        const RootStop& stop = {});
 
 /// find_edge_roots_along for the edges from a[e] to b[e] (d = b - a).
 std::vector<Vec3> find_edge_roots(const Field& field, const std::vector<Vec3>& a,
                                   const std::vector<Vec3>& b, std::vector<double> fa,
                                   std::vector<double> fb, int steps, std::uint64_t& evaluations,
-                                  const Context* ctx = nullptr);
+                                  const Context* ctx = nullptr, const RootStop& stop = {});
 
 }  // namespace ramiform::detail

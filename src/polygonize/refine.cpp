@@ -73,6 +73,8 @@ constexpr double kConvergedStep = 3e-3;
 /// about 0.83-0.92 to 0.88-0.95 of the tolerance. A quarter of the 1 % saved 13 % on
 /// archi_Tree_1 but left its p99 at the tolerance.
 constexpr double kSpareShare = 5e-4;
+// The base mesh's root finding stops at |f - iso| <= this times iso (polygonize_to_tolerance()).
+constexpr double kToleranceRootValue = 1e-4;
 
 /// Passes of reproject_off_surface() at most (each the whole way, then half way).
 constexpr int kReprojectPasses = 4;
@@ -1093,6 +1095,11 @@ TriMesh polygonize_to_tolerance(const Field& field, const Skeleton& skeleton,
   auto t0 = Clock::now();
   TetrahedralOptions base = options.tets;
   base.crotch_points = true;  // they keep the refinement's splits in crotches on the surface
+  // Vertices within |f - iso| <= 1e-4 iso: a few 1e-5 local radii off the surface, three orders
+  // of magnitude below the tolerance, and below what the deviation measure resolves. The steps
+  // on to the library's 1e-8 were 30 % of the base mesh's root evaluations (studio tree of
+  // 4,578 nodes: 2.40 instead of 3.44 per vertex), 9 % of all the field evaluations.
+  base.root_value = std::max(base.root_value, kToleranceRootValue);
   TriMesh mesh = polygonize_tetrahedral(field, skeleton, base, ctx, &st.tets);
   st.seconds_tets = since(t0);
   RefineOptions ro;

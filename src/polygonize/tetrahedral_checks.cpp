@@ -76,6 +76,10 @@ void validate_options(const TetrahedralOptions& o) {
     fail("station_spacing must be > 0, got " + std::to_string(o.station_spacing));
   }
   if (o.root_steps < 0 || o.root_steps > 64) fail("root_steps must be in [0, 64]");
+  if (!(o.root_value >= TetrahedralOptions::kMinRootValue &&
+        o.root_value <= TetrahedralOptions::kMaxRootValue)) {
+    fail("root_value must be in [1e-16, 1e-2]");
+  }
   if (o.max_growth_rounds < 0) fail("max_growth_rounds must be >= 0");
 }
 

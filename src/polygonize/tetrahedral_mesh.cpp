@@ -144,9 +144,10 @@ TriMesh assemble_mesh(const Field& field, Extraction&& ex, const Lattice& lattic
   CrossingEdges ce = unique_crossings(ex.records, lattice, ctx);
   ex.records = {};
   TriMesh mesh;
-  mesh.positions = detail::find_edge_roots(field, ce.inside, ce.outside, std::move(ce.f_inside),
-                                           std::move(ce.f_outside), options.root_steps,
-                                           st.root_evaluations, ctx);
+  mesh.positions =
+      detail::find_edge_roots(field, ce.inside, ce.outside, std::move(ce.f_inside),
+                              std::move(ce.f_outside), options.root_steps, st.root_evaluations, ctx,
+                              RootStop{tol::kRootFinding, options.root_value});
   st.crossing_edges = mesh.positions.size();
   triangulate(ex.polygons, ce.edge_of, mesh, ctx);
   renumber_by_first_use(mesh);

@@ -18,7 +18,8 @@ set(RAMIFORM_field_TESTS
   field/sweep_test.cpp
   field/sweep_region_test.cpp
   field/sweep_interpolation_test.cpp
-  field/simd_targets_test.cpp)
+  field/simd_targets_test.cpp
+  field/bvh_test.cpp)
 # The SIMD-target test forces Highway targets (hwy/targets.h; libhwy comes with the field
 # library) and asks the internal kernels (src/field/skeleton_field_simd.h) which one they
 # dispatch to. Internal headers are reachable from every test program (tests/CMakeLists.txt).
