@@ -294,6 +294,9 @@ class Builder {
     return s_.edges[e][0] == v ? s_.edges[e][1] : s_.edges[e][0];
   }
   [[nodiscard]] const Vec3& pos(std::uint32_t v) const { return s_.nodes[v].position; }
+  [[nodiscard]] double sphere_of(std::uint32_t v) const {
+    return in_.node_sphere.empty() ? 0.0 : in_.node_sphere[v];
+  }
   // Degree-two nodes the edge frames are transported through.
   [[nodiscard]] bool passes_through(std::uint32_t v) const {
     return kind_[v] == NodeKind::kStraight || kind_[v] == NodeKind::kChain;
@@ -341,6 +344,12 @@ class Builder {
     }
     for (const std::uint32_t v : forced_junction_) {
       if (kind_[v] == NodeKind::kChain || kind_[v] == NodeKind::kStraight) {
+        kind_[v] = NodeKind::kJunction;
+      }
+    }
+    // A node with a sphere of its own (a soma) is a junction whatever its degree.
+    for (std::uint32_t v = 0; v < nodes; ++v) {
+      if (!incident_[v].empty() && sphere_of(v) > 0 && kind_[v] != NodeKind::kAbsorbed) {
         kind_[v] = NodeKind::kJunction;
       }
     }
@@ -554,6 +563,14 @@ class Builder {
     bool use_fallback = false;     // incident edges too close for the hull
   };
 
+  // Where a junction's own sphere particles start: on its sphere, or on a soma's own sphere
+  // (inside the junction's): there they land on the soma near where they start instead of
+  // sliding from the far sphere onto a thin neurite's tube, which folded over its first nodes
+  // (a 0.6 axon on a soma of 8).
+  [[nodiscard]] double patch_radius(std::uint32_t v, const Junction& j) const {
+    return sphere_of(v) > 0 ? sphere_of(v) : j.rho;
+  }
+
   // The polyline of the chain that leaves node v by edge e, through chain nodes up to the first
   // node that is not one (`far`): its points, their arc lengths from v and its edges.
   void chain_polyline(std::uint32_t e, std::uint32_t v, std::vector<Vec3>& point,
@@ -594,7 +611,9 @@ class Builder {
     Junction j;
     double r_max = 0;
     for (const std::uint32_t e : inc) r_max = std::max(r_max, in_.edge_radius[e]);
-    j.rho = o_.sphere_factor * r_max;
+    // Around a soma the sphere is the soma's times sphere_factor: the neurites' rings start
+    // where their tubes leave the soma's blend.
+    j.rho = o_.sphere_factor * std::max(r_max, sphere_of(v));
     // Per incident edge, the farthest its ring may go (model units from v). Into a chain, the
     // direction is the chord to the chain's point where the ring would sit (not the first edge's,
     // which may be a short connector at any angle), and the ring may go as far along the chain.
@@ -1009,14 +1028,30 @@ class Builder {
         ring_of.push_back(static_cast<std::int32_t>(i));
       }
     }
+    // A soma's sphere is far larger than its neurites' rings: its points are spaced as the
+    // thinnest neurite's ring points are (at the soma's own radius; at most 20,000), not
+    // n_sphere over it (coarser, a thin axon's hole was bridged by long triangles).
+    std::vector<Vec3> soma_points;
+    double spacing = sphere_spacing_;
+    if (sphere_of(v) > 0) {
+      double r_edge = std::numeric_limits<double>::infinity();
+      for (const std::uint32_t e : incident_[v]) r_edge = std::min(r_edge, in_.edge_radius[e]);
+      const double ring_spacing = 2 * kPi * r_edge / n_;
+      const double count = 4 * kPi * sphere_of(v) * sphere_of(v) / (ring_spacing * ring_spacing);
+      const int n = static_cast<int>(
+          std::clamp(std::round(count), static_cast<double>(o_.n_sphere), 20000.0));
+      soma_points = fibonacci_sphere(n);
+      spacing = std::sqrt(4.0 * kPi / n);
+    }
+    const std::vector<Vec3>& sphere = soma_points.empty() ? sphere_ : soma_points;
     std::vector<double> cos_exclusion;
     for (const double beta : j.beta) {
       const double exclusion =
-          std::min(std::max(kCapExclusion * beta, beta + kCapGap * sphere_spacing_), kPi);
+          std::min(std::max(kCapExclusion * beta, beta + kCapGap * spacing), kPi);
       cos_exclusion.push_back(pm::cos(exclusion));
     }
     const std::size_t first_sphere = local.size();
-    for (const Vec3& p : sphere_) {
+    for (const Vec3& p : sphere) {
       bool inside_cap = false;
       for (std::size_t i = 0; i < j.directions.size(); ++i) {
         if (p.dot(j.directions[i]) > cos_exclusion[i]) inside_cap = true;
@@ -1063,7 +1098,7 @@ class Builder {
       for (const Triangle& f : patch) {
         for (const std::uint32_t x : f) {
           if (particle[x] == kNone) {
-            particle[x] = add_particle(pos(v) + j.rho * local[x], v, kNone);
+            particle[x] = add_particle(pos(v) + patch_radius(v, j) * local[x], v, kNone);
           }
         }
       }
@@ -1101,8 +1136,8 @@ class Builder {
       order.emplace_back(pm::atan2(j.directions[i].dot(y), j.directions[i].dot(x)), i);
     }
     std::sort(order.begin(), order.end());
-    const std::uint32_t north = add_particle(pos(v) + j.rho * axis, v, kNone);
-    const std::uint32_t south = add_particle(pos(v) - j.rho * axis, v, kNone);
+    const std::uint32_t north = add_particle(pos(v) + patch_radius(v, j) * axis, v, kNone);
+    const std::uint32_t south = add_particle(pos(v) - patch_radius(v, j) * axis, v, kNone);
     const std::uint32_t h = n_ / 2;
     // Per loop, its points rotated so that the upper arc q[0..h] faces the north pole.
     std::vector<std::vector<std::uint32_t>> q(m);
@@ -1211,6 +1246,11 @@ void check(const ParticleLayoutInput& in, const ParticleLayoutOptions& o) {
       throw InvalidArgument("build_particle_layout: edge_spacing of edge " + std::to_string(e) +
                             " must be finite and > 0, got " + std::to_string(in.edge_spacing[e]));
     }
+  }
+  if (!in.node_sphere.empty() && in.node_sphere.size() != s.nodes.size()) {
+    throw InvalidArgument(
+        "build_particle_layout: node_sphere must be empty or have one entry per node (" +
+        std::to_string(s.nodes.size()) + "), got " + std::to_string(in.node_sphere.size()));
   }
   if (!in.open_end.empty() && in.open_end.size() != s.nodes.size()) {
     throw InvalidArgument(

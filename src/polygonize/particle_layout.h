@@ -41,6 +41,10 @@ struct ParticleLayoutInput {
   std::vector<double> edge_spacing;    ///< charge spacing d_c per edge (> 0): rings sit at charges
   std::vector<std::uint8_t> open_end;  ///< per node, 1 for a leaf whose end is open (ignored
                                        ///< on other nodes); or empty
+  /// Per node, the radius of a sphere of its own (a neuron's soma that neurites were joined
+  /// to), or 0; or empty. A node with such a sphere and edges is a junction whose sphere is
+  /// sphere_factor times the larger of it and its edges' R.
+  std::vector<double> node_sphere;
 };
 
 struct ParticleLayout {

@@ -386,7 +386,47 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
       ++next_node;
     });
   }
-  if (joins.empty()) return out;
+  // Neurites that start on a soma: a node without edges is a sphere of its radius (as the SWC
+  // reader makes a soma). Per other component, the node nearest its centre whose tube reaches
+  // the sphere (centre distance at most R + its own R, and thinner than the sphere) joins it:
+  // the class lies at the soma's centre, and the layout makes it a junction with the soma's
+  // sphere (`node_sphere`), so the soma and its neurites are one piece instead of a sphere the
+  // neurites' tubes run into.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> soma_links;  // neurite node, soma
+  {
+    UnionFind component(static_cast<std::uint32_t>(nodes));
+    for (const auto& [a, b] : s.edges) component.unite(a, b);
+    for (std::uint32_t c = 0; c < nodes; ++c) {
+      if (!graph.adjacent[c].empty()) continue;
+      const Vec3& centre = s.nodes[c].position;
+      const double radius = s.nodes[c].radius;
+      // Per component: (distance, node), the nearest (the first among equals).
+      std::vector<std::pair<std::uint32_t, std::pair<double, std::uint32_t>>> nearest;
+      const Vec3 margin = Vec3::Constant(radius + max_r);
+      for (const std::uint32_t g : grid.near(centre - margin, centre + margin)) {
+        for (const std::uint32_t v : s.edges[g]) {
+          const double d = (s.nodes[v].position - centre).norm();
+          if (!(d <= radius + node_r[v]) || !(node_r[v] < radius)) continue;
+          const std::uint32_t k = component.find(v);
+          const auto it = std::find_if(nearest.begin(), nearest.end(),
+                                       [&](const auto& x) { return x.first == k; });
+          if (it == nearest.end()) {
+            nearest.push_back({k, {d, v}});
+          } else if (std::pair(d, v) < it->second) {
+            it->second = {d, v};
+          }
+        }
+      }
+      std::sort(nearest.begin(), nearest.end());
+      for (const auto& [k, dv] : nearest) {
+        // (The repair's kJoinNever: a neurite whose node the joined layout left outside keeps
+        // its own cap inside the soma's sphere.)
+        if (!force.empty() && force[dv.second] == kJoinNever) continue;
+        soma_links.emplace_back(dv.second, c);
+      }
+    }
+  }
+  if (joins.empty() && soma_links.empty()) return out;
 
   // New nodes: first the crossing splits' (already numbered), then the targets' points.
   std::vector<SkeletonNode> new_nodes;
@@ -444,10 +484,12 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   all.insert(all.end(), new_nodes.begin(), new_nodes.end());
   std::vector<double> weight = node_r;
   weight.insert(weight.end(), new_r.begin(), new_r.end());
+  for (const auto& [v, c] : soma_links) weight[c] = s.nodes[c].radius;
   std::vector<std::uint8_t> open(all.size(), 0);
   for (std::size_t v = 0; v < open_end.size(); ++v) open[v] = open_end[v];
   UnionFind uf(all.size());
   for (const auto& [a, b] : unite) uf.unite(a, b);
+  for (const auto& [v, c] : soma_links) uf.unite(v, c);
 
   // Edges: each original edge as the chain through its inner points.
   struct Piece {
@@ -493,6 +535,8 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   const std::vector<std::uint32_t> rep = representatives();
   std::vector<std::uint8_t> joined_class(all.size(), 0);
   for (const auto& [source, target] : unite) joined_class[uf.find(source)] = 1;
+  // (A soma's neurites start at its sphere with their own radii.)
+  for (const auto& [v, c] : soma_links) joined_class[uf.find(c)] = 0;
   std::vector<std::uint32_t> index(all.size(), kNone);
   Skeleton merged;
   std::vector<std::uint8_t> merged_open;
@@ -538,6 +582,7 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
     for (std::uint32_t v = 0; v < force.size(); ++v) {
       if (force[v] == kJoinNever) ++on_axis[index[uf.find(v)]];
     }
+    for (const auto& [v, c] : soma_links) ++on_axis[index[uf.find(c)]];  // a soma stays put
     for (std::size_t i = 0; i < merged.nodes.size(); ++i) {
       if (at_necks[i] != 0 && on_axis[i] == 0) {
         merged.nodes[i].position = necks[i] / static_cast<double>(at_necks[i]);
@@ -568,6 +613,12 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   result.moved.assign(nodes, 0);
   for (std::uint32_t v = 0; v < nodes; ++v) {
     result.moved[v] = merged.nodes[index[uf.find(v)]].position != s.nodes[v].position ? 1 : 0;
+  }
+  if (!soma_links.empty()) {
+    result.node_sphere.assign(merged.nodes.size(), 0.0);
+    for (const auto& [v, c] : soma_links) {
+      result.node_sphere[index[uf.find(c)]] = s.nodes[c].radius;
+    }
   }
   result.skeleton.nodes = std::move(merged.nodes);
   if (!open_end.empty()) result.open_end = std::move(merged_open);

@@ -16,7 +16,10 @@
 // every joined node at that segment's neck (its point of least field value) instead of on the
 // thicker axis, so that the junction lies in the merged surface's waist. The layout then builds
 // a junction there as at any fork, so the mesh has the merged surface's topology (each join adds
-// a handle, or joins two components). Only the layout's skeleton changes; the field is built on
+// a handle, or joins two components). A node without edges (a neuron's soma, as the SWC reader
+// makes it: a sphere of its radius) takes, per other component, that component's node nearest
+// its centre whose tube reaches the sphere; the layout makes the soma a junction with its own
+// sphere (MergedSkeleton::node_sphere). Only the layout's skeleton changes; the field is built on
 // the original one.
 
 #include <cstddef>
@@ -46,6 +49,10 @@ struct MergedSkeleton {
   /// Per node of the skeleton, 1 when its node in the result lies elsewhere (a node joined to
   /// a thicker branch's axis, or to a class placed at a thicker member); empty without joins.
   std::vector<std::uint8_t> moved;
+  /// Per node of the result, the radius of the soma sphere it carries (a node without edges
+  /// that neurites were joined to; see ParticleLayoutInput::node_sphere), or 0; empty when
+  /// there is none.
+  std::vector<double> node_sphere;
 };
 
 /// Joins the branches of `skeleton` (validated, straight edges) that run into thicker branches

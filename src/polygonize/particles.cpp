@@ -579,6 +579,7 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     input.edge_radius = joined.edge_radius;
     input.edge_spacing = joined.edge_spacing;
     input.open_end = joined.open_end;
+    input.node_sphere = joined.node_sphere;
     detail::ParticleLayout layout = detail::build_particle_layout(input, lo);
     seconds_layout += seconds_since(t_build);
     const Skeleton& layout_skeleton = joined.skeleton;
@@ -593,6 +594,9 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     }
     for (std::size_t v = 0; v < node_scale.size(); ++v) {
       if (node_scale[v] == 0) node_scale[v] = layout_skeleton.nodes[v].radius;
+      if (!joined.node_sphere.empty()) {
+        node_scale[v] = std::max(node_scale[v], joined.node_sphere[v]);
+      }
     }
     const std::size_t n = layout.positions.size();
     Particles p;

@@ -646,6 +646,79 @@ TEST(ParticleMeshEquipotential, NodeLeftOutsideByTheNeckAndInPlaceIsJoinedOnTheA
   expect_same_on_one_thread(eq, s, run.mesh);
 }
 
+// A neuron as the SWC reader gives it: the soma a node without edges (a sphere) and neurites
+// that start on its surface, each a component of its own. Soma and neurites are one surface, so
+// the mesh is one piece: each neurite joins the soma, whose sphere becomes a junction with one
+// hole per neurite (its points spaced like the thinnest neurite's rings, starting on the soma),
+// instead of a sphere of its own that the neurites' tubes run into (4, 2 and 3 overlapping pieces
+// before). `kind` 0: three neurites of 0.5 on a soma of 3, gently bent; 1: one of them; 2: a thin
+// axon (0.6) and a dendrite (1.6) on a soma of 8, where sphere points started on the junction's
+// sphere (1.5 times the soma's) slid onto the axon and folded over its first two nodes.
+Skeleton neuron(int kind) {
+  Skeleton s;
+  const double soma = kind == 2 ? 8.0 : 3.0;
+  s.nodes.push_back({Vec3(1, 2, 3), soma});
+  const Vec3 directions[3] = {Vec3(1, 0.2, 0.1).normalized(), Vec3(-0.6, 0.8, -0.2).normalized(),
+                              Vec3(-0.3, -0.7, 0.65).normalized()};
+  const int neurites = kind == 0 ? 3 : (kind == 1 ? 1 : 2);
+  for (int k = 0; k < neurites; ++k) {
+    const Vec3 d = directions[k];
+    const Vec3 side = d.cross(Vec3(0.3, 0.4, 1)).normalized();
+    const double r0 = kind == 2 ? (k == 0 ? 0.6 : 1.6) : 0.5;
+    const double step = kind == 2 ? 2.0 : 1.5;
+    for (int i = 0; i < 8; ++i) {
+      const double t = soma + step * i;
+      const Vec3 p = Vec3(1, 2, 3) + t * d + 0.02 * (t - soma) * (t - soma) * side;
+      s.nodes.push_back({p, r0 - 0.02 * i});
+      if (i > 0) {
+        const auto v = static_cast<std::uint32_t>(s.nodes.size() - 1);
+        s.edges.push_back({v - 1, v});
+      }
+    }
+  }
+  return s;
+}
+
+TEST(ParticleMeshEquipotential, NeuritesJoinTheSomaInOnePiece) {
+  for (const int kind : {0, 1, 2}) {
+    SCOPED_TRACE(kind);
+    const Skeleton s = neuron(kind);
+    const std::size_t neurites = s.edges.size() / 7;
+    const Meshed run = mesh_equipotential(s);  // every node inside, Euler as the joins say
+    EXPECT_EQ(run.stats.joined_branches, neurites);
+    EXPECT_EQ(run.stats.repaired_nodes, 0U);
+    const MeshReport r = check_mesh(run.mesh);
+    EXPECT_EQ(r.components, 1U) << test::describe(r);
+    EXPECT_EQ(r.euler, 2) << test::describe(r);
+    EXPECT_EQ(run.stats.nodes_outside, 0U);
+    const Equipotential eq = make_equipotential(s);
+    const std::size_t folds = test::triangles_facing_inwards(run.mesh, *eq.field);
+    EXPECT_EQ(folds, run.stats.inverted_triangles);
+    EXPECT_LT(200 * folds, run.mesh.triangles.size());  // under 0.5 %
+    // The soma is meshed about as finely as the thinnest neurite: on it (triangles with all
+    // corners within 1.05 of its radius) the median edge is under 1.5 of that neurite's ring
+    // chords (2 pi r / 12), and the longest under half the spacing of n_sphere = 48 points on
+    // the soma's sphere (the soma's mesh before; the longest are next to the neurites' holes).
+    const double chord = 2 * kPi * (kind == 2 ? 0.6 : 0.5) / 12;
+    std::vector<double> lengths;
+    for (const auto& t : run.mesh.triangles) {
+      if (std::any_of(t.begin(), t.end(), [&](std::uint32_t x) {
+            return (run.mesh.positions[x] - s.nodes[0].position).norm() > 1.05 * s.nodes[0].radius;
+          })) {
+        continue;
+      }
+      for (int k = 0; k < 3; ++k) {
+        lengths.push_back((run.mesh.positions[t[k]] - run.mesh.positions[t[(k + 1) % 3]]).norm());
+      }
+    }
+    ASSERT_GT(lengths.size(), 100U);
+    std::sort(lengths.begin(), lengths.end());
+    EXPECT_LT(lengths[lengths.size() / 2], 1.5 * chord);
+    EXPECT_LT(lengths.back(), 0.5 * s.nodes[0].radius * std::sqrt(4 * kPi / 48));
+    expect_same_on_one_thread(eq, s, run.mesh);
+  }
+}
+
 TEST(ParticleMeshEquipotential, OpenEnds) {
   Skeleton s = test::y_fork();
   s.open_ends = open_flags(s, {2, 3});

@@ -28,7 +28,9 @@
 /// axes) are joined to it for the layout first (polygonize/particle_merge.h): its edge is split
 /// at the nearest axis point, and the joined node, placed at the neck between the axes (the
 /// least field value on the segment between them), becomes an ordinary junction, so the mesh
-/// takes the merged surface's topology (stats joined_branches). The triangles are a 2-manifold
+/// takes the merged surface's topology (stats joined_branches). Likewise each neurite that starts
+/// on a node without edges (an SWC soma: a sphere of its radius) is joined to it, and the soma
+/// becomes a junction with one hole per neurite. The triangles are a 2-manifold
 /// by construction: closed where every leaf is closed, with one boundary loop (the leaf's ring)
 /// per open end, one component per connected component of the joined skeleton.
 ///
