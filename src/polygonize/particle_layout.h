@@ -43,7 +43,8 @@ struct ParticleLayoutInput {
                                        ///< on other nodes); or empty
   /// Per node, the radius of a sphere of its own (a neuron's soma that neurites were joined
   /// to), or 0; or empty. A node with such a sphere and edges is a junction whose sphere is
-  /// sphere_factor times the larger of it and its edges' R.
+  /// sphere_factor times the larger of it and its edges' R; its own particles start on the
+  /// node's sphere, spaced as the thinnest incident edge's ring points.
   std::vector<double> node_sphere;
 };
 
