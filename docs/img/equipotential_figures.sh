@@ -101,4 +101,11 @@ mesh "$T/fig6.json" -o "$T/fig6_mc.glb" --surface equipotential --method mc --re
 grid $IMG/equipotential_methods.png "$T/fig6.glb@0,1.1,0,0.3" "$T/fig6_tets.glb@0,1.1,0,0.3" \
   "$T/fig6_mc.glb@0,1.1,0,0.3" --ortho --flat --wireframe --width 320 --height 320 \
   --azimuth 30 --elevation 10 --labels "--method particles|--method tets|--method mc --resolution 100"
+# A neuron (examples/data/neuron_small.swc, made by tests/support/neuron_fixture.cpp): the
+# soma joined to its neurites, a junction with one hole per neurite.
+mesh examples/data/neuron_small.swc -o "$T/neuron.glb" --method particles
+grid $IMG/equipotential_neuron.png "$T/neuron.glb" "$T/neuron.glb@0,0,0,9" --ortho --flat \
+  --wireframe-panels 2 --width 400 --height 400 --azimuth 30,30 --elevation 10,10 --frame each \
+  --color b08a64 --labels "neuron_small.swc, one piece|the soma: one hole per neurite"
+
 ls -l $IMG/equipotential_*.png
