@@ -56,18 +56,37 @@ PrimitiveMode mode_of(const SkeletonFieldOptions& o) {
 struct DistanceRange {
   double min = 0, max = 0;
 };
-// A lower bound of the distance from any point of the box to the segment [a, b]: the larger of
-// the box-to-box distance and the centre's distance minus the half diagonal.
-double lower_distance(const Aabb& box, const Vec3& a, const Vec3& b) {
-  Aabb seg;
-  seg.extend(a);
-  seg.extend(b);
-  const Vec3 ab = b - a;
-  const double l2 = ab.squaredNorm();
+// The segment [a, a + ab], its box and |ab|^2: what lower_distance() needs of it.
+struct SegmentBounds {
+  Vec3 a, ab;
+  Aabb box;
+  double l2 = 0;
+};
+
+SegmentBounds segment_bounds(const Vec3& a, const Vec3& b) {
+  SegmentBounds s{a, b - a, Aabb(a), 0.0};
+  s.box.extend(b);
+  s.l2 = s.ab.squaredNorm();
+  return s;
+}
+
+// The distance from the box's centre to the segment less the box's half diagonal: a lower
+// bound of the distance from any point of the box to it (the other is the box-to-box distance).
+double centre_lower_distance(const Aabb& box, const SegmentBounds& s) {
   const Vec3 c = box.center();
-  const double t = l2 > 0 ? std::clamp((c - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-  const double dc = (c - (a + t * ab)).norm();
-  return std::max({0.0, std::sqrt(squared_distance(box, seg)), dc - 0.5 * box.diagonal().norm()});
+  const double t = s.l2 > 0 ? std::clamp((c - s.a).dot(s.ab) / s.l2, 0.0, 1.0) : 0.0;
+  const double dc = (c - (s.a + t * s.ab)).norm();
+  return dc - 0.5 * box.diagonal().norm();
+}
+
+// A lower bound of the distance from any point of the box to the segment: the larger of the
+// box-to-box distance and centre_lower_distance().
+double lower_distance(const Aabb& box, const SegmentBounds& s) {
+  return std::max({0.0, std::sqrt(squared_distance(box, s.box)), centre_lower_distance(box, s)});
+}
+
+double lower_distance(const Aabb& box, const Vec3& a, const Vec3& b) {
+  return lower_distance(box, segment_bounds(a, b));
 }
 
 DistanceRange box_segment_distance(const Aabb& box, const Vec3& a, const Vec3& b) {
@@ -331,33 +350,18 @@ class SkeletonField final : public Field {
     return a;
   }
 
-  // Whether primitive i's support provably misses `box`: lower_distance(box, a, b) beyond the
-  // reach, from the segment data kept for it (ReachTest), the box-to-box distance compared in
-  // squares first. It may differ from lower_distance()'s test only by rounding, far inside
-  // kSupportMargin, and a primitive out of reach adds exactly +0: the candidates it keeps give
-  // the same values. It was a tenth of a dense tree's field time with the BVH query.
+  // Whether primitive i's support provably misses `box`: lower_distance() beyond the reach
+  // grown by kSupportMargin, from the segment data kept for it (reach_bounds_), the box-to-box
+  // distance compared in squares first. It may differ from comparing lower_distance() itself
+  // only by rounding, far inside kSupportMargin, and a primitive out of reach adds exactly +0:
+  // the candidates it keeps give the same values. It was a tenth of a dense tree's field time
+  // with the BVH query.
   bool out_of_reach(std::uint32_t i, const Aabb& box) const {
-    const ReachTest& r = reach_test_[i];
-    const Vec3& lo = box.min();
-    const Vec3& hi = box.max();
-    double bb = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double gap = std::max({0.0, r.lo[k] - hi[k], lo[k] - r.hi[k]});
-      bb += gap * gap;
-    }
-    if (bb > r.limit * r.limit) return true;
-    const Vec3 c = box.center();
-    const double t = std::clamp((c - r.a).dot(r.ab) * r.inv_l2, 0.0, 1.0);
-    const double dc = (c - (r.a + t * r.ab)).norm();
-    return dc - 0.5 * box.diagonal().norm() > r.limit;
+    const SegmentBounds& seg = reach_bounds_[i];
+    const double limit = reach_[i] * (1 + kSupportMargin);
+    return squared_distance(box, seg.box) > limit * limit ||
+           centre_lower_distance(box, seg) > limit;
   }
-
-  // Per primitive, what out_of_reach() needs: the segment [a, a + ab], its box, 1 / |ab|^2 (0
-  // for a point) and the reach grown by kSupportMargin.
-  struct ReachTest {
-    Vec3 a, ab, lo, hi;
-    double inv_l2 = 0, limit = 0;
-  };
 
   // Into `ids`, ascending: the primitives of the BVH's support boxes that meet `box`, less those
   // whose segment is provably out of reach (the support boxes are loose around slanted
@@ -621,17 +625,9 @@ class SkeletonField final : public Field {
 
   // Builds the BVH over the supports and the conservative surface box.
   void finish() {
-    reach_test_.resize(table_.size());
+    reach_bounds_.resize(table_.size());
     for (std::uint32_t i = 0; i < table_.size(); ++i) {
-      ReachTest& r = reach_test_[i];
-      const Vec3 b = point_b(i);
-      r.a = point_a(i);
-      r.ab = b - r.a;
-      r.lo = r.a.cwiseMin(b);
-      r.hi = r.a.cwiseMax(b);
-      const double l2 = r.ab.squaredNorm();
-      r.inv_l2 = l2 > 0 ? 1 / l2 : 0.0;
-      r.limit = reach_[i] * (1 + kSupportMargin);
+      reach_bounds_[i] = segment_bounds(point_a(i), point_b(i));
     }
     std::vector<Aabb> supports(table_.size());
     for (std::uint32_t i = 0; i < table_.size(); ++i) {
@@ -765,7 +761,7 @@ class SkeletonField final : public Field {
   detail::ModeParams mode_;
   detail::PrimitiveTable table_;
   std::vector<double> reach_;  // support radius of each primitive (model units)
-  std::vector<ReachTest> reach_test_;  // per primitive, see out_of_reach()
+  std::vector<SegmentBounds> reach_bounds_;  // per primitive, see out_of_reach()
   double split_diagonal_ = std::numeric_limits<double>::infinity();  // see do_evaluate
   const std::uint64_t serial_ = next_serial();  // this field among all (candidates()' cache)
   detail::BoxBvh bvh_;

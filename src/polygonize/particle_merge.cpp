@@ -393,7 +393,8 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   // sphere (`node_sphere`), so the soma and its neurites are one piece instead of a sphere the
   // neurites' tubes run into.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> soma_links;  // neurite node, soma
-  {
+  if (std::any_of(graph.adjacent.begin(), graph.adjacent.end(),
+                  [](const auto& a) { return a.empty(); })) {
     UnionFind component(static_cast<std::uint32_t>(nodes));
     for (const auto& [a, b] : s.edges) component.unite(a, b);
     for (std::uint32_t c = 0; c < nodes; ++c) {

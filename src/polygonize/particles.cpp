@@ -567,8 +567,7 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     detail::MergedSkeleton joined;
     detail::ParticleLayout layout;
     Particles particles;
-    std::size_t outside = 0;
-    std::vector<std::uint32_t> outside_nodes;
+    std::vector<std::uint32_t> outside_nodes;  // the skeleton's nodes its mesh left outside
   };
   std::optional<Attempt> best;
   for (int attempt = 0;; ++attempt) {
@@ -648,10 +647,10 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     const std::vector<std::uint32_t> outside =
         nodes_outside(skeleton, suspects, p.position, layout.triangles, ctx);
     seconds_layout += seconds_since(t_check);
-    const bool better = !best || outside.size() < best->outside;
+    const bool better = !best || outside.size() < best->outside_nodes.size();
     if (attempt == 0) first_outside = outside.size();
     if (better) {
-      best = Attempt{std::move(joined), std::move(layout), {}, outside.size(), outside};
+      best = Attempt{std::move(joined), std::move(layout), {}, outside};
     }
     if (outside.empty() || attempt == kMaxRepairs) {
       if (better) best->particles = std::move(p);
@@ -699,7 +698,7 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
   const detail::MergedSkeleton joined = std::move(best->joined);
   detail::ParticleLayout layout = std::move(best->layout);
   Particles p = std::move(best->particles);
-  const std::size_t outside = best->outside;
+  const std::size_t outside = best->outside_nodes.size();
   const std::size_t n = p.position.size();
 
   const auto t_relax = Clock::now();
