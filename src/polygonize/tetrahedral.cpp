@@ -48,9 +48,9 @@ class StageClock {
 // Step 1, then the tetrahedralization of step 2; `node_points` gets the index of every node's
 // own point.
 detail::tets::Tetrahedralization tetrahedralize_bounding_points(
-    const Skeleton& skeleton, const TetrahedralOptions& options, Context* ctx, StageClock& clock,
-    TetrahedralStats& st, std::vector<std::uint32_t>& node_points) {
-  detail::tets::BoundingPoints set = detail::tets::bounding_points(skeleton, options, ctx);
+    const Field& field, const Skeleton& skeleton, const TetrahedralOptions& options, Context* ctx,
+    StageClock& clock, TetrahedralStats& st, std::vector<std::uint32_t>& node_points) {
+  detail::tets::BoundingPoints set = detail::tets::bounding_points(skeleton, options, ctx, &field);
   detail::tets::check_memory(set.points.size(), options, ctx);
   const std::size_t real_points = set.points.size();
   std::vector<Vec3> points = detail::tets::jitter_and_enclose(set, skeleton);
@@ -90,7 +90,7 @@ TriMesh polygonize_tetrahedral(const Field& field, const Skeleton& skeleton,
   StageClock clock;
   std::vector<std::uint32_t> node_points;
   const detail::tets::Tetrahedralization tz =
-      tetrahedralize_bounding_points(skeleton, options, ctx, clock, st, node_points);
+      tetrahedralize_bounding_points(field, skeleton, options, ctx, clock, st, node_points);
   std::vector<char> keep = region_of(skeleton, tz, node_points, options, ctx, clock, st);
   detail::tets::Lattice lattice(tz, options.levels);
   detail::tets::Extraction extraction =

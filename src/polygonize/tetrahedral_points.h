@@ -10,6 +10,7 @@
 
 #include "polygonize/tetrahedral_types.h"
 #include "ramiform/core/context.h"
+#include "ramiform/field/field.h"
 #include "ramiform/polygonize/tetrahedral.h"
 #include "ramiform/skeleton/skeleton.h"
 
@@ -25,7 +26,8 @@ namespace ramiform::detail::tets {
 /// The gap points are searched in parallel on ctx's threads (the set does not depend on them).
 [[nodiscard]] BoundingPoints bounding_points(const Skeleton& skeleton,
                                              const TetrahedralOptions& options,
-                                             const Context* ctx = nullptr);
+                                             const Context* ctx = nullptr,
+                                             const Field* field = nullptr);
 
 /// Moves every point by a deterministic pseudo-random offset of at most kJitter of its local
 /// cross-section half size per axis (fixed seed), so that Delaunay sees no cospherical sets (the

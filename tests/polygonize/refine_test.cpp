@@ -105,6 +105,99 @@ TEST(PolygonizeToTolerance, CrotchOfANarrowForkIsMeshedOnTheSurface) {
   EXPECT_LT(d.samples.max, 0.125);
 }
 
+TEST(PolygonizeToTolerance, TwigPassingAForkOfAnotherBranchStaysApart) {
+  // Cut from `generate --segments 1000 --seed 51 --tip-radius 0.004 --trunk-length 1`: a 0.0048
+  // twig passing 0.0105 (1.5 twig radii) from the fork of another branch, two skeleton
+  // components. The gap search's crosses for the fork's two outgoing edges lay 1.2 twig radii
+  // from the narrowest spot and, within 1.5 radii, left out the cross across it; the lattice
+  // then joined the two into one piece by a handle whose vertices stood 0.32 radii off the
+  // surface (the tree's largest deviation, 0.34).
+  Skeleton s;
+  s.nodes = {{Vec3(-0.2689542, 1.9814674, 2.5050914), 0.008},
+             {Vec3(-0.1855464, 2.1318343, 2.5344277), 0.0056569},
+             {Vec3(-0.2362302, 2.1270317, 2.5818225), 0.0056569},
+             {Vec3(-0.3001288, 2.1431975, 2.6033926), 0.004},
+             {Vec3(-0.283746, 2.2384262, 2.6396837), 0.004},
+             {Vec3(-0.1548132, 2.2198142, 2.6345205), 0.004}};
+  s.edges = {{0, 2}, {1, 3}, {2, 4}, {2, 5}};
+  const FieldPtr f = make_skeleton_field(s);
+  // The surfaces stay apart: half way between the twig's axis and the fork the field is 0.91
+  // of iso.
+  ASSERT_LT(f->value(Vec3(-0.23977136, 2.13310647, 2.57467362)), 0.95 * f->iso());
+  const TriMesh m = polygonize_to_tolerance(*f, s);
+  test::expect_closed_manifold(m);
+  test::expect_components(m, 2);
+  EXPECT_EQ(test::nodes_outside(m, s), 0u);
+  DeviationOptions o;
+  o.samples = 40000;
+  o.seed = 7;
+  const DeviationReport d = measure_deviation(m, *f, &s, o);
+  EXPECT_LT(d.vertices.max, 0.05);
+  EXPECT_LT(d.samples.max, 0.15);
+}
+
+TEST(PolygonizeToTolerance, GapCrossGoesWhereTheSwollenTubesLeaveTheirGap) {
+  // Cut from `generate --segments 1700 --seed 34`: a 0.02 twig fork passing 0.17 (axis to
+  // axis) from a 0.10 branch, two skeleton components. By the radii the gap is 0.047 wide and
+  // its cross went to its middle, but the blend swells both tubes: the field there is 1.3 of
+  // iso, inside, and its least value on the line, 0.99, lies 0.3 of the way from the twig. The
+  // lattice joined the two by handles (Euler characteristic -2) with vertices a twig radius off
+  // the surface.
+  Skeleton s;
+  s.nodes = {{Vec3(-2.3793064, -0.5867075, 9.3008973), 0.16},
+             {Vec3(-2.8703306, -0.9719789, 10.0603898), 0.1131371},
+             {Vec3(-3.140931, -1.6513392, 10.3497345), 0.08},
+             {Vec3(-3.1910024, -0.8261133, 10.763503), 0.08},
+             {Vec3(-2.3343263, -0.8210634, 9.9996099), 0.04},
+             {Vec3(-2.6718141, -0.8892519, 10.2083727), 0.0282843},
+             {Vec3(-2.8577314, -1.0830593, 10.386239), 0.02},
+             {Vec3(-2.9428429, -0.7457798, 10.3069733), 0.02}};
+  s.edges = {{0, 1}, {1, 2}, {1, 3}, {4, 5}, {5, 6}, {5, 7}};
+  const FieldPtr f = make_skeleton_field(s);
+  ASSERT_GT(f->value(Vec3(-2.92492751, -0.85282796, 10.28015379)), f->iso());
+  ASSERT_LT(f->value(Vec3(-2.90748426, -0.82303598, 10.28192866)), f->iso());
+  const TriMesh m = polygonize_to_tolerance(*f, s);
+  test::expect_closed_manifold(m);
+  test::expect_components(m, 2);
+  EXPECT_EQ(test::nodes_outside(m, s), 0u);
+  DeviationOptions o;
+  o.samples = 40000;
+  o.seed = 7;
+  const DeviationReport d = measure_deviation(m, *f, &s, o);
+  EXPECT_LT(d.vertices.max, 0.05);
+  EXPECT_LT(d.samples.max, 0.2);
+}
+
+TEST(PolygonizeToTolerance, FanOfAVertexBroughtOntoTheSurfaceLateIsRefined) {
+  // Cut from `generate --segments 3000 --seed 56 --tip-radius 0.004 --trunk-length 1`: a twig
+  // fork (0.004-0.008) beside a 0.032-0.045 branch. A split in the crotch between them was left
+  // half way to the surface and only brought onto it after the rounds; none of its edges had
+  // been split while it was off, so its fan stayed coarse and sagged 0.4-0.7 twig radii
+  // between corners on the surface.
+  Skeleton s;
+  s.nodes = {{Vec3(-0.9924003, -0.1466398, 2.5940301), 0.0452548},
+             {Vec3(-1.316539, -0.0322917, 2.8168098), 0.032},
+             {Vec3(-1.5541065, -0.0926174, 3.0342878), 0.0226274},
+             {Vec3(-1.524208, 0.2068707, 2.9007688), 0.0226274},
+             {Vec3(-1.1103074, -0.0402849, 2.8735419), 0.008},
+             {Vec3(-1.200009, 0.0016618, 2.832029), 0.0056569},
+             {Vec3(-1.2611301, -0.0012332, 2.771742), 0.004},
+             {Vec3(-1.2603591, 0.0626007, 2.8368259), 0.004}};
+  s.edges = {{0, 1}, {1, 2}, {1, 3}, {4, 5}, {5, 6}, {5, 7}};
+  const FieldPtr f = make_skeleton_field(s);
+  ToleranceStats st;
+  const TriMesh m = polygonize_to_tolerance(*f, s, {}, nullptr, &st);
+  test::expect_closed_manifold(m);
+  EXPECT_EQ(test::nodes_outside(m, s), 0u);
+  EXPECT_GT(st.refine.reprojected, 0u);
+  DeviationOptions o;
+  o.samples = 100000;
+  o.seed = 1;
+  const DeviationReport d = measure_deviation(m, *f, &s, o);
+  EXPECT_LT(d.vertices.max, 0.1);
+  EXPECT_LT(d.samples.max, 0.2);
+}
+
 TEST(PolygonizeToTolerance, HalvingTheToleranceRoughlyHalvesTheDeviation) {
   const Skeleton s = tree(40);
   const FieldPtr f = make_skeleton_field(s);
@@ -180,6 +273,7 @@ TEST(RefineToSurface, SplitsOnlyWhereTheMeshIsFarAndRespectsTheBudget) {
   TriMesh one = coarse;
   RefineOptions r;
   r.max_rounds = 1;
+  r.settle_rounds = 0;
   refine_to_surface(one, *f, s, r, nullptr, &st);
   EXPECT_EQ(st.rounds, 1);
   EXPECT_EQ(one.triangles.size(), coarse.triangles.size() + 2 * st.split_edges);
@@ -217,12 +311,13 @@ TEST(RefineToSurface, VerticesLeftOffTheSurfaceGoOntoItOnceTheirFanIsRefined) {
   const Skeleton s = branching_tree(to);
   const FieldPtr f = make_skeleton_field(s);
   const TriMesh coarse = level_one(*f, s);
-  RefineOptions without;
+  RefineOptions without, once;
   without.reproject = false;
+  once.settle_rounds = 0;  // one reprojection, no rounds after it: only vertices move
   RefineStats st_without, st;
   TriMesh left = coarse, taken = coarse;
   refine_to_surface(left, *f, s, without, nullptr, &st_without);
-  refine_to_surface(taken, *f, s, RefineOptions{}, nullptr, &st);
+  refine_to_surface(taken, *f, s, once, nullptr, &st);
   ASSERT_GT(st.halfway + st.flat_splits, 0U);
   EXPECT_EQ(st_without.reprojected, 0U);
   EXPECT_GT(st.reprojected, 0U);
@@ -250,6 +345,19 @@ TEST(RefineToSurface, VerticesLeftOffTheSurfaceGoOntoItOnceTheirFanIsRefined) {
   EXPECT_LE(3 * far(d_taken), far(d_left));
   EXPECT_LT(*std::max_element(d_taken.begin(), d_taken.end()),
             0.75 * *std::max_element(d_left.begin(), d_left.end()));
+  // The default then refines the fans of the vertices it brought onto the surface: more splits
+  // (each at a reprojected vertex's edge at first), the mesh still closed with every node
+  // inside, and no vertex farther off than after the one reprojection.
+  RefineStats st_settled;
+  TriMesh settled = coarse;
+  refine_to_surface(settled, *f, s, RefineOptions{}, nullptr, &st_settled);
+  EXPECT_GT(st_settled.split_edges, st.split_edges);
+  EXPECT_GE(st_settled.reprojected, st.reprojected);
+  test::expect_closed_manifold(settled);
+  EXPECT_EQ(test::nodes_outside(settled, s), 0u);
+  const std::vector<double> d_settled = vertex_distances(settled, *f, s);
+  EXPECT_LE(*std::max_element(d_settled.begin(), d_settled.end()),
+            *std::max_element(d_taken.begin(), d_taken.end()) + 1e-9);
 }
 
 TEST(RefineToSurface, SpareAreaLeavesEdgesUnsplitWithinItsShare) {
@@ -260,6 +368,7 @@ TEST(RefineToSurface, SpareAreaLeavesEdgesUnsplitWithinItsShare) {
   // is either split or spared.
   RefineOptions all, spare;
   all.max_rounds = spare.max_rounds = 1;
+  all.settle_rounds = spare.settle_rounds = 0;
   spare.spare_area = 0.01;
   TriMesh a = coarse, b = coarse;
   RefineStats sa, sb;
@@ -348,6 +457,9 @@ TEST(RefineToSurface, BadOptionsAreRefused) {
   EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
   o = {};
   o.max_rounds = -1;
+  EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
+  o = {};
+  o.settle_rounds = -1;
   EXPECT_THROW(refine_to_surface(m, *f, s, o), InvalidArgument);
   EXPECT_THROW(refine_to_surface(m, *f, Skeleton{}, RefineOptions{}), InvalidArgument);
   ToleranceOptions t;

@@ -37,7 +37,9 @@
 ///     (the point lies in one of the tetrahedra swept by the vertex's fan).
 ///  5. after the rounds (`reproject`), the vertices step 4 left off the surface go onto it where
 ///     their fan, refined around them by the later rounds, now lets them (reproject_off_surface
-///     in refine.cpp).
+///     in refine.cpp); then (`settle_rounds` times at most) rounds on the edges at the vertices
+///     this brought onto the surface, whose fans stayed coarse while they were off, and the
+///     same reprojection of what those rounds left off.
 /// Rounds stop when no edge is split, after `max_rounds`, or when the next round would exceed
 /// `max_triangles`. Deterministic: the result depends only on the inputs, never on the thread
 /// count.
@@ -85,18 +87,25 @@ struct RefineOptions {
   /// surface, no node swept; the whole way, else half of it, in passes (two vertices of one fan
   /// never in the same pass). false leaves them, as the paper-style refinement did.
   bool reproject = true;
+  /// With `reproject`: how many times at most rounds follow a reprojection, on the edges at the
+  /// vertices it brought onto the surface (their sag measured afresh; each set of rounds is
+  /// followed by another reprojection). A round never splits an edge at a vertex left off the
+  /// surface, so without these the fan of a vertex reprojected at the end stays as coarse as
+  /// when the vertex was left, and sags between corners now on the surface (>= 0; 0: one
+  /// reprojection and no more rounds).
+  int settle_rounds = 3;
 };
 
 /// What refine_to_surface() did.
 struct RefineStats {
-  int rounds = 0;                    ///< rounds that split at least one edge
+  int rounds = 0;                    ///< rounds that split at least one edge (settling ones too)
   std::size_t split_edges = 0;       ///< edges split over all rounds
   std::size_t flat_splits = 0;       ///< new vertices left at their edge's midpoint, of which
   std::size_t unprojected = 0;       ///< the Newton steps did not converge close by
   std::size_t reverted = 0;          ///< a fold or a protected point sent back
   std::size_t halfway = 0;           ///< new vertices left half way to the surface
   /// Of those left off the surface (flat or half way), the ones `reproject` took onto it once
-  /// the rounds had refined their neighbourhood.
+  /// the rounds had refined their neighbourhood (every reprojection counted).
   std::size_t reprojected = 0;
   /// Edges not evaluated: halves of an edge whose first-order distance was small enough that
   /// theirs (taken as half of it) is within the tolerance.
