@@ -23,7 +23,9 @@ namespace ramiform::detail::tets {
 /// plane of every pair of branches at a fork (with `options.crotch_points`, three more in the
 /// crotch of every pair meeting at less than 110°); and a square with its centre every
 /// `station_spacing` radii along each edge. Points are numbered node by node, then edge by edge.
-/// The gap points are searched in parallel on ctx's threads (the set does not depend on them).
+/// The gap points are searched in parallel on ctx's threads (the set does not depend on them);
+/// with `field` (the surface to be meshed) a gap cross whose middle lies inside the surface
+/// moves to where the field across the gap is least, if that is outside.
 [[nodiscard]] BoundingPoints bounding_points(const Skeleton& skeleton,
                                              const TetrahedralOptions& options,
                                              const Context* ctx = nullptr,
