@@ -996,6 +996,72 @@ std::size_t reproject_off_surface(TriMesh& mesh, std::vector<char>& off, const O
   return moved_count;
 }
 
+/// Rounds on the edges at `reached` (vertices a reprojection just brought onto the surface),
+/// run on the submesh of their fans alone so that their cost follows the fans, not the mesh:
+/// a round splits only edges with a fresh end, and every triangle at such an edge (and at the
+/// new vertices' edges after it) lies inside those fans, whose outer edges are never split; the
+/// refined fans then replace the old ones (the other triangles keep their order, the refined
+/// ones follow; new vertices are appended).
+void settle_fans(TriMesh& mesh, std::vector<double>& vradius, std::vector<char>& off,
+                 const std::vector<std::uint32_t>& reached, double& spare, const Field& field,
+                 const Skeleton& skeleton, const detail::BoxBvh& nodes, const RefineOptions& o,
+                 Context* ctx, RefineStats& st) {
+  const std::size_t nv = mesh.positions.size();
+  const std::size_t nt = mesh.triangles.size();
+  std::vector<char> is_reached(nv, 0);
+  for (const std::uint32_t v : reached) is_reached[v] = 1;
+  std::vector<char> in_fan(nt, 0);
+  std::vector<std::uint32_t> local(nv, kNone), global;
+  TriMesh sub;
+  for (std::size_t t = 0; t < nt; ++t) {
+    const auto& tri = mesh.triangles[t];
+    if (is_reached[tri[0]] == 0 && is_reached[tri[1]] == 0 && is_reached[tri[2]] == 0) continue;
+    in_fan[t] = 1;
+    std::array<std::uint32_t, 3> mapped{};
+    for (int k = 0; k < 3; ++k) {
+      if (local[tri[k]] == kNone) {
+        local[tri[k]] = static_cast<std::uint32_t>(global.size());
+        global.push_back(tri[k]);
+        sub.positions.push_back(mesh.positions[tri[k]]);
+      }
+      mapped[k] = local[tri[k]];
+    }
+    sub.triangles.push_back(mapped);
+  }
+  const std::size_t fan_triangles = sub.triangles.size();
+  std::vector<double> sub_radius(global.size());
+  std::vector<char> sub_off(global.size()), fresh(global.size());
+  for (std::size_t i = 0; i < global.size(); ++i) {
+    sub_radius[i] = vradius[global[i]];
+    sub_off[i] = off[global[i]];
+    fresh[i] = is_reached[global[i]];
+  }
+  Edges edges = mesh_edges(sub);  // every sag unknown: the edges at fresh ends are evaluated
+  RefineOptions so = o;
+  so.max_triangles =
+      o.max_triangles > nt - fan_triangles ? o.max_triangles - (nt - fan_triangles) : 0;
+  for (int round = 0; round < o.max_rounds; ++round) {
+    const std::size_t split = refine_round(sub, edges, sub_radius, fresh, sub_off, spare, field,
+                                           skeleton, nodes, so, ctx, st);
+    if (split == 0) break;
+    ++st.rounds;
+    st.split_edges += split;
+  }
+  // New vertices after the old ones, then the refined fans in place of the old.
+  for (std::size_t i = global.size(); i < sub.positions.size(); ++i) {
+    global.push_back(static_cast<std::uint32_t>(mesh.positions.size()));
+    mesh.positions.push_back(sub.positions[i]);
+    vradius.push_back(sub_radius[i]);
+    off.push_back(sub_off[i]);
+  }
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < nt; ++t)
+    if (in_fan[t] == 0) mesh.triangles[kept++] = mesh.triangles[t];
+  mesh.triangles.resize(kept);
+  for (const auto& tri : sub.triangles)
+    mesh.triangles.push_back({global[tri[0]], global[tri[1]], global[tri[2]]});
+}
+
 void accumulate(ImproveStats& all, const ImproveStats& pass, bool first) {
   const ImproveStats before = all;
   all = pass;
@@ -1061,8 +1127,9 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
   // the triangles around a vertex it brought onto the surface as coarse as they were while the
   // vertex was off (none of their edges at it had been split), sagging up to 0.7 local radii
   // between corners on the surface (a twig beside a branch); so each reprojection is followed by
-  // rounds on the edges at the vertices it brought onto the surface, then another reprojection
-  // of what those left off, settle_rounds times at most (+0.02-0.1 % triangles).
+  // rounds on the edges at the vertices it brought onto the surface (settle_fans(), on their
+  // fans alone), then another reprojection of what those left off, settle_rounds times at most
+  // (+0.02-0.1 % triangles).
   for (int settle = 0; o.reproject; ++settle) {
     const OffFans fans = off_fans(mesh, off);
     if (fans.vertices.empty()) break;
@@ -1074,27 +1141,11 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
       if (moved == 0) break;
     }
     if (settle >= o.settle_rounds) break;
-    // The edges at the vertices now on the surface, measured afresh.
-    fresh.assign(mesh.positions.size(), 0);
-    std::size_t reached = 0;
-    for (const std::uint32_t v : fans.vertices) {
-      if (off[v] == 0) {
-        fresh[v] = 1;
-        ++reached;
-      }
-    }
-    if (reached == 0) break;
-    for (std::size_t e = 0; e < edges.ends.size(); ++e) {
-      if (fresh[edges.ends[e][0]] != 0 || fresh[edges.ends[e][1]] != 0)
-        edges.sag[e] = std::numeric_limits<double>::infinity();
-    }
-    for (int round = 0; round < o.max_rounds; ++round) {
-      const std::size_t split =
-          refine_round(mesh, edges, vradius, fresh, off, spare, field, skeleton, nodes, o, ctx, st);
-      if (split == 0) break;
-      ++st.rounds;
-      st.split_edges += split;
-    }
+    std::vector<std::uint32_t> reached;
+    for (const std::uint32_t v : fans.vertices)
+      if (off[v] == 0) reached.push_back(v);
+    if (reached.empty()) break;
+    settle_fans(mesh, vradius, off, reached, spare, field, skeleton, nodes, o, ctx, st);
   }
   st.triangles_after = mesh.triangles.size();
   if (stats != nullptr) *stats = st;
