@@ -719,6 +719,55 @@ TEST(ParticleMeshEquipotential, NeuritesJoinTheSomaInOnePiece) {
   }
 }
 
+// Edges whose node radii differ tenfold and more: a single edge from 0.5 to 0.05 (kind 0), a
+// twig of 0.5 / 30 from a trunk node of 0.5 (1), and a trunk of 0.5 forking into two branches
+// that taper from 0.5 to 0.5 / 30 (2). With one placement radius per edge (the mean of its node
+// radii, 0.26-0.28), the thin end's rings and cap started up to 16 times its radius out, in the
+// field's tail, and slid toward the thick end: kind 0 left its leaf outside, the cap's pole
+// unconverged and 12 of 2,088 triangles folded; kind 1 left the twig's leaf outside, kind 2 both
+// leaves. The layout now splits such edges into pieces of at most twofold taper, each with its
+// own (never larger) R: every node inside, every particle converged, no fold on the single edge.
+Skeleton tapering(int kind) {
+  Skeleton s;
+  if (kind == 0) {
+    s.nodes = {{Vec3(0, 0, 0), 0.5}, {Vec3(0, 0, 2), 0.05}};
+    s.edges = {{0, 1}};
+  } else if (kind == 1) {
+    s.nodes = {{Vec3(0, 0, 0), 0.5},
+               {Vec3(0, 0, 2), 0.5},
+               {Vec3(0, 0, 4), 0.5},
+               {Vec3(2, 0, 2.2), 0.5 / 30}};
+    s.edges = {{0, 1}, {1, 2}, {1, 3}};
+  } else {
+    s.nodes = {{Vec3(0, 0, 0), 0.5},
+               {Vec3(0, 0, 1), 0.5},
+               {Vec3(0.5, 0, 3), 0.5 / 30},
+               {Vec3(-0.5, 0, 3), 0.5 / 30}};
+    s.edges = {{0, 1}, {1, 2}, {1, 3}};
+  }
+  return s;
+}
+
+TEST(ParticleMeshEquipotential, StronglyTaperingEdgesCloseAroundTheirThinEnds) {
+  for (const int kind : {0, 1, 2}) {
+    SCOPED_TRACE(kind);
+    const Skeleton s = tapering(kind);
+    const Meshed run = mesh_equipotential(s);  // every particle converged, every node inside
+    EXPECT_EQ(run.stats.nodes_outside, 0U);
+    EXPECT_EQ(run.stats.repaired_nodes, 0U);
+    const MeshReport r = check_mesh(run.mesh);
+    EXPECT_EQ(r.components, 1U) << test::describe(r);
+    EXPECT_EQ(r.euler, 2) << test::describe(r);
+    const Equipotential eq = make_equipotential(s);
+    const std::size_t folds = test::triangles_facing_inwards(run.mesh, *eq.field);
+    EXPECT_EQ(folds, run.stats.inverted_triangles);
+    if (kind == 0) {
+      EXPECT_EQ(folds, 0U);
+    }
+    expect_same_on_one_thread(eq, s, run.mesh);
+  }
+}
+
 TEST(ParticleMeshEquipotential, OpenEnds) {
   Skeleton s = test::y_fork();
   s.open_ends = open_flags(s, {2, 3});
