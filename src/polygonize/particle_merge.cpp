@@ -99,15 +99,21 @@ class EdgeGrid {
 
 struct Graph {
   std::vector<std::vector<std::uint32_t>> adjacent;  // per node, its neighbours
+  std::vector<std::uint32_t> component;              // per node, its connected component
 };
 
 // Whether edge g is another branch for the sources (nodes of the branch that runs into g's
 // tube): true unless the skeleton leads from a source to an end of g through nodes that all lie
 // within `reach` of g's axis (a child leaving its parent's tube at a fork, a branch that runs on
-// inside it, is reached so).
+// inside it, is reached so). An edge of another component of the skeleton is never one: the mesh
+// keeps one piece per connected skeleton component, so two separate trees (or crossing branches
+// that the skeleton does not connect) stay two pieces even where their surfaces merge.
 bool another_branch(const Graph& graph, const Skeleton& s, const std::vector<Segment>& seg,
                     const std::vector<std::uint32_t>& sources, std::uint32_t g, double reach) {
   const std::array<std::uint32_t, 2> ends = s.edges[g];
+  if (sources.empty() || graph.component[sources.front()] != graph.component[ends[0]]) {
+    return false;
+  }
   const auto inside = [&](std::uint32_t v) {
     const Vec3& p = s.nodes[v].position;
     const double t = segment_parameter(p, seg[g].a, seg[g].b);
@@ -169,6 +175,12 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   std::vector<double> node_r(nodes, 0.0);
   Graph graph;
   graph.adjacent.resize(nodes);
+  {
+    UnionFind component(static_cast<std::uint32_t>(nodes));
+    for (const auto& [a, b] : s.edges) component.unite(a, b);
+    graph.component.resize(nodes);
+    for (std::uint32_t v = 0; v < nodes; ++v) graph.component[v] = component.find(v);
+  }
   double max_r = 0;
   for (std::size_t e = 0; e < edges; ++e) {
     const auto [a, b] = s.edges[e];

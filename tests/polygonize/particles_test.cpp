@@ -629,11 +629,17 @@ TEST(ParticleMeshEquipotential, ThinBranchBesideAThickerOneIsJoinedAtTheNeck) {
 // between the axes, and again when the rebuilt layout leaves it in place (a fold of the merged
 // surface covers it); the third layout joins it on the thicker axis and it is inside. Before
 // that third way was tried, the mesher stopped after the second layout with the node outside.
+// The piece is three components of the file (cut off the tree below them), and joins never
+// connect two components, so a node (117) below the crown, where the tree would be, joins their
+// cut ends (nodes 0, 1 and 5) into one as they are in the tree.
 TEST(ParticleMeshEquipotential, NodeLeftOutsideByTheNeckAndInPlaceIsJoinedOnTheAxis) {
-  const Skeleton s = read_skeleton(std::string(RAMIFORM_SOURCE_DIR) +
-                                   "/tests/polygonize/data/neck_fold_crown.json");
+  Skeleton s = read_skeleton(std::string(RAMIFORM_SOURCE_DIR) +
+                             "/tests/polygonize/data/neck_fold_crown.json");
   ASSERT_EQ(s.nodes.size(), 117U);
   EXPECT_LT((s.nodes[62].position - Vec3(0.326674, 5.98210, 6.94725)).norm(), 1e-5);
+  s.nodes.push_back({Vec3(0.25, 3.0, 7.5), 0.32});
+  s.edges.insert(s.edges.end(), {{117, 0}, {117, 1}, {117, 5}});
+  ASSERT_EQ(connected_components(s).count, 1U);
   EquipotentialOptions eo;
   eo.lambda = 2.6045555780258614;
   const Meshed run = mesh_equipotential(s, eo);  // every node's winding number above 0.5
@@ -764,6 +770,43 @@ TEST(ParticleMeshEquipotential, StronglyTaperingEdgesCloseAroundTheirThinEnds) {
     if (kind == 0) {
       EXPECT_EQ(folds, 0U);
     }
+    expect_same_on_one_thread(eq, s, run.mesh);
+  }
+}
+
+// Two skeleton components whose tubes pass through each other: two segments crossing 0.5
+// radii apart (kind 0), and two Y forks, a branch of each running through the other's trunk
+// (1). The surface around them is one, but the mesh keeps one piece per connected skeleton
+// component: joins never connect two components. Before, each pair was joined into one piece.
+Skeleton crossing_components(int kind) {
+  Skeleton s;
+  if (kind == 0) {
+    s.nodes = {{Vec3(-20, 0, 0), 1.0},
+               {Vec3(20, 0, 0), 1.0},
+               {Vec3(7, -8, 0.5), 1.0},
+               {Vec3(7, 24, 0.5), 1.0}};
+    s.edges = {{0, 1}, {2, 3}};
+  } else {
+    s.nodes = {{Vec3(0, 0, 0), 1.5},    {Vec3(0, 0, 20), 1.5},   {Vec3(10, 0, 30), 1.0},
+               {Vec3(-10, 0, 30), 1.0}, {Vec3(5, -14, 25), 1.5}, {Vec3(5, 6, 25), 1.5},
+               {Vec3(5, 11, 35), 1.0},  {Vec3(5, 21, 25), 1.0}};
+    s.edges = {{0, 1}, {1, 2}, {1, 3}, {4, 5}, {5, 6}, {5, 7}};
+  }
+  return s;
+}
+
+TEST(ParticleMeshEquipotential, CrossingComponentsStayTwoPieces) {
+  for (const int kind : {0, 1}) {
+    SCOPED_TRACE(kind);
+    const Skeleton s = crossing_components(kind);
+    ASSERT_EQ(connected_components(s).count, 2U);
+    const Meshed run = mesh_equipotential(s);  // every node inside, one piece per component
+    EXPECT_EQ(run.stats.joined_branches, 0U);
+    EXPECT_EQ(run.stats.nodes_outside, 0U);
+    const MeshReport r = check_mesh(run.mesh);
+    EXPECT_EQ(r.components, 2U) << test::describe(r);
+    EXPECT_EQ(r.euler, 4) << test::describe(r);
+    const Equipotential eq = make_equipotential(s);
     expect_same_on_one_thread(eq, s, run.mesh);
   }
 }
