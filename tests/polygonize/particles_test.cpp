@@ -811,6 +811,78 @@ TEST(ParticleMeshEquipotential, CrossingComponentsStayTwoPieces) {
   }
 }
 
+// A crowded crown: `generate --segments 400 --seed 13 --branch-angle 15 --jitter 30
+// --length-ratio 0.6 --tip-radius 0.04`, whose edges shrink below their radii and whose
+// branches merge into one blob. 11 of 20,130 particles did not converge: caught on jumps of the
+// treecode's field (no point within delta of lambda along their gradient line), or crawling a
+// long way at 0.25 R a round. A stalled particle is now moved sideways and projected again, and
+// a clamp that binds round after round in one direction grows: every particle converges.
+TEST(ParticleMeshEquipotential, CrowdedCrownConverges) {
+  BranchingTreeOptions o;
+  o.segments = 400;
+  o.seed = 13;
+  o.branch_angle_deg = 15;
+  o.jitter_deg = 30;
+  o.length_ratio = 0.6;
+  o.tip_radius = 0.04;
+  const Skeleton s = branching_tree(o);
+  const Meshed run = mesh_equipotential(s);  // every particle converged
+  EXPECT_EQ(run.stats.converged, run.stats.particles);
+  EXPECT_EQ(run.stats.nodes_outside, 0U);
+  const Equipotential eq = make_equipotential(s);
+  expect_same_on_one_thread(eq, s, run.mesh);
+}
+
+// A sphere (f = 2.2 - |p|, iso 1: radius 1.2) whose value jumps by 0.05 at radius 1.21 in the
+// slab |x| < 0.05 (from 0.99 outside to 1.04 inside), as the treecode's field jumps where a cluster
+// switches between its exact and approximate sums: a particle projected in the slab finds no point
+// within delta of the iso value along its gradient line.
+class SlabJumpSphere : public Field {
+ public:
+  SlabJumpSphere() : Field(1.0) {}
+  [[nodiscard]] Interval bound(const Aabb& box) const override {
+    return {2.2 - max_distance(box, Vec3::Zero()),
+            2.25 - std::sqrt(squared_distance(box, Vec3::Zero()))};
+  }
+  [[nodiscard]] Aabb bounds() const override {
+    return {Vec3::Constant(-1.25), Vec3::Constant(1.25)};
+  }
+  [[nodiscard]] std::string describe() const override { return "sphere with a jump"; }
+
+ protected:
+  void do_evaluate(std::span<const Vec3> p, std::span<double> v, std::span<Vec3> g,
+                   const Context* /*ctx*/) const override {
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double r = p[i].norm();
+      v[i] = 2.2 - r + (std::abs(p[i].x()) < 0.05 && r < 1.21 ? 0.05 : 0.0);
+      if (!g.empty()) g[i] = -p[i] / r;
+    }
+  }
+};
+
+// The sphere of an isolated node (radius 1, 400 particles) projected onto SlabJumpSphere: the
+// particles in the slab stalled at the jump, unconverged (14 of 400); moved sideways and
+// projected again, they leave the slab and converge.
+TEST(ParticleMesh, ParticleStalledAtAJumpOfTheFieldMovesSideways) {
+  Skeleton s;
+  s.nodes = {{Vec3::Zero(), 1.0}};
+  const SlabJumpSphere field;
+  ParticleMeshOptions o;
+  o.n_sphere = 400;
+  Context ctx(2);
+  ParticleMeshStats stats;
+  const TriMesh mesh = polygonize_particles(field, s, {}, {}, o, &ctx, &stats);
+  EXPECT_EQ(stats.converged, stats.particles);
+  std::size_t near_slab = 0;
+  for (const Vec3& q : mesh.positions) {
+    EXPECT_NEAR(q.norm(), 1.2, 0.002);
+    if (std::abs(q.x()) < 0.15) ++near_slab;
+  }
+  EXPECT_GT(near_slab, 0U);
+  const MeshReport r = check_mesh(mesh);
+  EXPECT_TRUE(r.watertight) << test::describe(r);
+}
+
 TEST(ParticleMeshEquipotential, OpenEnds) {
   Skeleton s = test::y_fork();
   s.open_ends = open_flags(s, {2, 3});
