@@ -192,6 +192,10 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
     max_r = std::max(max_r, edge_radius[e]);
   }
   const EdgeGrid grid(seg, edge_radius, 4 * max_r);
+  // An open leaf keeps its loop: it is never joined, and a join is never put on it.
+  const auto open_leaf = [&](std::uint32_t v) {
+    return v < open_end.size() && open_end[v] != 0 && graph.adjacent[v].size() == 1;
+  };
 
   // The thicker edge (not adjacent in the skeleton) that `p`, of own radius r, runs into:
   // the one reaching furthest over p, or kNone.
@@ -225,7 +229,7 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   std::vector<Join> joins;
   std::vector<std::uint8_t> joined(nodes, 0);
   for (std::uint32_t v = 0; v < nodes; ++v) {
-    if (graph.adjacent[v].empty()) continue;
+    if (graph.adjacent[v].empty() || open_leaf(v)) continue;
     double t = 0;
     const std::uint8_t mode = force.empty() ? kJoinAsFound : force[v];
     if (mode == kJoinNever) continue;
@@ -342,7 +346,7 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
     // Nodes beside a thicker tube.
     std::vector<Bridge> bridges;
     for (std::uint32_t v = 0; v < nodes; ++v) {
-      if (graph.adjacent[v].empty() || joined[v] != 0) continue;
+      if (graph.adjacent[v].empty() || joined[v] != 0 || open_leaf(v)) continue;
       if (!force.empty() && force[v] == kJoinNever) continue;
       const Vec3& p = s.nodes[v].position;
       const double r = node_r[v];
@@ -478,6 +482,13 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
     } else if ((1 - t) * length < kEndZone * rg) {
       point = s.edges[g][1];
     } else {
+      point = kNone;
+    }
+    if (point != kNone && open_leaf(point)) {
+      i = j;  // (these joins are left out: the branches stay apart)
+      continue;
+    }
+    if (point == kNone) {
       point = next_node++;
       const auto [a, b] = s.edges[g];
       new_nodes.push_back({seg[g].a + t * (seg[g].b - seg[g].a),

@@ -883,6 +883,31 @@ TEST(ParticleMesh, ParticleStalledAtAJumpOfTheFieldMovesSideways) {
   EXPECT_TRUE(r.watertight) << test::describe(r);
 }
 
+// Open ends where branches merge: the leaf of passing_beside(true), which is joined to the
+// thicker branch beside it (kind 0), and a branch of 0.25 passing 0.3 from the open leaf of a
+// branch of 0.6, within the leaf's end zone, so that its join went onto the leaf (1). With every
+// end open, a joined leaf lost its loop: 2 loops for 3 open leaves in both. An open leaf is now
+// never joined nor joined onto; every open end keeps its loop.
+TEST(ParticleMeshEquipotential, OpenLeavesKeepTheirLoopsWhereBranchesMerge) {
+  for (const int kind : {0, 1}) {
+    SCOPED_TRACE(kind);
+    Skeleton s = passing_beside(true);
+    if (kind == 1) {
+      s.nodes[4].position = Vec3(0, 0.3, 13.5);
+      s.nodes.push_back({Vec3(-4, 0, 16), 0.25});
+      s.edges.push_back({4, 5});
+    }
+    EquipotentialOptions eo;
+    eo.open_ends = true;
+    const Meshed run = mesh_equipotential(s, eo);  // every node inside but the open leaves
+    EXPECT_EQ(run.stats.open_loops, 3U);
+    EXPECT_EQ(run.stats.joined_branches, 0U);
+    const MeshReport r = check_mesh(run.mesh);
+    EXPECT_EQ(r.components, 1U) << test::describe(r);
+    EXPECT_EQ(r.euler, 2 - 3) << test::describe(r);
+  }
+}
+
 TEST(ParticleMeshEquipotential, OpenEnds) {
   Skeleton s = test::y_fork();
   s.open_ends = open_flags(s, {2, 3});
