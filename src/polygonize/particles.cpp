@@ -52,6 +52,10 @@ constexpr int kMaxNudges = 4;
 // M on `lsystem bush-2d --iterations 5 --radii pipe`, 5 of 18 k on the crown above).
 constexpr int kPatience = 8;
 constexpr double kGrowth = 1.5;
+// The grown clamp stays within this multiple of the first (R a round at the default max_step),
+// so that a particle that never finds the surface (a lambda far above the field's values)
+// stays near the skeleton instead of flying off exponentially.
+constexpr double kMaxGrowth = 4.0;
 // Layouts rebuilt at most to repair the nodes the previous one's mesh left outside.
 constexpr int kMaxRepairs = 3;
 
@@ -185,7 +189,7 @@ int project(const Field& field, const ParticleMeshOptions& o, std::vector<std::u
             if (clamped_run[s] < kPatience) {
               ++clamped_run[s];
             } else {
-              clamp[s] *= kGrowth;
+              clamp[s] = std::min(clamp[s] * kGrowth, kMaxGrowth * o.max_step * p.scale[i]);
             }
           } else {
             clamped_run[s] = 0;

@@ -908,6 +908,27 @@ TEST(ParticleMeshEquipotential, OpenLeavesKeepTheirLoopsWhereBranchesMerge) {
   }
 }
 
+// Lambda far above the field's values anywhere but on the charges: no particle finds the
+// surface, every step is clamped in the same direction, and the clamp grows. It stays within R
+// a round, so the particles stay near the skeleton and the run ends (with the growth
+// unbounded, they flew off by 1.5^190 R and the node check over their sweeps never finished).
+TEST(ParticleMeshEquipotential, UnreachableLambdaEndsNearTheSkeleton) {
+  const Skeleton s = test::single_segment();
+  EquipotentialOptions eo;
+  eo.lambda = 1e12;
+  const Equipotential eq = make_equipotential(s, eo);
+  Context ctx(2);
+  ParticleMeshStats stats;
+  const TriMesh mesh = polygonize_particles(eq, s, {}, &ctx, &stats);
+  EXPECT_LT(stats.converged, stats.particles);
+  double extent = 0;
+  for (const SkeletonNode& n : s.nodes) extent = std::max(extent, n.position.norm() + n.radius);
+  for (const Vec3& q : mesh.positions) {
+    ASSERT_TRUE(q.allFinite());
+    EXPECT_LT(q.norm(), 2 * extent);
+  }
+}
+
 TEST(ParticleMeshEquipotential, OpenEnds) {
   Skeleton s = test::y_fork();
   s.open_ends = open_flags(s, {2, 3});
