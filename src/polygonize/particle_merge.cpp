@@ -99,15 +99,21 @@ class EdgeGrid {
 
 struct Graph {
   std::vector<std::vector<std::uint32_t>> adjacent;  // per node, its neighbours
+  std::vector<std::uint32_t> component;              // per node, its connected component
 };
 
 // Whether edge g is another branch for the sources (nodes of the branch that runs into g's
 // tube): true unless the skeleton leads from a source to an end of g through nodes that all lie
 // within `reach` of g's axis (a child leaving its parent's tube at a fork, a branch that runs on
-// inside it, is reached so).
+// inside it, is reached so). An edge of another component of the skeleton is never one: the mesh
+// keeps one piece per connected skeleton component, so two separate trees (or crossing branches
+// that the skeleton does not connect) stay two pieces even where their surfaces merge.
 bool another_branch(const Graph& graph, const Skeleton& s, const std::vector<Segment>& seg,
                     const std::vector<std::uint32_t>& sources, std::uint32_t g, double reach) {
   const std::array<std::uint32_t, 2> ends = s.edges[g];
+  if (sources.empty() || graph.component[sources.front()] != graph.component[ends[0]]) {
+    return false;
+  }
   const auto inside = [&](std::uint32_t v) {
     const Vec3& p = s.nodes[v].position;
     const double t = segment_parameter(p, seg[g].a, seg[g].b);
@@ -169,6 +175,12 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   std::vector<double> node_r(nodes, 0.0);
   Graph graph;
   graph.adjacent.resize(nodes);
+  {
+    UnionFind component(static_cast<std::uint32_t>(nodes));
+    for (const auto& [a, b] : s.edges) component.unite(a, b);
+    graph.component.resize(nodes);
+    for (std::uint32_t v = 0; v < nodes; ++v) graph.component[v] = component.find(v);
+  }
   double max_r = 0;
   for (std::size_t e = 0; e < edges; ++e) {
     const auto [a, b] = s.edges[e];
@@ -180,6 +192,10 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
     max_r = std::max(max_r, edge_radius[e]);
   }
   const EdgeGrid grid(seg, edge_radius, 4 * max_r);
+  // An open leaf keeps its loop: it is never joined, and a join is never put on it.
+  const auto open_leaf = [&](std::uint32_t v) {
+    return v < open_end.size() && open_end[v] != 0 && graph.adjacent[v].size() == 1;
+  };
 
   // The thicker edge (not adjacent in the skeleton) that `p`, of own radius r, runs into:
   // the one reaching furthest over p, or kNone.
@@ -213,7 +229,7 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
   std::vector<Join> joins;
   std::vector<std::uint8_t> joined(nodes, 0);
   for (std::uint32_t v = 0; v < nodes; ++v) {
-    if (graph.adjacent[v].empty()) continue;
+    if (graph.adjacent[v].empty() || open_leaf(v)) continue;
     double t = 0;
     const std::uint8_t mode = force.empty() ? kJoinAsFound : force[v];
     if (mode == kJoinNever) continue;
@@ -330,7 +346,7 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
     // Nodes beside a thicker tube.
     std::vector<Bridge> bridges;
     for (std::uint32_t v = 0; v < nodes; ++v) {
-      if (graph.adjacent[v].empty() || joined[v] != 0) continue;
+      if (graph.adjacent[v].empty() || joined[v] != 0 || open_leaf(v)) continue;
       if (!force.empty() && force[v] == kJoinNever) continue;
       const Vec3& p = s.nodes[v].position;
       const double r = node_r[v];
@@ -466,6 +482,13 @@ MergedSkeleton join_merging_branches(const Skeleton& skeleton,
     } else if ((1 - t) * length < kEndZone * rg) {
       point = s.edges[g][1];
     } else {
+      point = kNone;
+    }
+    if (point != kNone && open_leaf(point)) {
+      i = j;  // (these joins are left out: the branches stay apart)
+      continue;
+    }
+    if (point == kNone) {
       point = next_node++;
       const auto [a, b] = s.edges[g];
       new_nodes.push_back({seg[g].a + t * (seg[g].b - seg[g].a),

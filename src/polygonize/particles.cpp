@@ -33,8 +33,29 @@ constexpr std::size_t kMaxListed = 100;
 constexpr double kRelaxWeight = 0.5;
 // A particle whose clamp has been halved below this fraction of its R is bracketing a jump of
 // the field rather than a root (a treecode switching approximations, a kernel's cut-off):
-// further rounds only halve the step again, so it stops there, unconverged. 2^-40 ~ 1e-12.
+// further rounds only halve the step again. 2^-40 ~ 1e-12.
 constexpr double kStalled = 0x1p-40;
+// Such a particle is moved sideways (orthogonal to the gradient) by kNudge times its R and
+// projected again with its full clamp, at most kMaxNudges times, each time a quarter turn further
+// around the gradient and farther; then it stops there, unconverged. The treecode's jumps lie on
+// spheres around its clusters, and the surface has no point within delta of the iso value only
+// in a narrow band where such a sphere crosses it: on `generate --segments 1000 --seed 12
+// --branch-angle 15 --jitter 30 --length-ratio 0.6 --tip-radius 0.04`, a particle stalled 0.5 %
+// off the iso value had converging points 0.05 R to either side.
+constexpr double kNudge = 0.05;
+constexpr int kMaxNudges = 4;
+// A particle whose step has been clamped this many rounds in a row, always in the same
+// direction, is on a long way (placed deep inside a merged surface, or far out): its clamp then
+// grows by kGrowth each round it stays clamped, and is halved as before when the sign flips.
+// Particles placed near the surface converge in a handful of rounds and never grow; those buried
+// in the merged blob of a crowded crown crawled 0.25 R a round and ran out of rounds (1 of 2.16
+// M on `lsystem bush-2d --iterations 5 --radii pipe`, 5 of 18 k on the crown above).
+constexpr int kPatience = 8;
+constexpr double kGrowth = 1.5;
+// The grown clamp stays within this multiple of the first (R a round at the default max_step),
+// so that a particle that never finds the surface (a lambda far above the field's values)
+// stays near the skeleton instead of flying off exponentially.
+constexpr double kMaxGrowth = 4.0;
 // Layouts rebuilt at most to repair the nodes the previous one's mesh left outside.
 constexpr int kMaxRepairs = 3;
 
@@ -98,6 +119,8 @@ int project(const Field& field, const ParticleMeshOptions& o, std::vector<std::u
   const double tolerance = o.delta * std::abs(iso);
   std::vector<double> clamp(active.size());
   std::vector<signed char> last_sign(active.size(), 0);
+  std::vector<std::uint8_t> nudges(active.size(), 0);
+  std::vector<std::uint8_t> clamped_run(active.size(), 0);  // rounds clamped in a row
   for (std::size_t k = 0; k < active.size(); ++k) clamp[k] = o.max_step * p.scale[active[k]];
   // slot[k]: the index into clamp / last_sign of active[k] (stable while `active` shrinks).
   std::vector<std::uint32_t> slot(active.size());
@@ -135,10 +158,42 @@ int project(const Field& field, const ParticleMeshOptions& o, std::vector<std::u
           if (!std::isfinite(r) || !std::isfinite(norm) || !(norm > 0)) return;  // stuck
           const std::uint32_t s = slot[k];
           const signed char sign = r > 0 ? 1 : -1;
-          if (last_sign[s] != 0 && sign != last_sign[s]) clamp[s] *= 0.5;
+          if (last_sign[s] != 0 && sign != last_sign[s]) {
+            clamp[s] *= 0.5;
+            clamped_run[s] = 0;
+          }
           last_sign[s] = sign;
-          if (last || clamp[s] < kStalled * p.scale[i]) return;  // at a jump of f: give up
-          const double step = std::clamp(-r / norm, -clamp[s], clamp[s]);
+          if (last) return;
+          if (clamp[s] < kStalled * p.scale[i]) {
+            // At a jump of f: sideways, and again from the full clamp; or give up.
+            if (nudges[s] == kMaxNudges) return;
+            const Vec3 n = gradients[k] / norm;
+            const int axis =
+                std::abs(n.x()) <= std::abs(n.y()) && std::abs(n.x()) <= std::abs(n.z())
+                    ? 0
+                    : (std::abs(n.y()) <= std::abs(n.z()) ? 1 : 2);
+            const Vec3 u = n.cross(Vec3::Unit(axis)).normalized();
+            const Vec3 w = n.cross(u);
+            const Vec3 side[4] = {u, w, -u, -w};
+            ++nudges[s];
+            p.position[i] += kNudge * nudges[s] * p.scale[i] * side[(nudges[s] - 1) % 4];
+            clamp[s] = o.max_step * p.scale[i];
+            last_sign[s] = 0;
+            clamped_run[s] = 0;
+            moving[k] = 1;
+            return;
+          }
+          const double newton = -r / norm;
+          const double step = std::clamp(newton, -clamp[s], clamp[s]);
+          if (step != newton) {
+            if (clamped_run[s] < kPatience) {
+              ++clamped_run[s];
+            } else {
+              clamp[s] = std::min(clamp[s] * kGrowth, kMaxGrowth * o.max_step * p.scale[i]);
+            }
+          } else {
+            clamped_run[s] = 0;
+          }
           p.position[i] += (step / norm) * gradients[k];
           moving[k] = 1;
         },
@@ -478,6 +533,70 @@ std::vector<std::uint32_t> nodes_outside(const Skeleton& skeleton,
   return out;
 }
 
+// An edge whose node radii differ by more than this factor is split for the layout.
+constexpr double kMaxTaper = 2.0;
+
+// Splits the layout's leaf edges whose thin end is the leaf and whose node radii differ by more
+// than kMaxTaper into pieces whose radii differ by at most that (new nodes on the axis, radius
+// linear along the edge as the surface's is; appended after the existing nodes, so every node
+// keeps its index). A single R per edge (the mean of its node radii) is up to (1 + taper) / 2
+// times the surface's radius at the thin end; at a thin leaf its last rings and its cap then
+// start far out in the field's tail and slide toward the thick end instead of closing around
+// the leaf (a leaf of 0.05 on an edge from 0.5 was left outside, its cap's pole unconverged).
+// Each piece's R is its edge's R scaled by the piece's mean radius over the edge's, where that
+// is smaller: toward the thick end R stays the edge's (larger rings there moved the rings of an
+// acute fork's junction farther out and webbed its crotch). The new nodes are straight chain
+// nodes: the layout gives them rings, and only the rings' radii change along the edge. Edges
+// whose thin end is a junction keep their R (split, the junction's smaller sphere folded a join
+// beside it: 4 -> 38 of 3,000 triangles in ThinBranchBesideAThickerOneIsJoinedAtTheNeck).
+void split_tapering_edges(detail::MergedSkeleton& m) {
+  Skeleton& s = m.skeleton;
+  const std::size_t edges = s.edges.size();
+  const std::vector<std::uint32_t> degree = degrees(s);
+  for (std::size_t e = 0; e < edges; ++e) {
+    const std::uint32_t a = s.edges[e][0];
+    const std::uint32_t b = s.edges[e][1];
+    const double ra = s.nodes[a].radius;
+    const double rb = s.nodes[b].radius;
+    const double taper = std::max(ra, rb) / std::min(ra, rb);
+    if (!(taper > kMaxTaper) || degree[ra < rb ? a : b] != 1) continue;
+    const int pieces = static_cast<int>(std::ceil(std::log(taper) / std::log(kMaxTaper)));
+    const Vec3 pa = s.nodes[a].position;
+    const Vec3 pb = s.nodes[b].position;
+    const double r_edge = m.edge_radius[e];
+    const double spacing = m.edge_spacing[e];
+    // Radii in geometric steps from a to b; the node where the radius (linear in t) has them.
+    std::uint32_t from = a;
+    double r_from = ra;
+    for (int k = 1; k <= pieces; ++k) {
+      std::uint32_t to = b;
+      double r_to = rb;
+      if (k < pieces) {
+        r_to = ra * std::pow(rb / ra, static_cast<double>(k) / pieces);
+        const double t = (ra - r_to) / (ra - rb);
+        to = static_cast<std::uint32_t>(s.nodes.size());
+        s.nodes.push_back(SkeletonNode{pa + t * (pb - pa), r_to});
+        if (!s.node_types.empty()) s.node_types.push_back(s.node_types[a]);
+        if (!s.open_ends.empty()) s.open_ends.push_back(0);
+        if (!m.open_end.empty()) m.open_end.push_back(0);
+        if (!m.node_sphere.empty()) m.node_sphere.push_back(0.0);
+      }
+      const double r = std::min(r_edge, r_edge * (r_from + r_to) / (ra + rb));
+      if (k == 1) {
+        s.edges[e] = {from, to};
+        m.edge_radius[e] = r;
+      } else {
+        s.edges.push_back({from, to});
+        if (!s.curves.empty()) s.curves.emplace_back();
+        m.edge_radius.push_back(r);
+        m.edge_spacing.push_back(spacing);
+      }
+      from = to;
+      r_from = r_to;
+    }
+  }
+}
+
 }  // namespace
 
 TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
@@ -574,6 +693,7 @@ TriMesh polygonize_particles(const Field& field, const Skeleton& skeleton,
     const auto t_build = Clock::now();
     detail::MergedSkeleton joined = detail::join_merging_branches(
         skeleton, base_radius, base_spacing, open, force, &field, ctx);
+    if (!(options.placement_radius > 0)) split_tapering_edges(joined);
     input.skeleton = &joined.skeleton;
     input.edge_radius = joined.edge_radius;
     input.edge_spacing = joined.edge_spacing;

@@ -629,11 +629,17 @@ TEST(ParticleMeshEquipotential, ThinBranchBesideAThickerOneIsJoinedAtTheNeck) {
 // between the axes, and again when the rebuilt layout leaves it in place (a fold of the merged
 // surface covers it); the third layout joins it on the thicker axis and it is inside. Before
 // that third way was tried, the mesher stopped after the second layout with the node outside.
+// The piece is three components of the file (cut off the tree below them), and joins never
+// connect two components, so a node (117) below the crown, where the tree would be, joins their
+// cut ends (nodes 0, 1 and 5) into one as they are in the tree.
 TEST(ParticleMeshEquipotential, NodeLeftOutsideByTheNeckAndInPlaceIsJoinedOnTheAxis) {
-  const Skeleton s = read_skeleton(std::string(RAMIFORM_SOURCE_DIR) +
-                                   "/tests/polygonize/data/neck_fold_crown.json");
+  Skeleton s = read_skeleton(std::string(RAMIFORM_SOURCE_DIR) +
+                             "/tests/polygonize/data/neck_fold_crown.json");
   ASSERT_EQ(s.nodes.size(), 117U);
   EXPECT_LT((s.nodes[62].position - Vec3(0.326674, 5.98210, 6.94725)).norm(), 1e-5);
+  s.nodes.push_back({Vec3(0.25, 3.0, 7.5), 0.32});
+  s.edges.insert(s.edges.end(), {{117, 0}, {117, 1}, {117, 5}});
+  ASSERT_EQ(connected_components(s).count, 1U);
   EquipotentialOptions eo;
   eo.lambda = 2.6045555780258614;
   const Meshed run = mesh_equipotential(s, eo);  // every node's winding number above 0.5
@@ -716,6 +722,210 @@ TEST(ParticleMeshEquipotential, NeuritesJoinTheSomaInOnePiece) {
     EXPECT_LT(lengths[lengths.size() / 2], 1.5 * chord);
     EXPECT_LT(lengths.back(), 0.5 * s.nodes[0].radius * std::sqrt(4 * kPi / 48));
     expect_same_on_one_thread(eq, s, run.mesh);
+  }
+}
+
+// Edges whose node radii differ tenfold and more: a single edge from 0.5 to 0.05 (kind 0), a
+// twig of 0.5 / 30 from a trunk node of 0.5 (1), and a trunk of 0.5 forking into two branches
+// that taper from 0.5 to 0.5 / 30 (2). With one placement radius per edge (the mean of its node
+// radii, 0.26-0.28), the thin end's rings and cap started up to 16 times its radius out, in the
+// field's tail, and slid toward the thick end: kind 0 left its leaf outside, the cap's pole
+// unconverged and 12 of 2,088 triangles folded; kind 1 left the twig's leaf outside, kind 2 both
+// leaves. The layout now splits such edges into pieces of at most twofold taper, each with its
+// own (never larger) R: every node inside, every particle converged, no fold on the single edge.
+Skeleton tapering(int kind) {
+  Skeleton s;
+  if (kind == 0) {
+    s.nodes = {{Vec3(0, 0, 0), 0.5}, {Vec3(0, 0, 2), 0.05}};
+    s.edges = {{0, 1}};
+  } else if (kind == 1) {
+    s.nodes = {{Vec3(0, 0, 0), 0.5},
+               {Vec3(0, 0, 2), 0.5},
+               {Vec3(0, 0, 4), 0.5},
+               {Vec3(2, 0, 2.2), 0.5 / 30}};
+    s.edges = {{0, 1}, {1, 2}, {1, 3}};
+  } else {
+    s.nodes = {{Vec3(0, 0, 0), 0.5},
+               {Vec3(0, 0, 1), 0.5},
+               {Vec3(0.5, 0, 3), 0.5 / 30},
+               {Vec3(-0.5, 0, 3), 0.5 / 30}};
+    s.edges = {{0, 1}, {1, 2}, {1, 3}};
+  }
+  return s;
+}
+
+TEST(ParticleMeshEquipotential, StronglyTaperingEdgesCloseAroundTheirThinEnds) {
+  for (const int kind : {0, 1, 2}) {
+    SCOPED_TRACE(kind);
+    const Skeleton s = tapering(kind);
+    const Meshed run = mesh_equipotential(s);  // every particle converged, every node inside
+    EXPECT_EQ(run.stats.nodes_outside, 0U);
+    EXPECT_EQ(run.stats.repaired_nodes, 0U);
+    const MeshReport r = check_mesh(run.mesh);
+    EXPECT_EQ(r.components, 1U) << test::describe(r);
+    EXPECT_EQ(r.euler, 2) << test::describe(r);
+    const Equipotential eq = make_equipotential(s);
+    const std::size_t folds = test::triangles_facing_inwards(run.mesh, *eq.field);
+    EXPECT_EQ(folds, run.stats.inverted_triangles);
+    if (kind == 0) {
+      EXPECT_EQ(folds, 0U);
+    }
+    expect_same_on_one_thread(eq, s, run.mesh);
+  }
+}
+
+// Two skeleton components whose tubes pass through each other: two segments crossing 0.5
+// radii apart (kind 0), and two Y forks, a branch of each running through the other's trunk
+// (1). The surface around them is one, but the mesh keeps one piece per connected skeleton
+// component: joins never connect two components. Before, each pair was joined into one piece.
+Skeleton crossing_components(int kind) {
+  Skeleton s;
+  if (kind == 0) {
+    s.nodes = {{Vec3(-20, 0, 0), 1.0},
+               {Vec3(20, 0, 0), 1.0},
+               {Vec3(7, -8, 0.5), 1.0},
+               {Vec3(7, 24, 0.5), 1.0}};
+    s.edges = {{0, 1}, {2, 3}};
+  } else {
+    s.nodes = {{Vec3(0, 0, 0), 1.5},    {Vec3(0, 0, 20), 1.5},   {Vec3(10, 0, 30), 1.0},
+               {Vec3(-10, 0, 30), 1.0}, {Vec3(5, -14, 25), 1.5}, {Vec3(5, 6, 25), 1.5},
+               {Vec3(5, 11, 35), 1.0},  {Vec3(5, 21, 25), 1.0}};
+    s.edges = {{0, 1}, {1, 2}, {1, 3}, {4, 5}, {5, 6}, {5, 7}};
+  }
+  return s;
+}
+
+TEST(ParticleMeshEquipotential, CrossingComponentsStayTwoPieces) {
+  for (const int kind : {0, 1}) {
+    SCOPED_TRACE(kind);
+    const Skeleton s = crossing_components(kind);
+    ASSERT_EQ(connected_components(s).count, 2U);
+    const Meshed run = mesh_equipotential(s);  // every node inside, one piece per component
+    EXPECT_EQ(run.stats.joined_branches, 0U);
+    EXPECT_EQ(run.stats.nodes_outside, 0U);
+    const MeshReport r = check_mesh(run.mesh);
+    EXPECT_EQ(r.components, 2U) << test::describe(r);
+    EXPECT_EQ(r.euler, 4) << test::describe(r);
+    const Equipotential eq = make_equipotential(s);
+    expect_same_on_one_thread(eq, s, run.mesh);
+  }
+}
+
+// A crowded crown: `generate --segments 400 --seed 13 --branch-angle 15 --jitter 30
+// --length-ratio 0.6 --tip-radius 0.04`, whose edges shrink below their radii and whose
+// branches merge into one blob. 11 of 20,130 particles did not converge: caught on jumps of the
+// treecode's field (no point within delta of lambda along their gradient line), or crawling a
+// long way at 0.25 R a round. A stalled particle is now moved sideways and projected again, and
+// a clamp that binds round after round in one direction grows: every particle converges.
+TEST(ParticleMeshEquipotential, CrowdedCrownConverges) {
+  BranchingTreeOptions o;
+  o.segments = 400;
+  o.seed = 13;
+  o.branch_angle_deg = 15;
+  o.jitter_deg = 30;
+  o.length_ratio = 0.6;
+  o.tip_radius = 0.04;
+  const Skeleton s = branching_tree(o);
+  const Meshed run = mesh_equipotential(s);  // every particle converged
+  EXPECT_EQ(run.stats.converged, run.stats.particles);
+  EXPECT_EQ(run.stats.nodes_outside, 0U);
+  const Equipotential eq = make_equipotential(s);
+  expect_same_on_one_thread(eq, s, run.mesh);
+}
+
+// A sphere (f = 2.2 - |p|, iso 1: radius 1.2) whose value jumps by 0.05 at radius 1.21 in the
+// slab |x| < 0.05 (from 0.99 outside to 1.04 inside), as the treecode's field jumps where a cluster
+// switches between its exact and approximate sums: a particle projected in the slab finds no point
+// within delta of the iso value along its gradient line.
+class SlabJumpSphere : public Field {
+ public:
+  SlabJumpSphere() : Field(1.0) {}
+  [[nodiscard]] Interval bound(const Aabb& box) const override {
+    return {2.2 - max_distance(box, Vec3::Zero()),
+            2.25 - std::sqrt(squared_distance(box, Vec3::Zero()))};
+  }
+  [[nodiscard]] Aabb bounds() const override {
+    return {Vec3::Constant(-1.25), Vec3::Constant(1.25)};
+  }
+  [[nodiscard]] std::string describe() const override { return "sphere with a jump"; }
+
+ protected:
+  void do_evaluate(std::span<const Vec3> p, std::span<double> v, std::span<Vec3> g,
+                   const Context* /*ctx*/) const override {
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double r = p[i].norm();
+      v[i] = 2.2 - r + (std::abs(p[i].x()) < 0.05 && r < 1.21 ? 0.05 : 0.0);
+      if (!g.empty()) g[i] = -p[i] / r;
+    }
+  }
+};
+
+// The sphere of an isolated node (radius 1, 400 particles) projected onto SlabJumpSphere: the
+// particles in the slab stalled at the jump, unconverged (14 of 400); moved sideways and
+// projected again, they leave the slab and converge.
+TEST(ParticleMesh, ParticleStalledAtAJumpOfTheFieldMovesSideways) {
+  Skeleton s;
+  s.nodes = {{Vec3::Zero(), 1.0}};
+  const SlabJumpSphere field;
+  ParticleMeshOptions o;
+  o.n_sphere = 400;
+  Context ctx(2);
+  ParticleMeshStats stats;
+  const TriMesh mesh = polygonize_particles(field, s, {}, {}, o, &ctx, &stats);
+  EXPECT_EQ(stats.converged, stats.particles);
+  std::size_t near_slab = 0;
+  for (const Vec3& q : mesh.positions) {
+    EXPECT_NEAR(q.norm(), 1.2, 0.002);
+    if (std::abs(q.x()) < 0.15) ++near_slab;
+  }
+  EXPECT_GT(near_slab, 0U);
+  const MeshReport r = check_mesh(mesh);
+  EXPECT_TRUE(r.watertight) << test::describe(r);
+}
+
+// Open ends where branches merge: the leaf of passing_beside(true), which is joined to the
+// thicker branch beside it (kind 0), and a branch of 0.25 passing 0.3 from the open leaf of a
+// branch of 0.6, within the leaf's end zone, so that its join went onto the leaf (1). With every
+// end open, a joined leaf lost its loop: 2 loops for 3 open leaves in both. An open leaf is now
+// never joined nor joined onto; every open end keeps its loop.
+TEST(ParticleMeshEquipotential, OpenLeavesKeepTheirLoopsWhereBranchesMerge) {
+  for (const int kind : {0, 1}) {
+    SCOPED_TRACE(kind);
+    Skeleton s = passing_beside(true);
+    if (kind == 1) {
+      s.nodes[4].position = Vec3(0, 0.3, 13.5);
+      s.nodes.push_back({Vec3(-4, 0, 16), 0.25});
+      s.edges.push_back({4, 5});
+    }
+    EquipotentialOptions eo;
+    eo.open_ends = true;
+    const Meshed run = mesh_equipotential(s, eo);  // every node inside but the open leaves
+    EXPECT_EQ(run.stats.open_loops, 3U);
+    EXPECT_EQ(run.stats.joined_branches, 0U);
+    const MeshReport r = check_mesh(run.mesh);
+    EXPECT_EQ(r.components, 1U) << test::describe(r);
+    EXPECT_EQ(r.euler, 2 - 3) << test::describe(r);
+  }
+}
+
+// Lambda far above the field's values anywhere but on the charges: no particle finds the
+// surface, every step is clamped in the same direction, and the clamp grows. It stays within R
+// a round, so the particles stay near the skeleton and the run ends (with the growth
+// unbounded, they flew off by 1.5^190 R and the node check over their sweeps never finished).
+TEST(ParticleMeshEquipotential, UnreachableLambdaEndsNearTheSkeleton) {
+  const Skeleton s = test::single_segment();
+  EquipotentialOptions eo;
+  eo.lambda = 1e12;
+  const Equipotential eq = make_equipotential(s, eo);
+  Context ctx(2);
+  ParticleMeshStats stats;
+  const TriMesh mesh = polygonize_particles(eq, s, {}, &ctx, &stats);
+  EXPECT_LT(stats.converged, stats.particles);
+  double extent = 0;
+  for (const SkeletonNode& n : s.nodes) extent = std::max(extent, n.position.norm() + n.radius);
+  for (const Vec3& q : mesh.positions) {
+    ASSERT_TRUE(q.allFinite());
+    EXPECT_LT(q.norm(), 2 * extent);
   }
 }
 

@@ -37,7 +37,10 @@
 /// Movement (§3.5, our variant): every round evaluates all particles not yet converged in one
 /// batch (values and gradients) and moves each along the normalized gradient by the Newton step
 /// (iso - f) / |grad f|, clamped to max_step times the particle's local R; a particle's clamp is
-/// halved whenever the sign of f - iso flips, so nothing oscillates. The paper's move by a fixed
+/// halved whenever the sign of f - iso flips, so nothing oscillates, and grows by half after it
+/// has bound 8 rounds in a row in one direction (a long way). A particle whose clamp falls below
+/// 2^-40 R (at a jump of f) is moved sideways by 0.05 R, 0.10 R, ... and projected again, at
+/// most four times. The paper's move by a fixed
 /// delta in the direction sgn(potential - lambda) is the case of a clamp that always binds. The
 /// paper stops at |potential - lambda| <= delta, which compares a potential with the step length
 /// it also calls delta; here the step is the clamp and convergence is relative to the iso value:
