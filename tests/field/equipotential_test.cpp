@@ -252,6 +252,26 @@ TEST(EstimateLambda, IsEquationTwo) {
   EXPECT_DOUBLE_EQ(make_equipotential(s, o).lambda, 1.5);
 }
 
+TEST(EstimateLambda, TestPointsInsideAnotherTubeAreLeftOut) {
+  // Two segments crossing at their midpoints: two of each edge's four test points lie on the
+  // other's axis, where the potential of a line of charges is unbounded (lambda came out
+  // 1.4e21). Left out, the other two (beside both axes) give about twice one segment's lambda.
+  Skeleton one, cross;
+  one.nodes = {{Vec3(-2, 0, 0), 0.1}, {Vec3(2, 0, 0), 0.1}};
+  one.edges = {{0, 1}};
+  cross = one;
+  cross.nodes.push_back({Vec3(0, -2, 0), 0.1});
+  cross.nodes.push_back({Vec3(0, 2, 0), 0.1});
+  cross.edges.push_back({2, 3});
+  EquipotentialOptions o;
+  o.charge = 0.1;
+  const double single = make_equipotential(one, o).lambda;
+  const Equipotential eq = make_equipotential(cross, o);
+  EXPECT_GT(eq.lambda, 1.5 * single);
+  EXPECT_LT(eq.lambda, 2.5 * single);
+  // (Where no test point lies in another tube eq. 2 is unchanged: EstimateLambda.IsEquationTwo.)
+}
+
 TEST(EquipotentialField, DeterministicOnAnyThreadCount) {
   const Skeleton s = test::random_tree(9, 80);
   const Equipotential eq = make_equipotential(s);

@@ -117,7 +117,10 @@ struct ChargeSet {
 void set_edge_charges(ChargeSet& charges, std::span<const double> edge_values);
 
 /// lambda by eq. 2: the mean potential of four test points per edge on a circle around the
-/// edge's midpoint, radius `test_radius[e]` (one per edge, > 0), for the given charges.
+/// edge's midpoint, radius `test_radius[e]` (one per edge, > 0), for the given charges. Not in
+/// the paper: a test point inside another edge's tube (nearer its axis than 0.99 of its radius
+/// there) is left out of the mean (all are kept if none would remain), as its potential near
+/// that axis is not the surface's and one such point decided the mean.
 [[nodiscard]] double estimate_lambda(const ChargeSet& charges, const Skeleton& skeleton,
                                      std::span<const double> test_radius, double theta = 0.25);
 
