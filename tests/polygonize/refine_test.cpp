@@ -79,6 +79,22 @@ TEST(PolygonizeToTolerance, MeetsTheToleranceAndKeepsTheMeshWhole) {
   EXPECT_GT(measured(coarse, *f, s).p99, 2 * o.tolerance);
 }
 
+/// polygonize_to_tolerance() of the convolution surface of `s` at the default tolerance, checked
+/// closed and 2-manifold with `pieces` components and every node inside; returns its deviation
+/// over `samples` points (seed `seed`).
+DeviationReport tolerance_mesh_deviation(const Skeleton& s, std::size_t pieces, std::size_t samples,
+                                         std::uint64_t seed, ToleranceStats* st = nullptr) {
+  const FieldPtr f = make_skeleton_field(s);
+  const TriMesh m = polygonize_to_tolerance(*f, s, {}, nullptr, st);
+  test::expect_closed_manifold(m);
+  test::expect_components(m, pieces);
+  EXPECT_EQ(test::nodes_outside(m, s), 0u);
+  DeviationOptions o;
+  o.samples = samples;
+  o.seed = seed;
+  return measure_deviation(m, *f, &s, o);
+}
+
 TEST(PolygonizeToTolerance, CrotchOfANarrowForkIsMeshedOnTheSurface) {
   // A fork cut from a generated tree: two 0.113 branches leaving a 0.16 node 67° apart. Without
   // the crotch points the lattice crossed the V between them with edges a radius long, the
@@ -90,17 +106,9 @@ TEST(PolygonizeToTolerance, CrotchOfANarrowForkIsMeshedOnTheSurface) {
              {Vec3(-1.1065, 0.1353, 1.0567), 0.1131},
              {Vec3(-1.2997, -0.811, -0.1112), 0.1131}};
   s.edges = {{0, 1}, {1, 2}, {1, 3}};
-  const FieldPtr f = make_skeleton_field(s);
   ToleranceStats st;
-  const TriMesh m = polygonize_to_tolerance(*f, s, {}, nullptr, &st);
-  test::expect_closed_manifold(m);
-  test::expect_components(m, 1);
-  EXPECT_EQ(test::nodes_outside(m, s), 0u);
+  const DeviationReport d = tolerance_mesh_deviation(s, 1, 40000, 987, &st);
   EXPECT_EQ(st.tets.crotch_points, 3u);  // the two branches' pair only (the others are wide)
-  DeviationOptions o;
-  o.samples = 40000;
-  o.seed = 987;
-  const DeviationReport d = measure_deviation(m, *f, &s, o);
   EXPECT_LT(d.vertices.max, 0.01);
   EXPECT_LT(d.samples.max, 0.125);
 }
@@ -124,14 +132,7 @@ TEST(PolygonizeToTolerance, TwigPassingAForkOfAnotherBranchStaysApart) {
   // The surfaces stay apart: half way between the twig's axis and the fork the field is 0.91
   // of iso.
   ASSERT_LT(f->value(Vec3(-0.23977136, 2.13310647, 2.57467362)), 0.95 * f->iso());
-  const TriMesh m = polygonize_to_tolerance(*f, s);
-  test::expect_closed_manifold(m);
-  test::expect_components(m, 2);
-  EXPECT_EQ(test::nodes_outside(m, s), 0u);
-  DeviationOptions o;
-  o.samples = 40000;
-  o.seed = 7;
-  const DeviationReport d = measure_deviation(m, *f, &s, o);
+  const DeviationReport d = tolerance_mesh_deviation(s, 2, 40000, 7);
   EXPECT_LT(d.vertices.max, 0.05);
   EXPECT_LT(d.samples.max, 0.15);
 }
@@ -156,14 +157,7 @@ TEST(PolygonizeToTolerance, GapCrossGoesWhereTheSwollenTubesLeaveTheirGap) {
   const FieldPtr f = make_skeleton_field(s);
   ASSERT_GT(f->value(Vec3(-2.90425726, -0.81752446, 10.28225701)), f->iso());
   ASSERT_LT(f->value(Vec3(-2.90748426, -0.82303598, 10.28192866)), f->iso());
-  const TriMesh m = polygonize_to_tolerance(*f, s);
-  test::expect_closed_manifold(m);
-  test::expect_components(m, 2);
-  EXPECT_EQ(test::nodes_outside(m, s), 0u);
-  DeviationOptions o;
-  o.samples = 40000;
-  o.seed = 7;
-  const DeviationReport d = measure_deviation(m, *f, &s, o);
+  const DeviationReport d = tolerance_mesh_deviation(s, 2, 40000, 7);
   EXPECT_LT(d.vertices.max, 0.05);
   EXPECT_LT(d.samples.max, 0.2);
 }
@@ -184,16 +178,9 @@ TEST(PolygonizeToTolerance, FanOfAVertexBroughtOntoTheSurfaceLateIsRefined) {
              {Vec3(-1.2611301, -0.0012332, 2.771742), 0.004},
              {Vec3(-1.2603591, 0.0626007, 2.8368259), 0.004}};
   s.edges = {{0, 1}, {1, 2}, {1, 3}, {4, 5}, {5, 6}, {5, 7}};
-  const FieldPtr f = make_skeleton_field(s);
   ToleranceStats st;
-  const TriMesh m = polygonize_to_tolerance(*f, s, {}, nullptr, &st);
-  test::expect_closed_manifold(m);
-  EXPECT_EQ(test::nodes_outside(m, s), 0u);
+  const DeviationReport d = tolerance_mesh_deviation(s, 1, 100000, 1, &st);
   EXPECT_GT(st.refine.reprojected, 0u);
-  DeviationOptions o;
-  o.samples = 100000;
-  o.seed = 1;
-  const DeviationReport d = measure_deviation(m, *f, &s, o);
   EXPECT_LT(d.vertices.max, 0.1);
   EXPECT_LT(d.samples.max, 0.2);
 }
