@@ -11,8 +11,6 @@
 #include <sstream>
 #include <string>
 
-#include "core/segment.h"
-#include "field/bvh.h"
 #include "field/equipotential_simd.h"
 #include "field/pointwise_field.h"
 #include "field/radius_fit_detail.h"
@@ -790,6 +788,10 @@ void set_edge_charges(ChargeSet& c, std::span<const double> edge_values) {
   }
 }
 
+// eq. 2's test points deeper than this fraction of its radius inside another edge's tube are
+// left out of lambda's mean (estimate_lambda()).
+constexpr double kTestPointMargin = 0.01;
+
 double estimate_lambda(const ChargeSet& charges, const Skeleton& skeleton,
                        std::span<const double> test_radius, double theta) {
   check_charges(charges);
@@ -828,33 +830,13 @@ double estimate_lambda(const ChargeSet& charges, const Skeleton& skeleton,
   // instead of about 2.5). Such points are left out (all of them kept if none would remain).
   std::vector<char> keep(tests.size(), 1);
   if (ne > 1) {
-    std::vector<Aabb> boxes(ne);
-    for (std::size_t f = 0; f < ne; ++f) {
-      const SkeletonNode& na = skeleton.nodes[skeleton.edges[f][0]];
-      const SkeletonNode& nb = skeleton.nodes[skeleton.edges[f][1]];
-      boxes[f] = Aabb(na.position.cwiseMin(nb.position), na.position.cwiseMax(nb.position));
-      boxes[f].min().array() -= std::max(na.radius, nb.radius);
-      boxes[f].max().array() += std::max(na.radius, nb.radius);
-    }
-    const detail::BoxBvh bvh(std::move(boxes));
+    const std::vector<detail::EdgeGeometry> geo = detail::edge_geometry(skeleton);
+    const detail::TubeIndex tubes(geo);
     parallel::for_chunks(tests.size(), 256, [&](std::size_t begin, std::size_t end) {
-      std::vector<std::uint32_t> near;
+      std::vector<std::uint32_t> ids;
       for (std::size_t i = begin; i < end; ++i) {
-        const Vec3& p = tests[i];
-        near.clear();
-        bvh.query(Aabb(p, p), near);
-        for (const std::uint32_t f : near) {
-          if (f == i / 4) continue;
-          const SkeletonNode& na = skeleton.nodes[skeleton.edges[f][0]];
-          const SkeletonNode& nb = skeleton.nodes[skeleton.edges[f][1]];
-          const double t = detail::segment_parameter(p, na.position, nb.position);
-          const double r = (1 - t) * na.radius + t * nb.radius;
-          const Vec3 axis = na.position + t * (nb.position - na.position);
-          if ((axis - p).squaredNorm() < 0.99 * 0.99 * r * r) {
-            keep[i] = 0;
-            break;
-          }
-        }
+        const auto own = static_cast<std::uint32_t>(i / 4);
+        if (tubes.inside_other(tests[i], own, ids, kTestPointMargin)) keep[i] = 0;
       }
     });
     if (std::find(keep.begin(), keep.end(), 1) == keep.end()) keep.assign(tests.size(), 1);

@@ -11,11 +11,6 @@
 namespace ramiform::detail {
 namespace {
 
-// A point counts as inside another edge's requested tube only when it is deeper than this
-// fraction of that tube's radius: circles of a straight chain's shared node lie exactly on both
-// tubes, and rounding must not decide whether they are kept.
-constexpr double kInsideMargin = 1e-3;
-
 Vec3 perpendicular(const Vec3& d) {
   const Vec3 helper = std::abs(d.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
   return d.cross(helper).normalized();
@@ -55,19 +50,19 @@ TubeIndex::TubeIndex(const std::vector<EdgeGeometry>& edges) : edges_(edges) {
   bvh_ = BoxBvh(std::move(boxes));
 }
 
-bool TubeIndex::inside(const Vec3& p, std::uint32_t e) const {
+bool TubeIndex::inside(const Vec3& p, std::uint32_t e, double margin) const {
   const EdgeGeometry& g = edges_[e];
   const double t = std::clamp((p - g.a).dot(g.u) / g.len, 0.0, 1.0);
   const double r = (1 - t) * g.ra + t * g.rb;
-  return (p - (g.a + t * g.len * g.u)).norm() < r * (1 - kInsideMargin);
+  return (p - (g.a + t * g.len * g.u)).norm() < r * (1 - margin);
 }
 
-bool TubeIndex::inside_other(const Vec3& p, std::uint32_t own,
-                             std::vector<std::uint32_t>& ids) const {
+bool TubeIndex::inside_other(const Vec3& p, std::uint32_t own, std::vector<std::uint32_t>& ids,
+                             double margin) const {
   ids.clear();
   bvh_.query(Aabb(p, p), ids);
   for (const std::uint32_t e : ids) {
-    if (e != own && inside(p, e)) return true;
+    if (e != own && inside(p, e, margin)) return true;
   }
   return false;
 }

@@ -36,6 +36,11 @@ struct EdgeGeometry {
 /// The requested shape: the union of the tubes {p : d(p, segment) < r(t*)}, t* the closest
 /// point parameter (clamped, so the tube ends in spheres of the node radii). Keeps a reference
 /// to `edges`.
+/// A point counts as inside another edge's requested tube only when it is deeper than this
+/// fraction of that tube's radius: circles of a straight chain's shared node lie exactly on both
+/// tubes, and rounding must not decide whether they are kept.
+inline constexpr double kInsideMargin = 1e-3;
+
 class TubeIndex {
  public:
   explicit TubeIndex(const std::vector<EdgeGeometry>& edges);
@@ -43,13 +48,14 @@ class TubeIndex {
   /// Edges whose tube box meets `box`, appended to ids (unordered).
   void query(const Aabb& box, std::vector<std::uint32_t>& ids) const { bvh_.query(box, ids); }
 
-  /// True when p is deeper than kInsideMargin inside the requested tube of edge e.
-  [[nodiscard]] bool inside(const Vec3& p, std::uint32_t e) const;
+  /// True when p is deeper than `margin` (a fraction of the tube's radius there) inside the
+  /// requested tube of edge e.
+  [[nodiscard]] bool inside(const Vec3& p, std::uint32_t e, double margin = kInsideMargin) const;
 
-  /// True when p is deeper than kInsideMargin inside the requested tube of an edge other than
-  /// `own` (ids: scratch space).
-  [[nodiscard]] bool inside_other(const Vec3& p, std::uint32_t own,
-                                  std::vector<std::uint32_t>& ids) const;
+  /// True when p is deeper than `margin` inside the requested tube of an edge other than `own`
+  /// (ids: scratch space).
+  [[nodiscard]] bool inside_other(const Vec3& p, std::uint32_t own, std::vector<std::uint32_t>& ids,
+                                  double margin = kInsideMargin) const;
 
  private:
   const std::vector<EdgeGeometry>& edges_;
