@@ -996,6 +996,24 @@ std::size_t reproject_off_surface(TriMesh& mesh, std::vector<char>& off, const O
   return moved_count;
 }
 
+/// refine_round() until a round splits nothing, at most max_rounds times, counted in `st`
+/// (`report`: progress through ctx).
+void refine_rounds(TriMesh& mesh, Edges& edges, std::vector<double>& vradius,
+                   std::vector<char>& fresh, std::vector<char>& off, double& spare,
+                   const Field& field, const Skeleton& skeleton, const detail::BoxBvh& nodes,
+                   const RefineOptions& o, Context* ctx, RefineStats& st, bool report) {
+  for (int round = 0; round < o.max_rounds; ++round) {
+    const std::size_t split =
+        refine_round(mesh, edges, vradius, fresh, off, spare, field, skeleton, nodes, o, ctx, st);
+    if (split == 0) break;
+    ++st.rounds;
+    st.split_edges += split;
+    if (report && ctx != nullptr) {
+      ctx->report("refine", static_cast<double>(round + 1) / o.max_rounds);
+    }
+  }
+}
+
 /// Rounds on the edges at `reached` (vertices a reprojection just brought onto the surface),
 /// run on the submesh of their fans alone so that their cost follows the fans, not the mesh:
 /// a round splits only edges with a fresh end, and every triangle at such an edge (and at the
@@ -1040,13 +1058,8 @@ void settle_fans(TriMesh& mesh, std::vector<double>& vradius, std::vector<char>&
   RefineOptions so = o;
   so.max_triangles =
       o.max_triangles > nt - fan_triangles ? o.max_triangles - (nt - fan_triangles) : 0;
-  for (int round = 0; round < o.max_rounds; ++round) {
-    const std::size_t split = refine_round(sub, edges, sub_radius, fresh, sub_off, spare, field,
-                                           skeleton, nodes, so, ctx, st);
-    if (split == 0) break;
-    ++st.rounds;
-    st.split_edges += split;
-  }
+  refine_rounds(sub, edges, sub_radius, fresh, sub_off, spare, field, skeleton, nodes, so, ctx, st,
+                false);
   // New vertices after the old ones, then the refined fans in place of the old.
   for (std::size_t i = global.size(); i < sub.positions.size(); ++i) {
     global.push_back(static_cast<std::uint32_t>(mesh.positions.size()));
@@ -1111,14 +1124,7 @@ void refine_to_surface(TriMesh& mesh, const Field& field, const Skeleton& skelet
   if (const std::uint64_t budget = memory_budget(ctx); budget > 0) {
     o.max_triangles = std::min<std::size_t>(o.max_triangles, budget / kBytesPerTriangle);
   }
-  for (int round = 0; round < o.max_rounds; ++round) {
-    const std::size_t split =
-        refine_round(mesh, edges, vradius, fresh, off, spare, field, skeleton, nodes, o, ctx, st);
-    if (split == 0) break;
-    ++st.rounds;
-    st.split_edges += split;
-    if (ctx != nullptr) ctx->report("refine", static_cast<double>(round + 1) / o.max_rounds);
-  }
+  refine_rounds(mesh, edges, vradius, fresh, off, spare, field, skeleton, nodes, o, ctx, st, true);
   // Then the vertices splits left off the surface that their refined neighbourhood now lets go
   // (reproject_off_surface()), in passes until one moves nothing (a vertex moved can free a
   // neighbour's move), the whole way and else half of it. Doing this after every round instead,

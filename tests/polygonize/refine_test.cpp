@@ -95,6 +95,14 @@ DeviationReport tolerance_mesh_deviation(const Skeleton& s, std::size_t pieces, 
   return measure_deviation(m, *f, &s, o);
 }
 
+/// Two Y forks, nodes 0-3 (base, fork, two ends) and 4-7 alike: two skeleton components.
+Skeleton two_forks(std::vector<SkeletonNode> nodes) {
+  Skeleton s;
+  s.nodes = std::move(nodes);
+  s.edges = {{0, 1}, {1, 2}, {1, 3}, {4, 5}, {5, 6}, {5, 7}};
+  return s;
+}
+
 TEST(PolygonizeToTolerance, CrotchOfANarrowForkIsMeshedOnTheSurface) {
   // A fork cut from a generated tree: two 0.113 branches leaving a 0.16 node 67° apart. Without
   // the crotch points the lattice crossed the V between them with edges a radius long, the
@@ -144,16 +152,14 @@ TEST(PolygonizeToTolerance, GapCrossGoesWhereTheSwollenTubesLeaveTheirGap) {
   // there is just inside (1.003 of iso), and below iso only further on (0.99 at 0.64 of the
   // gap). The lattice joined the two by handles (Euler characteristic -2) with vertices a twig
   // radius off the surface.
-  Skeleton s;
-  s.nodes = {{Vec3(-2.3793064, -0.5867075, 9.3008973), 0.16},
-             {Vec3(-2.8703306, -0.9719789, 10.0603898), 0.1131371},
-             {Vec3(-3.140931, -1.6513392, 10.3497345), 0.08},
-             {Vec3(-3.1910024, -0.8261133, 10.763503), 0.08},
-             {Vec3(-2.3343263, -0.8210634, 9.9996099), 0.04},
-             {Vec3(-2.6718141, -0.8892519, 10.2083727), 0.0282843},
-             {Vec3(-2.8577314, -1.0830593, 10.386239), 0.02},
-             {Vec3(-2.9428429, -0.7457798, 10.3069733), 0.02}};
-  s.edges = {{0, 1}, {1, 2}, {1, 3}, {4, 5}, {5, 6}, {5, 7}};
+  const Skeleton s = two_forks({{Vec3(-2.3793064, -0.5867075, 9.3008973), 0.16},
+                                {Vec3(-2.8703306, -0.9719789, 10.0603898), 0.1131371},
+                                {Vec3(-3.140931, -1.6513392, 10.3497345), 0.08},
+                                {Vec3(-3.1910024, -0.8261133, 10.763503), 0.08},
+                                {Vec3(-2.3343263, -0.8210634, 9.9996099), 0.04},
+                                {Vec3(-2.6718141, -0.8892519, 10.2083727), 0.0282843},
+                                {Vec3(-2.8577314, -1.0830593, 10.386239), 0.02},
+                                {Vec3(-2.9428429, -0.7457798, 10.3069733), 0.02}});
   const FieldPtr f = make_skeleton_field(s);
   ASSERT_GT(f->value(Vec3(-2.90425726, -0.81752446, 10.28225701)), f->iso());
   ASSERT_LT(f->value(Vec3(-2.90748426, -0.82303598, 10.28192866)), f->iso());
@@ -168,16 +174,14 @@ TEST(PolygonizeToTolerance, FanOfAVertexBroughtOntoTheSurfaceLateIsRefined) {
   // half way to the surface and only brought onto it after the rounds; none of its edges had
   // been split while it was off, so its fan stayed coarse and sagged 0.4-0.7 twig radii
   // between corners on the surface.
-  Skeleton s;
-  s.nodes = {{Vec3(-0.9924003, -0.1466398, 2.5940301), 0.0452548},
-             {Vec3(-1.316539, -0.0322917, 2.8168098), 0.032},
-             {Vec3(-1.5541065, -0.0926174, 3.0342878), 0.0226274},
-             {Vec3(-1.524208, 0.2068707, 2.9007688), 0.0226274},
-             {Vec3(-1.1103074, -0.0402849, 2.8735419), 0.008},
-             {Vec3(-1.200009, 0.0016618, 2.832029), 0.0056569},
-             {Vec3(-1.2611301, -0.0012332, 2.771742), 0.004},
-             {Vec3(-1.2603591, 0.0626007, 2.8368259), 0.004}};
-  s.edges = {{0, 1}, {1, 2}, {1, 3}, {4, 5}, {5, 6}, {5, 7}};
+  const Skeleton s = two_forks({{Vec3(-0.9924003, -0.1466398, 2.5940301), 0.0452548},
+                                {Vec3(-1.316539, -0.0322917, 2.8168098), 0.032},
+                                {Vec3(-1.5541065, -0.0926174, 3.0342878), 0.0226274},
+                                {Vec3(-1.524208, 0.2068707, 2.9007688), 0.0226274},
+                                {Vec3(-1.1103074, -0.0402849, 2.8735419), 0.008},
+                                {Vec3(-1.200009, 0.0016618, 2.832029), 0.0056569},
+                                {Vec3(-1.2611301, -0.0012332, 2.771742), 0.004},
+                                {Vec3(-1.2603591, 0.0626007, 2.8368259), 0.004}});
   ToleranceStats st;
   const DeviationReport d = tolerance_mesh_deviation(s, 1, 100000, 1, &st);
   EXPECT_GT(st.refine.reprojected, 0u);
